@@ -1,0 +1,289 @@
+"""Diagnostics: stable codes, collected reports, and three output formats.
+
+Every problem the toolchain reports has a code from :data:`CODES` (documented in
+``docs/errors.md``, checked by a test).  Stages append to a :class:`Diagnostics` collection
+and keep going; the CLI formats everything at the end as text (``file:line:col:
+error[CODE]: message`` with the source line and a caret), JSON or GitHub annotations.
+"""
+
+from __future__ import annotations
+
+import difflib
+import json
+from dataclasses import dataclass, field
+from enum import Enum
+from typing import Iterable, Iterator
+
+from catgrammar.span import Source, Span
+
+
+class Severity(str, Enum):
+    ERROR = "error"
+    WARNING = "warning"
+    NOTE = "note"
+
+
+@dataclass(frozen=True, slots=True)
+class Code:
+    code: str
+    name: str
+    severity: Severity
+    summary: str
+
+
+def _codes(*rows: tuple[str, str, Severity, str]) -> dict[str, Code]:
+    return {c: Code(c, n, s, d) for c, n, s, d in rows}
+
+
+E, W = Severity.ERROR, Severity.WARNING
+
+#: The registry.  Codes are never reused; retired codes stay listed.
+CODES: dict[str, Code] = _codes(
+    # E00xx — reading input
+    ("E0001", "unreadable-file", E, "The file cannot be read (missing, a directory, or permission denied)."),
+    ("E0002", "binary-file", E, "The file contains NUL bytes; it is not a text file."),
+    ("E0003", "invalid-utf8", E, "The file is not valid UTF-8."),
+    ("E0004", "empty-file", E, "The file holds no definition."),
+    ("E0005", "no-input", E, "No .cat file was found among the given paths."),
+    # E01xx — syntax
+    ("E0101", "syntax", E, "The text does not follow the grammar."),
+    ("E0102", "unbalanced-close", E, "A ')' has no matching '('."),
+    ("E0103", "unclosed-paren", E, "A '(' is never closed."),
+    ("E0104", "too-deep", E, "Parentheses nest deeper than the supported limit."),
+    ("E0105", "literal-too-long", E, "A numeric literal has more digits than the supported limit."),
+    ("E0106", "unknown-section", E, "A section or option keyword is not part of the language."),
+    ("E0107", "bad-character", E, "A character that cannot start any token."),
+    # E02xx — names
+    ("E0201", "duplicate-name", E, "A name is declared twice in one namespace."),
+    ("E0202", "unknown-name", E, "A name is used but never declared."),
+    ("E0203", "reserved-name", E, "A keyword is used as a name."),
+    ("E0204", "shadowing", E, "A parameter has the name of a resource or constant."),
+    ("E0205", "duplicate-option", E, "An option or section is given twice where one is allowed."),
+    ("E0206", "missing-option", E, "A required option or section is missing."),
+    ("E0207", "unknown-domain", E, "A problem names a domain that cannot be found."),
+    ("E0208", "unknown-import", E, "An imported domain cannot be found."),
+    ("E0209", "circular-import", E, "Domains import each other in a cycle."),
+    ("E0210", "duplicate-definition", E, "Two files define a domain or problem of the same name."),
+    ("E0211", "unknown-operator", E, "An expression head is not an operator of the language."),
+    ("E0212", "unknown-requirement", E, "A requirement flag is not part of the language."),
+    # E03xx — types
+    ("E0301", "type-mismatch", E, "An expression has the wrong sort for where it is used."),
+    ("E0302", "arity", E, "An operator is given the wrong number of arguments."),
+    ("E0303", "not-a-set", E, "Membership or set update on something that is not a set."),
+    ("E0304", "bad-sort", E, "A sort declaration or reference is invalid."),
+    ("E0305", "misplaced-operator", E, "An operator is used where it is not allowed (e.g. an effect in a condition)."),
+    ("E0306", "bad-bounds", E, "Bounds are malformed or empty."),
+    ("E0307", "bad-value", E, "A value is out of its allowed range (e.g. a negative weight)."),
+    ("E0308", "not-assignable", E, "An effect writes something that is not a resource."),
+    ("E0310", "division-by-zero", E, "Division by the constant zero."),
+    # E04xx — requirements
+    ("E0401", "missing-requirement", E, "A construct needs a requirement flag the definition does not declare."),
+    # E05xx — semantics
+    ("E0501", "conflicting-effects", E, "One effect writes a resource in two incompatible ways."),
+    ("E0502", "bad-init", E, "An initial-state literal is not of the form (= resource value)."),
+    ("E0503", "missing-init", E, "A numeric or symbolic resource has no initial value."),
+    ("E0504", "closed-sort", E, "Objects added to a closed enumeration."),
+    ("E0505", "bad-objective", E, "An objective term is not a number or refers to something undefined."),
+    ("E0506", "bad-view", E, "A view keeps or drops resources inconsistently."),
+    ("E0507", "ambiguous-parameter", E, "A per-activation parameter is referenced where one value is needed."),
+    # W01xx — lints (errors under --strict)
+    ("W0101", "unused-resource", W, "A resource is declared but nothing reads or writes it."),
+    ("W0102", "unused-sort", W, "A sort is declared but never used."),
+    ("W0103", "unreachable-morphism", W, "A morphism can never apply: something it needs is never produced."),
+    ("W0104", "unwritable-goal", W, "A goal literal reads only resources that no morphism writes."),
+    ("W0105", "unbounded-parameter", W, "A real parameter has no bounds."),
+)
+
+
+def suggest(word: str, candidates: Iterable[str]) -> str | None:
+    """The closest candidate to a misspelled ``word``, or None."""
+    matches = difflib.get_close_matches(word, list(candidates), n=1, cutoff=0.6)
+    return matches[0] if matches else None
+
+
+def did_you_mean(word: str, candidates: Iterable[str]) -> str:
+    best = suggest(word, candidates)
+    return f"; did you mean '{best}'?" if best else ""
+
+
+@dataclass(frozen=True, slots=True)
+class Note:
+    message: str
+    span: Span | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Diagnostic:
+    code: str
+    message: str
+    span: Span | None
+    severity: Severity
+    notes: tuple[Note, ...] = ()
+
+    @property
+    def name(self) -> str:
+        return CODES[self.code].name
+
+    def to_json(self) -> dict:
+        def loc(span: Span | None) -> dict | None:
+            if span is None:
+                return None
+            return {
+                "file": span.file,
+                "line": span.line,
+                "column": span.column,
+                "end_line": span.end_line,
+                "end_column": span.end_column,
+            }
+
+        return {
+            "code": self.code,
+            "name": self.name,
+            "severity": self.severity.value,
+            "message": self.message,
+            "location": loc(self.span),
+            "notes": [{"message": n.message, "location": loc(n.span)} for n in self.notes],
+        }
+
+
+class Diagnostics:
+    """An ordered collection of diagnostics, plus the sources they point into."""
+
+    def __init__(self) -> None:
+        self._items: list[Diagnostic] = []
+        self._keys: set[tuple] = set()
+        self.sources: dict[str, Source] = {}
+
+    def add_source(self, source: Source) -> None:
+        self.sources[source.path] = source
+
+    def report(
+        self,
+        code: str,
+        message: str,
+        span: Span | None,
+        *notes: Note,
+        severity: Severity | None = None,
+    ) -> Diagnostic:
+        diag = Diagnostic(code, message, span, severity or CODES[code].severity, tuple(notes))
+        key = (code, message, span)
+        if key not in self._keys:  # the same fact reached twice (e.g. a shared import)
+            self._keys.add(key)
+            self._items.append(diag)
+        return diag
+
+    def extend(self, other: "Diagnostics") -> None:
+        self.sources.update(other.sources)
+        for d in other:
+            self.report(d.code, d.message, d.span, *d.notes, severity=d.severity)
+
+    def __iter__(self) -> Iterator[Diagnostic]:
+        return iter(self._items)
+
+    def __len__(self) -> int:
+        return len(self._items)
+
+    @property
+    def errors(self) -> list[Diagnostic]:
+        return [d for d in self._items if d.severity is Severity.ERROR]
+
+    @property
+    def warnings(self) -> list[Diagnostic]:
+        return [d for d in self._items if d.severity is Severity.WARNING]
+
+    @property
+    def has_errors(self) -> bool:
+        return any(d.severity is Severity.ERROR for d in self._items)
+
+    def sorted(self) -> list[Diagnostic]:
+        def key(d: Diagnostic):
+            s = d.span
+            return (s.file, s.line, s.column) if s else ("", 0, 0)
+
+        return sorted(self._items, key=key)
+
+    def promote_warnings(self) -> None:
+        """``--strict``: every warning becomes an error."""
+        self._items = [
+            Diagnostic(d.code, d.message, d.span, Severity.ERROR, d.notes)
+            if d.severity is Severity.WARNING
+            else d
+            for d in self._items
+        ]
+
+
+# ---------------------------------------------------------------- formatting
+
+
+def _excerpt(source: Source | None, span: Span, label: str = "") -> list[str]:
+    if source is None or span.line > source.line_count:
+        return []
+    text = source.line_text(span.line).expandtabs(1)
+    shown = text if len(text) <= 200 else text[: max(200, span.column + 20)] + " …"
+    width = len(str(span.line))
+    end_col = span.end_column if span.end_line == span.line else len(text) + 1
+    caret_len = max(1, min(end_col, len(shown) + 1) - span.column)
+    caret = " " * (span.column - 1) + "^" + "~" * (caret_len - 1)
+    gutter = " " * width
+    lines = [f" {gutter} |", f" {span.line} | {shown}", f" {gutter} | {caret}" + (f" {label}" if label else "")]
+    return lines
+
+
+def format_text(diags: Diagnostics, *, excerpts: bool = True) -> str:
+    """Compiler-style text: ``file:line:col: error[CODE]: message`` plus excerpt and notes."""
+    out: list[str] = []
+    for d in diags.sorted():
+        where = f"{d.span}: " if d.span else ""
+        out.append(f"{where}{d.severity.value}[{d.code}]: {d.message}")
+        if excerpts and d.span:
+            out.extend(_excerpt(diags.sources.get(d.span.file), d.span))
+        for n in d.notes:
+            nwhere = f"{n.span}: " if n.span else ""
+            out.append(f"  = note: {nwhere}{n.message}")
+            if excerpts and n.span and n.span != d.span:
+                out.extend("  " + line for line in _excerpt(diags.sources.get(n.span.file), n.span))
+    return "\n".join(out)
+
+
+def summary_line(diags: Diagnostics, files: int) -> str:
+    e, w = len(diags.errors), len(diags.warnings)
+    plural = lambda n, word: f"{n} {word}{'' if n == 1 else 's'}"  # noqa: E731
+    return f"{plural(e, 'error')}, {plural(w, 'warning')} in {plural(files, 'file')} checked"
+
+
+def format_json(diags: Diagnostics, files: list[str]) -> str:
+    return json.dumps(
+        {
+            "schema": "catc.check/1",
+            "files": files,
+            "errors": len(diags.errors),
+            "warnings": len(diags.warnings),
+            "diagnostics": [d.to_json() for d in diags.sorted()],
+        },
+        indent=2,
+    )
+
+
+def _gh_escape(text: str, prop: bool = False) -> str:
+    text = text.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
+    if prop:
+        text = text.replace(":", "%3A").replace(",", "%2C")
+    return text
+
+
+def format_github(diags: Diagnostics) -> str:
+    """GitHub Actions workflow commands (``::error file=...,line=...::message``)."""
+    out = []
+    for d in diags.sorted():
+        kind = "error" if d.severity is Severity.ERROR else "warning"
+        props = [f"title={_gh_escape(d.code + ' ' + d.name, True)}"]
+        if d.span:
+            props = [
+                f"file={_gh_escape(d.span.file, True)}",
+                f"line={d.span.line}",
+                f"col={d.span.column}",
+                f"endLine={d.span.end_line}",
+                f"endColumn={d.span.end_column}",
+            ] + props
+        out.append(f"::{kind} {','.join(props)}::{_gh_escape(d.message)}")
+    return "\n".join(out)

@@ -1,0 +1,156 @@
+"""Warnings a modeller wants (errors under ``catc check --strict``).
+
+Domain lints look at one checked domain; instance lints use the problem's initial state
+for a relaxed reachability analysis (delete relaxation over set memberships and bool
+resources; numbers are assumed reachable) to find morphisms that can never apply.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+from catgrammar.diagnostics import Diagnostics, Note
+from catgrammar.span import Span
+from catc import ir
+from catc.ir import SortKind
+
+
+def _user(span: Span | None, is_user: Callable[[str], bool]) -> bool:
+    return span is not None and is_user(span.file)
+
+
+def lint_domain(domain: ir.Domain, diags: Diagnostics, is_user: Callable[[str], bool]) -> None:
+    used_resources: set[str] = set()
+    used_sorts: set[str] = set()
+    for m in domain.morphisms.values():
+        used_resources |= m.reads | m.writes
+        for p in m.params:
+            used_sorts.add(_base(p.sort))
+            if p.sort.kind is SortKind.REAL and (p.lower is None or p.upper is None) and _user(p.span, is_user):
+                missing = "bounds" if p.lower is None and p.upper is None else (
+                    "a lower bound" if p.lower is None else "an upper bound"
+                )
+                diags.report(
+                    "W0105",
+                    f"real parameter '{p.name}' of '{m.name}' has no {missing}; "
+                    f"optimisation over it may be unbounded and exports cannot grid it",
+                    p.span,
+                )
+    for r in domain.resources.values():
+        used_sorts.add(_base(r.sort))
+        if r.name not in used_resources and _user(r.span, is_user):
+            diags.report("W0101", f"resource '{r.name}' is never read or written by any morphism", r.span)
+    for c in domain.constants.values():
+        used_sorts.add(c.sort.name)
+    for s in domain.sorts.values():
+        if s.parent:
+            used_sorts.add(s.parent)
+    for s in domain.sorts.values():
+        span = _sort_span(domain, s)
+        if s.name not in used_sorts and span is not None and _user(span, is_user):
+            diags.report("W0102", f"sort '{s.name}' is never used", span)
+
+
+def _base(sort: ir.Sort) -> str:
+    return sort.element.name if sort.kind is SortKind.SET and sort.element else sort.name
+
+
+def _sort_span(domain: ir.Domain, sort: ir.Sort) -> Span | None:
+    return sort.span
+
+
+# ---------------------------------------------------------------- instance lints
+
+
+def lint_instance(inst: ir.Instance, diags: Diagnostics, is_user: Callable[[str], bool]) -> None:
+    written = set()
+    for m in inst.morphisms.values():
+        written |= m.writes
+    for lit in inst.problem.goal:
+        reads = ir.resources_in(lit.expr)
+        if reads and not (reads & written) and _user(lit.span, is_user):
+            names = ", ".join(f"'{r}'" for r in sorted(reads))
+            diags.report(
+                "W0104",
+                f"this goal reads only {names}, which no morphism writes: the initial state alone decides it",
+                lit.span,
+            )
+    for m, lit, why in unreachable_morphisms(inst):
+        if _user(m.span, is_user):
+            notes = [Note(why, lit.span)] if lit.span else []
+            diags.report("W0103", f"morphism '{m.name}' can never apply: {why}", m.span, *notes)
+
+
+def unreachable_morphisms(inst: ir.Instance):
+    """Morphisms whose preconditions can never hold under the delete relaxation.
+
+    Facts are ``(set-resource, element)`` memberships and ``(bool-resource, value)``; a
+    literal that is not a plain membership or bool test is assumed satisfiable, so the
+    analysis only ever under-reports."""
+    universe = {}
+
+    def elements(sort: ir.Sort) -> list[str]:
+        key = sort.name
+        if key not in universe:
+            universe[key] = inst.constants_of(sort)
+        return universe[key]
+
+    members: set[tuple[str, object]] = set()
+    bools: set[tuple[str, bool]] = set()
+    any_member: set[str] = set()  # sets a parameter may add anything to
+    for name, v in inst.problem.init.items():
+        if isinstance(v.value, ir.SetLit):
+            members |= {(name, e.value) for e in v.value.elements if isinstance(e, ir.Const)}
+        elif isinstance(v.value, ir.Const) and isinstance(v.value.value, bool):
+            bools.add((name, v.value.value))
+
+    def holds(lit: ir.Literal, params: dict[str, ir.Param]) -> tuple[bool, str]:
+        e = lit.expr
+        positive = True
+        if isinstance(e, ir.BoolOp) and e.op is ir.BoolOpKind.NOT and len(e.args) == 1:
+            e, positive = e.args[0], False
+        if isinstance(e, ir.Member) and positive and isinstance(e.set, ir.ResourceRef):
+            s = e.set.name
+            if isinstance(e.element, ir.Const):
+                ok = (s, e.element.value) in members or s in any_member
+                return ok, f"it needs '{e.element.value}' in '{s}', which the initial state lacks and no morphism adds"
+            if isinstance(e.element, ir.ParamRef):
+                ok = any(k == s for k, _ in members) or s in any_member
+                return ok, f"it needs an element in '{s}', which starts empty and no morphism fills"
+        if isinstance(e, ir.ResourceRef) and e.sort.kind is SortKind.BOOL:
+            return (e.name, positive) in bools, (
+                f"it needs '{e.name}' to be {'true' if positive else 'false'}, which it never becomes"
+            )
+        return True, ""
+
+    applied: set[str] = set()
+    changed = True
+    while changed:
+        changed = False
+        for m in inst.morphisms.values():
+            if m.name in applied:
+                continue
+            params = {p.name: p for p in m.params}
+            if not all(holds(lit, params)[0] for lit in m.pre):
+                continue
+            applied.add(m.name)
+            changed = True
+            for eff in m.effects:
+                if eff.kind is ir.EffectKind.ADD:
+                    if isinstance(eff.value, ir.Const):
+                        members.add((eff.resource, eff.value.value))
+                    else:
+                        any_member.add(eff.resource)
+                elif eff.kind is ir.EffectKind.ASSIGN and isinstance(eff.value, ir.Const) and isinstance(eff.value.value, bool):
+                    bools.add((eff.resource, eff.value.value))
+                elif eff.kind is ir.EffectKind.ASSIGN and eff.value.sort.kind is SortKind.BOOL:
+                    bools |= {(eff.resource, True), (eff.resource, False)}
+    for m in inst.morphisms.values():
+        if m.name in applied:
+            continue
+        params = {p.name: p for p in m.params}
+        for lit in m.pre:
+            ok, why = holds(lit, params)
+            if not ok:
+                yield m, lit, why
+                break

@@ -1,0 +1,198 @@
+"""Finding, parsing and checking files: the workspace.
+
+A :class:`Workspace` owns every parsed file of a run.  Domains are found by name, in this
+order: files already loaded, ``.cat`` files in the folder of the file that refers to the
+domain, the extra search paths (``--path`` and ``CATC_PATH``), and the standard library
+(``stdlib_domains``).  Each domain is checked once; import cycles are reported.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+from catgrammar import ast
+from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
+from catgrammar.parser import parse_source, read_source
+from catgrammar.span import Span
+from catc import ir
+from catc.check import DomainChecker, ProblemChecker
+
+STDLIB_DIR = Path(__file__).resolve().parent.parent.parent / "stdlib_domains"
+
+
+def stdlib_dir() -> Path:
+    """The folder of the standard library domains (installed or in a checkout)."""
+    try:
+        import stdlib_domains
+
+        return Path(stdlib_domains.__file__).resolve().parent
+    except ImportError:  # pragma: no cover - running from a bare checkout
+        return STDLIB_DIR
+
+
+def stdlib_names() -> list[str]:
+    return sorted(p.stem for p in stdlib_dir().glob("*.cat"))
+
+
+@dataclass
+class Loaded:
+    path: str
+    file: ast.SourceFile
+
+
+def _domain_pattern(name: str) -> re.Pattern[str]:
+    return re.compile(r"\(\s*domain\s+" + re.escape(name) + r"\s*\)")
+
+
+class Workspace:
+    def __init__(self, diags: Diagnostics, search_paths: list[str] | tuple[str, ...] = ()):
+        self.diags = diags
+        env = [p for p in os.environ.get("CATC_PATH", "").split(os.pathsep) if p]
+        self.search_paths = [Path(p) for p in list(search_paths) + env]
+        self.files: dict[str, ast.SourceFile | None] = {}
+        self.domains: dict[str, tuple[ast.Domain, str]] = {}
+        self.problems: dict[str, tuple[ast.Problem, str]] = {}
+        self._checked: dict[str, ir.Domain | None] = {}
+        self._stack: list[str] = []
+        self.stdlib = stdlib_dir()
+
+    # -------------------------------------------------------------- files
+    def load(self, path: str) -> ast.SourceFile | None:
+        key = os.path.normpath(path)
+        if key in self.files:
+            return self.files[key]
+        self.files[key] = None
+        src = read_source(path, self.diags)
+        parsed = parse_source(src, self.diags) if src is not None else None
+        self.files[key] = parsed
+        if parsed is not None:
+            for d in parsed.definitions:
+                table = self.domains if isinstance(d, ast.Domain) else self.problems
+                prev = table.get(d.name.text)
+                if prev is not None and os.path.normpath(prev[1]) != key:
+                    what = "domain" if isinstance(d, ast.Domain) else "problem"
+                    self.diags.report(
+                        "E0210",
+                        f"{what} '{d.name.text}' is defined in two files",
+                        d.name.span,
+                        Note("also defined here", prev[0].name.span),
+                    )
+                    continue
+                if prev is not None and prev[0] is not d:
+                    what = "domain" if isinstance(d, ast.Domain) else "problem"
+                    self.diags.report(
+                        "E0210",
+                        f"{what} '{d.name.text}' is defined twice",
+                        d.name.span,
+                        Note("first defined here", prev[0].name.span),
+                    )
+                    continue
+                table[d.name.text] = (d, path)  # type: ignore[assignment]
+        return parsed
+
+    def _scan(self, folder: Path, name: str) -> bool:
+        """Load the ``.cat`` files of ``folder`` that seem to define domain ``name``."""
+        if not folder.is_dir():
+            return False
+        pattern = _domain_pattern(name)
+        preferred = folder / f"{name}.cat"
+        candidates = [preferred] if preferred.is_file() else []
+        candidates += sorted(p for p in folder.glob("*.cat") if p != preferred)
+        for p in candidates:
+            try:
+                head = p.read_bytes()[:1_000_000].decode("utf-8", errors="replace")
+            except OSError:
+                continue
+            if pattern.search(head):
+                self.load(str(p))
+                if name in self.domains:
+                    return True
+        return False
+
+    def find_domain(self, name: str, near: str | None) -> tuple[ast.Domain, str] | None:
+        if name in self.domains:
+            return self.domains[name]
+        folders: list[Path] = []
+        if near is not None:
+            folders.append(Path(near).resolve().parent)
+        folders += self.search_paths + [self.stdlib]
+        for folder in folders:
+            if self._scan(folder, name):
+                return self.domains[name]
+        return None
+
+    def known_domain_names(self) -> list[str]:
+        return sorted(set(self.domains) | set(stdlib_names()))
+
+    # -------------------------------------------------------------- checking
+    def domain_ir(self, name: str, near: str | None, ref: Span | None, importing: bool = False) -> ir.Domain | None:
+        if name in self._stack:
+            cycle = " -> ".join(self._stack[self._stack.index(name):] + [name])
+            self.diags.report("E0209", f"circular import: {cycle}", ref)
+            return None
+        if name in self._checked:
+            return self._checked[name]
+        found = self.find_domain(name, near)
+        if found is None:
+            code = "E0208" if importing else "E0207"
+            what = "imported domain" if importing else "domain"
+            hint = did_you_mean(name, self.known_domain_names())
+            self.diags.report(
+                code,
+                f"{what} '{name}' not found (searched the loaded files, the folder of this file, "
+                f"--path/CATC_PATH and the standard library){hint}",
+                ref,
+            )
+            return None
+        node, path = found
+        self._stack.append(name)
+        try:
+            result = DomainChecker(self, node, path, self.diags).run()
+        finally:
+            self._stack.pop()
+        self._checked[name] = result
+        return result
+
+    def checked_domain(self, name: str) -> ir.Domain | None:
+        return self._checked.get(name)
+
+    def checked_domains(self) -> list[ir.Domain]:
+        return [d for d in self._checked.values() if d is not None]
+
+    def check_problem(self, node: ast.Problem, path: str) -> ir.Instance | None:
+        return ProblemChecker(self, node, path, self.diags).run()
+
+    def problem_ir(self, name: str) -> ir.Instance | None:
+        node, path = self.problems[name]
+        return self.check_problem(node, path)
+
+
+def load_instance(
+    domain_path: str | None,
+    problem_path: str,
+    diags: Diagnostics,
+    search_paths: list[str] | tuple[str, ...] = (),
+    problem_name: str | None = None,
+) -> tuple[Workspace, ir.Instance | None]:
+    """The common front end of every query command: files → checked instance."""
+    ws = Workspace(diags, search_paths)
+    if domain_path is not None:
+        ws.load(domain_path)
+    parsed = ws.load(problem_path)
+    if parsed is None:
+        return ws, None
+    problems = [d for d in parsed.definitions if isinstance(d, ast.Problem)]
+    if problem_name is not None:
+        problems = [p for p in problems if p.name.text == problem_name]
+    if not problems:
+        what = f"no problem named '{problem_name}'" if problem_name else "no (define (problem ...)) found"
+        diags.report("E0206", f"{what} in {problem_path}", None)
+        return ws, None
+    if len(problems) > 1:
+        names = ", ".join(p.name.text for p in problems)
+        diags.report("E0206", f"{problem_path} defines several problems ({names}); choose one with --problem", None)
+        return ws, None
+    return ws, ws.check_problem(problems[0], problem_path)
