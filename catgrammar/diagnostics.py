@@ -97,8 +97,13 @@ CODES: dict[str, Code] = _codes(
 
 def suggest(word: str, candidates: Iterable[str]) -> str | None:
     """The closest candidate to a misspelled ``word``, or None."""
-    matches = difflib.get_close_matches(word, list(candidates), n=1, cutoff=0.6)
-    return matches[0] if matches else None
+    pool = list(candidates)
+    matches = difflib.get_close_matches(word, pool, n=1, cutoff=0.6)
+    if matches:
+        return matches[0]
+    stem = word.lstrip(":")
+    prefixed = [c for c in pool if len(stem) >= 3 and c.lstrip(":").startswith(stem)]
+    return prefixed[0] if len(prefixed) == 1 else None
 
 
 def did_you_mean(word: str, candidates: Iterable[str]) -> str:

@@ -164,15 +164,22 @@ def _describe(parser: Lark, terminal: str) -> str:
         pattern = parser.get_terminal(terminal).pattern
     except KeyError:
         return terminal
-    return f"'{pattern.value}'" if pattern.type == "str" else terminal
+    if pattern.type == "str":
+        return f"'{pattern.value}'"
+    keyword = _KEYWORD_PATTERN.fullmatch(pattern.value)
+    return f"'{keyword.group(1)}'" if keyword else terminal
+
+
+#: How the grammar spells a keyword terminal: the word, then a word-boundary lookahead.
+_KEYWORD_PATTERN = re.compile(r"(:?[a-z][a-z-]*)\(\?!\[A-Za-z0-9_-\]\)")
 
 
 def _expected_text(parser: Lark, expected: set[str]) -> str:
     words = sorted({_describe(parser, t) for t in expected})
-    if len(words) > 8:
+    if len(words) > 12:
         keywords = [w for w in words if w.startswith("':")]
         others = [w for w in words if not w.startswith("':")]
-        words = others + ([f"a keyword ({', '.join(keywords[:6])}, ...)"] if keywords else [])
+        words = others + ([f"a keyword ({', '.join(keywords[:10])}, ...)"] if keywords else [])
     return words[0] if len(words) == 1 else ", ".join(words[:-1]) + " or " + words[-1]
 
 

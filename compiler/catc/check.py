@@ -111,7 +111,7 @@ def _bounds(b: ast.Bounds, sort: Sort, diags: Diagnostics, what: str) -> tuple[F
     hi = b.upper.value if b.upper else None
     ok = True
     if not sort.is_numeric:
-        diags.report("E0306", f":bounds apply to numbers only, but {what} is a {describe(sort)}", b.span)
+        diags.report("E0306", f":bounds apply to numbers only, but {what} is {describe(sort)}", b.span)
         return None, None, False
     if sort.kind is SortKind.INT:
         for n in (b.lower, b.upper):
@@ -459,8 +459,10 @@ class DomainChecker:
                 kind = _KINDS[k.text]
             else:
                 self.diags.report(
-                    "E0307", f"unknown morphism kind '{k.text}'{did_you_mean(k.text, _KINDS)}; "
-                    f"expected {', '.join(_KINDS)}", k.span
+                    "E0307",
+                    f"unknown morphism kind '{k.text}'"
+                    + (did_you_mean(k.text, _KINDS) or f"; expected one of {', '.join(_KINDS)}"),
+                    k.span,
                 )
         churn = Fraction(1)
         if Option.CHURN.value in opts:
@@ -611,7 +613,7 @@ class DomainChecker:
         if kind in (ir.EffectKind.ADD, ir.EffectKind.REMOVE):
             if res.sort.kind is not SortKind.SET:
                 self.diags.report(
-                    "E0303", f"'{head}' needs a set resource, but '{res.name}' is a {describe(res.sort)}", target_node.span
+                    "E0303", f"'{head}' needs a set resource, but '{res.name}' is {describe(res.sort)}", target_node.span
                 )
                 return None
             value = checker.term(value_node, Context.TERM)
@@ -620,14 +622,15 @@ class DomainChecker:
             if not assignable(res.sort.element, value.sort, self.sorts):  # type: ignore[arg-type]
                 self.diags.report(
                     "E0301",
-                    f"cannot {head} a {describe(value.sort)} to/from '{res.name}', a {describe(res.sort)}",
+                    f"cannot {head} {describe(value.sort)} {'to' if head == 'add' else 'from'} "
+                    f"'{res.name}', {describe(res.sort)}",
                     value_node.span,
                 )
                 return None
         elif kind in (ir.EffectKind.INCREASE, ir.EffectKind.DECREASE):
             if not res.sort.is_numeric:
                 self.diags.report(
-                    "E0301", f"'{head}' needs a numeric resource, but '{res.name}' is a {describe(res.sort)}", target_node.span
+                    "E0301", f"'{head}' needs a numeric resource, but '{res.name}' is {describe(res.sort)}", target_node.span
                 )
                 return None
             value = checker.term(value_node, Context.TERM)
@@ -636,7 +639,7 @@ class DomainChecker:
             if not assignable(res.sort, value.sort, self.sorts):
                 self.diags.report(
                     "E0301",
-                    f"cannot {head} '{res.name}', a {describe(res.sort)}, by a {describe(value.sort)}",
+                    f"cannot {head} '{res.name}', {describe(res.sort)}, by {describe(value.sort)}",
                     value_node.span,
                 )
                 return None
@@ -647,7 +650,7 @@ class DomainChecker:
             if not assignable(res.sort, value.sort, self.sorts):
                 self.diags.report(
                     "E0301",
-                    f"cannot assign a {describe(value.sort)} to '{res.name}', a {describe(res.sort)}",
+                    f"cannot assign {describe(value.sort)} to '{res.name}', {describe(res.sort)}",
                     value_node.span,
                 )
                 return None
@@ -861,8 +864,10 @@ class ProblemChecker:
         out: dict[str, ir.InitValue] = {}
         resources = self.domain.resources
         sections = [s for s in self.node.sections if isinstance(s, ast.Init)]
+        attempted: set[str] = set()
         for sec in sections:
             for lit in sec.literals:
+                attempted |= _init_target(lit)
                 parsed = self._init_literal(lit)
                 if parsed is None:
                     continue
@@ -885,7 +890,7 @@ class ProblemChecker:
                 out[res.name] = ir.InitValue(res.name, ir.Const(False, BOOL), f"init/{res.name}", None)
             elif res.sort.kind is SortKind.SET:
                 out[res.name] = ir.InitValue(res.name, ir.SetLit((), res.sort), f"init/{res.name}", None)
-            elif res.name not in dropped:
+            elif res.name not in dropped and res.name not in attempted:
                 missing.append(res)
         if missing:
             where = sections[0].span if sections else self.node.name.span
@@ -939,7 +944,7 @@ class ProblemChecker:
         if not assignable(r.sort, folded.sort, self.domain.sorts):
             self.diags.report(
                 "E0301",
-                f"'{r.name}' is a {describe(r.sort)} and cannot start as a {describe(folded.sort)}",
+                f"'{r.name}' is {describe(r.sort)} and cannot start as {describe(folded.sort)}",
                 value_node.span,
             )
             return None
@@ -1005,6 +1010,13 @@ class ProblemChecker:
                 else:
                     out.append(name.text)
         return out
+
+
+def _init_target(lit: ast.Expr) -> set[str]:
+    """The resource an init literal is about, even when the literal is ill-typed."""
+    if isinstance(lit, ast.Call) and lit.args and isinstance(lit.args[0], ast.Ref):
+        return {lit.args[0].name}
+    return {lit.name} if isinstance(lit, ast.Ref) else set()
 
 
 def _fmt(v: Fraction | None) -> str:

@@ -19,20 +19,27 @@ def _user(span: Span | None, is_user: Callable[[str], bool]) -> bool:
     return span is not None and is_user(span.file)
 
 
-def lint_domain(domain: ir.Domain, diags: Diagnostics, is_user: Callable[[str], bool]) -> None:
+def lint_domain(
+    domain: ir.Domain,
+    diags: Diagnostics,
+    is_user: Callable[[str], bool],
+    problems: list[ir.Problem] = (),  # type: ignore[assignment]
+) -> None:
+    """``problems`` are this domain's problems checked in the same run: a sort used only
+    for their objects is used."""
     used_resources: set[str] = set()
-    used_sorts: set[str] = set()
+    used_sorts: set[str] = {o.sort.name for p in problems for o in p.objects.values()}
     for m in domain.morphisms.values():
         used_resources |= m.reads | m.writes
         for p in m.params:
             used_sorts.add(_base(p.sort))
             if p.sort.kind is SortKind.REAL and (p.lower is None or p.upper is None) and _user(p.span, is_user):
-                missing = "bounds" if p.lower is None and p.upper is None else (
-                    "a lower bound" if p.lower is None else "an upper bound"
+                missing = "no bounds" if p.lower is None and p.upper is None else (
+                    "no lower bound" if p.lower is None else "no upper bound"
                 )
                 diags.report(
                     "W0105",
-                    f"real parameter '{p.name}' of '{m.name}' has no {missing}; "
+                    f"real parameter '{p.name}' of '{m.name}' has {missing}; "
                     f"optimisation over it may be unbounded and exports cannot grid it",
                     p.span,
                 )

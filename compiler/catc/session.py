@@ -53,7 +53,7 @@ def check_files(
                 instances[inst.problem.name] = inst
                 checked.append(inst)
     for dom in ws.checked_domains():
-        lint_domain(dom, diags, is_user_file)
+        lint_domain(dom, diags, is_user_file, [i.problem for i in checked if i.domain.name == dom.name])
     for inst in checked:
         lint_instance(inst, diags, is_user_file)
     return domains, instances

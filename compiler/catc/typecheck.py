@@ -117,13 +117,14 @@ def assignable(target: Sort, value: Sort, sorts: Mapping[str, Sort]) -> bool:
 
 
 def describe(sort: Sort) -> str:
+    """The sort as a noun phrase with its article: 'an int', 'a set of 'module''."""
     if sort.kind is SortKind.SYMBOL:
-        return f"symbol of sort '{sort.name}'"
+        return f"a symbol of sort '{sort.name}'"
     if sort.kind is SortKind.ENUM:
-        return f"value of enumeration '{sort.name}'"
+        return f"a value of enumeration '{sort.name}'"
     if sort.kind is SortKind.SET:
-        return f"set of '{sort.element}'"
-    return {"bool": "bool", "int": "int", "real": "real"}[sort.kind.value]
+        return f"a set of '{sort.element}'"
+    return {"bool": "a bool", "int": "an int", "real": "a real"}[sort.kind.value]
 
 
 def numeric_join(args: list[ir.Expr]) -> Sort:
@@ -150,7 +151,7 @@ class ExprChecker:
         expr = self.term(node, ctx)
         if expr is not None and expr.sort.kind is not SortKind.BOOL:
             self.diags.report(
-                "E0301", f"expected a condition (bool), found a {describe(expr.sort)}", node.span
+                "E0301", f"expected a condition (bool), found {describe(expr.sort)}", node.span
             )
             return None
         return expr
@@ -158,7 +159,7 @@ class ExprChecker:
     def numeric(self, node: ast.Expr, ctx: Context) -> ir.Expr | None:
         expr = self.term(node, ctx)
         if expr is not None and not expr.sort.is_numeric:
-            self.diags.report("E0301", f"expected a number, found a {describe(expr.sort)}", node.span)
+            self.diags.report("E0301", f"expected a number, found {describe(expr.sort)}", node.span)
             return None
         return expr
 
@@ -211,7 +212,7 @@ class ExprChecker:
                 continue
             if not e.sort.is_symbolic:
                 self.diags.report(
-                    "E0301", f"set elements must be symbols, found a {describe(e.sort)}", el.span
+                    "E0301", f"set elements must be symbols, found {describe(e.sort)}", el.span
                 )
                 ok = False
                 continue
@@ -223,7 +224,7 @@ class ExprChecker:
                 if not assignable(want, e.sort, self.scope.sorts):
                     self.diags.report(
                         "E0301",
-                        f"a {describe(e.sort)} cannot be an element of a set of '{want}'",
+                        f"{describe(e.sort)} cannot be an element of a set of '{want}'",
                         el.span,
                     )
                     ok = False
@@ -235,7 +236,7 @@ class ExprChecker:
         for e, el in zip(elems[1:], node.elements[1:]):
             if not compatible(first, e.sort, self.scope.sorts):
                 self.diags.report(
-                    "E0301", f"set literal mixes a {describe(first)} and a {describe(e.sort)}", el.span
+                    "E0301", f"set literal mixes {describe(first)} and {describe(e.sort)}", el.span
                 )
                 return None
         elem_sort = self.scope.sorts.get(root_of(first, self.scope.sorts), first)
@@ -271,7 +272,7 @@ class ExprChecker:
             if not compatible(then.sort, orelse.sort, self.scope.sorts):
                 self.diags.report(
                     "E0301",
-                    f"'if' branches differ: a {describe(then.sort)} and a {describe(orelse.sort)}",
+                    f"'if' branches differ: {describe(then.sort)} and {describe(orelse.sort)}",
                     node.span,
                 )
                 return None
@@ -345,7 +346,7 @@ class ExprChecker:
             if not compatible(left.sort, right.sort, self.scope.sorts):
                 self.diags.report(
                     "E0301",
-                    f"cannot compare a {describe(left.sort)} with a {describe(right.sort)}",
+                    f"cannot compare {describe(left.sort)} with {describe(right.sort)}",
                     node.span,
                 )
                 return None
@@ -354,7 +355,7 @@ class ExprChecker:
                 if not side.sort.is_numeric:
                     self.diags.report(
                         "E0301",
-                        f"'{node.head.text}' compares numbers, but this is a {describe(side.sort)}",
+                        f"'{node.head.text}' compares numbers, but this is {describe(side.sort)}",
                         n.span,
                     )
                     return None
@@ -377,7 +378,7 @@ class ExprChecker:
         for a, n in zip(args, node.args):
             if not a.sort.is_numeric:  # type: ignore[union-attr]
                 self.diags.report(
-                    "E0301", f"'{node.head.text}' needs numbers, but this is a {describe(a.sort)}", n.span  # type: ignore[union-attr]
+                    "E0301", f"'{node.head.text}' needs numbers, but this is {describe(a.sort)}", n.span  # type: ignore[union-attr]
                 )
                 return None
         if op is ir.ArithOp.DIV:
@@ -400,13 +401,13 @@ class ExprChecker:
             return None
         if coll.sort.kind is not SortKind.SET:
             self.diags.report(
-                "E0303", f"'member' needs a set as its second argument, found a {describe(coll.sort)}", node.args[1].span
+                "E0303", f"'member' needs a set as its second argument, found {describe(coll.sort)}", node.args[1].span
             )
             return None
         if not elem.sort.is_symbolic or not compatible(elem.sort, coll.sort.element, self.scope.sorts):  # type: ignore[arg-type]
             self.diags.report(
                 "E0301",
-                f"a {describe(elem.sort)} can never be a member of a {describe(coll.sort)}",
+                f"{describe(elem.sort)} can never be a member of {describe(coll.sort)}",
                 node.args[0].span,
             )
             return None

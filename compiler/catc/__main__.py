@@ -1,0 +1,3 @@
+from catc.cli import main
+
+main()

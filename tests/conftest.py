@@ -1,0 +1,67 @@
+"""Shared fixtures: the repository's .cat corpus and a CLI runner that never hides crashes."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+ROOT = Path(__file__).resolve().parent.parent
+FIXTURES = Path(__file__).resolve().parent / "fixtures"
+
+
+def repo_cat_files(*, invalid: bool = False) -> list[Path]:
+    """Every tracked-or-present .cat file of the repository (not node_modules/build output)."""
+    skip = {"node_modules", ".git", "build", "dist", ".pytest_cache"}
+    out = []
+    for p in sorted(ROOT.rglob("*.cat")):
+        rel = p.relative_to(ROOT)
+        if skip & set(rel.parts):
+            continue
+        is_invalid = "invalid" in rel.parts or "bad" in rel.parts
+        if is_invalid == invalid:
+            out.append(p)
+    return out
+
+
+@dataclass
+class Result:
+    exit_code: int
+    stdout: str
+    stderr: str
+
+    @property
+    def output(self) -> str:
+        return self.stdout + self.stderr
+
+
+def run_catc(*args: str, cwd: Path | None = None) -> Result:
+    """Run the CLI in-process; any exception escaping click is a test failure."""
+    from catc.cli import main
+
+    runner = CliRunner()
+    res = runner.invoke(main, [str(a) for a in args], catch_exceptions=True)
+    if res.exception is not None and not isinstance(res.exception, SystemExit):
+        raise AssertionError(f"catc {' '.join(map(str, args))} raised {res.exception!r}") from res.exception
+    return Result(res.exit_code, res.stdout, res.stderr)
+
+
+def run_catc_process(*args: str, timeout: float = 120, input: bytes | None = None) -> Result:
+    """Run ``python -m catc`` in a fresh process (for end-to-end behaviour)."""
+    proc = subprocess.run(
+        [sys.executable, "-m", "catc", *map(str, args)],
+        capture_output=True,
+        timeout=timeout,
+        input=input,
+        cwd=ROOT,
+    )
+    return Result(proc.returncode, proc.stdout.decode("utf-8", "replace"), proc.stderr.decode("utf-8", "replace"))
+
+
+@pytest.fixture
+def catc():
+    return run_catc
