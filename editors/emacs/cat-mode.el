@@ -186,7 +186,7 @@ section while `:view' elsewhere is the hole option."
 
 (defconst cat--body-form-regexp
   "\\(?:define\\|:morphism\\|:hole\\|:view\\)\\_>"
-  "Heads whose arguments are a name and then a body indented by `cat-indent-offset'.")
+  "Heads of a name and a body indented by `cat-indent-offset'.")
 
 (defconst cat--call-head-regexp
   (concat "\\(?::\\(?:\\sw\\|\\s_\\)+\\|"

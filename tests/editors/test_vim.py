@@ -1,0 +1,47 @@
+"""The Vim support (editors/vim), driven headless through editors/vim/test/test.vim.
+
+test.vim checks the filetype detection, the ftplugin options, the syntax group at sample
+positions of editors/vim/test/sample.cat, indentation, and -- given CAT_KEYWORDS_JSON --
+every word of ``catgrammar.symbols.all_keywords()``.
+"""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+
+from catgrammar.symbols import all_keywords
+
+from ._tools import EDITORS, explain, glued, run, tool, write_keywords_json
+
+TEST_VIM = EDITORS / "vim" / "test" / "test.vim"
+
+
+def _run_test_vim(env: dict[str, str]):
+    vim = tool("vim")
+    version = run([vim, "--version"])
+    if "+syntax" not in version.stdout:
+        pytest.fail(f"{vim} is built without +syntax (vim-tiny?): install vim-nox", pytrace=False)
+    return run([vim, "-Nu", "NONE", "-es", "-S", str(TEST_VIM)], env=env, timeout=120)
+
+
+@pytest.mark.editors
+def test_vim_syntax_ftplugin_indent_and_every_keyword(tmp_path):
+    result = _run_test_vim({"CAT_KEYWORDS_JSON": str(write_keywords_json(tmp_path))})
+    assert result.returncode == 0, explain(result)
+    match = re.search(r"vim: all checks passed \((\d+) keyword checks\)", result.stdout)
+    assert match, explain(result)
+    expected = sum(1 + len(glued(w)) for words in all_keywords().values() for w in words)
+    assert int(match.group(1)) == expected, explain(result)
+
+
+@pytest.mark.editors
+def test_vim_test_fails_on_a_wrong_expectation(tmp_path):
+    """The sweep reports a keyword that is not highlighted (here: an unknown category)."""
+    path = tmp_path / "keywords.json"
+    path.write_text('{"section": [":morphism"], "no-such-category": ["x"], "operator": ["nand"]}')
+    result = _run_test_vim({"CAT_KEYWORDS_JSON": str(path)})
+    assert result.returncode != 0, explain(result)
+    assert "no syntax group for keyword category 'no-such-category'" in result.stderr, explain(result)
+    assert "operator 'nand' in '(nand x y)': expected 'catOperator', got ''" in result.stderr, explain(result)
