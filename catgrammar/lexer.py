@@ -49,15 +49,16 @@ from pygments.token import (
     Punctuation,
     String,
     Whitespace,
-    _TokenType,
 )
 
 from catgrammar.symbols import all_keywords
 
 __all__ = ["CatLexer", "TOKEN_FOR_CATEGORY"]
 
+TokenType = type(Keyword)
+
 #: The Pygments token of every ``all_keywords()`` category.
-TOKEN_FOR_CATEGORY: dict[str, _TokenType] = {
+TOKEN_FOR_CATEGORY: dict[str, TokenType] = {
     "structure": Keyword,
     "section": Keyword.Declaration,
     "option": Name.Attribute,
@@ -79,7 +80,7 @@ _INTEGER = r"[+-]?\d+"
 _END = r"(?![a-zA-Z0-9_-])"
 
 
-def _keyword_table() -> dict[str, _TokenType]:
+def _keyword_table() -> dict[str, TokenType]:
     """Word → token for bare words and ``:words``, first category wins (see ``order``)."""
     keywords = all_keywords()
     # A word in two categories takes the first: ``:view`` outside a section head is the
@@ -87,7 +88,7 @@ def _keyword_table() -> dict[str, _TokenType]:
     # highlighted (as ``Keyword``); tests/editors/test_keywords.py fails until it is mapped.
     order = ["option", "requirement", "section", "structure", "operator", "type", "constant", "kind", "metric"]
     order += [c for c in keywords if c not in order and c != "symbol-operator"]
-    table: dict[str, _TokenType] = {}
+    table: dict[str, TokenType] = {}
     for category in order:
         for word in keywords.get(category, ()):
             table.setdefault(word, TOKEN_FOR_CATEGORY.get(category, Keyword))
@@ -102,7 +103,7 @@ def _alternation(items: tuple[str, ...]) -> str:
     return "|".join(re.escape(item) for item in sorted(items, key=lambda w: (-len(w), w)))
 
 
-def _classify(lexer: RegexLexer, match: re.Match[str]) -> Iterator[tuple[int, _TokenType, str]]:
+def _classify(lexer: RegexLexer, match: re.Match[str]) -> Iterator[tuple[int, TokenType, str]]:
     """A bare name or ``:word``: its keyword token, or ``Name`` for anything else."""
     word = match.group()
     yield match.start(), _KEYWORDS.get(word, Name), word
