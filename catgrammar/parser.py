@@ -12,22 +12,43 @@ every later stage can recurse safely and every message can point at the real cul
 
 from __future__ import annotations
 
+import contextlib
 import functools
+import gc
 import os
 import re
+import threading
 from fractions import Fraction
 from importlib import resources
 from typing import Any
 
-from lark import Lark, Token, Transformer_NonRecursive, v_args
+from lark import Lark, Token, Transformer
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from catgrammar import ast
 from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
 from catgrammar.span import Source, Span
 from catgrammar.symbols import Option, Section
+from catgrammar.tokens import TERMINAL_TEXT, CatLexer
 
 MAX_DEPTH = 128
+
+
+@contextlib.contextmanager
+def gc_paused():
+    """Pause the cyclic garbage collector.
+
+    The front end allocates many small objects and keeps them (the AST, then the IR), so
+    the collector would rescan the growing, cycle-free structure again and again — on a
+    2,000-morphism domain that tripled the time of parse + check.  Reference counting
+    still frees everything; nested uses are fine."""
+    was_enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was_enabled:
+            gc.enable()
 MAX_LITERAL_DIGITS = 4000
 
 
@@ -38,9 +59,9 @@ def lark_parser() -> Lark:
     return Lark(
         grammar,
         parser="lalr",
-        lexer="contextual",
-        propagate_positions=True,
+        lexer=CatLexer,
         maybe_placeholders=False,
+        transformer=_BUILDER,
         cache=_cache_path(grammar),
     )
 
@@ -96,7 +117,7 @@ def read_source(path: str, diags: Diagnostics) -> Source | None:
 
 # ---------------------------------------------------------------- the parenthesis scan
 
-_SCAN = re.compile(r'[()]|;[^\n]*|"(?:[^"\\\n]|\\.)*"?')
+_SCAN = re.compile(r'[()]|;[^\n]*|"(?:[^"\\\n]|\\.)*(?P<close>")?')
 
 
 def scan_parentheses(src: Source, diags: Diagnostics) -> bool:
@@ -104,6 +125,11 @@ def scan_parentheses(src: Source, diags: Diagnostics) -> bool:
     stack: list[int] = []
     for m in _SCAN.finditer(src.text):
         tok = m.group()
+        if tok[0] == '"' and m.group("close") is None:
+            diags.report(
+                "E0107", "unterminated string: a string must close on the line it opens", src.span(m.start())
+            )
+            return False
         if tok == "(":
             stack.append(m.start())
             if len(stack) > MAX_DEPTH:
@@ -136,42 +162,11 @@ def scan_parentheses(src: Source, diags: Diagnostics) -> bool:
 
 # ---------------------------------------------------------------- syntax errors
 
-_HUMAN = {
-    "LPAR": "'('",
-    "RPAR": "')'",
-    "NAME": "a name",
-    "HEAD": "an operator",
-    "NUMBER": "a number",
-    "STRING": "a string",
-    "FLAG": "a requirement flag",
-    "SENSE": "'minimize' or 'maximize'",
-    "$END": "the end of the file",
-    "STAR": "'*'",
-    "FIXED": "':fixed'",
-    "TRUE": "'true'",
-    "FALSE": "'false'",
-    "LBRACE": "'{'",
-    "RBRACE": "'}'",
-}
-
 _KEYWORDS = {s.value for s in Section} | {o.value for o in Option}
 
 
 def _describe(parser: Lark, terminal: str) -> str:
-    if terminal in _HUMAN:
-        return _HUMAN[terminal]
-    try:
-        pattern = parser.get_terminal(terminal).pattern
-    except KeyError:
-        return terminal
-    if pattern.type == "str":
-        return f"'{pattern.value}'"
-    keyword = _KEYWORD_PATTERN.fullmatch(pattern.value)
-    return f"'{keyword.group(1)}'" if keyword else terminal
-
-
-#: How the grammar spells a keyword terminal: the word, then a word-boundary lookahead.
-_KEYWORD_PATTERN = re.compile(r"(:?[a-z][a-z-]*)\(\?!\[A-Za-z0-9_-\]\)")
+    return TERMINAL_TEXT.get(terminal, terminal)
 
 
 def _expected_text(parser: Lark, expected: set[str]) -> str:
@@ -229,8 +224,15 @@ def _report_syntax(exc: UnexpectedInput, src: Source, parser: Lark, diags: Diagn
             msg = f"unexpected keyword '{text}'; expected {_expected_text(parser, expected)}"
         diags.report("E0106", msg, span)
         return
-    if isinstance(exc, UnexpectedCharacters) and not re.match(r"[\w(){}*+<>=/-]", text):
-        diags.report("E0107", f"unexpected character {text!r}", span)
+    if isinstance(exc, UnexpectedCharacters):
+        if text.startswith('"'):
+            diags.report("E0107", "unterminated string: a string must close on the line it opens", span)
+        elif text[:1].isdigit() or text[:1] in "+-.":
+            m = re.match(r"[+\-.\w]+", src.text[pos:])
+            bad = m.group() if m else text
+            diags.report("E0107", f"malformed number '{bad}'", src.span(pos, pos + len(bad)))
+        else:
+            diags.report("E0107", f"unexpected character {text!r}", span)
         return
     what = "')'" if text == ")" else "'('" if text == "(" else f"'{text}'"
     msg = f"unexpected {what}; expected {_expected_text(parser, expected)}"
@@ -244,36 +246,50 @@ def _report_syntax(exc: UnexpectedInput, src: Source, parser: Lark, diags: Diagn
 # ---------------------------------------------------------------- tree → AST
 
 
-class _Builder(Transformer_NonRecursive):
-    """Lark tree → :mod:`catgrammar.ast`.  Never indexes children by position except
-    where the grammar fixes the shape (the leading NAME of a declaration)."""
+_PUNCT = frozenset({"LPAR", "RPAR", "LBRACE", "RBRACE"})
 
-    def __init__(self, src: Source, diags: Diagnostics):
-        super().__init__()
-        self.src = src
-        self.diags = diags
+
+class _Builder(Transformer):
+    """Parse-tree callbacks → :mod:`catgrammar.ast`, run *inside* the LALR parser.
+
+    No Lark ``Tree`` is ever built: each callback receives its children (tokens and AST
+    nodes) and returns an AST node.  A node's span runs from its first to its last token;
+    parentheses and option keywords are kept as tokens for exactly that reason and
+    dropped here.  ``src`` and ``diags`` are set by :func:`parse_source` before each parse.
+    """
+
+    src: Source
+    diags: Diagnostics
 
     # -- helpers
-    def _span(self, meta: Any) -> Span:
-        if getattr(meta, "empty", True):
-            return self.src.span(0, 0)
-        return Span(
-            self.src.path, meta.line, meta.column, meta.end_line, meta.end_column, meta.start_pos, meta.end_pos
-        )
-
     def _tok_span(self, tok: Token) -> Span:
-        return Span(
-            self.src.path, tok.line, tok.column, tok.end_line, tok.end_column, tok.start_pos, tok.end_pos
-        )
+        return Span(self.src.path, tok.line, tok.column, tok.end_line, tok.end_column, tok.start_pos, tok.end_pos)
+
+    def _span_of(self, item: Any) -> Span | None:
+        if isinstance(item, Token):
+            return self._tok_span(item)
+        if isinstance(item, tuple):
+            return self._span_of(item[0]).cover(self._span_of(item[-1])) if item else None  # type: ignore[union-attr]
+        return getattr(item, "span", None)
+
+    def _split(self, children: list) -> tuple[Span, list]:
+        """(span of all children, children without punctuation and keyword tokens)."""
+        spans = [s for s in (self._span_of(c) for c in (children[0], children[-1])) if s is not None] if children else []
+        span = spans[0].cover(spans[-1]) if spans else self.src.span(0, 0)
+        payload = [
+            c for c in children
+            if not (isinstance(c, Token) and (c.type in _PUNCT or c.type.endswith("_KW")))
+        ]
+        return span, payload
 
     def _name(self, tok: Token) -> ast.Name:
         return ast.Name(str(tok), self._tok_span(tok))
 
     def _num(self, tok: Token) -> ast.Num:
         text = str(tok)
-        digits = sum(c.isdigit() for c in text)
         span = self._tok_span(tok)
-        exponent = re.search(r"[eE]([+-]?\d+)", text)
+        digits = sum(c.isdigit() for c in text)
+        exponent = _EXPONENT.search(text)
         if digits > MAX_LITERAL_DIGITS:
             problem = f"has {digits} digits"
         elif exponent and abs(int(exponent.group(1)[:8])) > MAX_LITERAL_DIGITS:
@@ -281,144 +297,123 @@ class _Builder(Transformer_NonRecursive):
         else:
             return ast.Num(Fraction(text), text, span)
         self.diags.report(
-            "E0105",
-            f"numeric literal {problem}; at most {MAX_LITERAL_DIGITS} digits are supported",
-            span,
+            "E0105", f"numeric literal {problem}; at most {MAX_LITERAL_DIGITS} digits are supported", span
         )
         return ast.Num(Fraction(0), "0", span)
 
-    def _names(self, children: list) -> tuple[ast.Name, ...]:
-        return tuple(self._name(c) for c in children if isinstance(c, Token) and c.type == "NAME")
+    def _names(self, items: list) -> tuple[ast.Name, ...]:
+        return tuple(self._name(c) for c in items if isinstance(c, Token) and c.type == "NAME")
 
-    # -- file
-    def start(self, children):
-        return tuple(children)
-
-    @v_args(meta=True)
-    def domain(self, meta, children):
-        name, *sections = children
-        return ast.Domain(self._name(name), tuple(sections), self._span(meta))
-
-    @v_args(meta=True)
-    def problem(self, meta, children):
-        name, *sections = children
-        return ast.Problem(self._name(name), tuple(sections), self._span(meta))
-
-    # -- domain sections
-    @v_args(meta=True)
-    def requirements(self, meta, children):
-        return ast.Requirements(tuple(self._name(c) for c in children), self._span(meta))
-
-    @v_args(meta=True)
-    def imports(self, meta, children):
-        return ast.Imports(self._names(children), self._span(meta))
-
-    @v_args(meta=True)
-    def name_list(self, meta, children):
-        return self._names(children)
-
-    @v_args(meta=True)
-    def enum_spec(self, meta, children):
-        return ast.EnumSpec(self._names(children), self._span(meta))
-
-    @v_args(meta=True)
-    def sort_group(self, meta, children):
-        names, parent = children
-        if isinstance(parent, Token):
-            parent = self._name(parent)
-        return ast.SortGroup(names, parent, self._span(meta))
-
-    @v_args(meta=True)
-    def sorts(self, meta, children):
-        groups = []
-        for c in children:
-            if isinstance(c, tuple):  # untyped tail: plain symbolic sorts
-                span = c[0].span.cover(c[-1].span)
-                groups.append(ast.SortGroup(c, None, span))
-            else:
-                groups.append(c)
-        return ast.Sorts(tuple(groups), self._span(meta))
-
-    @v_args(meta=True)
-    def typed_group(self, meta, children):
-        names, sort = children
-        return ast.TypedGroup(names, self._name(sort), self._span(meta))
-
-    @v_args(meta=True)
-    def typed_names(self, meta, children):
-        groups = []
-        for c in children:
-            if isinstance(c, tuple):
-                groups.append(ast.TypedGroup(c, None, c[0].span.cover(c[-1].span)))
-            else:
-                groups.append(c)
-        return tuple(groups)
-
-    @v_args(meta=True)
-    def constants(self, meta, children):
-        (groups,) = children
-        return ast.Constants(groups, self._span(meta))
-
-    @v_args(meta=True)
-    def objects(self, meta, children):
-        (groups,) = children
-        return ast.Objects(groups, self._span(meta))
-
-    @v_args(meta=True)
-    def resources(self, meta, children):
-        return ast.Resources(tuple(children), self._span(meta))
-
-    def _type(self, node) -> ast.TypeExpr:
+    def _as_type(self, node) -> ast.TypeExpr:
         if isinstance(node, Token):
             name = self._name(node)
             return ast.TypeName(name, name.span)
         return node
 
-    @v_args(meta=True)
-    def set_type(self, meta, children):
-        (elem,) = children
-        return ast.SetType(self._name(elem), self._span(meta))
+    # -- file
+    def start(self, children):
+        return tuple(children)
 
-    @v_args(meta=True)
-    def resource(self, meta, children):
-        name, type_, *options = children
-        return ast.ResourceDecl(self._name(name), self._type(type_), tuple(options), self._span(meta))
+    def domain(self, children):
+        span, (name, *sections) = self._split(children)
+        return ast.Domain(self._name(name), tuple(sections), span)
 
-    @v_args(meta=True)
-    def parameter(self, meta, children):
-        name, type_, *options = children
-        return ast.ParameterDecl(self._name(name), self._type(type_), tuple(options), self._span(meta))
+    def problem(self, children):
+        span, (name, *sections) = self._split(children)
+        return ast.Problem(self._name(name), tuple(sections), span)
 
-    @v_args(meta=True)
-    def parameters(self, meta, children):
-        return ast.Opt(Option.PARAMETERS.value, tuple(children), self._span(meta))
+    # -- domain sections
+    def requirements(self, children):
+        span, flags = self._split(children)
+        return ast.Requirements(tuple(self._name(c) for c in flags), span)
 
-    @v_args(meta=True)
-    def bound(self, meta, children):
+    def imports(self, children):
+        span, names = self._split(children)
+        return ast.Imports(self._names(names), span)
+
+    def name_list(self, children):
+        return self._names(children)
+
+    def enum_spec(self, children):
+        span, names = self._split(children)
+        return ast.EnumSpec(self._names(names), span)
+
+    def sort_group(self, children):
+        span, (names, _dash, parent) = self._split(children)
+        if isinstance(parent, Token):
+            parent = self._name(parent)
+        return ast.SortGroup(names, parent, span)
+
+    def sorts(self, children):
+        span, items = self._split(children)
+        groups = [
+            ast.SortGroup(c, None, self._span_of(c)) if isinstance(c, tuple) else c  # untyped tail
+            for c in items
+        ]
+        return ast.Sorts(tuple(groups), span)
+
+    def typed_group(self, children):
+        span, (names, _dash, sort) = self._split(children)
+        return ast.TypedGroup(names, self._name(sort), span)
+
+    def typed_names(self, children):
+        return tuple(
+            ast.TypedGroup(c, None, self._span_of(c)) if isinstance(c, tuple) else c for c in children
+        )
+
+    def constants(self, children):
+        span, items = self._split(children)
+        return ast.Constants(items[0] if items else (), span)
+
+    def objects(self, children):
+        span, items = self._split(children)
+        return ast.Objects(items[0] if items else (), span)
+
+    def resources(self, children):
+        span, items = self._split(children)
+        return ast.Resources(tuple(items), span)
+
+    def set_type(self, children):
+        span, (elem,) = self._split(children)
+        return ast.SetType(self._name(elem), span)
+
+    def resource(self, children):
+        span, (name, type_, *options) = self._split(children)
+        return ast.ResourceDecl(self._name(name), self._as_type(type_), tuple(options), span)
+
+    def parameter(self, children):
+        span, (name, type_, *options) = self._split(children)
+        return ast.ParameterDecl(self._name(name), self._as_type(type_), tuple(options), span)
+
+    def parameters(self, children):
+        span, params = self._split(children)
+        return ast.Opt(Option.PARAMETERS.value, tuple(params), span)
+
+    def bound(self, children):
         (tok,) = children
         return None if tok.type == "STAR" else self._num(tok)
 
-    @v_args(meta=True)
-    def bounds(self, meta, children):
-        lower, upper = children
-        return ast.Bounds(lower, upper, self._span(meta))
+    def bounds(self, children):
+        span, (lower, upper) = self._split(children)
+        return ast.Bounds(lower, upper, span)
 
-    def _opt(key: str, kind: str):  # noqa: N805 - a factory for option handlers
-        @v_args(meta=True)
-        def handler(self, meta, children):
+    def _opt(key: str, kind: str):  # noqa: N805 - a factory for option callbacks
+        def callback(self, children):
+            span, payload = self._split(children)
             if kind == "flag":
-                value = True
+                value: object = True
             else:
-                (value,) = children
-                if kind == "name" and isinstance(value, Token):
-                    value = self._name(value)
+                (value,) = payload
+                if kind == "name":
+                    value = self._name(value)  # type: ignore[arg-type]
                 elif kind == "number":
-                    value = self._num(value)
+                    value = self._num(value)  # type: ignore[arg-type]
                 elif kind == "string":
-                    value = self._name(value) if value.type == "NAME" else ast.Name(_unquote(value), self._tok_span(value))
-            return ast.Opt(key, value, self._span(meta))
+                    tok: Token = value  # type: ignore[assignment]
+                    value = self._name(tok) if tok.type == "NAME" else ast.Name(_unquote(tok), self._tok_span(tok))
+            return ast.Opt(key, value, span)
 
-        return handler
+        return callback
 
     group = _opt(Option.GROUP.value, "name")
     unit = _opt(Option.UNIT.value, "string")
@@ -437,118 +432,106 @@ class _Builder(Transformer_NonRecursive):
     weight = _opt(Option.WEIGHT.value, "number")
     del _opt
 
-    @v_args(meta=True)
-    def keep(self, meta, children):
-        return ast.Opt(Option.KEEP.value, self._names(children), self._span(meta))
+    def keep(self, children):
+        span, names = self._split(children)
+        return ast.Opt(Option.KEEP.value, self._names(names), span)
 
-    @v_args(meta=True)
-    def drop(self, meta, children):
-        return ast.Opt(Option.DROP.value, self._names(children), self._span(meta))
+    def drop(self, children):
+        span, names = self._split(children)
+        return ast.Opt(Option.DROP.value, self._names(names), span)
 
-    @v_args(meta=True)
-    def morphism(self, meta, children):
-        name, *options = children
-        return ast.MorphismDecl(self._name(name), tuple(options), self._span(meta))
+    def morphism(self, children):
+        span, (name, *options) = self._split(children)
+        return ast.MorphismDecl(self._name(name), tuple(options), span)
 
-    @v_args(meta=True)
-    def hole(self, meta, children):
-        name, *options = children
-        return ast.HoleDecl(self._name(name), tuple(options), self._span(meta))
+    def hole(self, children):
+        span, (name, *options) = self._split(children)
+        return ast.HoleDecl(self._name(name), tuple(options), span)
 
-    @v_args(meta=True)
-    def view_decl(self, meta, children):
-        name, *options = children
-        return ast.ViewDecl(self._name(name), tuple(options), self._span(meta))
+    def view_decl(self, children):
+        span, (name, *options) = self._split(children)
+        return ast.ViewDecl(self._name(name), tuple(options), span)
 
     # -- problem sections
-    @v_args(meta=True)
-    def domain_ref(self, meta, children):
-        (name,) = children
-        return ast.DomainRef(self._name(name), self._span(meta))
+    def domain_ref(self, children):
+        span, (name,) = self._split(children)
+        return ast.DomainRef(self._name(name), span)
 
-    @v_args(meta=True)
-    def init(self, meta, children):
-        return ast.Init(tuple(children), self._span(meta))
+    def init(self, children):
+        span, literals = self._split(children)
+        return ast.Init(tuple(literals), span)
 
-    @v_args(meta=True)
-    def goal(self, meta, children):
-        (cond,) = children
-        return ast.Goal(cond, self._span(meta))
+    def goal(self, children):
+        span, (cond,) = self._split(children)
+        return ast.Goal(cond, span)
 
-    @v_args(meta=True)
-    def horizon(self, meta, children):
-        (num,) = children
-        return ast.Horizon(self._num(num), self._span(meta))
+    def horizon(self, children):
+        span, (num,) = self._split(children)
+        return ast.Horizon(self._num(num), span)
 
-    @v_args(meta=True)
-    def soft(self, meta, children):
-        cond, *options = children
-        return ast.Soft(cond, tuple(options), self._span(meta))
+    def soft(self, children):
+        span, (cond, *options) = self._split(children)
+        return ast.Soft(cond, tuple(options), span)
 
-    @v_args(meta=True)
-    def objective_body(self, meta, children):
+    def objective_body(self, children):
         sense, term = children
-        return ast.Objective(self._name(sense), term, self._span(meta))
+        span = self._tok_span(sense).cover(term.span)
+        return ast.Objective(self._name(sense), term, span)
 
-    @v_args(meta=True)
-    def objective(self, meta, children):
-        (body,) = children
-        return ast.Objective(body.sense, body.term, self._span(meta))
+    def objective(self, children):
+        span, (body,) = self._split(children)
+        return ast.Objective(body.sense, body.term, span)
 
-    @v_args(meta=True)
-    def single(self, meta, children):
+    def single(self, children):
         return ("single", tuple(children))
 
-    @v_args(meta=True)
-    def lex(self, meta, children):
+    def lex(self, children):
         return ("lex", tuple(children))
 
-    @v_args(meta=True)
-    def pareto(self, meta, children):
+    def pareto(self, children):
         return ("pareto", tuple(children))
 
-    @v_args(meta=True)
-    def metric(self, meta, children):
-        ((mode, objectives),) = children
-        return ast.Metric(mode, objectives, self._span(meta))
+    def metric(self, children):
+        span, ((mode, objectives),) = self._split(children)
+        return ast.Metric(mode, objectives, span)
 
-    @v_args(meta=True)
-    def deployed(self, meta, children):
-        return ast.Deployed(self._names(children), self._span(meta))
+    def deployed(self, children):
+        span, names = self._split(children)
+        return ast.Deployed(self._names(names), span)
 
-    @v_args(meta=True)
-    def view_use(self, meta, children):
-        (name,) = children
-        return ast.ViewUse(self._name(name), self._span(meta))
+    def view_use(self, children):
+        span, (name,) = self._split(children)
+        return ast.ViewUse(self._name(name), span)
 
     # -- expressions
-    @v_args(meta=True)
-    def ref(self, meta, children):
+    def ref(self, children):
         (tok,) = children
         return ast.Ref(str(tok), self._tok_span(tok))
 
-    @v_args(meta=True)
-    def number(self, meta, children):
+    def number(self, children):
         (tok,) = children
         return self._num(tok)
 
-    @v_args(meta=True)
-    def true(self, meta, children):
+    def true(self, children):
         return ast.BoolLit(True, self._tok_span(children[0]))
 
-    @v_args(meta=True)
-    def false(self, meta, children):
+    def false(self, children):
         return ast.BoolLit(False, self._tok_span(children[0]))
 
-    @v_args(meta=True)
-    def set_literal(self, meta, children):
-        elements = tuple(c for c in children if not isinstance(c, Token))
-        return ast.SetLit(elements, self._span(meta))
+    def set_literal(self, children):
+        span, elements = self._split(children)
+        return ast.SetLit(tuple(elements), span)
 
-    @v_args(meta=True)
-    def call(self, meta, children):
-        head, *args = children
-        return ast.Call(self._name(head), tuple(args), self._span(meta))
+    def call(self, children):
+        span, (head, *args) = self._split(children)
+        return ast.Call(self._name(head), tuple(args), span)
+
+
+_EXPONENT = re.compile(r"[eE]([+-]?\d+)")
+
+
+_BUILDER = _Builder()
+_PARSE_LOCK = threading.Lock()
 
 
 def _unquote(tok: Token) -> str:
@@ -570,13 +553,18 @@ def parse_source(src: Source, diags: Diagnostics) -> ast.SourceFile | None:
     if not scan_parentheses(src, diags):
         return None
     parser = lark_parser()
-    try:
-        tree = parser.parse(src.text)
-    except UnexpectedInput as exc:
-        _report_syntax(exc, src, parser, diags)
-        return None
     before = len(diags.errors)
-    definitions = _Builder(src, diags).transform(tree)
+    # The AST is built inside the parser; allocation-heavy, so the cyclic GC (which would
+    # rescan the growing tree many times) is paused for the parse.  Nothing here is cyclic.
+    with _PARSE_LOCK, gc_paused():
+        _BUILDER.src, _BUILDER.diags = src, diags
+        try:
+            definitions = parser.parse(src.text)
+        except UnexpectedInput as exc:
+            _report_syntax(exc, src, parser, diags)
+            return None
+        finally:
+            del _BUILDER.src, _BUILDER.diags
     if len(diags.errors) > before:
         return None
     return ast.SourceFile(src.path, definitions)

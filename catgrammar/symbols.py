@@ -229,6 +229,8 @@ RESERVED_NAMES = frozenset(
     set(STRUCTURE_WORDS)
     | set(TYPE_WORDS)
     | set(LITERAL_WORDS)
+    | {m.value for m in MetricSense}
+    | {m.value for m in MetricMode}
     | {op.value for op in Operator if op.value[0].isalpha()}
 )
 

@@ -248,3 +248,22 @@ def test_same_domain_defined_in_two_files(tmp_path):
 def test_problem_without_domain_section(tmp_path):
     _, res = check(tmp_path, "(define (problem p) (:goal true))")
     assert first_error(res.stdout)["code"] == "E0206"
+
+
+@pytest.mark.parametrize(
+    "text, fragment, col",
+    [
+        ('(define (domain d) (:resources (x bool :doc "a \\")))', "unterminated string", 45),
+        ("(define (domain d) (:morphism m :precondition (>= x 12abc)))", "malformed number '12abc'", 53),
+    ],
+)
+def test_lexical_errors(tmp_path, text, fragment, col):
+    _, res = check(tmp_path, text)
+    m = first_error(res.stdout)
+    assert m["code"] == "E0107" and int(m["col"]) == col and fragment in res.stdout
+
+
+def test_negation_without_space(tmp_path):
+    text = "(define (domain d) (:requirements :numeric) (:resources (x real)) (:morphism m :effect (assign x (-x))))"
+    _, res = check(tmp_path, text)
+    assert res.exit_code == 0, res.output

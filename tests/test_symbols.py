@@ -13,25 +13,41 @@ from conftest import ROOT, run_catc
 GRAMMAR = resources.files("catgrammar").joinpath("cat.lark").read_text()
 
 
-def grammar_keywords() -> set[str]:
-    words = set(re.findall(r"/(:?[a-z][a-z-]*)\(\?!\[A-Za-z0-9_-\]\)/", GRAMMAR))
-    words |= set(re.findall(r'"([a-z]+)"', GRAMMAR))
-    for alt in re.findall(r"SENSE: /\(([a-z|]+)\)", GRAMMAR):
-        words |= set(alt.split("|"))
-    return words
+def grammar_terminals() -> set[str]:
+    declared = set()
+    for line in GRAMMAR.splitlines():
+        if line.startswith("%declare"):
+            declared |= set(line.split()[1:])
+    return declared
 
 
-def test_grammar_colon_keywords_are_exactly_sections_and_options():
-    colon = {w for w in grammar_keywords() if w.startswith(":")}
-    declared = {s.value for s in symbols.Section} | {o.value for o in symbols.Option}
-    assert colon == declared
+def used_terminals() -> set[str]:
+    rules = "\n".join(l for l in GRAMMAR.splitlines() if not l.lstrip().startswith(("//", "%")))
+    return set(re.findall(r"\b_?[A-Z][A-Z_]*\b", rules))
 
 
-def test_grammar_words_are_declared_symbols():
-    words = {w for w in grammar_keywords() if not w.startswith(":")}
+def test_every_keyword_terminal_is_declared_and_used():
+    from catgrammar.tokens import COLON_KEYWORDS, PUNCTUATION, WORDS
+
+    produced = set(COLON_KEYWORDS.values()) | set(WORDS.values()) | set(PUNCTUATION.values())
+    produced |= {"OPSYM", "NAME", "NUMBER", "STRING", "FLAG"}
+    assert grammar_terminals() == produced
+    assert used_terminals() == produced
+
+
+def test_colon_keywords_are_exactly_sections_and_options():
+    from catgrammar.tokens import COLON_KEYWORDS
+
+    assert set(COLON_KEYWORDS) == {s.value for s in symbols.Section} | {o.value for o in symbols.Option}
+
+
+def test_reserved_words_are_declared_symbols():
+    from catgrammar.tokens import WORDS
+
     kw = symbols.all_keywords()
     declared = set(kw["structure"]) | set(kw["type"]) | set(kw["constant"]) | set(kw["metric"])
-    assert words <= declared, words - declared
+    assert set(WORDS) <= declared, set(WORDS) - declared
+    assert set(WORDS) <= symbols.RESERVED_NAMES
 
 
 def test_every_operator_is_known_to_the_checker():

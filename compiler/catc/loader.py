@@ -15,7 +15,7 @@ from pathlib import Path
 
 from catgrammar import ast
 from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
-from catgrammar.parser import parse_source, read_source
+from catgrammar.parser import gc_paused, parse_source, read_source
 from catgrammar.span import Span
 from catc import ir
 from catc.check import DomainChecker, ProblemChecker
@@ -178,6 +178,11 @@ def load_instance(
     problem_name: str | None = None,
 ) -> tuple[Workspace, ir.Instance | None]:
     """The common front end of every query command: files → checked instance."""
+    with gc_paused():
+        return _load_instance(domain_path, problem_path, diags, search_paths, problem_name)
+
+
+def _load_instance(domain_path, problem_path, diags, search_paths, problem_name):
     ws = Workspace(diags, search_paths)
     if domain_path is not None:
         ws.load(domain_path)

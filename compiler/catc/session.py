@@ -6,6 +6,7 @@ from pathlib import Path
 
 from catgrammar import ast
 from catgrammar.diagnostics import Diagnostics
+from catgrammar.parser import gc_paused
 from catc import ir
 from catc.lints import lint_domain, lint_instance
 from catc.loader import Workspace, stdlib_dir
@@ -24,6 +25,11 @@ def check_files(
     files: list[str], diags: Diagnostics, search_paths: tuple[str, ...] | list[str] = ()
 ) -> tuple[dict[str, ir.Domain], dict[str, ir.Instance]]:
     """Check every definition in ``files``: errors and lints go to ``diags``."""
+    with gc_paused():
+        return _check_files(files, diags, search_paths)
+
+
+def _check_files(files, diags, search_paths):
     ws = Workspace(diags, search_paths)
     parsed: list[tuple[str, ast.SourceFile]] = []
     for f in files:
