@@ -237,12 +237,27 @@ def test_syntax_error_names_what_was_expected(tmp_path):
     assert "unexpected '3'; expected ')'" in res.stdout
 
 
-def test_same_domain_defined_in_two_files(tmp_path):
+def test_same_domain_defined_in_two_files_of_one_folder(tmp_path):
     (tmp_path / "a.cat").write_text("(define (domain twin) (:resources (b bool)) (:morphism m :effect (assign b true)))")
     (tmp_path / "b.cat").write_text("(define (domain twin) (:resources (b bool)) (:morphism m :effect (assign b true)))")
     res = run_catc("check", str(tmp_path))
     assert res.exit_code == 1
     assert first_error(res.stdout)["code"] == "E0210" and "also defined here" in res.stdout
+
+
+def test_same_domain_name_in_two_folders_resolves_by_folder(tmp_path):
+    for sub, res_name in (("one", "alpha"), ("two", "beta")):
+        (tmp_path / sub).mkdir()
+        (tmp_path / sub / "d.cat").write_text(
+            f"(define (domain twin) (:resources ({res_name} bool)) (:morphism m :effect (assign {res_name} true)))")
+        (tmp_path / sub / "p.cat").write_text(f"(define (problem p) (:domain twin) (:goal {res_name}))")
+    res = run_catc("check", str(tmp_path))
+    assert res.exit_code == 0, res.output
+    # A problem elsewhere cannot tell which one it means.
+    (tmp_path / "three").mkdir()
+    (tmp_path / "three" / "p.cat").write_text("(define (problem p) (:domain twin) (:goal alpha))")
+    res = run_catc("check", str(tmp_path))
+    assert res.exit_code == 1 and "defined in several folders" in res.stdout
 
 
 def test_problem_without_domain_section(tmp_path):

@@ -137,6 +137,7 @@ class DomainChecker:
         self.holes: dict[str, ir.Hole] = {}
         self.views: dict[str, ir.View] = {}
         self.imported: list[str] = []
+        self.imported_domains: list[ir.Domain] = []
         self.failed = False
 
     # ------------------------------------------------------------------ names
@@ -210,10 +211,8 @@ class DomainChecker:
 
     def _imported_requirements(self) -> frozenset[str]:
         out: set[str] = set()
-        for name in self.imported:
-            dom = self.ws.checked_domain(name)
-            if dom is not None:
-                out |= dom.requirements
+        for dom in self.imported_domains:
+            out |= dom.requirements
         return frozenset(out)
 
     # ------------------------------------------------------------------ imports
@@ -226,6 +225,7 @@ class DomainChecker:
             if name.text in self.imported:
                 continue
             self.imported.append(name.text)
+            self.imported_domains.append(dom)
             self._merge(dom, name)
 
     def _merge(self, dom: ir.Domain, via: ast.Name) -> None:

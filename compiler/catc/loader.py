@@ -43,6 +43,14 @@ class Loaded:
     file: ast.SourceFile
 
 
+def _norm(path: str) -> str:
+    return os.path.normcase(os.path.abspath(path))
+
+
+def _folder(path: str) -> Path:
+    return Path(path).resolve().parent
+
+
 def _domain_pattern(name: str) -> re.Pattern[str]:
     return re.compile(r"\(\s*domain\s+" + re.escape(name) + r"\s*\)")
 
@@ -53,15 +61,16 @@ class Workspace:
         env = [p for p in os.environ.get("CATC_PATH", "").split(os.pathsep) if p]
         self.search_paths = [Path(p) for p in list(search_paths) + env]
         self.files: dict[str, ast.SourceFile | None] = {}
-        self.domains: dict[str, tuple[ast.Domain, str]] = {}
-        self.problems: dict[str, tuple[ast.Problem, str]] = {}
-        self._checked: dict[str, ir.Domain | None] = {}
-        self._stack: list[str] = []
+        #: every loaded definition by name: several when unrelated folders reuse a name
+        self.domains: dict[str, list[tuple[ast.Domain, str]]] = {}
+        self.problems: dict[str, list[tuple[ast.Problem, str]]] = {}
+        self._checked: dict[int, ir.Domain | None] = {}  # id(ast.Domain) → checked IR
+        self._stack: list[tuple[str, int]] = []
         self.stdlib = stdlib_dir()
 
     # -------------------------------------------------------------- files
     def load(self, path: str) -> ast.SourceFile | None:
-        key = os.path.normpath(path)
+        key = _norm(path)
         if key in self.files:
             return self.files[key]
         self.files[key] = None
@@ -70,58 +79,82 @@ class Workspace:
         self.files[key] = parsed
         if parsed is not None:
             for d in parsed.definitions:
-                table = self.domains if isinstance(d, ast.Domain) else self.problems
-                prev = table.get(d.name.text)
-                if prev is not None and os.path.normpath(prev[1]) != key:
-                    what = "domain" if isinstance(d, ast.Domain) else "problem"
-                    self.diags.report(
-                        "E0210",
-                        f"{what} '{d.name.text}' is defined in two files",
-                        d.name.span,
-                        Note("also defined here", prev[0].name.span),
-                    )
-                    continue
-                if prev is not None and prev[0] is not d:
-                    what = "domain" if isinstance(d, ast.Domain) else "problem"
-                    self.diags.report(
-                        "E0210",
-                        f"{what} '{d.name.text}' is defined twice",
-                        d.name.span,
-                        Note("first defined here", prev[0].name.span),
-                    )
-                    continue
-                table[d.name.text] = (d, path)  # type: ignore[assignment]
+                self._index(d, path)
         return parsed
 
-    def _scan(self, folder: Path, name: str) -> bool:
+    def _index(self, d: ast.Definition, path: str) -> None:
+        """Record a definition.  Two definitions of one name in one folder are ambiguous
+        (a reference from that folder could mean either); in different folders they are not."""
+        table = self.domains if isinstance(d, ast.Domain) else self.problems
+        what = "domain" if isinstance(d, ast.Domain) else "problem"
+        entries = table.setdefault(d.name.text, [])
+        folder = _folder(path)
+        for prev, prev_path in entries:
+            if _folder(prev_path) == folder:
+                where = "twice in one file" if _norm(prev_path) == _norm(path) else "in two files of one folder"
+                self.diags.report(
+                    "E0210",
+                    f"{what} '{d.name.text}' is defined {where}",
+                    d.name.span,
+                    Note("also defined here", prev.name.span),
+                )
+                return
+        entries.append((d, path))  # type: ignore[arg-type]
+
+    def _scan(self, folder: Path, name: str) -> tuple[ast.Domain, str] | None:
         """Load the ``.cat`` files of ``folder`` that seem to define domain ``name``."""
         if not folder.is_dir():
-            return False
+            return None
+        found = self._in_folder(name, folder)
+        if found:
+            return found
         pattern = _domain_pattern(name)
         preferred = folder / f"{name}.cat"
         candidates = [preferred] if preferred.is_file() else []
         candidates += sorted(p for p in folder.glob("*.cat") if p != preferred)
         for p in candidates:
+            if _norm(str(p)) in self.files:
+                continue
             try:
                 head = p.read_bytes()[:1_000_000].decode("utf-8", errors="replace")
             except OSError:
                 continue
             if pattern.search(head):
                 self.load(str(p))
-                if name in self.domains:
-                    return True
-        return False
+                found = self._in_folder(name, folder)
+                if found:
+                    return found
+        return None
 
-    def find_domain(self, name: str, near: str | None) -> tuple[ast.Domain, str] | None:
-        if name in self.domains:
-            return self.domains[name]
-        folders: list[Path] = []
+    def _in_folder(self, name: str, folder: Path) -> tuple[ast.Domain, str] | None:
+        for d, p in self.domains.get(name, []):
+            if _folder(p) == folder.resolve():
+                return d, p
+        return None
+
+    def find_domain(self, name: str, near: str | None, ref: Span | None = None) -> tuple[ast.Domain, str] | None:
+        """The domain ``name`` as seen from the file ``near``: its own folder first, then the
+        other loaded files (when exactly one folder defines it), ``--path``, the stdlib."""
         if near is not None:
-            folders.append(Path(near).resolve().parent)
-        folders += self.search_paths + [self.stdlib]
-        for folder in folders:
-            if self._scan(folder, name):
-                return self.domains[name]
+            found = self._scan(_folder(near), name)
+            if found:
+                return found
+        loaded = self.domains.get(name, [])
+        if len(loaded) == 1:
+            return loaded[0]
+        if len(loaded) > 1:
+            self.diags.report(
+                "E0210",
+                f"domain '{name}' is defined in several folders; keep the problem next to the one it means "
+                f"or pass only that one",
+                ref,
+                *[Note("defined here", d.name.span) for d, _ in loaded],
+            )
+            return None
+        for folder in self.search_paths + [self.stdlib]:
+            found = self._scan(folder, name)
+            if found:
+                return found
         return None
 
     def known_domain_names(self) -> list[str]:
@@ -129,35 +162,35 @@ class Workspace:
 
     # -------------------------------------------------------------- checking
     def domain_ir(self, name: str, near: str | None, ref: Span | None, importing: bool = False) -> ir.Domain | None:
-        if name in self._stack:
-            cycle = " -> ".join(self._stack[self._stack.index(name):] + [name])
-            self.diags.report("E0209", f"circular import: {cycle}", ref)
-            return None
-        if name in self._checked:
-            return self._checked[name]
-        found = self.find_domain(name, near)
+        found = self.find_domain(name, near, ref)
         if found is None:
-            code = "E0208" if importing else "E0207"
-            what = "imported domain" if importing else "domain"
-            hint = did_you_mean(name, self.known_domain_names())
-            self.diags.report(
-                code,
-                f"{what} '{name}' not found (searched the loaded files, the folder of this file, "
-                f"--path/CATC_PATH and the standard library){hint}",
-                ref,
-            )
+            if not self.domains.get(name) or len(self.domains[name]) <= 1:
+                code = "E0208" if importing else "E0207"
+                what = "imported domain" if importing else "domain"
+                hint = did_you_mean(name, self.known_domain_names())
+                self.diags.report(
+                    code,
+                    f"{what} '{name}' not found (searched the folder of this file, the loaded files, "
+                    f"--path/CATC_PATH and the standard library){hint}",
+                    ref,
+                )
             return None
         node, path = found
-        self._stack.append(name)
+        key = id(node)
+        if any(k == key for _, k in self._stack):
+            names = [n for n, _ in self._stack]
+            cycle = " -> ".join(names[names.index(name):] + [name])
+            self.diags.report("E0209", f"circular import: {cycle}", ref)
+            return None
+        if key in self._checked:
+            return self._checked[key]
+        self._stack.append((name, key))
         try:
             result = DomainChecker(self, node, path, self.diags).run()
         finally:
             self._stack.pop()
-        self._checked[name] = result
+        self._checked[key] = result
         return result
-
-    def checked_domain(self, name: str) -> ir.Domain | None:
-        return self._checked.get(name)
 
     def checked_domains(self) -> list[ir.Domain]:
         return [d for d in self._checked.values() if d is not None]
@@ -165,9 +198,6 @@ class Workspace:
     def check_problem(self, node: ast.Problem, path: str) -> ir.Instance | None:
         return ProblemChecker(self, node, path, self.diags).run()
 
-    def problem_ir(self, name: str) -> ir.Instance | None:
-        node, path = self.problems[name]
-        return self.check_problem(node, path)
 
 
 def load_instance(

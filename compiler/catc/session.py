@@ -40,14 +40,14 @@ def _check_files(files, diags, search_paths):
     instances: dict[str, ir.Instance] = {}
     for path, sf in parsed:
         for d in sf.definitions:
-            if isinstance(d, ast.Domain) and ws.domains.get(d.name.text, (None,))[0] is d:
+            if isinstance(d, ast.Domain) and any(d is e for e, _ in ws.domains.get(d.name.text, [])):
                 dom = ws.domain_ir(d.name.text, path, d.name.span)
                 if dom is not None:
                     domains[dom.name] = dom
     checked: list[ir.Instance] = []
     for path, sf in parsed:
         for d in sf.definitions:
-            if isinstance(d, ast.Problem) and ws.problems.get(d.name.text, (None,))[0] is d:
+            if isinstance(d, ast.Problem) and any(d is e for e, _ in ws.problems.get(d.name.text, [])):
                 inst = ws.check_problem(d, path)
                 if inst is None:
                     continue
@@ -59,7 +59,7 @@ def _check_files(files, diags, search_paths):
                 instances[inst.problem.name] = inst
                 checked.append(inst)
     for dom in ws.checked_domains():
-        lint_domain(dom, diags, is_user_file, [i.problem for i in checked if i.domain.name == dom.name])
+        lint_domain(dom, diags, is_user_file, [i.problem for i in checked if i.domain is dom])
     for inst in checked:
         lint_instance(inst, diags, is_user_file)
     return domains, instances
