@@ -1,0 +1,159 @@
+"""Compositions (plans): what a solve returns and what the validator replays.
+
+A :class:`Plan` is a sequence of steps; each step is a set of activations that run in
+parallel (⊗), and steps compose serially (∘).  Values are exact: ``Fraction`` for numbers,
+``bool``, and ``str`` for symbols.  A symbol that is not a constant of the model is a *fresh*
+(reserve) value of the sort recorded in ``Plan.fresh`` (finite grounding, Proposition 1).
+
+The JSON form (schema ``catc.plan/1``, docs/cli.md) writes numbers as strings of exact
+rationals (``"17/4"``) or integers, so nothing is ever a float.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+from types import MappingProxyType
+from typing import Any, Mapping, Union
+
+Value = Union[Fraction, bool, str]
+SetValue = frozenset  # of symbol names
+StateValue = Union[Value, SetValue]
+State = Mapping[str, StateValue]
+
+PLAN_SCHEMA = "catc.plan/1"
+
+
+@dataclass(frozen=True)
+class Activation:
+    """One use of a morphism, with the values of its parameters θ."""
+
+    morphism: str
+    params: Mapping[str, Value] = field(default_factory=lambda: MappingProxyType({}))
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "params", MappingProxyType(dict(self.params)))
+
+
+@dataclass(frozen=True)
+class Plan:
+    steps: tuple[tuple[Activation, ...], ...]
+    fresh: Mapping[str, str] = field(default_factory=lambda: MappingProxyType({}))  # value → sort
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "steps", tuple(tuple(s) for s in self.steps))
+        object.__setattr__(self, "fresh", MappingProxyType(dict(self.fresh)))
+
+    @property
+    def activations(self) -> list[tuple[int, Activation]]:
+        return [(i, a) for i, step in enumerate(self.steps) for a in step]
+
+    @property
+    def components(self) -> frozenset[str]:
+        """A_b: the morphisms used at least once (for churn)."""
+        return frozenset(a.morphism for _, a in self.activations)
+
+    def __len__(self) -> int:
+        return len(self.steps)
+
+
+# ---------------------------------------------------------------- exact values in JSON
+
+
+def value_to_json(v: StateValue) -> Any:
+    if isinstance(v, bool):
+        return v
+    if isinstance(v, Fraction):
+        return int(v) if v.denominator == 1 else f"{v.numerator}/{v.denominator}"
+    if isinstance(v, frozenset):
+        return sorted(v)
+    return v
+
+
+def decimal_text(v: Fraction, places: int = 6) -> str:
+    """A readable decimal for an exact value: exact when it terminates within ``places``."""
+    if v.denominator == 1:
+        return str(v.numerator)
+    q = v * 10**places
+    if q.denominator == 1:
+        text = f"{v.numerator * 10**places // v.denominator:+d}"
+        sign, digits = text[0], text[1:].rjust(places + 1, "0")
+        whole, frac = digits[:-places], digits[-places:].rstrip("0")
+        return f"{'-' if sign == '-' else ''}{whole}.{frac}"
+    return f"≈{float(v):.{places}g}"
+
+
+class PlanFormatError(ValueError):
+    """A plan file that does not follow ``catc.plan/1``."""
+
+
+def _number_from_json(x: Any, where: str) -> Fraction:
+    if isinstance(x, bool):
+        raise PlanFormatError(f"{where}: expected a number, got {x!r}")
+    if isinstance(x, int):
+        return Fraction(x)
+    if isinstance(x, str):
+        try:
+            return Fraction(x)
+        except (ValueError, ZeroDivisionError):
+            raise PlanFormatError(f"{where}: {x!r} is not an exact number such as \"17/4\" or \"0.1\"") from None
+    if isinstance(x, float):
+        raise PlanFormatError(f"{where}: floats are not exact; write {x!r} as a string such as \"{x}\"")
+    raise PlanFormatError(f"{where}: expected a number, got {x!r}")
+
+
+def plan_to_json(plan: Plan) -> dict:
+    return {
+        "schema": PLAN_SCHEMA,
+        "steps": [
+            [{"morphism": a.morphism, "params": {k: value_to_json(v) for k, v in a.params.items()}} for a in step]
+            for step in plan.steps
+        ],
+        "fresh": dict(plan.fresh),
+    }
+
+
+def plan_from_json(doc: Any, param_sorts: Mapping[str, Mapping[str, str]]) -> Plan:
+    """Read a plan; ``param_sorts[morphism][param]`` is 'bool', 'int', 'real' or 'symbol'
+    (decides how each JSON value is read).  Unknown morphisms/params are kept as given so
+    the validator can report them."""
+    if not isinstance(doc, dict):
+        raise PlanFormatError("a plan is a JSON object with a \"steps\" list")
+    schema = doc.get("schema", PLAN_SCHEMA)
+    if schema != PLAN_SCHEMA:
+        raise PlanFormatError(f"unsupported plan schema {schema!r}; expected {PLAN_SCHEMA!r}")
+    steps_doc = doc.get("steps")
+    if not isinstance(steps_doc, list):
+        raise PlanFormatError("\"steps\" must be a list of steps, each a list of activations")
+    steps = []
+    for i, step in enumerate(steps_doc):
+        if not isinstance(step, list):
+            raise PlanFormatError(f"step {i}: expected a list of activations")
+        acts = []
+        for j, act in enumerate(step):
+            where = f"step {i}, activation {j}"
+            if not isinstance(act, dict) or not isinstance(act.get("morphism"), str):
+                raise PlanFormatError(f"{where}: expected {{\"morphism\": NAME, \"params\": {{...}}}}")
+            params_doc = act.get("params", {})
+            if not isinstance(params_doc, dict):
+                raise PlanFormatError(f"{where}: \"params\" must be an object")
+            sorts = param_sorts.get(act["morphism"], {})
+            params: dict[str, Value] = {}
+            for name, raw in params_doc.items():
+                kind = sorts.get(name)
+                if kind in ("int", "real"):
+                    params[name] = _number_from_json(raw, f"{where}, parameter {name}")
+                elif kind == "bool":
+                    if not isinstance(raw, bool):
+                        raise PlanFormatError(f"{where}, parameter {name}: expected true or false")
+                    params[name] = raw
+                elif isinstance(raw, (str, bool)):
+                    params[name] = raw
+                else:
+                    params[name] = _number_from_json(raw, f"{where}, parameter {name}")
+            acts.append(Activation(act["morphism"], params))
+        steps.append(tuple(acts))
+    fresh = doc.get("fresh", {})
+    if not isinstance(fresh, dict) or not all(isinstance(k, str) and isinstance(v, str) for k, v in fresh.items()):
+        raise PlanFormatError("\"fresh\" must map fresh symbol values to their sort names")
+    return Plan(tuple(steps), fresh)
