@@ -125,5 +125,193 @@ def check(paths: tuple[str, ...], fmt: str, strict: bool, search_paths: tuple[st
     sys.exit(EXIT_FAIL if diags.has_errors else EXIT_OK)
 
 
+# ====================================================================== queries
+
+
+def _instance(paths: tuple[str, ...], view: str | None, search_paths, problem: str | None, as_json: bool):
+    """Files → checked instance with its view applied, or exit 2 with the diagnostics."""
+    from catgrammar.diagnostics import Diagnostics, format_text
+    from catc.loader import load_instance
+    from catc.view import ViewError, apply_view
+
+    if len(paths) not in (1, 2):
+        raise click.UsageError("give PROBLEM or DOMAIN PROBLEM")
+    domain_path, problem_path = (None, paths[0]) if len(paths) == 1 else paths
+    diags = Diagnostics()
+    for p in paths:
+        if not Path(p).is_file():
+            diags.report("E0001", f"cannot read '{p}': no such file", None)
+    inst = None
+    if not diags.has_errors:
+        _, inst = load_instance(domain_path, problem_path, diags, search_paths, problem)
+    if inst is not None and not diags.has_errors:
+        try:
+            return apply_view(inst, view)
+        except ViewError as exc:
+            diags.report("E0506", str(exc), exc.span)
+    if as_json:
+        import json
+
+        click.echo(json.dumps({"schema": "catc.error/1", "status": "error",
+                               "diagnostics": [d.to_json() for d in diags.sorted()]}, indent=2))
+    else:
+        click.echo(format_text(diags), err=True)
+    sys.exit(EXIT_INPUT)
+
+
+def _console(as_json: bool):
+    """Rich on a terminal; when piped, no colour and lines as wide as they need (≤ 200)."""
+    from rich.console import Console
+
+    if sys.stdout.isatty():
+        return Console(highlight=False)
+    return Console(highlight=False, width=200, no_color=True, color_system=None)
+
+
+def _progress(enabled: bool):
+    """A rich status line on a terminal (stderr), showing the horizon being tried."""
+    import contextlib
+
+    if not enabled or not sys.stderr.isatty():
+        return contextlib.nullcontext(None)
+    from rich.console import Console
+
+    return Console(stderr=True).status("solving…")
+
+
+_common_query_options = [
+    click.argument("paths", nargs=-1, required=True, type=click.Path()),
+    click.option("--horizon", "-k", type=click.IntRange(min=0), help="Most steps a composition may take (default: the problem's (:horizon), else the sum of use limits, else 10)."),
+    click.option("--view", help="Solve in this view (overrides the problem's (:view ...))."),
+    click.option("--sequential", is_flag=True, help="One morphism per step (default: parallel steps with non-interference)."),
+    click.option("--path", "search_paths", multiple=True, type=click.Path(file_okay=False), help="Extra folder to search for domains."),
+    click.option("--problem", "problem_name", help="The problem to use when the file defines several."),
+]
+
+
+def _query_options(f):
+    for opt in reversed(_common_query_options):
+        f = opt(f)
+    return f
+
+
+@main.command()
+@_query_options
+@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), help="Give up after this many seconds (exit 3).")
+@click.option("--strategy", type=click.Choice(["incremental", "single"]), default="incremental", show_default=True,
+              help="incremental: deepen the horizon one step at a time (shortest composition); single: one check of the whole horizon.")
+@click.option("--json", "as_json", is_flag=True, help="Print a catc.solve/1 JSON document.")
+@click.option("--diagram", type=click.Path(dir_okay=False, writable=True), help="Write the composition as an SVG string diagram.")
+@click.option("--no-prune", is_flag=True, help="Keep activations the composition does not need (as the solver found them).")
+def solve(paths, horizon, view, sequential, search_paths, problem_name, timeout, strategy, as_json, diagram, no_prune):
+    """Find the shortest composition that reaches the goal.
+
+    PATHS is PROBLEM, or DOMAIN PROBLEM.  Exit 0 SAT, 1 UNSAT, 2 input error, 3 unknown/timeout.
+    """
+    import json
+
+    from catc.solve import Status, ValidationFailure
+    from catc.solve import solve as run_solve
+
+    inst = _instance(paths, view, search_paths, problem_name, as_json)
+    status_ctx = _progress(not as_json)
+    with status_ctx as status:
+        def progress(t, k, elapsed):
+            if status is not None:
+                status.update(f"solving: horizon {t} of {k} ({elapsed:.1f} s)")
+        try:
+            result = run_solve(inst, horizon=horizon, sequential=sequential, timeout=timeout,
+                               progress=progress, strategy=strategy, prune=not no_prune)
+        except ValidationFailure as exc:
+            click.echo(f"catc: internal error: {exc}", err=True)
+            sys.exit(70)
+    if as_json:
+        from catc.report import solve_json
+
+        click.echo(json.dumps(solve_json(inst, result, sequential=sequential, strategy=strategy), indent=2))
+    else:
+        from catc.report import print_solve
+
+        print_solve(_console(False), inst, result)
+    if diagram and result.status is Status.SAT:
+        from catc.render.diagram import render_svg
+
+        Path(diagram).write_text(render_svg(inst, result.plan, states=list(result.states),
+                                            title=f"{inst.problem.name} ({inst.domain.name})"), encoding="utf-8")
+        if not as_json:
+            click.echo(f"diagram written to {diagram}", err=True)
+    sys.exit({Status.SAT: EXIT_OK, Status.UNSAT: EXIT_FAIL, Status.UNKNOWN: EXIT_UNKNOWN}[result.status])
+
+
+@main.command()
+@_query_options
+@click.argument("plan_file", type=click.Path(dir_okay=False))
+@click.option("--json", "as_json", is_flag=True, help="Print a catc.validate/1 JSON document.")
+def validate(paths, horizon, view, sequential, search_paths, problem_name, plan_file, as_json):
+    """Replay a composition from elsewhere (a catc.plan/1 JSON file) and report every violation.
+
+    PATHS is PROBLEM, or DOMAIN PROBLEM.  Exit 0 valid, 1 invalid, 2 input error.
+    """
+    import json
+
+    from catc.plan import PlanFormatError, plan_from_json
+    from catc.report import state_json
+    from catc.validate import validate as run_validate
+
+    inst = _instance(paths, view, search_paths, problem_name, as_json)
+    try:
+        doc = json.loads(Path(plan_file).read_text(encoding="utf-8"))
+        sorts = {m.name: {p.name: (p.sort.kind.value if not p.sort.is_symbolic else "symbol") for p in m.params}
+                 for m in inst.morphisms.values()}
+        plan = plan_from_json(doc, sorts)
+    except (OSError, UnicodeDecodeError) as exc:
+        click.echo(f"{plan_file}: error[E0001]: cannot read the plan: {exc}", err=True)
+        sys.exit(EXIT_INPUT)
+    except json.JSONDecodeError as exc:
+        click.echo(f"{plan_file}:{exc.lineno}:{exc.colno}: error[E0101]: not JSON: {exc.msg}", err=True)
+        sys.exit(EXIT_INPUT)
+    except PlanFormatError as exc:
+        click.echo(f"{plan_file}: error[E0101]: {exc}", err=True)
+        sys.exit(EXIT_INPUT)
+    report = run_validate(inst, plan, horizon=horizon, sequential=sequential)
+    if as_json:
+        click.echo(json.dumps({
+            "schema": "catc.validate/1",
+            "valid": report.ok,
+            "violations": [{"kind": v.kind, "message": v.message, "step": v.step, "morphism": v.morphism, "label": v.label}
+                           for v in report.violations],
+            "final_state": state_json(report.states[-1]) if report.ok and report.states else None,
+        }, indent=2))
+    elif report.ok:
+        click.echo(f"valid: {len(plan)} steps reach the goal of '{inst.problem.name}'")
+    else:
+        click.echo(f"invalid: {len(report.violations)} violation{'s' if len(report.violations) != 1 else ''}")
+        for v in report.violations:
+            where = f"step {v.step}: " if v.step is not None else ""
+            click.echo(f"  {where}{v.kind}: {v.message}")
+    sys.exit(EXIT_OK if report.ok else EXIT_FAIL)
+
+
+@main.command()
+@_query_options
+@click.option("--emit", type=click.Choice(["smt2"]), default="smt2", show_default=True, help="Output language.")
+@click.option("-o", "--output", type=click.Path(dir_okay=False, writable=True), help="Write here instead of standard output.")
+def compile(paths, horizon, view, sequential, search_paths, problem_name, emit, output):  # noqa: A001 - the command's name
+    """Compile a problem to SMT-LIB2 (named assertions map cores back to source).
+
+    PATHS is PROBLEM, or DOMAIN PROBLEM.
+    """
+    from catc.encode.smtlib import emit_smt2
+    from catc.solve import default_horizon
+
+    inst = _instance(paths, view, search_paths, problem_name, False)
+    k = default_horizon(inst) if horizon is None else horizon
+    text = emit_smt2(inst, k, sequential=sequential)
+    if output:
+        Path(output).write_text(text, encoding="utf-8")
+    else:
+        click.echo(text, nl=False)
+
+
 if __name__ == "__main__":  # pragma: no cover
     main()

@@ -1,0 +1,99 @@
+"""Finite grounding of symbolic sorts (paper Proposition 1).
+
+Each root symbolic sort (and each enumeration) gets a finite universe: its constants — of
+the domain, its imports and the problem — followed by *reserve* values, one per free
+variable of that sort that can take a value nobody named.  Symbols are encoded as integer
+indices into their root's universe; sets as one Boolean per universe element.
+
+How many reserves: a per-activation parameter θ of sort T of morphism a has one variable
+per step, but only activated ones matter and a is activated at most ``min(k, uses_a)``
+times, so that many reserves of sort T suffice; a ``:fixed`` θ needs one.  Enumerations are
+closed and get none.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from catc import ir
+from catc.ir import SortKind
+
+
+@dataclass(frozen=True)
+class Universe:
+    """The grounded values of one root sort."""
+
+    root: str
+    elements: tuple[str, ...]
+    fresh: frozenset[str] = frozenset()  # the reserve values
+    sort_of: dict[str, str] = field(default_factory=dict)  # element → its declared sort
+
+    def index(self, name: str) -> int:
+        return self._index[name]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "_index", {e: i for i, e in enumerate(self.elements)})
+
+    def __len__(self) -> int:
+        return len(self.elements)
+
+
+def fresh_name(sort: str, n: int) -> str:
+    """Reserve values are shown as ``topic#1``: '#' cannot occur in a name of the language."""
+    return f"{sort}#{n}"
+
+
+class Grounding:
+    """Universes for every symbolic sort of an instance, for horizon ``k``."""
+
+    def __init__(self, inst: ir.Instance, horizon: int):
+        self.inst = inst
+        sorts = inst.domain.sorts
+        self.root: dict[str, str] = {}
+        for name, s in sorts.items():
+            r = name
+            seen = set()
+            while sorts[r].parent and r not in seen:
+                seen.add(r)
+                r = sorts[r].parent  # type: ignore[assignment]
+            self.root[name] = r
+        # reserves needed per declared sort
+        need: dict[str, int] = {}
+        for m in inst.morphisms.values():
+            for p in m.params:
+                if p.sort.kind is SortKind.SYMBOL:
+                    count = 1 if p.fixed else min(horizon, m.uses if m.uses is not None else horizon)
+                    need[p.sort.name] = need.get(p.sort.name, 0) + count
+        constants = inst.constants()
+        self.universes: dict[str, Universe] = {}
+        for name, s in sorts.items():
+            if self.root[name] != name:
+                continue
+            if s.kind is SortKind.ENUM:
+                self.universes[name] = Universe(name, s.values, frozenset(), {v: name for v in s.values})
+                continue
+            members = [c for c in constants.values() if c.sort.kind is SortKind.SYMBOL and self.root.get(c.sort.name) == name]
+            elements = [c.name for c in members]
+            sort_of = {c.name: c.sort.name for c in members}
+            fresh = []
+            for sub in sorted(n for n in sorts if self.root[n] == name):
+                for i in range(1, need.get(sub, 0) + 1):
+                    f = fresh_name(sub, i)
+                    fresh.append(f)
+                    sort_of[f] = sub
+            self.universes[name] = Universe(name, tuple(elements + fresh), frozenset(fresh), sort_of)
+
+    def universe(self, sort: ir.Sort) -> Universe:
+        return self.universes[self.root[sort.name]]
+
+    def allowed(self, sort: ir.Sort) -> list[int]:
+        """Indices of the values a variable of ``sort`` may take (its sub-sorts included)."""
+        u = self.universe(sort)
+        if sort.kind is SortKind.ENUM:
+            return list(range(len(u)))
+        subs = self.inst.subsorts(sort)
+        return [i for i, e in enumerate(u.elements) if u.sort_of[e] in subs]
+
+    @property
+    def fresh(self) -> dict[str, str]:
+        return {f: u.sort_of[f] for u in self.universes.values() for f in u.fresh}

@@ -1,0 +1,104 @@
+"""Feeding an encoding to Z3 through its Python API, and reading compositions back.
+
+:class:`Z3Session` owns one ``z3.Solver``.  ``flush`` hands it the commands the encoder
+added since the last call (``Solver.from_string``: one C++ parse per batch), so the
+incremental driver can grow the horizon step by step; ``check`` asserts extra constraints
+(the goal at the current state, the use limits) inside a push/pop scope.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import z3
+
+from catc import ir
+from catc.encode.smt import Encoder
+from catc.ir import SortKind
+from catc.plan import Activation, Plan
+
+
+def to_fraction(v: z3.ExprRef) -> Fraction:
+    if z3.is_int_value(v):
+        return Fraction(v.as_long())
+    if z3.is_rational_value(v):
+        return Fraction(v.numerator_as_long(), v.denominator_as_long())
+    if z3.is_algebraic_value(v):
+        raise ValueError(f"the solver returned an irrational value (≈{v.approx(12)}); no exact rational exists")
+    raise ValueError(f"not a numeral: {v}")
+
+
+def _commands(decls, asserts) -> str:
+    return "".join(f"(declare-fun {n} () {s})" for n, s in decls) + "".join(f"(assert {a})" for _, a in asserts)
+
+
+class Z3Session:
+    def __init__(self, enc: Encoder):
+        self.enc = enc
+        self.solver = z3.Solver()
+
+    def flush(self) -> None:
+        decls, asserts = self.enc.script.take()
+        text = _commands(decls, asserts)
+        if text:
+            self.solver.from_string(text)
+
+    def set_timeout(self, seconds: float | None) -> None:
+        """A per-check limit; None removes it."""
+        self.solver.set("timeout", 4294967295 if seconds is None else max(1, int(seconds * 1000)))
+
+    def check(self, extra: list[str], assumptions=()) -> z3.CheckSatResult:
+        """Check with ``extra`` constraints in a scope the caller closes with :meth:`pop`;
+        ``assumptions`` are names of Bool variables assumed true for this check only."""
+        self.flush()
+        self.solver.push()
+        if extra:
+            self.solver.from_string("".join(f"(assert {c})" for c in extra))
+        return self.solver.check(*[z3.Bool(a[1:-1] if a.startswith("|") else a) for a in assumptions])
+
+    def pop(self) -> None:
+        self.solver.pop()
+
+    def reason_unknown(self) -> str:
+        return self.solver.reason_unknown()
+
+    # ------------------------------------------------------------------ models
+    def extract(self, steps: int) -> Plan:
+        model = self.solver.model()
+        enc = self.enc
+        out = []
+        fresh: dict[str, str] = {}
+        for t in range(steps):
+            step = []
+            for m in enc.morphisms:
+                if not z3.is_true(model.eval(z3.Bool(enc.act[t][m.name][1:-1]), model_completion=True)):
+                    continue
+                params = {}
+                for p in m.params:
+                    name = enc.theta[t][(m.name, p.name)][1:-1]  # type: ignore[index]
+                    params[p.name] = self._value(model, name, p.sort, fresh)
+                step.append(Activation(m.name, params))
+            if step:
+                out.append(tuple(step))
+        return Plan(tuple(out), fresh)
+
+    def _value(self, model: z3.ModelRef, name: str, sort: ir.Sort, fresh: dict[str, str]):
+        if sort.kind is SortKind.BOOL:
+            return z3.is_true(model.eval(z3.Bool(name), model_completion=True))
+        if sort.kind is SortKind.REAL:
+            return to_fraction(model.eval(z3.Real(name), model_completion=True))
+        raw = model.eval(z3.Int(name), model_completion=True).as_long()
+        if sort.kind is SortKind.INT:
+            return Fraction(raw)
+        u = self.enc.grounding.universe(sort)
+        value = u.elements[raw]
+        if value in u.fresh:
+            fresh[value] = u.sort_of[value]
+        return value
+
+    def value_of(self, text: str, sort: ir.Sort):
+        """Evaluate an encoded term (e.g. an objective) in the current model."""
+        model = self.solver.model()
+        decls = "".join(f"(declare-fun {n} () {s})" for n, s in self.enc.script.decls)
+        expr = z3.parse_smt2_string(f"{decls}(assert (= {text} {text}))")[0].arg(0)
+        return to_fraction(model.eval(expr, model_completion=True)) if sort.is_numeric else model.eval(expr)

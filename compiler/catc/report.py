@@ -1,0 +1,142 @@
+"""What `catc solve` and `catc validate` show: human text (rich) and JSON documents.
+
+Numbers are exact: an integer prints plainly, a terminating decimal as a decimal (``4.25``),
+anything else as a fraction with an approximation (``1/3 (≈0.333333)``).  Fresh values from
+the finite grounding are marked ``(fresh)``.  The JSON schemas are in docs/cli.md.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from typing import Any, Mapping
+
+from catc import ir
+from catc.plan import Plan, decimal_text, value_to_json
+
+
+def show_value(v: Any, fresh: Mapping[str, str] = {}, unit: str | None = None) -> str:
+    if isinstance(v, bool):
+        text = "true" if v else "false"
+    elif isinstance(v, Fraction):
+        dec = decimal_text(v)
+        text = dec if not dec.startswith("≈") else f"{v.numerator}/{v.denominator} ({dec})"
+    elif isinstance(v, frozenset):
+        text = "{" + " ".join(f"{e} (fresh)" if e in fresh else e for e in sorted(v)) + "}"
+    elif isinstance(v, str):
+        text = f"{v} (fresh)" if v in fresh else v
+    else:
+        text = str(v)
+    return f"{text} {unit}" if unit and isinstance(v, Fraction) else text
+
+
+def params_text(params: Mapping[str, Any], fresh: Mapping[str, str]) -> str:
+    return ", ".join(f"{k} = {show_value(v, fresh)}" for k, v in params.items())
+
+
+def state_json(state: Mapping[str, Any]) -> dict:
+    return {k: value_to_json(v) for k, v in state.items()}
+
+
+def solve_json(inst: ir.Instance, result, *, sequential: bool, strategy: str) -> dict:
+    plan: Plan | None = result.plan
+    doc: dict = {
+        "schema": "catc.solve/1",
+        "status": result.status.value,
+        "problem": inst.problem.name,
+        "domain": inst.domain.name,
+        "view": inst.view,
+        "horizon": result.horizon,
+        "sequential": sequential,
+        "strategy": strategy,
+        "steps": None,
+        "fresh": None,
+        "initial_state": None,
+        "final_state": None,
+        "unsat": None,
+        "reason": result.reason,
+        "timings": {k: round(v, 6) for k, v in result.timings.items()},
+    }
+    if plan is not None:
+        doc["steps"] = [
+            [
+                {
+                    "morphism": a.morphism,
+                    "kind": inst.morphisms[a.morphism].kind.value,
+                    "params": {k: value_to_json(v) for k, v in a.params.items()},
+                }
+                for a in step
+            ]
+            for step in plan.steps
+        ]
+        doc["fresh"] = dict(plan.fresh)
+        if result.states:
+            doc["initial_state"] = state_json(result.states[0])
+            doc["final_state"] = state_json(result.states[-1])
+    if result.status.value == "unsat":
+        doc["unsat"] = {"final": result.final, "length_bound": result.length_bound}
+    return doc
+
+
+def unsat_sentence(inst: ir.Instance, result) -> str:
+    k = result.horizon
+    head = f"no composition within {k} step{'s' if k != 1 else ''}"
+    if result.final:
+        return (
+            f"{head}; this is final: every morphism has a use limit, so no composition needs more than "
+            f"{result.length_bound} step{'s' if result.length_bound != 1 else ''}"
+        )
+    if result.length_bound is not None:
+        return f"{head} (not final: compositions may need up to {result.length_bound} steps; raise --horizon)"
+    unlimited = [m.name for m in inst.morphisms.values() if m.uses is None]
+    names = ", ".join(unlimited[:3]) + (", ..." if len(unlimited) > 3 else "")
+    return f"{head} (not final: {names} {'has' if len(unlimited) == 1 else 'have'} no use limit; try a larger --horizon)"
+
+
+def print_solve(console, inst: ir.Instance, result, *, timings: bool = True) -> None:
+    from rich.table import Table
+
+    status = result.status.value.upper()
+    colour = {"SAT": "green", "UNSAT": "red", "UNKNOWN": "yellow"}[status]
+    where = f"problem [bold]{inst.problem.name}[/] of domain [bold]{inst.domain.name}[/]"
+    if inst.view:
+        where += f", view [bold]{inst.view}[/]"
+    if result.status.value == "sat":
+        plan = result.plan
+        n = len(plan)
+        console.print(f"[bold {colour}]{status}[/]  composition of {n} step{'s' if n != 1 else ''} for {where}")
+        table = Table(show_header=True, header_style="bold", box=None, pad_edge=False)
+        table.add_column("step", justify="right")
+        table.add_column("morphism")
+        table.add_column("kind")
+        table.add_column("θ")
+        for i, step in enumerate(plan.steps, 1):
+            for j, a in enumerate(step):
+                marker = str(i) if j == 0 else "⊗"
+                kind = inst.morphisms[a.morphism].kind.value
+                table.add_row(marker, a.morphism, kind, params_text(a.params, plan.fresh))
+        console.print(table)
+        if result.states:
+            first, last = result.states[0], result.states[-1]
+            changed = [r for r in inst.resources.values() if first.get(r.name) != last.get(r.name)]
+            if changed:
+                st = Table(show_header=True, header_style="bold", box=None, pad_edge=False, title_justify="left")
+                st.add_column("resource")
+                st.add_column("initial")
+                st.add_column("final")
+                for r in changed:
+                    st.add_row(r.name, show_value(first[r.name], plan.fresh, r.unit), show_value(last[r.name], plan.fresh, r.unit))
+                console.print()
+                console.print("[bold]final state[/] (resources that changed)")
+                console.print(st)
+            acts = sum(len(s) for s in plan.steps)
+            console.print(f"\n[green]✓[/] validated by independent replay: {n} steps, {acts} activations, goal holds")
+    elif result.status.value == "unsat":
+        console.print(f"[bold {colour}]{status}[/]  {unsat_sentence(inst, result)} ({where})")
+    else:
+        console.print(f"[bold {colour}]{status}[/]  the solver gave up ({result.reason}) for {where}")
+    if timings and result.timings:
+        t = result.timings
+        console.print(
+            f"[dim]time: encode {t.get('encode', 0) * 1000:.0f} ms, solve {t.get('solve', 0) * 1000:.0f} ms, "
+            f"validate {t.get('validate', 0) * 1000:.0f} ms; horizons tried {result.horizons_tried}[/]"
+        )
