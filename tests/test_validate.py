@@ -508,6 +508,17 @@ def test_resource_bounds_violated_by_an_effect():
     assert ("resource-bounds", 4, "eff/put/2") in triples(r)
 
 
+def test_int_resource_must_stay_integral():
+    """The checker rejects a real amount on an int resource; the validator does not rely on it."""
+    inst = load(COUNTER)
+    half = ir.Effect(ir.EffectKind.INCREASE, "n", ir.Const(F(1, 2), ir.REAL), "eff/bump/1")
+    morphisms = dict(inst.domain.morphisms, bump=dataclasses.replace(inst.morphisms["bump"], effects=(half,)))
+    broken = dataclasses.replace(inst, domain=dataclasses.replace(inst.domain, morphisms=ir._ro(morphisms)))
+    r = validate(broken, plan(A("bump")))
+    assert triples(r)[0] == ("resource-bounds", 1, "eff/bump/1")
+    assert "not an integer" in r.violations[0].message
+
+
 def test_uses_exceeded():
     inst = load(COUNTER)
     r = validate(inst, plan(A("inc", k=2), A("bump"), A("finish"), A("finish")))

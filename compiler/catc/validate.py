@@ -794,7 +794,7 @@ class _Validator:
             res = self.inst.resources.get(r)
             if res is None or not res.sort.is_numeric or r not in new:
                 continue
-            why = _bounds_problem(res.lower, res.upper, new[r])  # type: ignore[arg-type]
+            why = _resource_value_problem(self.inst, res, new[r])  # bounds, and integral for int
             if why:
                 name, label = writer[r]
                 self.add("resource-bounds", f"step {i}: after the step '{r}' = {why} (written by '{name}', {label})", i, name, label)
