@@ -715,7 +715,7 @@ class _Validator:
 
     def pair(self, i: int, a: _Live, b: _Live, first: bool) -> bool:
         ok = True
-        ra, rb = a.m.reads, b.m.reads
+        rb = b.m.reads
         for r in sorted(a.assigns):
             if r in b.assigns:
                 if first:  # assign/assign: report once per pair
