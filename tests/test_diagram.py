@@ -350,3 +350,21 @@ def test_long_theta_labels_wrap(sar):
     lines = ["".join(el.itertext()) for el in having(det, "theta")]
     assert len(lines) == 2 and all(len(t) <= max(len("open-vocab-detector"), 26) for t in lines)
     assert " ".join(lines) == "in=rgb-image, target=person, mem=4.5"
+
+
+def test_odd_morphism_names_stay_well_formed(detection):
+    plan = Plan([[A("bad\x00<name>&")]])
+    root = parse(render_svg(detection, plan))
+    assert [b.get("data-morphism") for b in boxes(root)] == ["bad\ufffd<name>&"]
+
+
+def test_long_state_values_are_shortened_with_the_full_value_as_tooltip(detection):
+    many = frozenset(f"topic-number-{i}" for i in range(6))
+    s0 = {"mounted": frozenset(), "ram": Fraction(16), "topics": frozenset(), "detects": frozenset()}
+    s1 = {**s0, "topics": many}
+    plan = Plan([[A("camera-driver", {"out": "image-raw", "ram-req": Fraction(1)})]])
+    root = parse(render_svg(detection, plan, states=[s0, s1]))
+    final = next(g for g in having(root, "state", "final") if "topic-number-0" in "".join(g.itertext()))
+    shown = "".join(final.find(NS + "text").itertext())
+    assert shown.endswith("…") and len(shown) <= 30
+    assert final.find(NS + "title").text == format_value(many)

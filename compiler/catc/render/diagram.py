@@ -12,6 +12,8 @@ The picture follows the string diagrams of free symmetric monoidal categories:
 * **ports** sit where a touched wire meets the box: a hollow circle on the left edge when the
   morphism reads the wire (a precondition, or a value its effects use), a filled circle on
   the right edge when it writes it (an effect);
+* where at least three untouched wires separate the wires a box touches, the box is broken
+  into parts joined by a narrow stem, interrupted where those wires cross in front of it;
 * serial composition (∘) runs left to right, one column per step; the activations of one
   step run in parallel (⊗) and stand side by side in sub-columns of that step's column;
 * with ``states`` (s₀..sₙ) the initial values are tagged on the wires at the left, the
@@ -23,8 +25,9 @@ the same instance, plan and states give a byte-identical document.  Text is set 
 monospace family so widths can be estimated from character counts.
 
 Semantic class attributes make the picture machine-checkable: ``wire``, ``activation``,
-``morphism`` (the box's rectangle), ``passover``, ``port read``, ``port write``,
-``state initial``/``state final``/``state between``.
+``morphism`` (a box's rectangle, one per part), ``stem``, ``passover``, ``port read``,
+``port write``, ``state initial``/``state final``/``state between``, ``step-header``,
+``footnote``.
 """
 
 from __future__ import annotations
@@ -343,7 +346,7 @@ class _Svg:
         for k, v in (attrs or {}).items():
             if v is None:
                 continue
-            node.set(k, _num(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else str(v))
+            node.set(k, _num(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else _clean(str(v)))
         if text is not None:
             node.text = _clean(text)
         return node
@@ -515,9 +518,9 @@ def render_svg(instance: ir.Instance, plan: Plan, *, states: Sequence[Mapping[st
                                    "height": g.bottom - g.top, "fill": BAND, "rx": 4})
         svg.text(bands, MARGIN, g.top + 12, g.name, size=FS_SMALL, fill=MUTED, style="italic", cls="group-name")
 
-    # ---- step headers and separators
+    # ---- step headers
     cols = svg.el(root, "g", {"class": "steps"})
-    for i, st in enumerate(steps):
+    for st in steps:
         cx = st.x + st.w / 2
         svg.text(cols, cx, header_y, st.header, size=FS_SMALL + 1, anchor="middle", fill=INK, weight="bold",
                  cls="step-header")
@@ -541,11 +544,13 @@ def render_svg(instance: ir.Instance, plan: Plan, *, states: Sequence[Mapping[st
         for i, changed in enumerate(between):
             xs = steps[i].x + steps[i].w + 5
             for wname, (short, full) in changed.items():
-                t = svg.text(bg, xs, wire_at[wname].y - 4, short, size=FS_SMALL - 1, fill="#5A3E85",
+                holder = bg
+                if short != full:  # the full value as a tooltip
+                    holder = svg.el(bg, "g")
+                    svg.el(holder, "title", None, full)
+                t = svg.text(holder, xs, wire_at[wname].y - 4, short, size=FS_SMALL - 1, fill="#5A3E85",
                              cls="state between")
                 t.set("data-resource", wname)
-                if short != full:
-                    svg.el(t, "title", None, full)
 
     # ---- boxes
     box_g = svg.el(root, "g", {"class": "activations"})
