@@ -23,7 +23,7 @@ import z3
 from catc import ir
 from catc.encode.smt import Encoder
 from catc.encode.z3backend import Z3Session
-from catc.plan import Plan
+from catc.plan import Activation, Plan
 
 DEFAULT_HORIZON = 10
 
@@ -86,8 +86,29 @@ def prune_plan(inst: ir.Instance, plan: Plan, horizon: int, sequential: bool) ->
                     break
             if changed:
                 break
-    used = {v for s in steps for a in s for v in a.params.values() if isinstance(v, str)}
-    return Plan(tuple(tuple(s) for s in steps), {f: srt for f, srt in plan.fresh.items() if f in used})
+    return Plan(tuple(tuple(s) for s in steps), plan.fresh)
+
+
+def canonical_fresh(plan: Plan) -> Plan:
+    """Rename fresh values by first appearance (topic#1, topic#2, ...) and forget unused ones.
+    Fresh values are interchangeable (Proposition 1: any injection fixing the constants
+    preserves every atom), so this changes nothing but the names."""
+    from catc.encode.grounding import fresh_name
+
+    rename: dict[str, str] = {}
+    counters: dict[str, int] = {}
+    for _, act in plan.activations:
+        for v in act.params.values():
+            if isinstance(v, str) and v in plan.fresh and v not in rename:
+                sort = plan.fresh[v]
+                counters[sort] = counters.get(sort, 0) + 1
+                rename[v] = fresh_name(sort, counters[sort])
+    steps = tuple(
+        tuple(Activation(a.morphism, {k: rename.get(v, v) if isinstance(v, str) else v for k, v in a.params.items()})
+              for a in step)
+        for step in plan.steps
+    )
+    return Plan(steps, {rename[v]: plan.fresh[v] for v in rename})
 
 
 def default_horizon(inst: ir.Instance) -> int:
@@ -126,11 +147,8 @@ def solve(
 
     def timed_check(extra: list[str]) -> z3.CheckSatResult:
         nonlocal tried
-        if deadline is not None:
-            remaining = deadline - time.perf_counter()
-            if remaining <= 0:
-                return z3.unknown
-            session.set_timeout(remaining)
+        if deadline is not None:  # an exhausted budget still checks (push/pop stay paired)
+            session.set_timeout(max(0.001, deadline - time.perf_counter()))
         t2 = time.perf_counter()
         r = session.check(extra)
         timings["solve"] += time.perf_counter() - t2
@@ -189,10 +207,11 @@ def solve(
         if not report.ok:
             problems = "; ".join(v.message for v in report.violations[:5])
             raise ValidationFailure(f"the independent validator rejected the solver's composition: {problems}")
-        if prune:
-            result.plan = prune_plan(inst, result.plan, k, sequential)
-            report = validate(inst, result.plan, horizon=k, sequential=sequential)
-            assert report.ok
+        plan = prune_plan(inst, result.plan, k, sequential) if prune else result.plan
+        result.plan = canonical_fresh(plan)
+        report = validate(inst, result.plan, horizon=k, sequential=sequential)
+        if not report.ok:  # pragma: no cover - pruning and renaming keep validity
+            raise ValidationFailure("pruning broke the composition: " + report.violations[0].message)
         timings["validate"] = time.perf_counter() - t2
         result.states = report.states
     timings["total"] = time.perf_counter() - start
