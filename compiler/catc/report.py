@@ -92,9 +92,53 @@ def unsat_sentence(inst: ir.Instance, result) -> str:
     return f"{head} (not final: {names} {'has' if len(unlimited) == 1 else 'have'} no use limit; try a larger --horizon)"
 
 
-def print_solve(console, inst: ir.Instance, result, *, timings: bool = True) -> None:
-    from rich.table import Table
+class PlainConsole:
+    """The subset of rich's Console used here, printing plain aligned text (for pipes and
+    files: no colour codes, no rich import — it costs start-up time)."""
 
+    def __init__(self, write) -> None:
+        self.write = write
+
+    def print(self, obj: object = "") -> None:
+        if isinstance(obj, Table):
+            self.write(obj.render())
+        else:
+            import re
+
+            self.write(re.sub(r"\[/?[a-z ]*\]", "", str(obj)))
+
+
+class Table:
+    """A minimal table that renders as aligned columns, or converts to a rich Table."""
+
+    def __init__(self, *columns: str, right: tuple[int, ...] = ()) -> None:
+        self.columns = columns
+        self.right = right
+        self.rows: list[tuple[str, ...]] = []
+
+    def add_row(self, *cells: str) -> None:
+        self.rows.append(cells)
+
+    def render(self) -> str:
+        widths = [max(len(r[i]) for r in [self.columns, *self.rows]) for i in range(len(self.columns))]
+        out = []
+        for row in [self.columns, *self.rows]:
+            cells = [c.rjust(w) if i in self.right else c.ljust(w) for i, (c, w) in enumerate(zip(row, widths))]
+            out.append("  ".join(cells).rstrip())
+        return "\n".join(out)
+
+    def __rich__(self):
+        from rich.table import Table as RichTable
+
+        table = RichTable(show_header=True, header_style="bold", box=None, pad_edge=False)
+        for i, c in enumerate(self.columns):
+            table.add_column(c, justify="right" if i in self.right else "left")
+        for r in self.rows:
+            table.add_row(*r)
+        return table
+
+
+def print_solve(console, inst: ir.Instance, result, *, timings: bool = True) -> None:
     status = result.status.value.upper()
     colour = {"SAT": "green", "UNSAT": "red", "UNKNOWN": "yellow"}[status]
     where = f"problem [bold]{inst.problem.name}[/] of domain [bold]{inst.domain.name}[/]"
@@ -104,11 +148,7 @@ def print_solve(console, inst: ir.Instance, result, *, timings: bool = True) -> 
         plan = result.plan
         n = len(plan)
         console.print(f"[bold {colour}]{status}[/]  composition of {n} step{'s' if n != 1 else ''} for {where}")
-        table = Table(show_header=True, header_style="bold", box=None, pad_edge=False)
-        table.add_column("step", justify="right")
-        table.add_column("morphism")
-        table.add_column("kind")
-        table.add_column("θ")
+        table = Table("step", "morphism", "kind", "θ", right=(0,))
         for i, step in enumerate(plan.steps, 1):
             for j, a in enumerate(step):
                 marker = str(i) if j == 0 else "⊗"
@@ -119,10 +159,7 @@ def print_solve(console, inst: ir.Instance, result, *, timings: bool = True) -> 
             first, last = result.states[0], result.states[-1]
             changed = [r for r in inst.resources.values() if first.get(r.name) != last.get(r.name)]
             if changed:
-                st = Table(show_header=True, header_style="bold", box=None, pad_edge=False, title_justify="left")
-                st.add_column("resource")
-                st.add_column("initial")
-                st.add_column("final")
+                st = Table("resource", "initial", "final")
                 for r in changed:
                     st.add_row(r.name, show_value(first[r.name], plan.fresh, r.unit), show_value(last[r.name], plan.fresh, r.unit))
                 console.print()

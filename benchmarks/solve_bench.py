@@ -1,0 +1,186 @@
+"""Benchmarks of `catc solve` (issue 3), printed as Markdown tables with the command.
+
+    python benchmarks/solve_bench.py [--runs N] [--quick]
+
+1. Every example end to end (process start to exit), with the share of encoding time.
+2. Detection end to end against the hand-written Z3 script benchmarks/reference/detection_z3.py,
+   both as processes, interleaved in one run (median and interquartile range).
+3. Scaling on synthetic catalogs of 25/50/100/200 components × horizons 5/10/20: wall time
+   and peak memory of the process, for both strategies (incremental deepening and one
+   encoding with idle steps).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+import tomllib
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+CATC = [sys.executable, "-m", "catc"]
+
+
+def peak_rss(cmd: list[str]) -> tuple[float, float, int]:
+    """Wall seconds and this process's own peak RSS (MB), via wait4."""
+    start = time.perf_counter()
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=ROOT)
+    _, status, usage = os.wait4(proc.pid, 0)
+    return time.perf_counter() - start, usage.ru_maxrss / 1024, os.waitstatus_to_exitcode(status)
+
+
+def quartiles(xs: list[float]) -> tuple[float, float, float]:
+    if len(xs) < 4:
+        m = statistics.median(xs)
+        return m, min(xs), max(xs)
+    q = statistics.quantiles(xs, n=4)
+    return statistics.median(xs), q[0], q[2]
+
+
+def machine() -> str:
+    model = platform.machine()
+    try:
+        with open("/proc/cpuinfo") as fh:
+            model = next(l.split(":", 1)[1].strip() for l in fh if l.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    return f"{model}, {os.cpu_count()} cores, Python {platform.python_version()}"
+
+
+# ---------------------------------------------------------------- 1. examples
+
+
+def example_cases():
+    for expect in sorted((ROOT / "examples").glob("*/expect.toml")):
+        for case in tomllib.loads(expect.read_text())["case"]:
+            path = (expect.parent / case["file"]).relative_to(ROOT)
+            yield str(path), case.get("problem")
+
+
+def bench_examples(runs: int) -> None:
+    print("### Every example end to end\n")
+    print("| example | answer | end to end (s) | encode (s) | solve (s) | encode share |")
+    print("|---|---|---:|---:|---:|---:|")
+    worst = 0.0
+    for path, problem in example_cases():
+        cmd = CATC + ["solve", path, "--json"] + (["--problem", problem] if problem else [])
+        walls, enc, sol = [], [], []
+        status = "?"
+        for _ in range(runs):
+            start = time.perf_counter()
+            out = subprocess.run(cmd, capture_output=True, cwd=ROOT)
+            walls.append(time.perf_counter() - start)
+            doc = json.loads(out.stdout)
+            status = doc["status"].upper()
+            enc.append(doc["timings"]["encode"])
+            sol.append(doc["timings"]["solve"])
+        w, e, s = statistics.median(walls), statistics.median(enc), statistics.median(sol)
+        worst = max(worst, e / w)
+        name = path.removeprefix("examples/") + (f" ({problem})" if problem else "")
+        print(f"| {name} | {status} | {w:.3f} | {e:.4f} | {s:.4f} | {100 * e / w:.1f}% |")
+    print(f"\nLargest encoding share: {100 * worst:.1f}% (target ≤ 10%).\n")
+
+
+# ---------------------------------------------------------------- 2. reference
+
+
+def bench_reference(runs: int) -> None:
+    print("### Detection against a hand-written Z3 script (both as processes, interleaved)\n")
+    ours = CATC + ["solve", "examples/detection/person.cat"]
+    ref = [sys.executable, "benchmarks/reference/detection_z3.py"]
+    bare = [sys.executable, "-c", "import z3"]
+    times: dict[str, list[float]] = {"catc solve": [], "hand-written Z3 script": [], "python -c 'import z3'": []}
+    for _ in range(runs):
+        for label, cmd in (("catc solve", ours), ("hand-written Z3 script", ref), ("python -c 'import z3'", bare)):
+            start = time.perf_counter()
+            subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=ROOT)
+            times[label].append(time.perf_counter() - start)
+    print("| process | median (s) | IQR (s) |")
+    print("|---|---:|---|")
+    for label, xs in times.items():
+        m, lo, hi = quartiles(xs)
+        print(f"| {label} | {m:.3f} | {lo:.3f}–{hi:.3f} |")
+    ratio = statistics.median(times["catc solve"]) / statistics.median(times["hand-written Z3 script"])
+    print(f"\ncatc / hand-written: {ratio:.2f}× (target ≤ 1.3×; under 1 s: {statistics.median(times['catc solve']) < 1}).\n")
+
+
+# ---------------------------------------------------------------- 3. scaling
+
+
+def synthetic(components: int, horizon: int, depth: int = 4) -> str:
+    """A catalog where a chain of `depth` capabilities must be built from many alternative
+    components competing for RAM, with a topic θ per activation and distractors."""
+    lines = [
+        f"(define (domain synthetic-{components})",
+        "  (:requirements :numeric :sets :free-parameters)",
+        "  (:sorts topic - symbol)",
+        "  (:constants " + " ".join(f"t{i}" for i in range(4)) + " - topic)",
+        "  (:resources (ram real :bounds (0 *)) (topics (set topic)) "
+        + " ".join(f"(cap{i} bool)" for i in range(depth + 1)) + ")",
+    ]
+    for i in range(components):
+        level = i % depth
+        need = f"cap{level}" if level > 0 else "true"
+        lines.append(
+            f"  (:morphism c{i} :uses 1 :parameters ((out topic) (mem real :bounds (0.5 {2 + i % 3})))\n"
+            f"    :precondition (and {need} (>= ram mem) (>= ram {1 + (i * 7) % 5}))\n"
+            f"    :effect (and (decrease ram mem) (add topics out) (assign cap{level + 1} true)))"
+        )
+    lines.append(")")
+    lines.append(
+        f"(define (problem synthetic-{components}-{horizon}) (:domain synthetic-{components})"
+        f" (:init (= ram {8 + components // 10})) (:goal (and cap{depth} (member t3 topics))) (:horizon {horizon}))"
+    )
+    return "\n".join(lines) + "\n"
+
+
+def bench_scaling(runs: int, sizes: list[int], horizons: list[int]) -> None:
+    print("### Scaling: synthetic catalogs (chain of 4 capabilities, RAM competition, topic θ)\n")
+    print("| components | horizon | incremental (s) | peak MB | single encoding (s) | peak MB | answer |")
+    print("|---:|---:|---:|---:|---:|---:|---|")
+    with tempfile.TemporaryDirectory() as tmp:
+        for n in sizes:
+            for k in horizons:
+                path = Path(tmp) / f"s{n}-{k}.cat"
+                path.write_text(synthetic(n, k))
+                row = []
+                answer = "?"
+                for strategy in ("incremental", "single"):
+                    walls, peaks = [], []
+                    for _ in range(runs):
+                        wall, peak, code = peak_rss(CATC + ["solve", str(path), "--strategy", strategy])
+                        walls.append(wall)
+                        peaks.append(peak)
+                        answer = {0: "SAT", 1: "UNSAT", 3: "UNKNOWN"}.get(code, f"exit {code}")
+                    row += [f"{statistics.median(walls):.2f}", f"{max(peaks):.0f}"]
+                print(f"| {n} | {k} | {row[0]} | {row[1]} | {row[2]} | {row[3]} | {answer} |")
+    print()
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--runs", type=int, default=5)
+    ap.add_argument("--quick", action="store_true", help="fewer sizes and runs, for a smoke test")
+    ap.add_argument("--only", choices=["examples", "reference", "scaling"])
+    args = ap.parse_args()
+    sizes, horizons = ([25, 50], [5, 10]) if args.quick else ([25, 50, 100, 200], [5, 10, 20])
+    print(f"command: python benchmarks/solve_bench.py --runs {args.runs}" + (" --quick" if args.quick else "")
+          + (f" --only {args.only}" if args.only else ""))
+    print(f"machine: {machine()}\n")
+    if args.only in (None, "examples"):
+        bench_examples(args.runs)
+    if args.only in (None, "reference"):
+        bench_reference(max(args.runs, 15))
+    if args.only in (None, "scaling"):
+        bench_scaling(max(1, args.runs // 3), sizes, horizons)
+
+
+if __name__ == "__main__":
+    main()
