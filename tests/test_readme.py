@@ -29,6 +29,13 @@ def test_quick_start_main_job_succeeds():
     assert res.exit_code == 0, res.output
 
 
+def test_solve_example_is_real_output():
+    m = re.search(r"```text\n\$ catc (solve [^\n]+)\n(.*?)\.\.\.\n```", README, re.S)
+    assert m
+    res = run_catc(*m.group(1).split())
+    assert res.exit_code == 0 and res.stdout.startswith(m.group(2))
+
+
 def test_error_example_is_real_output():
     m = re.search(r"```text\n\$ catc (check [^\n]+)\n(.*?)```", README, re.S)
     assert m

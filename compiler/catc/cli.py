@@ -32,6 +32,10 @@ class _Group(click.Group):
             return super().invoke(ctx)
         except (click.exceptions.Exit, click.exceptions.Abort, click.ClickException, SystemExit):
             raise
+        except BrokenPipeError:  # e.g. `catc solve ... | head`: stop quietly, as Unix tools do
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+            sys.exit(EXIT_FAIL)
         except RecursionError:
             click.echo("catc: error: input nests too deeply to process", err=True)
             sys.exit(EXIT_INPUT)
