@@ -318,7 +318,7 @@ class Encoder:
 
     def _interference(self, b: dict[str, str], adds, removes) -> None:
         if self.sequential:
-            self.add(None, at_most(list(b.values()), 1))
+            self.add(None, self._at_most_one(list(b.values())))
             return
         for r in self.resources:
             A = self.assigners.get(r.name, [])
@@ -326,13 +326,13 @@ class Encoder:
             R = self.readers.get(r.name, [])
             touching = list(dict.fromkeys(A + U + R))
             if A and len(touching) > 1:
-                self.add(None, f"(=> {_or([b[a] for a in A])} {at_most([b[x] for x in touching], 1)})")
+                self.add(None, f"(=> {_or([b[a] for a in A])} {self._at_most_one([b[x] for x in touching])})")
             if U and R:
                 group = list(dict.fromkeys(U + R))
                 if len(group) > 1:
                     self.add(
                         None,
-                        f"(=> (and {_or([b[u] for u in U])} {_or([b[x] for x in R])}) {at_most([b[x] for x in group], 1)})",
+                        f"(=> (and {_or([b[u] for u in U])} {_or([b[x] for x in R])}) {self._at_most_one([b[x] for x in group])})",
                     )
             for ma, on_a, x in adds.get(r.name, []):
                 for mb, on_b, y in removes.get(r.name, []):
@@ -340,6 +340,25 @@ class Encoder:
                         eq = self._sym_eq(x, y)
                         if eq != "false":
                             self.add(None, f"(not {_and([on_a, on_b, eq])})")
+
+    def _at_most_one(self, bools: list[str]) -> str:
+        """At most one of ``bools``, as a Boolean formula: pairwise for a few, else a ladder
+        (sequential counter) over prefix-disjunction variables — O(n), pure SAT, which every
+        solver handles far better than a sum of if-then-elses over many Booleans."""
+        if len(bools) <= 1:
+            return "true"
+        if len(bools) <= 4:
+            return _and([f"(not (and {x} {y}))" for i, x in enumerate(bools) for y in bools[i + 1 :]])
+        prefix = bools[0]
+        parts = []
+        for x in bools[1:-1]:
+            parts.append(f"(not (and {x} {prefix}))")
+            q = quote(f"amo.{len(self.script.decls)}")
+            self.script.decls.append((q, "Bool"))
+            self.add(None, f"(= {q} (or {x} {prefix}))")
+            prefix = q
+        parts.append(f"(not (and {bools[-1]} {prefix}))")
+        return _and(parts)
 
     # ------------------------------------------------------------------ goal, uses
     def goal_constraints(self, t: int) -> list[tuple[str, str]]:
