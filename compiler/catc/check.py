@@ -1023,3 +1023,23 @@ def _fmt(v: Fraction | None) -> str:
     if v is None:
         return "*"
     return str(v.numerator) if v.denominator == 1 else f"{float(v):g} ({v})"
+
+
+def check_objective_text(text: str, inst: ir.Instance, diags: Diagnostics, origin: str) -> ir.Expr | None:
+    """A numeric objective term given on the command line (``--minimize EXPR``), checked
+    against an instance.  Diagnostics point into the pseudo-file ``origin``."""
+    from catgrammar.parser import parse_text
+
+    prefix = "(define (problem objective) (:metric minimize "
+    wrapped = prefix + text + "))"
+    parsed = parse_text(wrapped, origin, diags)
+    if parsed is None:
+        return None
+    metric = next((s for s in parsed.definitions[0].sections if isinstance(s, ast.Metric)), None)
+    if metric is None or len(metric.objectives) != 1:
+        diags.report("E0505", f"expected one objective term, got {text!r}", None)
+        return None
+    constants = inst.constants()
+    scope = Scope(inst.domain.sorts, constants, inst.domain.resources, {}, inst.domain.morphisms)
+    checker = ExprChecker(scope, diags, lambda *args: None)
+    return checker.numeric(metric.objectives[0].term, Context.OBJECTIVE)

@@ -239,14 +239,114 @@ def solve(paths, horizon, view, sequential, search_paths, problem_name, timeout,
         from catc.report import print_solve
 
         print_solve(_console(False), inst, result)
-    if diagram and result.status is Status.SAT:
-        from catc.render.diagram import render_svg
-
-        Path(diagram).write_text(render_svg(inst, result.plan, states=list(result.states),
-                                            title=f"{inst.problem.name} ({inst.domain.name})"), encoding="utf-8")
-        if not as_json:
-            click.echo(f"diagram written to {diagram}", err=True)
+    _write_diagram(diagram, inst, result.plan if result.status is Status.SAT else None, result.states, as_json)
     sys.exit({Status.SAT: EXIT_OK, Status.UNSAT: EXIT_FAIL, Status.UNKNOWN: EXIT_UNKNOWN}[result.status])
+
+
+@main.command()
+@_query_options
+@click.option("--minimize", "minimize_terms", multiple=True, metavar="EXPR", help="Minimise this term (repeatable; with --maximize, in the order given: lexicographic).")
+@click.option("--maximize", "maximize_terms", multiple=True, metavar="EXPR", help="Maximise this term (repeatable).")
+@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), help="Stop after this many seconds; the best composition so far is reported (exit 3).")
+@click.option("--json", "as_json", is_flag=True, help="Print a catc.optimize/1 JSON document.")
+@click.option("--diagram", type=click.Path(dir_okay=False, writable=True), help="Write the composition as an SVG string diagram.")
+@click.pass_context
+def optimize(ctx, paths, horizon, view, sequential, search_paths, problem_name, minimize_terms, maximize_terms,
+             timeout, as_json, diagram):
+    """Find the best composition for the problem's (:metric ...) and soft constraints.
+
+    PATHS is PROBLEM, or DOMAIN PROBLEM.  --minimize/--maximize replace the metric.  Exit 0
+    optimum (OPT), 1 infeasible or unbounded, 2 input error, 3 stopped early (best-so-far
+    reported as SUBOPT) or unknown.
+    """
+    import json
+
+    from catc import ir
+    from catc.optimize import OptStatus, objectives_of
+    from catc.optimize import optimize as run_optimize
+    from catc.solve import ValidationFailure
+
+    inst = _instance(paths, view, search_paths, problem_name, as_json)
+    objectives = _cli_objectives(ctx, inst, as_json)
+    if objectives is None and not objectives_of(inst) and not inst.problem.softs:
+        _input_error("nothing to optimise: the problem has no (:metric ...) or (:soft ...); give --minimize or --maximize", as_json)
+    try:
+        result = run_optimize(inst, objectives, horizon=horizon, sequential=sequential, timeout=timeout)
+    except ValidationFailure as exc:
+        click.echo(f"catc: internal error: {exc}", err=True)
+        sys.exit(70)
+    from catc.report import optimize_json, print_optimize
+
+    if as_json:
+        click.echo(json.dumps(optimize_json(inst, result), indent=2))
+    else:
+        print_optimize(_console(False), inst, result)
+    _write_diagram(diagram, inst, result.plan, result.states, as_json)
+    sys.exit({OptStatus.OPT: EXIT_OK, OptStatus.SUBOPT: EXIT_UNKNOWN, OptStatus.UNKNOWN: EXIT_UNKNOWN,
+              OptStatus.UNSAT: EXIT_FAIL, OptStatus.UNBOUNDED: EXIT_FAIL}[result.status])
+
+
+def _cli_objectives(ctx, inst, as_json):
+    """--minimize/--maximize terms in command-line order, checked; None when none given."""
+    from catgrammar.diagnostics import Diagnostics, format_text
+    from catc import ir
+    from catc.check import check_objective_text
+
+    # click does not keep the interleaving of two options; recover it from argv when run as
+    # a program, and fall back to all --minimize terms first otherwise.
+    mins, maxs = list(ctx.params["minimize_terms"]), list(ctx.params["maximize_terms"])
+    raw: list[tuple[str, str]] = []
+    argv = sys.argv
+    i = 0
+    while i < len(argv):
+        if argv[i] in ("--minimize", "--maximize") and i + 1 < len(argv):
+            raw.append((argv[i][2:], argv[i + 1]))
+            i += 2
+            continue
+        i += 1
+    if sorted(t for s, t in raw if s == "minimize") != sorted(mins) or sorted(t for s, t in raw if s == "maximize") != sorted(maxs):
+        raw = [("minimize", t) for t in mins] + [("maximize", t) for t in maxs]
+    if not raw:
+        return None
+    diags = Diagnostics()
+    out = []
+    for sense, text in raw:
+        term = check_objective_text(text, inst, diags, f"<--{sense}>")
+        if term is not None:
+            out.append(ir.Objective(ir.Sense(sense), term))
+    if diags.has_errors:
+        if as_json:
+            import json
+
+            click.echo(json.dumps({"schema": "catc.error/1", "status": "error",
+                                   "diagnostics": [d.to_json() for d in diags.sorted()]}, indent=2))
+        else:
+            click.echo(format_text(diags), err=True)
+        sys.exit(EXIT_INPUT)
+    return out
+
+
+def _input_error(message: str, as_json: bool) -> None:
+    if as_json:
+        import json
+
+        click.echo(json.dumps({"schema": "catc.error/1", "status": "error",
+                               "diagnostics": [{"code": "E0505", "name": "bad-objective", "severity": "error",
+                                                "message": message, "location": None, "notes": []}]}, indent=2))
+    else:
+        click.echo(f"catc: error[E0505]: {message}", err=True)
+    sys.exit(EXIT_INPUT)
+
+
+def _write_diagram(path, inst, plan, states, as_json: bool) -> None:
+    if not path or plan is None:
+        return
+    from catc.render.diagram import render_svg
+
+    Path(path).write_text(render_svg(inst, plan, states=list(states), title=f"{inst.problem.name} ({inst.domain.name})"),
+                          encoding="utf-8")
+    if not as_json:
+        click.echo(f"diagram written to {path}", err=True)
 
 
 @main.command()

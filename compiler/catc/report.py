@@ -138,7 +138,7 @@ class Table:
         return table
 
 
-def print_solve(console, inst: ir.Instance, result, *, timings: bool = True) -> None:
+def print_solve(console, inst: ir.Instance, result, *, timings: bool = True, header: bool = True) -> None:
     status = result.status.value.upper()
     colour = {"SAT": "green", "UNSAT": "red", "UNKNOWN": "yellow"}[status]
     where = f"problem [bold]{inst.problem.name}[/] of domain [bold]{inst.domain.name}[/]"
@@ -147,7 +147,8 @@ def print_solve(console, inst: ir.Instance, result, *, timings: bool = True) -> 
     if result.status.value == "sat":
         plan = result.plan
         n = len(plan)
-        console.print(f"[bold {colour}]{status}[/]  composition of {n} step{'s' if n != 1 else ''} for {where}")
+        if header:
+            console.print(f"[bold {colour}]{status}[/]  composition of {n} step{'s' if n != 1 else ''} for {where}")
         table = Table("step", "morphism", "kind", "θ", right=(0,))
         for i, step in enumerate(plan.steps, 1):
             for j, a in enumerate(step):
@@ -177,3 +178,110 @@ def print_solve(console, inst: ir.Instance, result, *, timings: bool = True) -> 
             f"[dim]time: encode {t.get('encode', 0) * 1000:.0f} ms, solve {t.get('solve', 0) * 1000:.0f} ms, "
             f"validate {t.get('validate', 0) * 1000:.0f} ms; horizons tried {result.horizons_tried}[/]"
         )
+
+
+# ---------------------------------------------------------------- optimize
+
+
+def _objective_rows(inst, result) -> list[tuple[str, str, str, str]]:
+    from catc.sexpr import to_text
+
+    rows = []
+    for i, ov in enumerate(result.values, 1):
+        term = to_text(ov.objective.term)
+        if i == 1 and inst.problem.softs:
+            term += " with soft penalties"
+        if ov.bound is not None and not ov.attained:
+            value = ov.bound + (f" (composition shown: {show_value(ov.value)})" if ov.value is not None else "")
+        elif ov.value is None:
+            value = "undefined"
+        else:
+            value = show_value(ov.value)
+            if ov.value.denominator != 1:
+                value += f"  [{ov.value.numerator}/{ov.value.denominator}]"
+        rows.append((str(i), ov.objective.sense.value, term, value))
+    return rows
+
+
+def print_optimize(console, inst: ir.Instance, result) -> None:
+    from types import SimpleNamespace
+
+    status = result.status.value.upper()
+    colour = {"OPT": "green", "SUBOPT": "yellow", "UNSAT": "red", "UNKNOWN": "yellow", "UNBOUNDED": "red"}[status]
+    where = f"problem [bold]{inst.problem.name}[/] of domain [bold]{inst.domain.name}[/]"
+    if inst.view:
+        where += f", view [bold]{inst.view}[/]"
+    if result.status.value == "unsat":
+        console.print(f"[bold {colour}]{status}[/]  no composition within {result.horizon} steps ({where})")
+        return
+    if result.plan is None:
+        console.print(f"[bold {colour}]{status}[/]  the solver gave up ({result.reason}) for {where}")
+        return
+    what = {"OPT": "proven optimal", "SUBOPT": f"best found before the solver stopped ({result.reason})",
+            "UNBOUNDED": "the objective is unbounded"}[status]
+    console.print(f"[bold {colour}]{status}[/]  {what} for {where}")
+    table = Table("#", "sense", "objective", "value", right=(0,))
+    for row in _objective_rows(inst, result):
+        table.add_row(*row)
+    console.print(table)
+    if result.softs:
+        console.print()
+        st = Table("soft constraint", "weight", "outcome")
+        from catc.sexpr import to_text
+
+        for o in result.softs:
+            st.add_row(to_text(o.soft.expr), show_value(o.soft.weight), "violated" if o.violated else "satisfied")
+        console.print(st)
+    console.print()
+    shim = SimpleNamespace(status=SimpleNamespace(value="sat"), plan=result.plan, states=result.states,
+                           timings=result.timings, horizons_tried=1)
+    print_solve(console, inst, shim, timings=False, header=False)
+    t = result.timings
+    console.print(
+        f"[dim]time: encode {t.get('encode', 0) * 1000:.0f} ms, optimise {t.get('solve', 0) * 1000:.0f} ms, "
+        f"validate {t.get('validate', 0) * 1000:.0f} ms; horizon {result.horizon}[/]"
+    )
+
+
+def optimize_json(inst: ir.Instance, result) -> dict:
+    from catc.sexpr import to_text
+
+    doc = {
+        "schema": "catc.optimize/1",
+        "status": result.status.value,
+        "problem": inst.problem.name,
+        "domain": inst.domain.name,
+        "view": inst.view,
+        "horizon": result.horizon,
+        "objectives": [
+            {
+                "sense": ov.objective.sense.value,
+                "term": to_text(ov.objective.term),
+                "value": value_to_json(ov.value) if ov.value is not None else None,
+                "decimal": decimal_text(ov.value) if ov.value is not None else None,
+                "attained": ov.attained,
+                "bound": ov.bound,
+            }
+            for ov in result.values
+        ],
+        "soft": [
+            {"label": o.soft.label, "constraint": to_text(o.soft.expr), "weight": value_to_json(o.soft.weight),
+             "violated": o.violated}
+            for o in result.softs
+        ],
+        "steps": None,
+        "fresh": None,
+        "final_state": None,
+        "reason": result.reason,
+        "timings": {k: round(v, 6) for k, v in result.timings.items()},
+    }
+    if result.plan is not None:
+        doc["steps"] = [
+            [{"morphism": a.morphism, "kind": inst.morphisms[a.morphism].kind.value,
+              "params": {k: value_to_json(v) for k, v in a.params.items()}} for a in step]
+            for step in result.plan.steps
+        ]
+        doc["fresh"] = dict(result.plan.fresh)
+        if result.states:
+            doc["final_state"] = state_json(result.states[-1])
+    return doc

@@ -62,13 +62,14 @@ def use_bound(inst: ir.Instance) -> int | None:
     return total
 
 
-def prune_plan(inst: ir.Instance, plan: Plan, horizon: int, sequential: bool) -> Plan:
+def prune_plan(inst: ir.Instance, plan: Plan, horizon: int, sequential: bool, accept=None) -> Plan:
     """Drop activations the composition does not need.
 
     The solver's model may switch on harmless extra morphisms (a step of length 0, a spare
     driver); each activation, last first, is removed when the validator still accepts the
-    composition without it, and emptied steps disappear.  The result is valid, no longer
-    than the input, and irredundant: removing any single activation breaks it."""
+    composition without it (and ``accept(candidate)`` agrees — optimisation passes a check
+    that no objective gets worse), and emptied steps disappear.  The result is valid, no
+    longer than the input, and irredundant: removing any single activation breaks it."""
     from catc.validate import validate
 
     steps = [list(s) for s in plan.steps]
@@ -80,7 +81,9 @@ def prune_plan(inst: ir.Instance, plan: Plan, horizon: int, sequential: bool) ->
                 trial = [list(s) for s in steps]
                 del trial[i][j]
                 candidate = Plan(tuple(tuple(s) for s in trial if s), plan.fresh)
-                if validate(inst, candidate, horizon=horizon, sequential=sequential).ok:
+                if validate(inst, candidate, horizon=horizon, sequential=sequential).ok and (
+                    accept is None or accept(candidate)
+                ):
                     steps = [s for s in trial if s]
                     changed = True
                     break

@@ -33,9 +33,11 @@ def _commands(decls, asserts) -> str:
 
 
 class Z3Session:
-    def __init__(self, enc: Encoder):
+    """``optimize=True`` drives a ``z3.Optimize`` instead of a ``z3.Solver``."""
+
+    def __init__(self, enc: Encoder, *, optimize: bool = False):
         self.enc = enc
-        self.solver = z3.Solver()
+        self.solver = z3.Optimize() if optimize else z3.Solver()
 
     def flush(self) -> None:
         decls, asserts = self.enc.script.take()
@@ -96,9 +98,8 @@ class Z3Session:
             fresh[value] = u.sort_of[value]
         return value
 
-    def value_of(self, text: str, sort: ir.Sort):
-        """Evaluate an encoded term (e.g. an objective) in the current model."""
-        model = self.solver.model()
+    def parse_term(self, text: str) -> z3.ExprRef:
+        """An encoded term as a Z3 expression (for objectives and cores)."""
+        self.flush()
         decls = "".join(f"(declare-fun {n} () {s})" for n, s in self.enc.script.decls)
-        expr = z3.parse_smt2_string(f"{decls}(assert (= {text} {text}))")[0].arg(0)
-        return to_fraction(model.eval(expr, model_completion=True)) if sort.is_numeric else model.eval(expr)
+        return z3.parse_smt2_string(f"{decls}(assert (= {text} {text}))")[0].arg(0)
