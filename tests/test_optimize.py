@@ -1,0 +1,133 @@
+"""`catc optimize`: optima of the examples (hand-derived in expect.toml) and against brute force."""
+
+from __future__ import annotations
+
+import itertools
+import json
+import tomllib
+from fractions import Fraction
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from catgrammar.diagnostics import Diagnostics
+from catc import ir
+from catc.loader import load_instance
+from catc.optimize import OptStatus, optimize
+from catc.view import apply_view
+
+from conftest import ROOT, run_catc
+from test_solve_property import COUNTER_MAX, domains, to_cat
+
+
+def optimum_cases():
+    for expect in sorted((ROOT / "examples").glob("*/expect.toml")):
+        for case in tomllib.loads(expect.read_text())["case"]:
+            if "optimum" in case:
+                yield pytest.param(expect.parent, case, id=f"{expect.parent.name}/{case['file']}:{case.get('problem', '')}")
+
+
+@pytest.mark.parametrize("folder, case", list(optimum_cases()))
+def test_example_optimum(folder, case):
+    diags = Diagnostics()
+    _, inst = load_instance(None, str(folder / case["file"]), diags, problem_name=case.get("problem"))
+    result = optimize(apply_view(inst, None))
+    assert result.status is OptStatus.OPT
+    assert [v.value for v in result.values] == [Fraction(x) for x in case["optimum"]]
+    assert all(v.attained for v in result.values)
+    for morphism, params in case.get("params_optimum", {}).items():
+        acts = [a for _, a in result.plan.activations if a.morphism == morphism]
+        assert any(all(a.params[k] == Fraction(v) for k, v in params.items()) for a in acts), acts
+    if "soft_violated" in case:
+        assert [o.violated for o in result.softs] == case["soft_violated"]
+
+
+def test_optimize_cli_json_and_exit_codes():
+    res = run_catc("optimize", str(ROOT / "examples/gpu-allocation/max-confidence.cat"), "--json")
+    doc = json.loads(res.stdout)
+    assert res.exit_code == 0 and doc["schema"] == "catc.optimize/1" and doc["status"] == "opt"
+    assert doc["objectives"][0] == {"sense": "maximize", "term": "confidence", "value": "21/25", "decimal": "0.84",
+                                    "attained": True, "bound": None}
+    res = run_catc("optimize", str(ROOT / "examples/navigation/coarse.cat"), "--maximize", "travelled")
+    assert res.exit_code == 1 and "UNSAT" in res.stdout
+
+
+def test_command_line_objective_replaces_the_metric():
+    res = run_catc("optimize", str(ROOT / "examples/gpu-allocation/max-confidence.cat"), "--minimize", "confidence", "--json")
+    doc = json.loads(res.stdout)
+    # the least confidence gives the detector its least memory, 1 GB: 0.5 + 0.08 = 0.58
+    assert doc["objectives"][0]["value"] == "29/50"
+
+
+def test_bad_command_line_objective_is_a_located_input_error():
+    res = run_catc("optimize", str(ROOT / "examples/gpu-allocation/max-confidence.cat"), "--maximize", "(+ confidense 1)")
+    assert res.exit_code == 2 and "<--maximize>:1:" in res.stderr and "did you mean 'confidence'" in res.stderr
+
+
+def test_nothing_to_optimise_is_an_input_error():
+    res = run_catc("optimize", str(ROOT / "examples/detection/person.cat"))
+    assert res.exit_code == 2 and "nothing to optimise" in res.stderr
+
+
+def test_unattained_infimum_is_reported_as_such():
+    res = run_catc("optimize", str(ROOT / "examples/navigation/farthest.cat"), "--minimize", "travelled")
+    assert res.exit_code == 0 and "infimum 0, not attained" in res.stdout
+
+
+def reachable_max_counter(nb, morphs, init_bools, init_c, goal, horizon):
+    """Brute force: the largest final counter over every composition that reaches the goal."""
+    from test_solve_property import interferes
+
+    best = None
+    frontier = {(init_bools, init_c, tuple(0 for _ in morphs))}
+    for depth in range(horizon + 1):
+        for b, c, _ in frontier:
+            if all(l.holds(b, c) for l in goal):
+                best = c if best is None else max(best, c)
+        if depth == horizon:
+            break
+        nxt = set()
+        for bools, c, used in frontier:
+            nxt.add((bools, c, used))  # idle step
+            for size in range(1, len(morphs) + 1):
+                for combo in itertools.combinations(range(len(morphs)), size):
+                    ms = [morphs[i] for i in combo]
+                    if any(m.uses is not None and used[i] >= m.uses for i, m in zip(combo, ms)):
+                        continue
+                    if not all(l.holds(bools, c) for m in ms for l in m.pre):
+                        continue
+                    if any(interferes(x, y) for x in ms for y in ms if x is not y):
+                        continue
+                    nb_ = list(bools)
+                    nc = c
+                    for m in ms:
+                        for e in m.effects:
+                            if e.kind == "set":
+                                nb_[e.target] = True
+                            elif e.kind == "clear":
+                                nb_[e.target] = False
+                            elif e.kind == "inc":
+                                nc += 1
+                            else:
+                                nc -= 1
+                    if 0 <= nc <= COUNTER_MAX:
+                        nxt.add((tuple(nb_), nc, tuple(u + (1 if i in combo else 0) for i, u in enumerate(used))))
+        frontier = nxt
+    return best
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@given(domain=domains())
+def test_optimum_agrees_with_brute_force(tmp_path, domain):
+    path = tmp_path / "random.cat"
+    path.write_text(to_cat(*domain).replace("(:requirements :numeric)", "(:requirements :numeric :optimization)"))
+    diags = Diagnostics()
+    _, inst = load_instance(None, str(path), diags)
+    assert inst is not None, [d.message for d in diags]
+    expected = reachable_max_counter(*domain)
+    result = optimize(inst, [ir.Objective(ir.Sense.MAXIMIZE, ir.ResourceRef("c", ir.INT))])
+    if expected is None:
+        assert result.status is OptStatus.UNSAT
+    else:
+        assert result.status is OptStatus.OPT and result.values[0].value == expected
