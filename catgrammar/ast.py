@@ -9,52 +9,135 @@ unknown or misplaced operator.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import dataclasses
 from fractions import Fraction
-from typing import Union
+from operator import attrgetter
+from typing import Any, ClassVar, Union
 
 from catgrammar.span import Span
 
+_set = object.__setattr__
 
-@dataclass(frozen=True, slots=True)
-class Name:
+
+class _Node:
+    """What ``@dataclass(frozen=True, slots=True)`` gives every node, written out once.
+
+    The nodes used to be such dataclasses; generating their methods cost ~17 ms at every
+    start of ``catc`` (each ``@dataclass`` compiles six functions).  Each node now lists
+    ``__slots__`` and spells out ``__init__``; this base supplies the rest, with the same
+    behaviour: immutable (:class:`dataclasses.FrozenInstanceError`), equality and hash over
+    the fields in order, ``ClassName(field=value, ...)`` repr, ``__match_args__``, pickling,
+    and ``__dataclass_fields__``, so ``dataclasses.fields``/``replace``/``asdict`` work.
+    ``tests/test_generated_parser.py`` checks all of it against real dataclasses."""
+
+    __slots__ = ()
+    __match_args__: ClassVar[tuple[str, ...]] = ()
+    _values: ClassVar[Any]  # attrgetter of all fields, in order
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        names: tuple[str, ...] = cls.__slots__  # type: ignore[assignment]
+        cls.__match_args__ = names
+        cls._values = attrgetter(*names)  # every node has at least two fields: a tuple
+        fields = {}
+        for name in names:
+            f = dataclasses.field()
+            f.name, f.type, f.kw_only = name, cls.__annotations__[name], False
+            f._field_type = dataclasses._FIELD  # type: ignore[attr-defined] - as @dataclass sets it
+            fields[name] = f
+        cls.__dataclass_fields__ = fields  # type: ignore[attr-defined]
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        raise dataclasses.FrozenInstanceError(f"cannot assign to field {name!r}")
+
+    def __delattr__(self, name: str) -> None:
+        raise dataclasses.FrozenInstanceError(f"cannot delete field {name!r}")
+
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is self.__class__:
+            return self._values(self) == self._values(other)
+        return NotImplemented
+
+    def __hash__(self) -> int:
+        return hash(self._values(self))
+
+    def __repr__(self) -> str:
+        fields = ", ".join(f"{name}={getattr(self, name)!r}" for name in self.__slots__)
+        return f"{type(self).__qualname__}({fields})"
+
+    def __getstate__(self) -> list[Any]:
+        return [getattr(self, name) for name in self.__slots__]
+
+    def __setstate__(self, state: list[Any]) -> None:
+        for name, value in zip(self.__slots__, state):
+            _set(self, name, value)
+
+
+class Name(_Node):
+    __slots__ = ("text", "span")
     text: str
     span: Span
+
+    def __init__(self, text: str, span: Span) -> None:
+        _set(self, "text", text)
+        _set(self, "span", span)
 
 
 # ---------------------------------------------------------------- expressions
 
 
-@dataclass(frozen=True, slots=True)
-class Ref:
+class Ref(_Node):
+    __slots__ = ("name", "span")
     name: str
     span: Span
 
+    def __init__(self, name: str, span: Span) -> None:
+        _set(self, "name", name)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class Num:
+
+class Num(_Node):
+    __slots__ = ("value", "text", "span")
     value: Fraction
     text: str
     span: Span
 
+    def __init__(self, value: Fraction, text: str, span: Span) -> None:
+        _set(self, "value", value)
+        _set(self, "text", text)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class BoolLit:
+
+class BoolLit(_Node):
+    __slots__ = ("value", "span")
     value: bool
     span: Span
 
+    def __init__(self, value: bool, span: Span) -> None:
+        _set(self, "value", value)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class SetLit:
+
+class SetLit(_Node):
+    __slots__ = ("elements", "span")
     elements: tuple["Expr", ...]
     span: Span
 
+    def __init__(self, elements: tuple["Expr", ...], span: Span) -> None:
+        _set(self, "elements", elements)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class Call:
+
+class Call(_Node):
+    __slots__ = ("head", "args", "span")
     head: Name
     args: tuple["Expr", ...]
     span: Span
+
+    def __init__(self, head: Name, args: tuple["Expr", ...], span: Span) -> None:
+        _set(self, "head", head)
+        _set(self, "args", args)
+        _set(self, "span", span)
 
 
 Expr = Union[Ref, Num, BoolLit, SetLit, Call]
@@ -63,127 +146,206 @@ Expr = Union[Ref, Num, BoolLit, SetLit, Call]
 # ---------------------------------------------------------------- types and options
 
 
-@dataclass(frozen=True, slots=True)
-class TypeName:
+class TypeName(_Node):
     """``real``, ``topic``, ... (resolved by the checker)."""
 
+    __slots__ = ("name", "span")
     name: Name
     span: Span
 
+    def __init__(self, name: Name, span: Span) -> None:
+        _set(self, "name", name)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class SetType:
+
+class SetType(_Node):
+    __slots__ = ("element", "span")
     element: Name
     span: Span
+
+    def __init__(self, element: Name, span: Span) -> None:
+        _set(self, "element", element)
+        _set(self, "span", span)
 
 
 TypeExpr = Union[TypeName, SetType]
 
 
-@dataclass(frozen=True, slots=True)
-class Bounds:
+class Bounds(_Node):
+    __slots__ = ("lower", "upper", "span")
     lower: Num | None  # None = unbounded ("*")
     upper: Num | None
     span: Span
 
+    def __init__(self, lower: Num | None, upper: Num | None, span: Span) -> None:
+        _set(self, "lower", lower)
+        _set(self, "upper", upper)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class Opt:
+
+class Opt(_Node):
     """One ``:key value`` option.  ``value`` depends on the key."""
 
+    __slots__ = ("key", "value", "span")
     key: str
     value: object
     span: Span
+
+    def __init__(self, key: str, value: object, span: Span) -> None:
+        _set(self, "key", key)
+        _set(self, "value", value)
+        _set(self, "span", span)
 
 
 # ---------------------------------------------------------------- declarations
 
 
-@dataclass(frozen=True, slots=True)
-class TypedGroup:
+class TypedGroup(_Node):
+    __slots__ = ("names", "type", "span")
     names: tuple[Name, ...]
     type: Name | None  # None for an untyped tail
     span: Span
 
+    def __init__(self, names: tuple[Name, ...], type: Name | None, span: Span) -> None:
+        _set(self, "names", names)
+        _set(self, "type", type)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class EnumSpec:
+
+class EnumSpec(_Node):
+    __slots__ = ("values", "span")
     values: tuple[Name, ...]
     span: Span
 
+    def __init__(self, values: tuple[Name, ...], span: Span) -> None:
+        _set(self, "values", values)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class SortGroup:
+
+class SortGroup(_Node):
+    __slots__ = ("names", "parent", "span")
     names: tuple[Name, ...]
     parent: Name | EnumSpec | None  # None = symbol
     span: Span
 
+    def __init__(self, names: tuple[Name, ...], parent: Name | EnumSpec | None, span: Span) -> None:
+        _set(self, "names", names)
+        _set(self, "parent", parent)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class ResourceDecl:
+
+class ResourceDecl(_Node):
+    __slots__ = ("name", "type", "options", "span")
     name: Name
     type: TypeExpr
     options: tuple[Opt, ...]
     span: Span
 
+    def __init__(self, name: Name, type: TypeExpr, options: tuple[Opt, ...], span: Span) -> None:
+        _set(self, "name", name)
+        _set(self, "type", type)
+        _set(self, "options", options)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class ParameterDecl:
+
+class ParameterDecl(_Node):
+    __slots__ = ("name", "type", "options", "span")
     name: Name
     type: TypeExpr
     options: tuple[Opt, ...]
     span: Span
 
+    def __init__(self, name: Name, type: TypeExpr, options: tuple[Opt, ...], span: Span) -> None:
+        _set(self, "name", name)
+        _set(self, "type", type)
+        _set(self, "options", options)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class MorphismDecl:
+
+class MorphismDecl(_Node):
+    __slots__ = ("name", "options", "span")
     name: Name
     options: tuple[Opt, ...]
     span: Span
 
+    def __init__(self, name: Name, options: tuple[Opt, ...], span: Span) -> None:
+        _set(self, "name", name)
+        _set(self, "options", options)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class HoleDecl:
+
+class HoleDecl(_Node):
+    __slots__ = ("name", "options", "span")
     name: Name
     options: tuple[Opt, ...]
     span: Span
 
+    def __init__(self, name: Name, options: tuple[Opt, ...], span: Span) -> None:
+        _set(self, "name", name)
+        _set(self, "options", options)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class ViewDecl:
+
+class ViewDecl(_Node):
+    __slots__ = ("name", "options", "span")
     name: Name
     options: tuple[Opt, ...]
     span: Span
 
+    def __init__(self, name: Name, options: tuple[Opt, ...], span: Span) -> None:
+        _set(self, "name", name)
+        _set(self, "options", options)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class Requirements:
+
+class Requirements(_Node):
+    __slots__ = ("flags", "span")
     flags: tuple[Name, ...]
     span: Span
 
+    def __init__(self, flags: tuple[Name, ...], span: Span) -> None:
+        _set(self, "flags", flags)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class Imports:
+
+class Imports(_Node):
+    __slots__ = ("names", "span")
     names: tuple[Name, ...]
     span: Span
 
+    def __init__(self, names: tuple[Name, ...], span: Span) -> None:
+        _set(self, "names", names)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class Sorts:
+
+class Sorts(_Node):
+    __slots__ = ("groups", "span")
     groups: tuple[SortGroup, ...]
     span: Span
 
+    def __init__(self, groups: tuple[SortGroup, ...], span: Span) -> None:
+        _set(self, "groups", groups)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class Constants:
+
+class Constants(_Node):
+    __slots__ = ("groups", "span")
     groups: tuple[TypedGroup, ...]
     span: Span
 
+    def __init__(self, groups: tuple[TypedGroup, ...], span: Span) -> None:
+        _set(self, "groups", groups)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class Resources:
+
+class Resources(_Node):
+    __slots__ = ("resources", "span")
     resources: tuple[ResourceDecl, ...]
     span: Span
+
+    def __init__(self, resources: tuple[ResourceDecl, ...], span: Span) -> None:
+        _set(self, "resources", resources)
+        _set(self, "span", span)
 
 
 DomainSection = Union[
@@ -191,77 +353,125 @@ DomainSection = Union[
 ]
 
 
-@dataclass(frozen=True, slots=True)
-class Domain:
+class Domain(_Node):
+    __slots__ = ("name", "sections", "span")
     name: Name
     sections: tuple[DomainSection, ...]
     span: Span
+
+    def __init__(self, name: Name, sections: tuple[DomainSection, ...], span: Span) -> None:
+        _set(self, "name", name)
+        _set(self, "sections", sections)
+        _set(self, "span", span)
 
 
 # ---------------------------------------------------------------- problem
 
 
-@dataclass(frozen=True, slots=True)
-class DomainRef:
+class DomainRef(_Node):
+    __slots__ = ("name", "span")
     name: Name
     span: Span
 
+    def __init__(self, name: Name, span: Span) -> None:
+        _set(self, "name", name)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class Objects:
+
+class Objects(_Node):
+    __slots__ = ("groups", "span")
     groups: tuple[TypedGroup, ...]
     span: Span
 
+    def __init__(self, groups: tuple[TypedGroup, ...], span: Span) -> None:
+        _set(self, "groups", groups)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class Init:
+
+class Init(_Node):
+    __slots__ = ("literals", "span")
     literals: tuple[Expr, ...]
     span: Span
 
+    def __init__(self, literals: tuple[Expr, ...], span: Span) -> None:
+        _set(self, "literals", literals)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class Goal:
+
+class Goal(_Node):
+    __slots__ = ("condition", "span")
     condition: Expr
     span: Span
 
+    def __init__(self, condition: Expr, span: Span) -> None:
+        _set(self, "condition", condition)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class Horizon:
+
+class Horizon(_Node):
+    __slots__ = ("steps", "span")
     steps: Num
     span: Span
 
+    def __init__(self, steps: Num, span: Span) -> None:
+        _set(self, "steps", steps)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class Soft:
+
+class Soft(_Node):
+    __slots__ = ("condition", "options", "span")
     condition: Expr
     options: tuple[Opt, ...]
     span: Span
 
+    def __init__(self, condition: Expr, options: tuple[Opt, ...], span: Span) -> None:
+        _set(self, "condition", condition)
+        _set(self, "options", options)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class Objective:
+
+class Objective(_Node):
+    __slots__ = ("sense", "term", "span")
     sense: Name  # minimize | maximize
     term: Expr
     span: Span
 
+    def __init__(self, sense: Name, term: Expr, span: Span) -> None:
+        _set(self, "sense", sense)
+        _set(self, "term", term)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class Metric:
+
+class Metric(_Node):
+    __slots__ = ("mode", "objectives", "span")
     mode: str  # "single" | "lex" | "pareto"
     objectives: tuple[Objective, ...]
     span: Span
 
+    def __init__(self, mode: str, objectives: tuple[Objective, ...], span: Span) -> None:
+        _set(self, "mode", mode)
+        _set(self, "objectives", objectives)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class Deployed:
+
+class Deployed(_Node):
+    __slots__ = ("names", "span")
     names: tuple[Name, ...]
     span: Span
 
+    def __init__(self, names: tuple[Name, ...], span: Span) -> None:
+        _set(self, "names", names)
+        _set(self, "span", span)
 
-@dataclass(frozen=True, slots=True)
-class ViewUse:
+
+class ViewUse(_Node):
+    __slots__ = ("name", "span")
     name: Name
     span: Span
+
+    def __init__(self, name: Name, span: Span) -> None:
+        _set(self, "name", name)
+        _set(self, "span", span)
 
 
 ProblemSection = Union[
@@ -269,17 +479,26 @@ ProblemSection = Union[
 ]
 
 
-@dataclass(frozen=True, slots=True)
-class Problem:
+class Problem(_Node):
+    __slots__ = ("name", "sections", "span")
     name: Name
     sections: tuple[ProblemSection, ...]
     span: Span
+
+    def __init__(self, name: Name, sections: tuple[ProblemSection, ...], span: Span) -> None:
+        _set(self, "name", name)
+        _set(self, "sections", sections)
+        _set(self, "span", span)
 
 
 Definition = Union[Domain, Problem]
 
 
-@dataclass(frozen=True, slots=True)
-class SourceFile:
+class SourceFile(_Node):
+    __slots__ = ("path", "definitions")
     path: str
     definitions: tuple[Definition, ...]
+
+    def __init__(self, path: str, definitions: tuple[Definition, ...]) -> None:
+        _set(self, "path", path)
+        _set(self, "definitions", definitions)

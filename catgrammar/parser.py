@@ -1,13 +1,18 @@
 """Text → AST.
 
 ``parse_source`` never raises on bad input: it reports located diagnostics and returns
-``None`` when no tree could be built.  Three guards run before Lark sees the text, so that
-every later stage can recurse safely and every message can point at the real culprit:
+``None`` when no tree could be built.  Three guards run before the parser sees the text, so
+that every later stage can recurse safely and every message can point at the real culprit:
 
 * decoding (binary / non-UTF-8 files) in :func:`read_source`;
 * a parenthesis scan that reports an unmatched ``)`` or an unclosed ``(`` precisely and
   rejects nesting deeper than :data:`MAX_DEPTH`;
 * numeric literals longer than :data:`MAX_LITERAL_DIGITS` digits.
+
+The parser is the LALR(1) automaton of ``cat.lark`` as computed by Lark, but run by
+:mod:`catgrammar._lalr` from pre-generated tables: importing Lark costs ~40 ms per process,
+which is most of a small ``catc solve``.  Regenerate the tables after editing the grammar
+with ``python -m catgrammar.build_parser``.
 """
 
 from __future__ import annotations
@@ -15,21 +20,17 @@ from __future__ import annotations
 import contextlib
 import functools
 import gc
-import os
 import re
 import threading
 from fractions import Fraction
-from importlib import resources
 from typing import Any
 
-from lark import Lark, Token, Transformer
-from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
-
 from catgrammar import ast
+from catgrammar._lalr import Parser, Token, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
 from catgrammar.span import Source, Span
 from catgrammar.symbols import Option, Section
-from catgrammar.tokens import TERMINAL_TEXT, CatLexer
+from catgrammar.tokens import TERMINAL_TEXT, tokenize
 
 MAX_DEPTH = 128
 
@@ -53,31 +54,14 @@ MAX_LITERAL_DIGITS = 4000
 
 
 @functools.lru_cache(maxsize=1)
-def lark_parser() -> Lark:
-    """The LALR parser, built once per process and cached on disk by Lark."""
-    grammar = resources.files("catgrammar").joinpath("cat.lark").read_text(encoding="utf-8")
-    return Lark(
-        grammar,
-        parser="lalr",
-        lexer=CatLexer,
-        maybe_placeholders=False,
-        transformer=_BUILDER,
-        cache=_cache_path(grammar),
-    )
+def lalr_parser() -> Parser:
+    """The LALR parser with the AST builder, made once per process (well under 1 ms: the
+    tables come ready-made with :mod:`catgrammar._lalr`)."""
+    return Parser(_BUILDER)
 
 
-def _cache_path(grammar: str) -> str | bool:
-    """A per-user cache file next to Lark's default, or no cache when none is writable."""
-    import hashlib
-    import tempfile
-
-    digest = hashlib.sha256(grammar.encode()).hexdigest()[:16]
-    directory = os.environ.get("CATC_CACHE_DIR") or os.path.join(tempfile.gettempdir(), "catc-cache")
-    try:
-        os.makedirs(directory, exist_ok=True)
-    except OSError:
-        return False
-    return os.path.join(directory, f"cat-grammar-{digest}.lark.cache")
+#: The former name, from when this returned a ``lark.Lark`` (benchmarks/parse_check.py).
+lark_parser = lalr_parser
 
 
 # ---------------------------------------------------------------- reading
@@ -165,11 +149,11 @@ def scan_parentheses(src: Source, diags: Diagnostics) -> bool:
 _KEYWORDS = {s.value for s in Section} | {o.value for o in Option}
 
 
-def _describe(parser: Lark, terminal: str) -> str:
+def _describe(parser: Parser, terminal: str) -> str:
     return TERMINAL_TEXT.get(terminal, terminal)
 
 
-def _expected_text(parser: Lark, expected: set[str]) -> str:
+def _expected_text(parser: Parser, expected: set[str]) -> str:
     words = sorted({_describe(parser, t) for t in expected})
     if len(words) > 12:
         keywords = [w for w in words if w.startswith("':")]
@@ -178,7 +162,7 @@ def _expected_text(parser: Lark, expected: set[str]) -> str:
     return words[0] if len(words) == 1 else ", ".join(words[:-1]) + " or " + words[-1]
 
 
-def _keywords_in(parser: Lark, expected: set[str]) -> list[str]:
+def _keywords_in(parser: Parser, expected: set[str]) -> list[str]:
     out = []
     for t in expected:
         d = _describe(parser, t)
@@ -190,7 +174,7 @@ def _keywords_in(parser: Lark, expected: set[str]) -> list[str]:
 _WORD = re.compile(r":?[A-Za-z_][A-Za-z0-9_-]*|[^\sA-Za-z0-9_]")
 
 
-def _report_syntax(exc: UnexpectedInput, src: Source, parser: Lark, diags: Diagnostics) -> None:
+def _report_syntax(exc: UnexpectedInput, src: Source, parser: Parser, diags: Diagnostics) -> None:
     pos = getattr(exc, "pos_in_stream", None) or 0
     if isinstance(exc, UnexpectedToken):
         tok = exc.token
@@ -204,10 +188,10 @@ def _report_syntax(exc: UnexpectedInput, src: Source, parser: Lark, diags: Diagn
         m = _WORD.match(src.text, pos)
         text = m.group() if m else src.text[pos : pos + 1]
         expected = set(exc.allowed or ())
-    elif isinstance(exc, UnexpectedEOF):
+    elif isinstance(exc, UnexpectedEOF):  # pragma: no cover - LALR reports the end as a $END token
         diags.report("E0103", "unexpected end of file", src.span(len(src.text), len(src.text)))
         return
-    else:  # pragma: no cover - Lark has no other kinds
+    else:  # pragma: no cover - there are no other kinds
         diags.report("E0101", str(exc).splitlines()[0], src.span(pos))
         return
 
@@ -249,10 +233,11 @@ def _report_syntax(exc: UnexpectedInput, src: Source, parser: Lark, diags: Diagn
 _PUNCT = frozenset({"LPAR", "RPAR", "LBRACE", "RBRACE"})
 
 
-class _Builder(Transformer):
+class _Builder:
     """Parse-tree callbacks → :mod:`catgrammar.ast`, run *inside* the LALR parser.
 
-    No Lark ``Tree`` is ever built: each callback receives its children (tokens and AST
+    No parse tree is ever built: each callback (named after its rule or alias in
+    ``cat.lark``, Lark's ``Transformer`` convention) receives its children (tokens and AST
     nodes) and returns an AST node.  A node's span runs from its first to its last token;
     parentheses and option keywords are kept as tokens for exactly that reason and
     dropped here.  ``src`` and ``diags`` are set by :func:`parse_source` before each parse.
@@ -552,14 +537,14 @@ def parse_source(src: Source, diags: Diagnostics) -> ast.SourceFile | None:
         return None
     if not scan_parentheses(src, diags):
         return None
-    parser = lark_parser()
+    parser = lalr_parser()
     before = len(diags.errors)
     # The AST is built inside the parser; allocation-heavy, so the cyclic GC (which would
     # rescan the growing tree many times) is paused for the parse.  Nothing here is cyclic.
     with _PARSE_LOCK, gc_paused():
         _BUILDER.src, _BUILDER.diags = src, diags
         try:
-            definitions = parser.parse(src.text)
+            definitions = parser.parse(tokenize(src.text))
         except UnexpectedInput as exc:
             _report_syntax(exc, src, parser, diags)
             return None

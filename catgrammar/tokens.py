@@ -7,7 +7,8 @@ ends at a word boundary: ``:morphisms`` is an unknown keyword, never ``:morphism
 
 It replaces Lark's own lexer for speed (a 2,000-morphism domain tokenizes about twice as
 fast; see docs/benchmarks.md), and it never needs the parser's state: every word means the
-same thing everywhere, which is why keywords of the language are reserved names.
+same thing everywhere, which is why keywords of the language are reserved names.  Tokens
+and errors are those of :mod:`catgrammar._lalr`: nothing here imports Lark.
 """
 
 from __future__ import annotations
@@ -15,9 +16,7 @@ from __future__ import annotations
 import re
 from typing import Iterator
 
-from lark.exceptions import UnexpectedCharacters
-from lark.lexer import Lexer, Token
-
+from catgrammar._lalr import Token, UnexpectedCharacters
 from catgrammar.symbols import MetricMode, MetricSense, Option, Section
 
 
@@ -33,7 +32,7 @@ COLON_KEYWORDS: dict[str, str] = {
 }
 
 #: Bare words with a fixed role in the grammar.  Terminals starting with ``_`` are dropped
-#: from the tree by Lark.
+#: from a rule's children by the parser (as Lark does).
 WORDS: dict[str, str] = {
     "define": "_DEFINE_WORD",
     "domain": "_DOMAIN_WORD",
@@ -80,7 +79,7 @@ _TOKEN = re.compile(
 
 
 def tokenize(text: str) -> Iterator[Token]:
-    """Yield Lark tokens with positions; raise ``UnexpectedCharacters`` on a stray character."""
+    """Yield tokens with positions; raise ``UnexpectedCharacters`` on a stray character."""
     pos, line, line_start, n = 0, 1, 0, len(text)
     match = _TOKEN.match
     colon_get, word_get, punct = COLON_KEYWORDS.get, WORDS.get, PUNCTUATION
@@ -108,12 +107,3 @@ def tokenize(text: str) -> Iterator[Token]:
         yield Token(kind, value, pos, line, column, line, column + (end - pos), end)
         pos = end
 
-
-class CatLexer(Lexer):
-    """Lark's custom-lexer hook around :func:`tokenize`."""
-
-    def __init__(self, lexer_conf) -> None:  # noqa: D107 - Lark's signature
-        pass
-
-    def lex(self, data: str) -> Iterator[Token]:  # type: ignore[override] - Lark's interface 0
-        return tokenize(data)
