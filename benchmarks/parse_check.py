@@ -66,7 +66,7 @@ def measure(text: str, runs: int) -> tuple[float, float, int]:
                 ws = Workspace(diags)
                 ws.files[str(path)] = sf
                 (dom,) = sf.definitions
-                ws.domains[dom.name.text] = (dom, str(path))
+                ws.domains[dom.name.text] = [(dom, str(path))]
                 result = ws.domain_ir(dom.name.text, str(path), None)
                 t2 = time.perf_counter()
             assert result is not None and not diags.has_errors, [d.message for d in diags][:3]
