@@ -349,6 +349,151 @@ def _write_diagram(path, inst, plan, states, as_json: bool) -> None:
         click.echo(f"diagram written to {path}", err=True)
 
 
+def _excerpt_fn():
+    """Source excerpts for spans, reading files on demand."""
+    from catgrammar.diagnostics import _excerpt
+    from catgrammar.span import Source
+
+    cache: dict[str, Source | None] = {}
+
+    def excerpt(span):
+        if span is None:
+            return []
+        if span.file not in cache:
+            try:
+                cache[span.file] = Source(span.file, Path(span.file).read_text(encoding="utf-8"))
+            except OSError:
+                cache[span.file] = None
+        return _excerpt(cache[span.file], span)
+
+    return excerpt
+
+
+def _parse_components(text: str | None) -> list[str] | None:
+    if text is None:
+        return None
+    return [c for c in text.replace(",", " ").split() if c]
+
+
+def _check_components(inst, names, as_json):
+    unknown = [n for n in names if n not in inst.morphisms]
+    if unknown:
+        _input_error(f"unknown morphism(s) in the composition: {', '.join(unknown)}", as_json)
+
+
+@main.command()
+@_query_options
+@click.option("--relative-to", "relative_to", metavar="COMPONENTS",
+              help="Diagnose relative to this composition (comma-separated morphisms; default: the problem's (:deployed ...); 'none' for none).")
+@click.option("--all", "all_cores", is_flag=True, help="Enumerate several distinct cores (bounded by --max and --timeout).")
+@click.option("--max", "max_cores", type=click.IntRange(min=1), default=5, show_default=True)
+@click.option("--timeout", type=click.FloatRange(min=0, min_open=True))
+@click.option("--json", "as_json", is_flag=True, help="Print a catc.diagnose/1 JSON document.")
+def diagnose(paths, horizon, view, sequential, search_paths, problem_name, relative_to, all_cores, max_cores, timeout, as_json):
+    """Explain infeasibility: an irreducible set of conflicting source constructs.
+
+    Exit 0 when a core is found, 1 when the problem is feasible (nothing to diagnose),
+    2 input error, 3 unknown.
+    """
+    import json
+
+    from catc.labels import label_index
+    from catc.lifelong import diagnose as run_diagnose
+    from catc.report import diagnosis_json, print_diagnosis
+
+    inst = _instance(paths, view, search_paths, problem_name, as_json)
+    rel = None
+    if relative_to is not None:
+        rel = [] if relative_to.strip().lower() == "none" else _parse_components(relative_to)
+        _check_components(inst, rel, as_json)
+    result = run_diagnose(inst, horizon=horizon, sequential=sequential, relative_to=rel,
+                          all_cores=all_cores, max_cores=max_cores, timeout=timeout)
+    index = label_index(inst)
+    if as_json:
+        click.echo(json.dumps(diagnosis_json(inst, result, index), indent=2))
+    else:
+        print_diagnosis(_console(False), inst, result, index, _excerpt_fn())
+    sys.exit({"unsat": EXIT_OK, "sat": EXIT_FAIL}.get(result.status, EXIT_UNKNOWN))
+
+
+@main.command()
+@_query_options
+@click.option("--only", multiple=True, metavar="LABEL|RESOURCE", help="Relax only these requirements (a label, a label prefix such as init/, or a resource name; repeatable).")
+@click.option("--weights", "weight_specs", multiple=True, metavar="KEY=W", help="Weight of the slack on matching requirements (default 1; repeatable).")
+@click.option("--discrete", is_flag=True, help="Return a minimum set of requirements to drop instead of numeric slack.")
+@click.option("--relative-to", "relative_to", metavar="COMPONENTS", help="Keep this composition (default: the problem's (:deployed ...); 'none' for any).")
+@click.option("--timeout", type=click.FloatRange(min=0, min_open=True))
+@click.option("--json", "as_json", is_flag=True, help="Print a catc.relax/1 JSON document.")
+def relax(paths, horizon, view, sequential, search_paths, problem_name, only, weight_specs, discrete, relative_to, timeout, as_json):
+    """The least weakening of the requirements that makes the problem feasible.
+
+    Exit 0 when a relaxation is found, 1 when none helps or the problem is already
+    feasible, 2 input error, 3 unknown.
+    """
+    import json
+    from fractions import Fraction
+
+    from catc.labels import label_index
+    from catc.lifelong import relax as run_relax
+    from catc.report import print_relax, relax_json
+
+    inst = _instance(paths, view, search_paths, problem_name, as_json)
+    weights = {}
+    for spec in weight_specs:
+        key, _, value = spec.partition("=")
+        try:
+            weights[key] = Fraction(value)
+        except (ValueError, ZeroDivisionError):
+            _input_error(f"--weights expects KEY=NUMBER, got {spec!r}", as_json)
+    rel = None
+    if relative_to is not None:
+        rel = [] if relative_to.strip().lower() == "none" else _parse_components(relative_to)
+        _check_components(inst, rel, as_json)
+    result = run_relax(inst, horizon=horizon, sequential=sequential, only=only, weights=weights,
+                       discrete=discrete, relative_to=rel, timeout=timeout)
+    index = label_index(inst)
+    if as_json:
+        click.echo(json.dumps(relax_json(inst, result, index), indent=2))
+    else:
+        print_relax(_console(False), inst, result, index)
+    sys.exit({"relaxed": EXIT_OK, "sat": EXIT_FAIL, "unsat": EXIT_FAIL}.get(result.status, EXIT_UNKNOWN))
+
+
+@main.command()
+@_query_options
+@click.option("--deployed", metavar="COMPONENTS", help="The deployed composition (comma-separated morphisms; default: the problem's (:deployed ...)).")
+@click.option("--priority", type=click.Choice(["stability", "objective"]), default="stability", show_default=True,
+              help="stability: least churn first, then the mission objective; objective: the reverse.")
+@click.option("--timeout", type=click.FloatRange(min=0, min_open=True))
+@click.option("--json", "as_json", is_flag=True, help="Print a catc.recompose/1 JSON document.")
+@click.option("--diagram", type=click.Path(dir_okay=False, writable=True), help="Write the composition as an SVG string diagram.")
+def recompose(paths, horizon, view, sequential, search_paths, problem_name, deployed, priority, timeout, as_json, diagram):
+    """A new composition with the least weighted churn against the deployed one.
+
+    Exit 0 optimum, 1 infeasible, 2 input error, 3 stopped early.
+    """
+    import json
+
+    from catc.lifelong import recompose as run_recompose
+    from catc.optimize import OptStatus
+    from catc.report import print_recompose, recompose_json
+
+    inst = _instance(paths, view, search_paths, problem_name, as_json)
+    components = _parse_components(deployed)
+    if components is not None:
+        _check_components(inst, components, as_json)
+    elif not inst.problem.deployed:
+        _input_error("no deployed composition: add (:deployed ...) to the problem or pass --deployed", as_json)
+    rec = run_recompose(inst, deployed=components, priority=priority, horizon=horizon, sequential=sequential, timeout=timeout)
+    if as_json:
+        click.echo(json.dumps(recompose_json(inst, rec), indent=2))
+    else:
+        print_recompose(_console(False), inst, rec)
+    _write_diagram(diagram, inst, rec.result.plan, rec.result.states, as_json)
+    status = rec.result.status
+    sys.exit({OptStatus.OPT: EXIT_OK, OptStatus.UNSAT: EXIT_FAIL, OptStatus.UNBOUNDED: EXIT_FAIL}.get(status, EXIT_UNKNOWN))
+
+
 @main.command()
 @_query_options
 @click.argument("plan_file", type=click.Path(dir_okay=False))

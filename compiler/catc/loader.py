@@ -127,8 +127,9 @@ class Workspace:
         return None
 
     def _in_folder(self, name: str, folder: Path) -> tuple[ast.Domain, str] | None:
+        target = folder.resolve()
         for d, p in self.domains.get(name, []):
-            if _folder(p) == folder.resolve():
+            if _folder(p) == target:
                 return d, p
         return None
 
@@ -136,7 +137,7 @@ class Workspace:
         """The domain ``name`` as seen from the file ``near``: its own folder first, then the
         other loaded files (when exactly one folder defines it), ``--path``, the stdlib."""
         if near is not None:
-            found = self._scan(_folder(near), name)
+            found = self._scan(Path(near).parent, name)  # unresolved: keep the user's relative paths
             if found:
                 return found
         loaded = self.domains.get(name, [])

@@ -285,3 +285,161 @@ def optimize_json(inst: ir.Instance, result) -> dict:
         if result.states:
             doc["final_state"] = state_json(result.states[-1])
     return doc
+
+
+# ---------------------------------------------------------------- lifelong queries
+
+
+def _where(info, sources=None) -> str:
+    span = info.span
+    return f"{span.file}:{span.line}:{span.column}" if span else "(no source location)"
+
+
+def _describe_label(info) -> str:
+    owner = f" of {info.owner}" if info.owner and info.kind in ("precondition", "effect", "parameter bounds", "use limit") else ""
+    return f"{info.kind}{owner}  {info.text}"
+
+
+def label_json(info) -> dict:
+    span = info.span
+    return {
+        "label": info.label,
+        "kind": info.kind,
+        "text": info.text,
+        "owner": info.owner,
+        "location": None if span is None else {"file": span.file, "line": span.line, "column": span.column,
+                                               "end_line": span.end_line, "end_column": span.end_column},
+    }
+
+
+def print_diagnosis(console, inst: ir.Instance, diag, index, excerpt) -> None:
+    if diag.status == "sat":
+        console.print(f"[bold green]SAT[/]  nothing to diagnose: a composition exists within {diag.horizon} steps")
+        return
+    if diag.status != "unsat":
+        console.print("[bold yellow]UNKNOWN[/]  the solver gave up before finding a core")
+        return
+    rel = ""
+    if diag.relative_to:
+        rel = f"\n       relative to the deployed composition: {', '.join(diag.relative_to)}"
+    for n, core in enumerate(diag.cores, 1):
+        head = f"core {n}: " if len(diag.cores) > 1 else ""
+        console.print(
+            f"[bold red]UNSAT[/]  {head}{len(core)} of {diag.total} labelled constraints conflict "
+            f"(irreducible: dropping any one restores feasibility){rel if n == 1 else ''}"
+        )
+        for i, label in enumerate(core, 1):
+            info = index[label]
+            console.print(f"  {i}. {_describe_label(info)}")
+            console.print(f"     {_where(info)}")
+            for line in excerpt(info.span):
+                console.print("     " + line)
+    if len(diag.cores) > 1 or not diag.complete:
+        more = "" if diag.complete else " (search stopped by --max or --timeout; more may exist)"
+        console.print(f"{len(diag.cores)} distinct core{'s' if len(diag.cores) != 1 else ''}{more}")
+
+
+def diagnosis_json(inst: ir.Instance, diag, index) -> dict:
+    return {
+        "schema": "catc.diagnose/1",
+        "status": diag.status,
+        "problem": inst.problem.name,
+        "horizon": diag.horizon,
+        "total": diag.total,
+        "relative_to": list(diag.relative_to) if diag.relative_to else None,
+        "cores": [[label_json(index[l]) for l in core] for core in diag.cores],
+        "complete": diag.complete,
+        "timings": {k: round(v, 6) for k, v in diag.timings.items()},
+    }
+
+
+def relaxation_text(inst: ir.Instance, rel, info) -> str:
+    if rel.kind == "initial value":
+        name = info.owner
+        unit = inst.resources[name].unit if name in inst.resources else None
+        sign = "+" if rel.delta > 0 else "-"
+        old = inst.problem.init[name].value.value
+        return (f"{name}: {sign}{show_value(abs(rel.delta))}{' ' + unit if unit else ''}"
+                f"   (initial value {show_value(old)} → {show_value(old + rel.delta)})")
+    return f"{info.label}: weaken {info.text} by {show_value(rel.delta)}"
+
+
+def print_relax(console, inst: ir.Instance, result, index) -> None:
+    from types import SimpleNamespace
+
+    if result.status == "sat":
+        console.print("[bold green]SAT[/]  nothing to relax: the problem is feasible as it is")
+        return
+    if result.status == "unsat":
+        console.print("[bold red]UNSAT[/]  no relaxation of the eligible requirements restores feasibility")
+        return
+    if result.status != "relaxed":
+        console.print("[bold yellow]UNKNOWN[/]  the solver gave up")
+        return
+    if result.dropped:
+        console.print(f"[bold yellow]RELAXED[/]  drop {len(result.dropped)} requirement"
+                      f"{'s' if len(result.dropped) != 1 else ''} (a minimum set whose removal restores feasibility):")
+        for label in result.dropped:
+            info = index[label]
+            console.print(f"  - {_describe_label(info)}   {_where(info)}")
+        return
+    console.print(f"[bold yellow]RELAXED[/]  the least restoration (weighted total {show_value(result.cost)}) "
+                  f"over {len(result.eligible)} eligible requirements:")
+    for rel in result.relaxations:
+        info = index[rel.label]
+        console.print(f"  {relaxation_text(inst, rel, info)}   {_where(info)}")
+    if result.plan is not None:
+        console.print("\nthe composition this makes possible:")
+        shim = SimpleNamespace(status=SimpleNamespace(value="sat"), plan=result.plan, states=result.states,
+                               timings=result.timings, horizons_tried=1)
+        print_solve(console, result.relaxed_instance or inst, shim, timings=False, header=False)
+
+
+def relax_json(inst: ir.Instance, result, index) -> dict:
+    return {
+        "schema": "catc.relax/1",
+        "status": result.status,
+        "problem": inst.problem.name,
+        "cost": value_to_json(result.cost) if result.cost is not None else None,
+        "relaxations": [
+            {**label_json(index[r.label]), "delta": value_to_json(r.delta), "weight": value_to_json(r.weight)}
+            for r in result.relaxations
+        ],
+        "dropped": [label_json(index[l]) for l in result.dropped],
+        "steps": None if result.plan is None else [
+            [{"morphism": a.morphism, "params": {k: value_to_json(v) for k, v in a.params.items()}} for a in step]
+            for step in result.plan.steps
+        ],
+        "timings": {k: round(v, 6) for k, v in result.timings.items()},
+    }
+
+
+def print_recompose(console, inst: ir.Instance, rec) -> None:
+    res = rec.result
+    if res.plan is None:
+        print_optimize(console, inst, res)
+        return
+    first = "stability first (least churn, then the mission objective)" if rec.priority == "stability" else \
+        "objective first (the mission objective, then least churn)"
+    status = res.status.value.upper()
+    console.print(f"[bold green]{status}[/]  {first}: churn {show_value(rec.churn)} against the deployed "
+                  f"composition of {len(rec.deployed)} components")
+    if rec.items:
+        table = Table("change", "component", "churn weight")
+        for item in rec.items:
+            table.add_row("+ added" if item.change == "added" else "- removed", item.morphism, show_value(item.weight))
+        console.print(table)
+    else:
+        console.print("  no component changes")
+    console.print()
+    print_optimize(console, inst, res)
+
+
+def recompose_json(inst: ir.Instance, rec) -> dict:
+    doc = optimize_json(inst, rec.result)
+    doc["schema"] = "catc.recompose/1"
+    doc["priority"] = rec.priority
+    doc["deployed"] = list(rec.deployed)
+    doc["churn"] = value_to_json(rec.churn) if rec.churn is not None else None
+    doc["changes"] = [{"morphism": i.morphism, "change": i.change, "weight": value_to_json(i.weight)} for i in rec.items]
+    return doc

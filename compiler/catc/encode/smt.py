@@ -112,8 +112,19 @@ _SMT_SORT = {SortKind.BOOL: "Bool", SortKind.INT: "Int", SortKind.REAL: "Real", 
 
 
 class Encoder:
-    def __init__(self, inst: ir.Instance, horizon: int, *, sequential: bool = False, track: bool = False):
+    def __init__(
+        self,
+        inst: ir.Instance,
+        horizon: int,
+        *,
+        sequential: bool = False,
+        track: bool = False,
+        slack: dict[str, str] | None = None,
+    ):
+        """``slack`` maps labels of relaxable requirements (numeric initial values and
+        order comparisons) to the name of a slack term that weakens them (``catc relax``)."""
         self.inst = inst
+        self.slack = slack or {}
         self.horizon = horizon
         self.sequential = sequential
         self.track = track
@@ -125,6 +136,7 @@ class Encoder:
         self.act: list[dict[str, str]] = []
         self.theta: list[dict[tuple[str, str], Term]] = []
         self.fixed: dict[tuple[str, str], Term] = {}
+        self.indicators: dict[str, str] = {}  # effect label → indicator (tracking)
         #: resources no morphism writes keep one variable for every state
         self.written = frozenset(e.resource for m in self.morphisms for e in m.effects)
         self._dispatch: dict[type, Callable] = {
@@ -219,7 +231,10 @@ class Encoder:
         s0 = self.states[0]
         for name, init in self.inst.problem.init.items():
             if name in s0:
-                self.add(init.label, self._equal(s0[name], self.term(init.value, _Ctx(0, {}, []))))
+                value = self.term(init.value, _Ctx(0, {}, []))
+                if init.label in self.slack:  # s0 = v + δ (δ may be negative: a pair of slacks)
+                    value = f"(+ {value} {self.slack[init.label]})"
+                self.add(init.label, self._equal(s0[name], value))
 
     # ------------------------------------------------------------------ steps
     def add_step(self) -> int:
@@ -248,7 +263,7 @@ class Encoder:
             params = {p.name: theta[(m.name, p.name)] for p in m.params}
             for lit in m.pre:
                 ctx = _Ctx(t, params, [])
-                body = self.term(lit.expr, ctx)
+                body = self._literal(lit, ctx)
                 self.add(lit.label, f"(=> {b[m.name]} {_and([body] + ctx.guards)})")
 
         assigns: dict[str, list[tuple[str, Term]]] = defaultdict(list)
@@ -264,9 +279,9 @@ class Encoder:
                 value = self.term(e.value, ctx)
                 if e.kind in (ir.EffectKind.INCREASE, ir.EffectKind.DECREASE, ir.EffectKind.ASSIGN):
                     value = self._as(value, e.value.sort, res.sort)
-                value = self._contribution(e, t, on, value)
                 if ctx.guards:
                     self.add(e.label, f"(=> {on} {_and(ctx.guards)})")
+                on = self.effect_guard(e, b[m.name])
                 zero = "0.0" if res.sort.kind is SortKind.REAL else "0"
                 if e.kind is ir.EffectKind.ASSIGN:
                     assigns[e.resource].append((on, value))
@@ -282,17 +297,21 @@ class Encoder:
             if r.name in self.written:
                 self._successor(r, s[r.name], nxt[r.name], assigns[r.name], deltas[r.name], adds[r.name], removes[r.name])
         self._interference(b, adds, removes)
+        if t > 0:  # symmetry breaking: idle steps only at the end (compositions compact)
+            self.add(None, f"(=> (not {_or(list(self.act[t - 1].values()))}) (not {_or(list(b.values()))}))")
         return t
 
-    def _contribution(self, e: ir.Effect, t: int, on: str, value: Term) -> Term:
-        """With tracking, an effect's value is a variable pinned (when active) by its label."""
+    def effect_guard(self, e: ir.Effect, on: str) -> str:
+        """When the effect acts.  With tracking, an effect also needs its label's indicator
+        ``|L:eff/m/i|``: a dropped effect (indicator left free) *may or may not* happen, which
+        weakens the formula, so unsat cores and their minimisation stay sound."""
         if not self.track:
-            return value
-        res = self.inst.resources[e.resource]
-        sort = res.sort.element if e.kind in (ir.EffectKind.ADD, ir.EffectKind.REMOVE) else res.sort
-        var = self._var(f"e.{e.label}.{t}", sort)  # type: ignore[arg-type]
-        self.add(e.label, f"(=> {on} {self._equal(var, value)})")
-        return var
+            return on
+        q = quote(f"L:{e.label}")
+        if e.label not in self.indicators:
+            self.indicators[e.label] = q
+            self.script.decls.append((q, "Bool"))
+        return f"(and {on} {q})"
 
     def _successor(self, r: ir.Resource, cur: Term, nxt: Term, assigns, deltas, adds, removes) -> None:
         if r.sort.kind is SortKind.SET:
@@ -365,9 +384,25 @@ class Encoder:
         out = []
         for lit in self.inst.problem.goal:
             ctx = _Ctx(t, {}, [])
-            body = self.term(lit.expr, ctx)
+            body = self._literal(lit, ctx)
             out.append((lit.label, _and([body] + ctx.guards)))
         return out
+
+    def _literal(self, lit: ir.Literal, ctx: _Ctx) -> Term:
+        """A labelled literal, weakened by its slack when it has one:
+        (>= a b) → (>= (+ a δ) b) and (<= a b) → (<= a (+ b δ)) (likewise > and <)."""
+        delta = self.slack.get(lit.label)
+        e = lit.expr
+        if delta is None or not isinstance(e, ir.Compare) or e.op is ir.CmpOp.EQ:
+            return self.term(e, ctx)
+        both = ir.REAL if ir.REAL in (e.left.sort, e.right.sort) else ir.INT
+        left = self._as(self.term(e.left, ctx), e.left.sort, both)
+        right = self._as(self.term(e.right, ctx), e.right.sort, both)
+        if e.op in (ir.CmpOp.GE, ir.CmpOp.GT):
+            left = f"(+ {left} {delta})"
+        else:
+            right = f"(+ {right} {delta})"
+        return f"({e.op.value} {left} {right})"
 
     def uses_constraints(self, steps: int) -> list[tuple[str, str]]:
         out = []

@@ -1,0 +1,162 @@
+"""diagnose, relax and recompose on the examples (expectations in examples/*/expect.toml,
+derived by hand), against brute force, and through the CLI."""
+
+from __future__ import annotations
+
+import json
+import tomllib
+from fractions import Fraction
+
+import pytest
+
+from catgrammar.diagnostics import Diagnostics
+from catc.lifelong import diagnose, recompose, relax, relaxed_instance
+from catc.loader import load_instance
+from catc.optimize import OptStatus
+from catc.solve import Status, solve
+from catc.view import apply_view
+
+from conftest import ROOT, run_catc
+
+LIFE = ROOT / "examples" / "lifelong"
+
+
+def cases(key):
+    for expect in sorted((ROOT / "examples").glob("*/expect.toml")):
+        for case in tomllib.loads(expect.read_text())["case"]:
+            if key in case:
+                yield pytest.param(expect.parent, case, id=f"{expect.parent.name}/{case['file']}")
+
+
+def load(folder, case):
+    diags = Diagnostics()
+    _, inst = load_instance(None, str(folder / case["file"]), diags, problem_name=case.get("problem"))
+    return apply_view(inst, None)
+
+
+@pytest.mark.parametrize("folder, case", list(cases("diagnose")))
+def test_diagnose_names_exactly_the_culprits(folder, case):
+    d = diagnose(load(folder, case))
+    assert d.status == "unsat"
+    assert sorted(d.cores[0]) == sorted(case["diagnose"])
+
+
+@pytest.mark.parametrize("folder, case", list(cases("relax")))
+def test_relax_gives_the_exact_shortfall(folder, case):
+    r = relax(load(folder, case))
+    assert r.status == "relaxed"
+    assert {x.label: x.delta for x in r.relaxations} == {k: Fraction(v) for k, v in case["relax"].items()}
+    assert r.plan is not None  # the composition that becomes possible, validated against the relaxed model
+
+
+@pytest.mark.parametrize("folder, case", list(cases("discrete")))
+def test_discrete_relaxation_is_a_minimum_correction_set(folder, case):
+    r = relax(load(folder, case), discrete=True)
+    assert r.status == "relaxed" and sorted(r.dropped) == sorted(case["discrete"])
+
+
+@pytest.mark.parametrize("folder, case", list(cases("recompose_stability")))
+def test_recompose_stability_first(folder, case):
+    rec = recompose(load(folder, case), priority="stability")
+    want = case["recompose_stability"]
+    assert rec.result.status is OptStatus.OPT
+    assert rec.churn == Fraction(want["churn"]) and rec.items == ([] if want["churn"] == "0" else rec.items)
+    assert rec.result.values[1].value == Fraction(want["objective"])
+
+
+@pytest.mark.parametrize("folder, case", list(cases("recompose_objective")))
+def test_recompose_objective_first(folder, case):
+    rec = recompose(load(folder, case), priority="objective")
+    want = case["recompose_objective"]
+    assert rec.result.status is OptStatus.OPT
+    assert rec.churn == Fraction(want["churn"])
+    assert rec.result.values[0].value == Fraction(want["objective"])
+    assert sorted(i.morphism for i in rec.items if i.change == "added") == sorted(want["added"])
+    assert sorted(i.morphism for i in rec.items if i.change == "removed") == sorted(want["removed"])
+
+
+def test_core_is_irreducible_by_brute_force():
+    """Every proper subset of the core, and the core itself, checked by fresh solves."""
+    inst = load(LIFE, {"file": "budget-cut.cat"})
+    core = diagnose(inst).cores[0]
+    from catc.lifelong import LabelledModel
+    import z3
+
+    model = LabelledModel(inst, 7, components=inst.problem.deployed)
+    assert model.check(core)[0] == z3.unsat
+    for drop in core:
+        assert model.check([l for l in core if l != drop])[0] == z3.sat
+
+
+def _with_budget(inst, budget: Fraction):
+    return relaxed_instance(inst, {"init/budget": budget - inst.problem.init["budget"].value.value})
+
+
+def test_relaxation_matches_a_bisection_over_the_budget():
+    """The baseline's workaround: bisect the budget with repeated solves (exact rationals)."""
+    inst = load(LIFE, {"file": "budget-cut.cat"})
+    from dataclasses import replace
+
+    from catc import ir
+
+    def feasible(b: Fraction) -> bool:
+        trial = _with_budget(inst, b)
+        # the deployed composition must be used: forbid every other component
+        extra = [m for m in trial.morphisms if m not in inst.problem.deployed]
+        morphisms = {n: (replace(m, pre=m.pre + (ir.Literal(ir.Const(False, ir.BOOL), f"pre/{n}/off"),)) if n in extra else m)
+                     for n, m in trial.morphisms.items()}
+        trial = ir.Instance(replace(trial.domain, morphisms=ir._ro(morphisms)), trial.problem, trial.view)
+        return solve(trial).status is Status.SAT
+
+    lo, hi = Fraction(500), Fraction(40000)
+    assert not feasible(lo) and feasible(hi)
+    while hi - lo > Fraction(1, 100):
+        mid = (lo + hi) / 2
+        lo, hi = (lo, mid) if feasible(mid) else (mid, hi)
+    r = relax(inst)
+    delta = r.relaxations[0].delta
+    assert lo <= 500 + delta <= hi
+    # and no smaller relaxation exists: just below the answer is infeasible, the answer is feasible
+    assert not feasible(500 + delta - Fraction(1, 1000)) and feasible(500 + delta)
+
+
+def test_diagnose_cli_text_and_json():
+    res = run_catc("diagnose", str(LIFE / "budget-cut.cat"))
+    assert res.exit_code == 0
+    assert "2 of 37 labelled constraints conflict" in res.stdout and "(>= budget 20000)" in res.stdout
+    assert "budget-cut.cat:7:10" in res.stdout
+    doc = json.loads(run_catc("diagnose", str(LIFE / "budget-cut.cat"), "--json").stdout)
+    assert doc["schema"] == "catc.diagnose/1" and doc["status"] == "unsat"
+    assert {c["label"] for c in doc["cores"][0]} == {"init/budget", "pre/buy-lidar/1"}
+    assert doc["cores"][0][0]["location"]["line"] == 7
+
+
+def test_diagnose_a_feasible_problem_exits_1():
+    res = run_catc("diagnose", str(LIFE / "cheaper-camera.cat"))
+    assert res.exit_code == 1 and "nothing to diagnose" in res.stdout
+
+
+def test_diagnose_without_the_composition_names_the_causal_chain():
+    res = run_catc("diagnose", str(LIFE / "budget-cut.cat"), "--relative-to", "none", "--json")
+    labels = {c["label"] for c in json.loads(res.stdout)["cores"][0]}
+    # without the composition fixed, the goal and the chain that needs the LiDAR take part
+    assert {"init/budget", "pre/buy-lidar/1", "goal/1"} <= labels
+
+
+def test_relax_cli():
+    res = run_catc("relax", str(LIFE / "budget-cut.cat"))
+    assert res.exit_code == 0 and "budget: +19860 USD" in res.stdout and "(initial value 500 → 20360)" in res.stdout
+    doc = json.loads(run_catc("relax", str(LIFE / "budget-cut.cat"), "--json").stdout)
+    assert doc["relaxations"][0]["label"] == "init/budget" and doc["relaxations"][0]["delta"] == 19860
+    res = run_catc("relax", str(LIFE / "budget-cut.cat"), "--only", "pre/buy-lidar/1")
+    assert res.exit_code == 0 and "pre/buy-lidar/1: weaken (>= budget 20000) by 19860" in res.stdout
+
+
+def test_recompose_cli():
+    res = run_catc("recompose", str(LIFE / "cheaper-camera.cat"), "--priority", "objective", "--json")
+    doc = json.loads(res.stdout)
+    assert res.exit_code == 0 and doc["schema"] == "catc.recompose/1" and doc["churn"] == 4
+    res = run_catc("recompose", str(LIFE / "cheaper-camera.cat"))
+    assert res.exit_code == 0 and "churn 0" in res.stdout and "no component changes" in res.stdout
+    res = run_catc("recompose", str(LIFE / "cheaper-camera.cat"), "--deployed", "buy-lidar,nonsense")
+    assert res.exit_code == 2 and "nonsense" in res.stderr
