@@ -496,6 +496,82 @@ def recompose(paths, horizon, view, sequential, search_paths, problem_name, depl
 
 @main.command()
 @_query_options
+@click.option("--minimize", "minimize_terms", multiple=True, metavar="EXPR", help="An objective to minimise (repeatable; replaces the metric).")
+@click.option("--maximize", "maximize_terms", multiple=True, metavar="EXPR", help="An objective to maximise (repeatable).")
+@click.option("--max-points", type=click.IntRange(min=1), default=100, show_default=True, help="Stop after this many points.")
+@click.option("--timeout", type=click.FloatRange(min=0, min_open=True))
+@click.option("--plot", "plot_path", type=click.Path(dir_okay=False, writable=True),
+              help="Draw the front (first two objectives; a third as colour) to FILE.png or FILE.svg (needs the 'plots' extra).")
+@click.option("--json", "as_json", is_flag=True, help="Print a catc.pareto/1 JSON document.")
+@click.pass_context
+def pareto(ctx, paths, horizon, view, sequential, search_paths, problem_name, minimize_terms, maximize_terms,
+           max_points, timeout, plot_path, as_json):
+    """Every non-dominated composition for two or more objectives.
+
+    Objectives come from the problem's (:metric pareto ...) or from --minimize/--maximize.
+    Exit 0 with a front, 1 infeasible, 2 input error, 3 stopped before the front was complete.
+    """
+    import json
+
+    from catc.pareto import ascii_plot
+    from catc.pareto import pareto as run_pareto
+    from catc.pareto import plot as draw
+    from catc.sexpr import to_text
+
+    inst = _instance(paths, view, search_paths, problem_name, as_json)
+    objectives = _cli_objectives(ctx, inst, as_json)
+    if objectives is None:
+        metric = inst.problem.metric
+        objectives = list(metric.objectives) if metric is not None else []
+    if len(objectives) < 2:
+        _input_error("a Pareto front needs at least two objectives: use (:metric pareto ...) or --minimize/--maximize", as_json)
+    result = run_pareto(inst, objectives, horizon=horizon, sequential=sequential, max_points=max_points, timeout=timeout)
+    labels = [f"{o.sense.value} {to_text(o.term)}" for o in objectives]
+    if plot_path and result.points:
+        try:
+            draw(result, labels, plot_path)
+        except RuntimeError as exc:
+            click.echo(f"catc: error: {exc}", err=True)
+            sys.exit(EXIT_INPUT)
+    if as_json:
+        from catc.plan import decimal_text, value_to_json
+
+        click.echo(json.dumps({
+            "schema": "catc.pareto/1",
+            "status": result.status,
+            "complete": result.complete,
+            "objectives": [{"sense": o.sense.value, "term": to_text(o.term)} for o in objectives],
+            "points": [{"values": [value_to_json(v) for v in p.values],
+                        "decimals": [decimal_text(v) for v in p.values],
+                        "components": sorted(p.plan.components),
+                        "steps": [[{"morphism": a.morphism, "params": {k: value_to_json(v) for k, v in a.params.items()}}
+                                   for a in step] for step in p.plan.steps]} for p in result.points],
+            "timings": {k: round(v, 6) for k, v in result.timings.items()},
+        }, indent=2))
+    else:
+        from catc.report import Table, show_value
+
+        console = _console(False)
+        if result.status == "unsat":
+            console.print(f"UNSAT  no composition within {result.horizon} steps")
+        else:
+            done = "complete" if result.complete else "incomplete: stopped by --max-points or --timeout"
+            console.print(f"FRONT  {len(result.points)} non-dominated compositions ({done}) for problem "
+                          f"{inst.problem.name} of domain {inst.domain.name}")
+            table = Table("#", *labels, "components", right=tuple(range(len(labels) + 1)))
+            for n, p in enumerate(result.points, 1):
+                table.add_row(str(n), *[show_value(v) for v in p.values], " ".join(sorted(p.plan.components)))
+            console.print(table)
+            if result.points:
+                console.print()
+                console.print(ascii_plot(result, labels))
+        if plot_path and result.points:
+            click.echo(f"plot written to {plot_path}", err=True)
+    sys.exit(EXIT_OK if result.status == "front" and result.complete else EXIT_FAIL if result.status == "unsat" else EXIT_UNKNOWN)
+
+
+@main.command()
+@_query_options
 @click.argument("plan_file", type=click.Path(dir_okay=False))
 @click.option("--json", "as_json", is_flag=True, help="Print a catc.validate/1 JSON document.")
 def validate(paths, horizon, view, sequential, search_paths, problem_name, plan_file, as_json):
