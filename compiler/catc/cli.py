@@ -572,6 +572,72 @@ def pareto(ctx, paths, horizon, view, sequential, search_paths, problem_name, mi
 
 @main.command()
 @_query_options
+@click.option("--hole", "hole_name", help="The hole to fill (default: the domain's only one).")
+@click.option("--emit", type=click.Choice(["text", "cat"]), default="text", show_default=True,
+              help="cat: print only the (:morphism ...) skeleton, ready to paste into the domain.")
+@click.option("--timeout", type=click.FloatRange(min=0, min_open=True))
+@click.option("--json", "as_json", is_flag=True, help="Print a catc.synthesize/1 JSON document.")
+def synthesize(paths, horizon, view, sequential, search_paths, problem_name, hole_name, emit, timeout, as_json):
+    """The weakest specification of a missing component (a hole μ) that makes the problem feasible.
+
+    Exit 0 when synthesised (or no hole is needed), 1 when even a hole cannot help,
+    2 input error, 3 unknown.
+    """
+    import json
+
+    from catc.synthesize import synthesize as run_synthesize
+    from catc.synthesize import to_cat
+
+    inst = _instance(paths, view, search_paths, problem_name, as_json)
+    try:
+        result = run_synthesize(inst, hole_name, horizon=horizon, sequential=sequential, timeout=timeout)
+    except ValueError as exc:
+        _input_error(str(exc), as_json)
+    skeleton = to_cat(result.morphism, result.hole) if result.morphism is not None else None
+    if as_json:
+        from catc.sexpr import effect_text, to_text
+
+        m = result.morphism
+        click.echo(json.dumps({
+            "schema": "catc.synthesize/1",
+            "status": result.status,
+            "hole": result.hole.name,
+            "view": result.hole.view,
+            "effects": [effect_text(e) for e in m.effects] if m else None,
+            "preconditions": [to_text(l.expr) for l in m.pre] if m else None,
+            "applied_at_step": result.step,
+            "skeleton": skeleton,
+        }, indent=2))
+    elif emit == "cat":
+        if skeleton is None:
+            click.echo(f"; no skeleton: {result.status}", err=True)
+        else:
+            click.echo(skeleton, nl=False)
+    else:
+        console = _console(False)
+        if result.status == "not-needed":
+            console.print(f"SAT  no hole needed: a composition exists without '{result.hole.name}'")
+        elif result.status == "synthesised":
+            console.print(f"SYNTHESISED  hole '{result.hole.name}'" + (f" in view '{result.hole.view}'" if result.hole.view else "")
+                          + f": {len(result.morphism.effects)} effect(s) it must provide, "
+                          f"{len(result.morphism.pre)} precondition(s) it may assume; applied at step {result.step}")
+            console.print(skeleton.rstrip())
+            from types import SimpleNamespace
+
+            from catc.report import print_solve
+
+            console.print("\nthe composition it completes:")
+            shim = SimpleNamespace(status=SimpleNamespace(value="sat"), plan=result.plan, states=result.states,
+                                   timings={}, horizons_tried=1)
+            print_solve(console, result.instance, shim, timings=False, header=False)
+        else:
+            console.print(f"UNSAT  even a component in hole '{result.hole.name}' cannot make the problem feasible"
+                          if result.status == "unsat" else "UNKNOWN  the solver gave up")
+    sys.exit({"synthesised": EXIT_OK, "not-needed": EXIT_OK, "unsat": EXIT_FAIL}.get(result.status, EXIT_UNKNOWN))
+
+
+@main.command()
+@_query_options
 @click.argument("plan_file", type=click.Path(dir_okay=False))
 @click.option("--json", "as_json", is_flag=True, help="Print a catc.validate/1 JSON document.")
 def validate(paths, horizon, view, sequential, search_paths, problem_name, plan_file, as_json):

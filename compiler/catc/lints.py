@@ -105,6 +105,14 @@ def unreachable_morphisms(inst: ir.Instance):
     members: set[tuple[str, object]] = set()
     bools: set[tuple[str, bool]] = set()
     any_member: set[str] = set()  # sets a parameter may add anything to
+    for hole in inst.domain.holes.values():  # a hole may write anything in its view
+        view = inst.domain.views.get(hole.view) if hole.view else None
+        for r in inst.resources.values():
+            if view is None or r.name in view.kept:
+                if r.sort.kind is SortKind.SET:
+                    any_member.add(r.name)
+                elif r.sort.kind is SortKind.BOOL:
+                    bools |= {(r.name, True), (r.name, False)}
     for name, v in inst.problem.init.items():
         if isinstance(v.value, ir.SetLit):
             members |= {(name, e.value) for e in v.value.elements if isinstance(e, ir.Const)}

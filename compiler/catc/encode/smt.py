@@ -120,11 +120,15 @@ class Encoder:
         sequential: bool = False,
         track: bool = False,
         slack: dict[str, str] | None = None,
+        extra_written: frozenset[str] = frozenset(),
     ):
         """``slack`` maps labels of relaxable requirements (numeric initial values and
-        order comparisons) to the name of a slack term that weakens them (``catc relax``)."""
+        order comparisons) to the name of a slack term that weakens them (``catc relax``).
+        ``extra_written`` names resources something besides the morphisms may write (a hole
+        μ, ``catc synthesize``), which then add their effects through ``step_hook``."""
         self.inst = inst
         self.slack = slack or {}
+        self.step_hook = None  # called as hook(t, actions, assigns, deltas, adds, removes)
         self.horizon = horizon
         self.sequential = sequential
         self.track = track
@@ -138,7 +142,7 @@ class Encoder:
         self.fixed: dict[tuple[str, str], Term] = {}
         self.indicators: dict[str, str] = {}  # effect label → indicator (tracking)
         #: resources no morphism writes keep one variable for every state
-        self.written = frozenset(e.resource for m in self.morphisms for e in m.effects)
+        self.written = frozenset(e.resource for m in self.morphisms for e in m.effects) | extra_written
         self._dispatch: dict[type, Callable] = {
             ir.Const: self._const,
             ir.ResourceRef: self._resource,
@@ -293,6 +297,8 @@ class Encoder:
                     adds[e.resource].append((m.name, on, value))
                 else:
                     removes[e.resource].append((m.name, on, value))
+        if self.step_hook is not None:
+            self.step_hook(t, b, assigns, deltas, adds, removes)
         for r in self.resources:
             if r.name in self.written:
                 self._successor(r, s[r.name], nxt[r.name], assigns[r.name], deltas[r.name], adds[r.name], removes[r.name])
