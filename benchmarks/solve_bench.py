@@ -164,11 +164,60 @@ def bench_scaling(runs: int, sizes: list[int], horizons: list[int]) -> None:
     print()
 
 
+# ---------------------------------------------------------------- 4. queries
+
+
+def _median_wall(cmd: list[str], runs: int) -> tuple[float, int]:
+    walls, code = [], 0
+    for _ in range(runs):
+        start = time.perf_counter()
+        proc = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=ROOT)
+        walls.append(time.perf_counter() - start)
+        code = proc.returncode
+    return statistics.median(walls), code
+
+
+def bench_queries(runs: int) -> None:
+    print("### Lifelong queries end to end (process start to exit)\n")
+    print("| query | example | median (s) | exit |")
+    print("|---|---|---:|---:|")
+    for query, path, extra in (
+        ("diagnose", "examples/lifelong/budget-cut.cat", []),
+        ("relax", "examples/lifelong/budget-cut.cat", []),
+        ("relax --discrete", "examples/lifelong/budget-cut.cat", []),
+        ("recompose (stability first)", "examples/lifelong/cheaper-camera.cat", []),
+        ("recompose --priority objective", "examples/lifelong/cheaper-camera.cat", []),
+        ("diagnose", "examples/search-and-rescue/budget-cut.cat", []),
+        ("synthesize", "examples/holes/talk.cat", []),
+        ("pareto", "examples/pareto-design/design.cat", []),
+    ):
+        words = query.split(" (")[0].split()
+        wall, code = _median_wall(CATC + words[:1] + [path] + words[1:] + extra, runs)
+        print(f"| {query} | {path.removeprefix('examples/')} | {wall:.3f} | {code} |")
+    print()
+    print("### Optimize against plain solve on the same problem (in-process solver time)\n")
+    print("| example | solve (s) | optimize (s) | ratio |")
+    print("|---|---:|---:|---:|")
+    for path in ("examples/gpu-allocation/max-confidence.cat", "examples/gpu-allocation/retask.cat",
+                 "examples/navigation/farthest.cat", "examples/search-and-rescue/event2-out-of-range.cat",
+                 "examples/semantics/soft.cat"):
+        problem = ["--problem", "fastest-with-reserve"] if path.endswith("soft.cat") else []
+        sol, opt = [], []
+        for _ in range(runs):
+            doc = json.loads(subprocess.run(CATC + ["solve", path, "--json"] + problem, capture_output=True, cwd=ROOT).stdout)
+            sol.append(doc["timings"]["total"])
+            doc = json.loads(subprocess.run(CATC + ["optimize", path, "--json"] + problem, capture_output=True, cwd=ROOT).stdout)
+            opt.append(doc["timings"]["total"])
+        a, b = statistics.median(sol), statistics.median(opt)
+        print(f"| {path.removeprefix('examples/')} | {a:.3f} | {b:.3f} | {b / a:.2f}× |")
+    print()
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--quick", action="store_true", help="fewer sizes and runs, for a smoke test")
-    ap.add_argument("--only", choices=["examples", "reference", "scaling"])
+    ap.add_argument("--only", choices=["examples", "reference", "scaling", "queries"])
     args = ap.parse_args()
     sizes, horizons = ([25, 50], [5, 10]) if args.quick else ([25, 50, 100, 200], [5, 10, 20])
     print(f"command: python benchmarks/solve_bench.py --runs {args.runs}" + (" --quick" if args.quick else "")
@@ -178,6 +227,8 @@ def main() -> None:
         bench_examples(args.runs)
     if args.only in (None, "reference"):
         bench_reference(max(args.runs, 15))
+    if args.only in (None, "queries"):
+        bench_queries(args.runs)
     if args.only in (None, "scaling"):
         bench_scaling(max(1, args.runs // 3), sizes, horizons)
 
