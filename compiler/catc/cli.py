@@ -456,6 +456,8 @@ def relax(paths, horizon, view, sequential, search_paths, problem_name, only, we
         click.echo(json.dumps(relax_json(inst, result, index), indent=2))
     else:
         print_relax(_console(False), inst, result, index)
+    if result.status == "relaxed" and not result.proven:
+        sys.exit(EXIT_UNKNOWN)
     sys.exit({"relaxed": EXIT_OK, "sat": EXIT_FAIL, "unsat": EXIT_FAIL}.get(result.status, EXIT_UNKNOWN))
 
 

@@ -233,6 +233,7 @@ class Relaxation:
 @dataclass
 class RelaxResult:
     status: str  # "relaxed" | "sat" (already feasible) | "unsat" (no relaxation helps) | "unknown"
+    proven: bool = True  # False: the best relaxation found before the time limit
     relaxations: list[Relaxation] = field(default_factory=list)
     dropped: list[str] = field(default_factory=list)  # discrete variant
     cost: Fraction | None = None
@@ -323,39 +324,72 @@ def relax(
             slack[req.label] = q
             slack_vars.append((req, [q]))
     slack_decls = [(v, "Int" if req.integral else "Real") for req, vs in slack_vars for v in vs]
-    model = LabelledModel(inst, k, sequential=sequential, components=components, horizon_label=False,
-                          slack=slack, slack_decls=slack_decls, optimize=True)
-    opt = model.session.solver
-    opt.add(model.session.parse_term(_and([f"(>= {v} 0)" for _, vs in slack_vars for v in vs])))
-    for l in model.labels:
-        opt.add(model._ind_expr[l])
-    cost_terms = [f"(* {real_literal(req.weight)} {v if not req.integral else f'(to_real {v})'})" for req, vs in slack_vars for v in vs]
+    # Two copies of the model: a solver that looks for ever cheaper relaxations (any Boolean
+    # skeleton), and an optimiser that finds the least slack for one skeleton (an LP).  The
+    # loop ends when no cheaper relaxation exists (proven) or at the time limit (best found).
+    deadline = start + timeout if timeout else None
+    models = []
+    for optimize in (False, True):
+        lm = LabelledModel(inst, k, sequential=sequential, components=components, horizon_label=False,
+                           slack=slack, slack_decls=slack_decls, optimize=optimize)
+        lm.session.solver.add(lm.session.parse_term(_and([f"(>= {v} 0)" for _, vs in slack_vars for v in vs])))
+        for l in lm.labels:
+            lm.session.solver.add(lm._ind_expr[l])
+        models.append(lm)
+    feas, lp = models
+    weighted = []
+    for req, vs in slack_vars:
+        for v in vs:
+            amount = f"(to_real {v})" if req.integral else v
+            weighted.append(f"(* {real_literal(req.weight)} {amount})")
+    cost_text = "(+ 0.0 " + " ".join(weighted) + ")"
     count_terms = [f"(ite (> {v} 0) 1 0)" for _, vs in slack_vars for v in vs]
     noninit_terms = [f"(ite (> {v} 0) 1 0)" for req, vs in slack_vars if req.kind != "initial value" for v in vs]
-    cost = model.session.parse_term(f"(+ 0.0 {' '.join(cost_terms)})")
-    h_cost = opt.minimize(cost)
-    opt.minimize(model.session.parse_term(f"(+ 0 {' '.join(count_terms)})"))
-    opt.minimize(model.session.parse_term(f"(+ 0 {' '.join(noninit_terms)})"))
-    if timeout:
-        model.session.set_timeout(timeout)
+    h_cost = lp.session.solver.minimize(lp.session.parse_term(cost_text))
+    lp.session.solver.minimize(lp.session.parse_term(f"(+ 0 {' '.join(count_terms)})"))
+    lp.session.solver.minimize(lp.session.parse_term(f"(+ 0 {' '.join(noninit_terms)})"))
+    feas_cost = feas.session.parse_term(cost_text)
+    acts = [q for step in feas.enc.act for q in step.values()]
     result.timings["encode"] = time.perf_counter() - start
-    r = opt.check()
-    if r == z3.unsat:
-        result.status = "unsat"
+    best = None
+    result.proven = False
+    while True:
+        feas.session.set_timeout(_remaining(deadline))
+        r = feas.session.solver.check()
+        if r == z3.unsat:
+            result.proven = best is not None
+            break
+        if r == z3.unknown:
+            break
+        m = feas.session.solver.model()
+        skeleton = [z3.Bool(q[1:-1]) == m.eval(z3.Bool(q[1:-1]), model_completion=True) for q in acts]
+        lp.session.solver.push()
+        lp.session.solver.add(skeleton)
+        lp.session.set_timeout(_remaining(deadline))
+        r2 = lp.session.solver.check()
+        if r2 != z3.sat:
+            lp.session.solver.pop()
+            break
+        lm_model = lp.session.solver.model()
+        values: dict[str, Fraction] = {}
+        for req, vs in slack_vars:
+            amounts = [to_fraction(lm_model.eval(z3.Int(v[1:-1]) if req.integral else z3.Real(v[1:-1]), model_completion=True)) for v in vs]
+            values[req.label] = amounts[0] - amounts[1] if req.kind == "initial value" else amounts[0]
+        cost_value = to_fraction(h_cost.value())
+        best = (cost_value, values, lp.session.extract(lp.extended))
+        lp.session.solver.pop()
+        if cost_value == 0:
+            result.proven = True
+            break
+        feas.session.solver.add(feas_cost < z3.RealVal(f"{cost_value.numerator}/{cost_value.denominator}"))
+    if best is None:
+        result.status = "unsat" if r == z3.unsat else "unknown"
         return _finish(result, start)
-    if r == z3.unknown:
-        return _finish(result, start)
-    m = opt.model()
-    values: dict[str, Fraction] = {}
-    for req, vs in slack_vars:
-        amounts = [to_fraction(m.eval(z3.Int(v[1:-1]) if req.integral else z3.Real(v[1:-1]), model_completion=True)) for v in vs]
-        values[req.label] = amounts[0] - amounts[1] if req.kind == "initial value" else amounts[0]
-    result.cost = to_fraction(h_cost.value()) if z3.is_rational_value(h_cost.value()) or z3.is_int_value(h_cost.value()) else None
+    result.cost, values, plan = best
     result.relaxations = [Relaxation(req.label, req.kind, values[req.label], req.weight)
                           for req, _ in slack_vars if values[req.label] != 0]
     result.status = "relaxed" if result.relaxations else "sat"
     relaxed = relaxed_instance(inst, {r_.label: r_.delta for r_ in result.relaxations})
-    plan = model.session.extract(model.extended)
     report = validate(relaxed, plan, horizon=k, sequential=sequential)
     if not report.ok:
         raise ValidationFailure("the independent validator rejected the relaxed composition: "

@@ -383,7 +383,8 @@ def print_relax(console, inst: ir.Instance, result, index) -> None:
             info = index[label]
             console.print(f"  - {_describe_label(info)}   {_where(info)}")
         return
-    console.print(f"[bold yellow]RELAXED[/]  the least restoration (weighted total {show_value(result.cost)}) "
+    what = "the least restoration" if result.proven else "the best restoration found before the time limit (not proven least)"
+    console.print(f"[bold yellow]RELAXED[/]  {what} (weighted total {show_value(result.cost)}) "
                   f"over {len(result.eligible)} eligible requirements:")
     for rel in result.relaxations:
         info = index[rel.label]
@@ -401,6 +402,7 @@ def relax_json(inst: ir.Instance, result, index) -> dict:
         "status": result.status,
         "problem": inst.problem.name,
         "cost": value_to_json(result.cost) if result.cost is not None else None,
+        "proven": result.proven,
         "relaxations": [
             {**label_json(index[r.label]), "delta": value_to_json(r.delta), "weight": value_to_json(r.weight)}
             for r in result.relaxations
