@@ -24,6 +24,9 @@ from catgrammar.diagnostics import Diagnostics  # noqa: E402
 from catgrammar.parser import gc_paused, lark_parser, parse_source, read_source  # noqa: E402
 from catc.loader import Workspace  # noqa: E402
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from solve_bench import machine  # noqa: E402
+
 
 def generate(n: int) -> str:
     lines = [
@@ -75,19 +78,6 @@ def measure(text: str, runs: int) -> tuple[float, float, int]:
     return statistics.median(parse_times[1:]), statistics.median(check_times[1:]), len(text.splitlines())
 
 
-def machine_description() -> str:
-    """CPU model, core count and Python version, for the record."""
-    import os
-
-    model = platform.processor() or platform.machine()
-    try:
-        with open("/proc/cpuinfo") as fh:
-            model = next(l.split(":", 1)[1].strip() for l in fh if l.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
-    return f"{model}, {os.cpu_count()} cores, Python {platform.python_version()}"
-
-
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--sizes", type=int, nargs="+", default=[200, 2000, 20000])
@@ -100,7 +90,7 @@ def main() -> None:
     grammar_ms = (time.perf_counter() - t0) * 1000
 
     print(f"command: python benchmarks/parse_check.py --sizes {' '.join(map(str, args.sizes))} --runs {args.runs}")
-    print(f"machine: {machine_description()}; grammar load (cached) {grammar_ms:.1f} ms")
+    print(f"machine: {machine()}; grammar load {grammar_ms:.1f} ms")
     print()
     print("| morphisms | lines | parse (s) | check (s) | total (s) | µs per morphism | growth vs previous |")
     print("|---:|---:|---:|---:|---:|---:|---:|")

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import itertools
 import json
 import tomllib
 from fractions import Fraction
@@ -18,7 +17,7 @@ from catc.optimize import OptStatus, optimize
 from catc.view import apply_view
 
 from conftest import ROOT, run_catc
-from test_solve_property import COUNTER_MAX, domains, to_cat
+from test_solve_property import domains, successors, to_cat
 
 
 def optimum_cases():
@@ -76,44 +75,16 @@ def test_unattained_infimum_is_reported_as_such():
 
 
 def reachable_max_counter(nb, morphs, init_bools, init_c, goal, horizon):
-    """Brute force: the largest final counter over every composition that reaches the goal."""
-    from test_solve_property import interferes
-
+    """Brute force: the largest final counter over every composition that reaches the goal
+    (idle steps allowed, so every state reachable within the horizon counts)."""
     best = None
     frontier = {(init_bools, init_c, tuple(0 for _ in morphs))}
     for depth in range(horizon + 1):
         for b, c, _ in frontier:
             if all(l.holds(b, c) for l in goal):
                 best = c if best is None else max(best, c)
-        if depth == horizon:
-            break
-        nxt = set()
-        for bools, c, used in frontier:
-            nxt.add((bools, c, used))  # idle step
-            for size in range(1, len(morphs) + 1):
-                for combo in itertools.combinations(range(len(morphs)), size):
-                    ms = [morphs[i] for i in combo]
-                    if any(m.uses is not None and used[i] >= m.uses for i, m in zip(combo, ms)):
-                        continue
-                    if not all(l.holds(bools, c) for m in ms for l in m.pre):
-                        continue
-                    if any(interferes(x, y) for x in ms for y in ms if x is not y):
-                        continue
-                    nb_ = list(bools)
-                    nc = c
-                    for m in ms:
-                        for e in m.effects:
-                            if e.kind == "set":
-                                nb_[e.target] = True
-                            elif e.kind == "clear":
-                                nb_[e.target] = False
-                            elif e.kind == "inc":
-                                nc += 1
-                            else:
-                                nc -= 1
-                    if 0 <= nc <= COUNTER_MAX:
-                        nxt.add((tuple(nb_), nc, tuple(u + (1 if i in combo else 0) for i, u in enumerate(used))))
-        frontier = nxt
+        if depth < horizon:
+            frontier = frontier | {succ for state in frontier for succ in successors(morphs, state)}
     return best
 
 

@@ -108,6 +108,33 @@ def interferes(a: Morph, b: Morph) -> bool:
     return False
 
 
+def successors(morphs, state):
+    """Every state one valid step (a non-empty set of activations) leads to."""
+    bools, c, used = state
+    for size in range(1, len(morphs) + 1):
+        for combo in itertools.combinations(range(len(morphs)), size):
+            ms = [morphs[i] for i in combo]
+            if any(m.uses is not None and used[i] >= m.uses for i, m in zip(combo, ms)):
+                continue
+            if not all(l.holds(bools, c) for m in ms for l in m.pre):
+                continue
+            if any(interferes(x, y) for x in ms for y in ms if x is not y):
+                continue
+            new_b, new_c = list(bools), c
+            for m in ms:
+                for e in m.effects:
+                    if e.kind == "set":
+                        new_b[e.target] = True
+                    elif e.kind == "clear":
+                        new_b[e.target] = False
+                    elif e.kind == "inc":
+                        new_c += 1
+                    else:
+                        new_c -= 1
+            if 0 <= new_c <= COUNTER_MAX:
+                yield tuple(new_b), new_c, tuple(u + (1 if i in combo else 0) for i, u in enumerate(used))
+
+
 def shortest_by_bfs(nb, morphs, init_bools, init_c, goal, horizon) -> int | None:
     start = (init_bools, init_c, tuple(0 for _ in morphs))
     frontier = {start}
@@ -116,34 +143,11 @@ def shortest_by_bfs(nb, morphs, init_bools, init_c, goal, horizon) -> int | None
         if any(all(l.holds(b, c) for l in goal) for b, c, _ in frontier):
             return depth
         nxt = set()
-        for bools, c, used in frontier:
-            for size in range(1, len(morphs) + 1):
-                for combo in itertools.combinations(range(len(morphs)), size):
-                    ms = [morphs[i] for i in combo]
-                    if any(m.uses is not None and used[i] >= m.uses for i, m in zip(combo, ms)):
-                        continue
-                    if not all(l.holds(bools, c) for m in ms for l in m.pre):
-                        continue
-                    if any(interferes(x, y) for x in ms for y in ms if x is not y):
-                        continue
-                    new_b, new_c = list(bools), c
-                    for m in ms:
-                        for e in m.effects:
-                            if e.kind == "set":
-                                new_b[e.target] = True
-                            elif e.kind == "clear":
-                                new_b[e.target] = False
-                            elif e.kind == "inc":
-                                new_c += 1
-                            else:
-                                new_c -= 1
-                    if not 0 <= new_c <= COUNTER_MAX:
-                        continue
-                    new_used = tuple(u + (1 if i in combo else 0) for i, u in enumerate(used))
-                    state = (tuple(new_b), new_c, new_used)
-                    if state not in seen:
-                        seen.add(state)
-                        nxt.add(state)
+        for state in frontier:
+            for succ in successors(morphs, state):
+                if succ not in seen:
+                    seen.add(succ)
+                    nxt.add(succ)
         frontier = nxt
     return None
 
