@@ -23,9 +23,39 @@ EXIT_UNKNOWN = 3
 _UNREADABLE = {"E0001", "E0002", "E0003", "E0005"}
 
 
+#: Commands defined in their own modules, imported only when used (start-up time):
+#: name → "module:attribute" of a click command.
+LAZY_COMMANDS: dict[str, str] = {
+    "fmt": "catc.fmt:fmt_command",
+    "lsp": "catc.lsp:lsp_command",
+    "export": "catc.export.cli:export_command",
+    "bench": "catc.export.bench:bench_command",
+}
+
+
 class _Group(click.Group):
     """Usage errors exit 2 (click's default); unexpected exceptions become a one-line
-    internal-error report with exit 70 instead of a traceback (set CATC_DEBUG=1 to see it)."""
+    internal-error report with exit 70 instead of a traceback (set CATC_DEBUG=1 to see it).
+    Commands in :data:`LAZY_COMMANDS` load on first use."""
+
+    def list_commands(self, ctx):
+        return sorted(set(super().list_commands(ctx)) | {n for n in LAZY_COMMANDS if self._lazy(n) is not None})
+
+    def get_command(self, ctx, name):
+        return super().get_command(ctx, name) or self._lazy(name)
+
+    @staticmethod
+    def _lazy(name: str):
+        import importlib
+
+        target = LAZY_COMMANDS.get(name)
+        if target is None:
+            return None
+        module, _, attr = target.partition(":")
+        try:
+            return getattr(importlib.import_module(module), attr)
+        except ImportError:  # the command's module is not there (yet); optional extras report themselves
+            return None
 
     def invoke(self, ctx: click.Context):
         try:
