@@ -160,3 +160,37 @@ def test_recompose_cli():
     assert res.exit_code == 0 and "churn 0" in res.stdout and "no component changes" in res.stdout
     res = run_catc("recompose", str(LIFE / "cheaper-camera.cat"), "--deployed", "buy-lidar,nonsense")
     assert res.exit_code == 2 and "nonsense" in res.stderr
+
+
+TWO = ROOT / "tests" / "fixtures" / "valid" / "two-conflicts.cat"
+
+
+def test_diagnose_all_finds_both_independent_conflicts():
+    diags = Diagnostics()
+    _, inst = load_instance(None, str(TWO), diags)
+    d = diagnose(inst, all_cores=True, max_cores=5)
+    assert d.status == "unsat" and d.complete
+    cores = sorted(sorted(c) for c in d.cores)
+    # by hand: the goal needs `sent`, which starts false and only transmit sets; then either
+    # transmit's battery requirement (>= 50) against the 20 Wh battery, or its need for the
+    # antenna, which starts false and only buy-antenna sets, which needs 300 > 100 USD.
+    assert cores == sorted([["goal/1", "init/battery", "init/sent", "pre/transmit/2"],
+                            ["goal/1", "init/antenna", "init/budget", "init/sent", "pre/buy-antenna/1", "pre/transmit/1"]])
+    res = run_catc("diagnose", str(TWO), "--all")
+    assert res.exit_code == 0 and "core 2:" in res.stdout and "2 distinct cores" in res.stdout
+
+
+def test_relax_weights_choose_which_requirement_moves():
+    diags = Diagnostics()
+    _, inst = load_instance(None, str(TWO), diags)
+    # by default the cheapest fixes: budget +200 and battery +30 (total 230)
+    r = relax(inst)
+    assert {x.label: x.delta for x in r.relaxations} == {"init/budget": 200, "init/battery": 30}
+    # make moving the initial battery expensive: weaken the transmitter's requirement instead
+    r = relax(inst, weights={"init/battery": Fraction(100)})
+    assert {x.label: x.delta for x in r.relaxations} == {"init/budget": 200, "pre/transmit/2": 30}
+
+
+def test_optimize_stopped_early_reports_best_so_far_or_unknown():
+    res = run_catc("optimize", str(ROOT / "examples/search-and-rescue/event2-out-of-range.cat"), "--timeout", "0.05")
+    assert res.exit_code == 3 and ("SUBOPT" in res.stdout or "UNKNOWN" in res.stdout)
