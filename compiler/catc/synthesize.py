@@ -238,16 +238,10 @@ def _plan_with_mu(plan_without: Plan, model, mu: _Hole, step: int, name: str, k:
 
 
 def _params(model, enc, t, m):
-    from catc.encode.z3backend import Z3Session
+    from catc.encode.z3backend import value_in_model
 
-    out = {}
-    session = Z3Session.__new__(Z3Session)
-    session.enc = enc
     fresh: dict = {}
-    for p in m.params:
-        name = enc.theta[t][(m.name, p.name)][1:-1]
-        out[p.name] = Z3Session._value(session, model, name, p.sort, fresh)
-    return out
+    return {p.name: value_in_model(model, enc.theta[t][(m.name, p.name)][1:-1], p.sort, enc, fresh) for p in m.params}
 
 
 def _with_morphism(inst: ir.Instance, m: ir.Morphism) -> ir.Instance:

@@ -85,21 +85,27 @@ class Z3Session:
         return Plan(tuple(out), fresh)
 
     def _value(self, model: z3.ModelRef, name: str, sort: ir.Sort, fresh: dict[str, str]):
-        if sort.kind is SortKind.BOOL:
-            return z3.is_true(model.eval(z3.Bool(name), model_completion=True))
-        if sort.kind is SortKind.REAL:
-            return to_fraction(model.eval(z3.Real(name), model_completion=True))
-        raw = model.eval(z3.Int(name), model_completion=True).as_long()
-        if sort.kind is SortKind.INT:
-            return Fraction(raw)
-        u = self.enc.grounding.universe(sort)
-        value = u.elements[raw]
-        if value in u.fresh:
-            fresh[value] = u.sort_of[value]
-        return value
+        return value_in_model(model, name, sort, self.enc, fresh)
 
     def parse_term(self, text: str) -> z3.ExprRef:
         """An encoded term as a Z3 expression (for objectives and cores)."""
         self.flush()
         decls = "".join(f"(declare-fun {n} () {s})" for n, s in self.enc.script.decls)
         return z3.parse_smt2_string(f"{decls}(assert (= {text} {text}))")[0].arg(0)
+
+
+def value_in_model(model: z3.ModelRef, name: str, sort: ir.Sort, enc: Encoder, fresh: dict[str, str]):
+    """The value of variable ``name`` of IR sort ``sort`` (symbols decoded through the
+    grounding; fresh values recorded in ``fresh``)."""
+    if sort.kind is SortKind.BOOL:
+        return z3.is_true(model.eval(z3.Bool(name), model_completion=True))
+    if sort.kind is SortKind.REAL:
+        return to_fraction(model.eval(z3.Real(name), model_completion=True))
+    raw = model.eval(z3.Int(name), model_completion=True).as_long()
+    if sort.kind is SortKind.INT:
+        return Fraction(raw)
+    u = enc.grounding.universe(sort)
+    value = u.elements[raw]
+    if value in u.fresh:
+        fresh[value] = u.sort_of[value]
+    return value
