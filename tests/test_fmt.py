@@ -1,0 +1,254 @@
+"""catc fmt: a fixpoint on every repository file, the same checked IR before and after,
+comments kept, a golden layout, and the --check exit codes.  Also the pre-commit hooks file."""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+import shutil
+from enum import Enum
+from fractions import Fraction
+from pathlib import Path
+
+import pytest
+
+from catc.fmt import format_text
+from catgrammar.diagnostics import Diagnostics
+from conftest import ROOT, repo_cat_files, run_catc
+
+VALID = repo_cat_files()
+ALL = VALID + repo_cat_files(invalid=True)
+
+
+def _id(p: Path) -> str:
+    return str(p.relative_to(ROOT))
+
+
+def _comments(text: str) -> list[str]:
+    # ';' never occurs inside the repository's strings; strip strings anyway
+    text = re.sub(r'"(?:[^"\\\n]|\\.)*"', '""', text)
+    return [m.group().rstrip() for m in re.finditer(r";[^\n]*", text)]
+
+
+def _plain(obj, seen=None):
+    """An IR object as nested tuples, without spans (positions change with the layout)."""
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        return (type(obj).__name__,) + tuple(
+            (f.name, _plain(getattr(obj, f.name)))
+            for f in dataclasses.fields(obj)
+            if "span" not in f.name
+        )
+    if isinstance(obj, dict) or hasattr(obj, "items") and hasattr(obj, "keys"):
+        return tuple(sorted((k, _plain(v)) for k, v in obj.items()))
+    if isinstance(obj, (frozenset, set)):
+        return tuple(sorted(map(repr, obj)))
+    if isinstance(obj, (list, tuple)):
+        return tuple(_plain(x) for x in obj)
+    if isinstance(obj, (Enum, Fraction, bool, int, str, float)) or obj is None:
+        return repr(obj)
+    return repr(obj)
+
+
+def _check(path: Path):
+    from catc.session import check_files
+
+    diags = Diagnostics()
+    domains, instances = check_files([str(path)], diags, [str(path.parent)])
+    return (
+        _plain(domains),
+        _plain({k: v.problem for k, v in instances.items()}),
+        sorted((d.code, d.message) for d in diags),
+    )
+
+
+@pytest.mark.parametrize("path", ALL, ids=_id)
+def test_fixpoint_and_comments(path: Path) -> None:
+    text = path.read_text(encoding="utf-8")
+    once = format_text(text)
+    assert format_text(once) == once
+    assert sorted(_comments(once)) == sorted(_comments(text))
+
+
+@pytest.mark.parametrize("path", VALID, ids=_id)
+def test_same_ir_after_formatting(path: Path, tmp_path: Path) -> None:
+    # the domain files a problem imports stay in their folder: copy the folder
+    folder = tmp_path / "m"
+    shutil.copytree(path.parent, folder, ignore=shutil.ignore_patterns("*.toml", "*.md"))
+    before = _check(folder / path.name)
+    target = folder / path.name
+    target.write_text(format_text(target.read_text(encoding="utf-8")), encoding="utf-8")
+    after = _check(target)
+    assert before[0] == after[0]
+    assert before[1] == after[1]
+    assert before[2] == after[2]
+
+
+def test_ir_comparison_sees_changes() -> None:
+    """The IR comparison above is not vacuous: a changed number changes it."""
+    src = ROOT / "tests/fixtures/valid/every-construct.cat"
+    text = src.read_text()
+    a = _plain(_parse_check(text))
+    b = _plain(_parse_check(text.replace(":cost 20000", ":cost 20001")))
+    assert a != b and a == _plain(_parse_check(format_text(text)))
+
+
+def _parse_check(text: str):
+    import tempfile
+
+    from catc.session import check_files
+
+    with tempfile.TemporaryDirectory() as d:
+        p = Path(d) / "x.cat"
+        p.write_text(text)
+        domains, instances = check_files([str(p)], Diagnostics())
+        return domains, {k: v.problem for k, v in instances.items()}
+
+
+GOLDEN_IN = """\
+; header comment
+(define (domain g) (:requirements :numeric :symbols)
+ (:sorts a b - symbol c - a)   ; sorts
+  (:resources (x int :bounds (0 10)) (y real))
+  ; the only morphism
+
+  (:morphism m :kind software :churn 0.50 :uses 2 :cost 1e2
+     :precondition (and (>= x 1) (<= y 3.0) (>= x 2) (<= y 4) (>= x 3) (<= y 5) (>= x 4) (<= y 6) (>= x 5) (<= y 7))
+     :effect (increase x 1)))
+(define (problem p) (:domain g) (:init (= x 0) (= y -1.5)) (:goal (>= x 2)))
+; trailing
+"""
+
+GOLDEN_OUT = """\
+; header comment
+(define (domain g)
+  (:requirements :numeric :symbols)
+  (:sorts a b - symbol  c - a) ; sorts
+  (:resources
+    (x int :bounds (0 10))
+    (y real))
+  ; the only morphism
+
+  (:morphism m
+    :kind software
+    :churn 0.50
+    :uses 2
+    :cost 1e2
+    :precondition (and (>= x 1)
+                       (<= y 3.0)
+                       (>= x 2)
+                       (<= y 4)
+                       (>= x 3)
+                       (<= y 5)
+                       (>= x 4)
+                       (<= y 6)
+                       (>= x 5)
+                       (<= y 7))
+    :effect (increase x 1)))
+
+(define (problem p)
+  (:domain g)
+  (:init (= x 0) (= y -1.5))
+  (:goal (>= x 2)))
+; trailing
+"""
+
+
+def test_golden() -> None:
+    assert format_text(GOLDEN_IN) == GOLDEN_OUT
+    assert format_text(GOLDEN_OUT) == GOLDEN_OUT
+
+
+def test_awkward_comments_are_kept() -> None:
+    text = """(define (domain d) ; after the head
+  (:requirements ; inside
+     :numeric)
+  (:resources (x ; after x
+     int))
+  (:morphism m :precondition ; before the value
+     (>= x 1) ; after the value
+     :effect (and (increase x 1) ; last effect
+     ) ; after and
+  ; before the close
+  ))
+"""
+    once = format_text(text)
+    assert format_text(once) == once
+    assert sorted(_comments(once)) == sorted(_comments(text))
+
+
+def test_check_exit_codes(tmp_path: Path) -> None:
+    good = tmp_path / "good.cat"
+    good.write_text(GOLDEN_OUT)
+    bad = tmp_path / "bad.cat"
+    bad.write_text(GOLDEN_IN)
+    res = run_catc("fmt", "--check", good)
+    assert res.exit_code == 0, res.output
+    res = run_catc("fmt", "--check", good, bad)
+    assert res.exit_code == 1
+    assert str(bad) in res.stdout and str(good) not in res.stdout
+    assert bad.read_text() == GOLDEN_IN  # --check writes nothing
+    res = run_catc("fmt", bad)
+    assert res.exit_code == 0
+    assert bad.read_text() == GOLDEN_OUT
+    assert run_catc("fmt", "--check", tmp_path).exit_code == 0
+
+
+def test_bad_input_exits_2(tmp_path: Path) -> None:
+    broken = tmp_path / "broken.cat"
+    broken.write_text("(define (domain d)\n  (:resources (x int))\n")
+    res = run_catc("fmt", broken)
+    assert res.exit_code == 2
+    assert "error[" in res.output
+    assert broken.read_text() == "(define (domain d)\n  (:resources (x int))\n"
+    assert run_catc("fmt", "--check", tmp_path / "missing.cat").exit_code == 2
+
+
+# ---------------------------------------------------------------- pre-commit hooks
+
+
+def _hooks() -> list[dict]:
+    path = ROOT / ".pre-commit-hooks.yaml"
+    text = path.read_text()
+    try:
+        import yaml
+    except ImportError:  # a tiny reader for this flat list of mappings
+        hooks: list[dict] = []
+        for line in text.splitlines():
+            if not line.strip() or line.lstrip().startswith("#"):
+                continue
+            m = re.match(r"^(- )?\s*([\w-]+):\s*(.*)$", line.strip() if line.startswith("-") else line.strip())
+            if not m:
+                continue
+            if line.startswith("-"):
+                hooks.append({})
+            value = m.group(3).strip()
+            if value.startswith("[") and value.endswith("]"):
+                value = [v.strip().strip("'\"") for v in value[1:-1].split(",") if v.strip()]
+            elif value.startswith(("'", '"')):
+                value = value[1:-1]
+            hooks[-1][m.group(2)] = value
+        return hooks
+    return yaml.safe_load(text)
+
+
+def test_pre_commit_hooks_name_real_commands() -> None:
+    import shlex
+
+    from catc.cli import main
+
+    hooks = {h["id"]: h for h in _hooks()}
+    assert set(hooks) == {"catc-check", "catc-fmt"}
+    for hook in hooks.values():
+        assert {"id", "name", "entry", "language", "files"} <= set(hook)
+        argv = shlex.split(hook["entry"]) + list(hook.get("args", []))
+        assert argv[0] == "catc"
+        assert argv[1] in main.list_commands(None)  # a real command
+        assert re.search(hook["files"], "examples/detection/domain.cat")
+        assert not re.search(hook["files"], "README.md")
+        # the options are real options of that command
+        res = run_catc(*argv[1:], "--help")
+        assert res.exit_code == 0
+        for opt in [a for a in argv[2:] if a.startswith("--")]:
+            assert opt in res.stdout
+    assert "--strict" in hooks["catc-check"]["entry"] + " ".join(hooks["catc-check"].get("args", []))
+    assert "--check" in hooks["catc-fmt"]["entry"] + " ".join(hooks["catc-fmt"].get("args", []))
