@@ -1,0 +1,181 @@
+"""catc lsp: the real server over stdio, driven by pytest-lsp.
+
+Needs the ``lsp`` extra (pygls 2, lsprotocol) and pytest-lsp; skipped without them."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("pygls", reason="catc lsp needs the 'lsp' extra (pygls>=2): pip install 'catc-lang[lsp]'")
+pytest.importorskip("lsprotocol", reason="catc lsp needs lsprotocol (the 'lsp' extra)")
+pytest_lsp = pytest.importorskip("pytest_lsp", reason="the LSP tests need pytest-lsp")
+pytest.importorskip("pytest_asyncio", reason="the LSP tests need pytest-asyncio (a pytest-lsp dependency)")
+
+from lsprotocol import types  # noqa: E402
+from pytest_lsp import ClientServerConfig, LanguageClient  # noqa: E402
+
+from conftest import ROOT  # noqa: E402
+
+EXAMPLE = ROOT / "examples" / "detection"
+DOMAIN = EXAMPLE / "domain.cat"
+PROBLEM = EXAMPLE / "person.cat"
+
+
+@pytest_lsp.fixture(config=ClientServerConfig(server_command=[sys.executable, "-m", "catc", "lsp"]))
+async def client(lsp_client: LanguageClient):
+    await lsp_client.initialize_session(
+        types.InitializeParams(
+            capabilities=pytest_lsp.client_capabilities("visual-studio-code"),
+            root_uri=ROOT.as_uri(),
+        )
+    )
+    yield
+    await lsp_client.shutdown_session()
+
+
+def _open(client: LanguageClient, path: Path, text: str | None = None) -> str:
+    uri = path.resolve().as_uri()
+    client.text_document_did_open(
+        types.DidOpenTextDocumentParams(
+            types.TextDocumentItem(uri=uri, language_id="cat", version=1, text=path.read_text() if text is None else text)
+        )
+    )
+    return uri
+
+
+async def _diagnostics(client: LanguageClient, uri: str):
+    await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    return list(client.diagnostics[uri])
+
+
+def _pos(text: str, needle: str, offset: int = 1) -> types.Position:
+    i = text.index(needle) + offset
+    line = text.count("\n", 0, i)
+    return types.Position(line, i - (text.rfind("\n", 0, i) + 1))
+
+
+@pytest.mark.asyncio
+async def test_clean_file_has_no_diagnostics(client: LanguageClient) -> None:
+    uri = _open(client, PROBLEM)
+    assert await _diagnostics(client, uri) == []
+
+
+@pytest.mark.asyncio
+async def test_diagnostics_follow_the_in_memory_text(client: LanguageClient) -> None:
+    text = PROBLEM.read_text()
+    bad = text.replace("(member person detects)", "(member persn detects)")
+    assert bad != text
+    uri = _open(client, PROBLEM, bad)
+    diags = await _diagnostics(client, uri)
+    assert diags and all(d.source == "catc" for d in diags)
+    assert any(d.severity == types.DiagnosticSeverity.Error for d in diags)
+    assert any("persn" in d.message for d in diags)
+    # the same as catc check on that text
+    from catc.lsp import analyse
+
+    expected = {(d.code, d.message) for d in analyse(str(PROBLEM), bad).diagnostics}
+    assert {(d.code, d.message) for d in diags} == expected
+    # fixing the text in the editor clears them (nothing is read from disk)
+    client.text_document_did_change(
+        types.DidChangeTextDocumentParams(
+            types.VersionedTextDocumentIdentifier(uri=uri, version=2),
+            [types.TextDocumentContentChangeWholeDocument(text=text)],
+        )
+    )
+    assert await _diagnostics(client, uri) == []
+
+
+@pytest.mark.asyncio
+async def test_syntax_error_is_located(client: LanguageClient) -> None:
+    uri = _open(client, PROBLEM, "(define (problem p)\n  (:domain detection)\n  (:init (= ram 4)\n")
+    diags = await _diagnostics(client, uri)
+    assert len(diags) == 1 and diags[0].code.startswith("E01")
+
+
+@pytest.mark.asyncio
+async def test_hover_resource_and_morphism(client: LanguageClient) -> None:
+    text = DOMAIN.read_text()
+    uri = _open(client, DOMAIN)
+    await _diagnostics(client, uri)
+    h = await client.text_document_hover_async(
+        types.HoverParams(types.TextDocumentIdentifier(uri), _pos(text, "(>= ram", 5))
+    )
+    assert h is not None and "**resource** `ram`" in h.contents.value and "unit: GB" in h.contents.value
+    h = await client.text_document_hover_async(
+        types.HoverParams(types.TextDocumentIdentifier(uri), _pos(text, "(:morphism camera-driver", 12))
+    )
+    value = h.contents.value
+    assert "**morphism** `camera-driver`" in value
+    assert "preconditions:" in value and "`(>= ram ram-req)`" in value
+    assert "effects:" in value and "`(decrease ram ram-req)`" in value
+    assert "parameters:" in value and "`ram-req` : real in (0.5 2)" in value
+
+
+@pytest.mark.asyncio
+async def test_definition_across_files(client: LanguageClient) -> None:
+    text = PROBLEM.read_text()
+    uri = _open(client, PROBLEM)
+    await _diagnostics(client, uri)
+    # (:domain detection) → the domain file
+    locs = await client.text_document_definition_async(
+        types.DefinitionParams(types.TextDocumentIdentifier(uri), _pos(text, "(:domain detection", 10))
+    )
+    assert locs and Path(locs[0].uri.removeprefix("file://")).resolve() == DOMAIN.resolve()
+    dom_text = DOMAIN.read_text()
+    assert locs[0].range.start.line == dom_text.count("\n", 0, dom_text.index("(domain detection)"))
+    # a resource used in the problem → its declaration in the domain
+    word = "ram" if "ram" in text else "mounted"
+    locs = await client.text_document_definition_async(
+        types.DefinitionParams(types.TextDocumentIdentifier(uri), _pos(text, f"(= {word}", 3))
+    )
+    assert locs and Path(locs[0].uri.removeprefix("file://")).resolve() == DOMAIN.resolve()
+    line = dom_text.split("\n")[locs[0].range.start.line]
+    assert line[locs[0].range.start.character :].startswith(word)
+
+
+@pytest.mark.asyncio
+async def test_completion_has_keywords_and_names(client: LanguageClient) -> None:
+    uri = _open(client, PROBLEM)
+    await _diagnostics(client, uri)
+    res = await client.text_document_completion_async(
+        types.CompletionParams(types.TextDocumentIdentifier(uri), types.Position(0, 0))
+    )
+    items = res.items if isinstance(res, types.CompletionList) else res
+    labels = {i.label for i in items}
+    assert {":morphism", ":precondition", "member"} <= labels
+    assert {"ram", "camera-driver", "mounted"} <= labels
+
+
+@pytest.mark.asyncio
+async def test_document_symbols(client: LanguageClient) -> None:
+    uri = _open(client, DOMAIN)
+    await _diagnostics(client, uri)
+    syms = await client.text_document_document_symbol_async(
+        types.DocumentSymbolParams(types.TextDocumentIdentifier(uri))
+    )
+    assert [s.name for s in syms] == ["detection"]
+    children = {(c.name, c.detail) for c in syms[0].children}
+    assert ("ram", "resource") in children and ("camera-driver", "morphism") in children
+
+
+def test_missing_pygls_message() -> None:
+    """Without pygls the command explains which extra to install and exits 2."""
+    code = (
+        "import sys, builtins\n"
+        "real = builtins.__import__\n"
+        "def fake(name, *a, **k):\n"
+        "    if name.split('.')[0] in ('pygls', 'lsprotocol'):\n"
+        "        raise ImportError(name)\n"
+        "    return real(name, *a, **k)\n"
+        "builtins.__import__ = fake\n"
+        "from catc.cli import main\n"
+        "sys.argv = ['catc', 'lsp']\n"
+        "main()\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 2
+    assert "catc lsp needs the 'lsp' extra: pip install 'catc-lang[lsp]'" in proc.stderr
