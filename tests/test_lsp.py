@@ -10,31 +10,42 @@ from pathlib import Path
 
 import pytest
 
-pytest.importorskip("pygls", reason="catc lsp needs the 'lsp' extra (pygls>=2): pip install 'catc-lang[lsp]'")
-pytest.importorskip("lsprotocol", reason="catc lsp needs lsprotocol (the 'lsp' extra)")
-pytest_lsp = pytest.importorskip("pytest_lsp", reason="the LSP tests need pytest-lsp")
-pytest.importorskip("pytest_asyncio", reason="the LSP tests need pytest-asyncio (a pytest-lsp dependency)")
+from conftest import ROOT
 
-from lsprotocol import types  # noqa: E402
-from pytest_lsp import ClientServerConfig, LanguageClient  # noqa: E402
-
-from conftest import ROOT  # noqa: E402
+try:
+    import pytest_asyncio  # noqa: F401  (a pytest-lsp dependency)
+    import pytest_lsp
+    from lsprotocol import types
+    from pygls.lsp.server import LanguageServer  # noqa: F401
+    from pytest_lsp import ClientServerConfig, LanguageClient
+except ImportError as exc:  # the lsp extra or pytest-lsp is missing
+    MISSING = (
+        f"the LSP tests need the 'lsp' extra and pytest-lsp ({exc.name or exc} is missing): "
+        "pip install 'catc-lang[lsp]' pytest-lsp"
+    )
+    needs_lsp = pytest.mark.skip(reason=MISSING)
+    LanguageClient = object  # only in annotations of skipped tests
+else:
+    MISSING = None
+    needs_lsp = pytest.mark.asyncio
 
 EXAMPLE = ROOT / "examples" / "detection"
 DOMAIN = EXAMPLE / "domain.cat"
 PROBLEM = EXAMPLE / "person.cat"
 
 
-@pytest_lsp.fixture(config=ClientServerConfig(server_command=[sys.executable, "-m", "catc", "lsp"]))
-async def client(lsp_client: LanguageClient):
-    await lsp_client.initialize_session(
-        types.InitializeParams(
-            capabilities=pytest_lsp.client_capabilities("visual-studio-code"),
-            root_uri=ROOT.as_uri(),
+if MISSING is None:
+
+    @pytest_lsp.fixture(config=ClientServerConfig(server_command=[sys.executable, "-m", "catc", "lsp"]))
+    async def client(lsp_client: LanguageClient):
+        await lsp_client.initialize_session(
+            types.InitializeParams(
+                capabilities=pytest_lsp.client_capabilities("visual-studio-code"),
+                root_uri=ROOT.as_uri(),
+            )
         )
-    )
-    yield
-    await lsp_client.shutdown_session()
+        yield
+        await lsp_client.shutdown_session()
 
 
 def _open(client: LanguageClient, path: Path, text: str | None = None) -> str:
@@ -58,13 +69,13 @@ def _pos(text: str, needle: str, offset: int = 1) -> types.Position:
     return types.Position(line, i - (text.rfind("\n", 0, i) + 1))
 
 
-@pytest.mark.asyncio
+@needs_lsp
 async def test_clean_file_has_no_diagnostics(client: LanguageClient) -> None:
     uri = _open(client, PROBLEM)
     assert await _diagnostics(client, uri) == []
 
 
-@pytest.mark.asyncio
+@needs_lsp
 async def test_diagnostics_follow_the_in_memory_text(client: LanguageClient) -> None:
     text = PROBLEM.read_text()
     bad = text.replace("(member person detects)", "(member persn detects)")
@@ -89,14 +100,14 @@ async def test_diagnostics_follow_the_in_memory_text(client: LanguageClient) -> 
     assert await _diagnostics(client, uri) == []
 
 
-@pytest.mark.asyncio
+@needs_lsp
 async def test_syntax_error_is_located(client: LanguageClient) -> None:
     uri = _open(client, PROBLEM, "(define (problem p)\n  (:domain detection)\n  (:init (= ram 4)\n")
     diags = await _diagnostics(client, uri)
     assert len(diags) == 1 and diags[0].code.startswith("E01")
 
 
-@pytest.mark.asyncio
+@needs_lsp
 async def test_hover_resource_and_morphism(client: LanguageClient) -> None:
     text = DOMAIN.read_text()
     uri = _open(client, DOMAIN)
@@ -115,7 +126,7 @@ async def test_hover_resource_and_morphism(client: LanguageClient) -> None:
     assert "parameters:" in value and "`ram-req` : real in (0.5 2)" in value
 
 
-@pytest.mark.asyncio
+@needs_lsp
 async def test_definition_across_files(client: LanguageClient) -> None:
     text = PROBLEM.read_text()
     uri = _open(client, PROBLEM)
@@ -137,7 +148,7 @@ async def test_definition_across_files(client: LanguageClient) -> None:
     assert line[locs[0].range.start.character :].startswith(word)
 
 
-@pytest.mark.asyncio
+@needs_lsp
 async def test_completion_has_keywords_and_names(client: LanguageClient) -> None:
     uri = _open(client, PROBLEM)
     await _diagnostics(client, uri)
@@ -150,7 +161,7 @@ async def test_completion_has_keywords_and_names(client: LanguageClient) -> None
     assert {"ram", "camera-driver", "mounted"} <= labels
 
 
-@pytest.mark.asyncio
+@needs_lsp
 async def test_document_symbols(client: LanguageClient) -> None:
     uri = _open(client, DOMAIN)
     await _diagnostics(client, uri)
@@ -179,3 +190,60 @@ def test_missing_pygls_message() -> None:
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert proc.returncode == 2
     assert "catc lsp needs the 'lsp' extra: pip install 'catc-lang[lsp]'" in proc.stderr
+
+
+# ---------------------------------------------------------------- the analysis (no pygls needed)
+
+EVERY = ROOT / "tests" / "fixtures" / "valid" / "every-construct.cat"
+
+
+@pytest.mark.parametrize(
+    "name, kind, declared",
+    [
+        ("every-construct", "domain", "(domain every-construct)"),
+        ("every-construct-problem", "problem", "(problem every-construct-problem)"),
+        ("thermal-class", "sort", "thermal-class - class"),
+        ("bright", "enum value", "(enum bright dark)"),
+        ("person", "constant", "person - class"),
+        ("fire-extinguisher", "object", "fire-extinguisher - class"),
+        ("confidence", "resource", "(confidence real"),
+        ("detector", "morphism", "(:morphism detector"),
+        ("software", "view", "(:view software :drop"),
+        ("new-skill", "hole", "(:hole new-skill"),
+    ],
+)
+def test_definitions(name: str, kind: str, declared: str) -> None:
+    from catc.lsp import analyse, lookup
+
+    text = EVERY.read_text()
+    a = analyse(str(EVERY), text)
+    assert a.diagnostics == [] or all(d.severity.name != "ERROR" for d in a.diagnostics)
+    defs = [d for d in lookup(a, name) if d.kind == kind]
+    assert defs, f"no {kind} {name}"
+    d = defs[0]
+    assert text[d.span.start : d.span.end] == name
+    assert text.index(declared) <= d.span.start < text.index(declared) + len(declared)
+
+
+def test_imported_domain_definitions_and_hover() -> None:
+    from catc.lsp import analyse, hover_text, lookup, names_in_scope, word_at
+
+    a = analyse(str(EVERY), EVERY.read_text())
+    # robot-base (the standard library) is imported: its resources are in scope
+    assert "budget" in names_in_scope(a)
+    budget = lookup(a, "budget")
+    assert budget and budget[0].span.file.endswith("robot-base.cat")
+    assert "**resource** `budget`" in hover_text(a, "budget")
+    assert "(enum bright dark)" in hover_text(a, "lighting")
+    assert "**hole** `new-skill`" in hover_text(a, "new-skill")
+    assert "**view** `perception`" in hover_text(a, "perception")
+    assert word_at("  (:morphism mount-lidar\n", 0, 15) == "mount-lidar"
+    assert word_at("  (:morphism mount-lidar\n", 0, 4) == ":morphism"
+
+
+def test_diagnostics_use_the_given_text_not_the_file() -> None:
+    from catc.lsp import analyse
+
+    text = EVERY.read_text().replace("(>= confidence 0.7)", "(>= confidenc 0.7)")
+    a = analyse(str(EVERY), text)
+    assert any("confidenc" in d.message for d in a.diagnostics)
