@@ -108,6 +108,23 @@ def scan(text: str) -> tuple[list[Tok], Tok]:
         toks.append(tok)
         if t is not None:
             pos = t.end_pos
+    # "x ; a ) ; b )": a comment before closing parentheses ends up after them when printed;
+    # attach the comments of a token and the closing parentheses after it to the last ones
+    # of that run, so that the layout does not depend on where they were
+    body = toks[:-1]
+    i = 0
+    while i < len(body):
+        j = i + 1
+        while j < len(body) and body[j].kind in ("RPAR", "RBRACE") and not body[j].leading:
+            j += 1
+        run = body[i:j]
+        comments = [t.trailing for t in run if t.trailing is not None]
+        if len(run) > 1 and comments:
+            for t in run:
+                t.trailing = None
+            for t, c in zip(run[len(run) - len(comments) :], comments):
+                t.trailing = c
+        i = j
     return toks[:-1], toks[-1]
 
 
@@ -139,23 +156,34 @@ def last_tok(node) -> Tok:
     return node.tok if isinstance(node, Atom) else node.close
 
 
-def _internal_comments(node, first: bool = True, last: bool = True) -> bool:
-    """Any comment inside ``node`` other than the first token's leading comments and the
-    last token's trailing comment (which the parent places)."""
+def _internal_comments(node, tail_free: bool = True) -> bool:
+    """Any comment inside ``node`` that forces it to break.  Leading comments of its first
+    token and a trailing comment after its last token are placed by the parent; a trailing
+    comment on the last token of its last child moves out after the closing parentheses
+    (when ``tail_free`` and no closing parenthesis on the way has a comment of its own)."""
     if isinstance(node, Atom):
         return False
     if node.open.trailing is not None or node.close.leading:
         return True
+    n = len(node.children)
     for i, c in enumerate(node.children):
-        if i > 0 and first_tok(c).leading:
+        if first_tok(c).leading:
             return True
-        if i == 0 and first_tok(c).leading:
+        free = i == n - 1 and tail_free and node.close.trailing is None
+        if last_tok(c).trailing is not None and not free:
             return True
-        if last_tok(c).trailing is not None:
-            return True
-        if _internal_comments(c):
+        if _internal_comments(c, free):
             return True
     return False
+
+
+def _tail_comment(node) -> str | None:
+    """The trailing comment at the end of ``node`` (the innermost one, when it moves out)."""
+    while True:
+        tok = last_tok(node)
+        if tok.trailing is not None or isinstance(node, Atom) or not node.children:
+            return tok.trailing
+        node = node.children[-1]
 
 
 def flat(node) -> str:
@@ -221,9 +249,10 @@ def _unit_has_comments(unit: list) -> bool:
     for i, n in enumerate(unit):
         if i > 0 and first_tok(n).leading:
             return True
-        if i < len(unit) - 1 and last_tok(n).trailing is not None:
+        last = i == len(unit) - 1
+        if not last and _tail_comment(n) is not None:
             return True
-        if _internal_comments(n):
+        if _internal_comments(n, last):
             return True
     return False
 
@@ -311,7 +340,9 @@ def emit(node, out: Out) -> None:
         text = flat(node)
         if out.col + len(text) <= WIDTH:
             out.write(text)
-            out.trailing(node.close)
+            tail = _tail_comment(node)
+            if tail is not None:
+                out.trailing(Tok("", "", trailing=tail))
             return
     _broken(node, out, head)
 
@@ -358,6 +389,8 @@ def _broken(node: Group, out: Out, head: str | None) -> None:
     open_col = out.col
     out.write(node.open.text)
     out.trailing(node.open)
+    if out.pending is not None:  # "( ; comment": the contents start on the next line
+        out.nl(open_col + 1)
     children = node.children
     if not children:
         _close(node, out, open_col + 1)
@@ -493,7 +526,7 @@ def _verify(before: str, after: str) -> None:
     a_toks, a_comments = _signature(after)
     if b_toks != a_toks:
         raise FormatError("catc fmt changed the tokens of the file (a bug: please report it)")
-    if sorted(b_comments) != sorted(a_comments):
+    if b_comments != a_comments:
         raise FormatError("catc fmt lost or changed a comment (a bug: please report it)")
 
 
