@@ -40,7 +40,10 @@ def check_with_pddl_parser(domain_file: Path, problem_file: Path) -> None:
     try:
         from pddl import parse_domain, parse_problem
     except ImportError:
-        raise click.ClickException(f"the PyPI 'pddl' parser is missing; {BASELINES_HINT} (or pass --no-check)") from None
+        raise click.ClickException(
+            "the PyPI 'pddl' parser is missing: pip install --no-deps 'pddl==0.5.1' "
+            "(it pins an older lark but works with catc's), or pass --no-check"
+        ) from None
     parse_domain(str(domain_file))
     parse_problem(str(problem_file))
 
