@@ -69,6 +69,8 @@ def _pddl_missing() -> str | None:
         import pddl  # noqa: F401
         import unified_planning  # noqa: F401
     except ImportError as exc:
+        if exc.name == "pddl":
+            return "pddl is not installed: pip install --no-deps 'pddl==0.5.1'"
         return f"{exc.name} is not installed: pip install 'catc-lang[baselines]'"
     return None
 
@@ -218,5 +220,5 @@ def test_missing_baselines_name_what_to_install(monkeypatch, tmp_path):
     monkeypatch.setitem(sys.modules, "pddl", None)
     import click
 
-    with pytest.raises(click.ClickException, match=r"catc-lang\[baselines\]"):
+    with pytest.raises(click.ClickException, match=r"pip install --no-deps 'pddl==0.5.1'"):
         check_with_pddl_parser(tmp_path / "d.pddl", tmp_path / "p.pddl")
