@@ -220,7 +220,9 @@ class Diagnostics:
 # ---------------------------------------------------------------- formatting
 
 
-def _excerpt(source: Source | None, span: Span, label: str = "") -> list[str]:
+def _excerpt(source: Source | None, span: Span, label: str = "", highlight=None) -> list[str]:
+    """The source line with a caret under the span; ``highlight`` (text → text, e.g. ANSI
+    colours from the Pygments lexer) is applied to the source line only."""
     if source is None or span.line > source.line_count:
         return []
     text = source.line_text(span.line).expandtabs(1)
@@ -230,23 +232,26 @@ def _excerpt(source: Source | None, span: Span, label: str = "") -> list[str]:
     caret_len = max(1, min(end_col, len(shown) + 1) - span.column)
     caret = " " * (span.column - 1) + "^" + "~" * (caret_len - 1)
     gutter = " " * width
+    if highlight is not None:
+        shown = highlight(shown)
     lines = [f" {gutter} |", f" {span.line} | {shown}", f" {gutter} | {caret}" + (f" {label}" if label else "")]
     return lines
 
 
-def format_text(diags: Diagnostics, *, excerpts: bool = True) -> str:
-    """Compiler-style text: ``file:line:col: error[CODE]: message`` plus excerpt and notes."""
+def format_text(diags: Diagnostics, *, excerpts: bool = True, highlight=None) -> str:
+    """Compiler-style text: ``file:line:col: error[CODE]: message`` plus excerpt and notes.
+    ``highlight`` colours the excerpts' source lines (see :func:`terminal_highlighter`)."""
     out: list[str] = []
     for d in diags.sorted():
         where = f"{d.span}: " if d.span else ""
         out.append(f"{where}{d.severity.value}[{d.code}]: {d.message}")
         if excerpts and d.span:
-            out.extend(_excerpt(diags.sources.get(d.span.file), d.span))
+            out.extend(_excerpt(diags.sources.get(d.span.file), d.span, highlight=highlight))
         for n in d.notes:
             nwhere = f"{n.span}: " if n.span else ""
             out.append(f"  = note: {nwhere}{n.message}")
             if excerpts and n.span and n.span != d.span:
-                out.extend("  " + line for line in _excerpt(diags.sources.get(n.span.file), n.span))
+                out.extend("  " + line for line in _excerpt(diags.sources.get(n.span.file), n.span, highlight=highlight))
     return "\n".join(out)
 
 
@@ -292,3 +297,15 @@ def format_github(diags: Diagnostics) -> str:
             ] + props
         out.append(f"::{kind} {','.join(props)}::{_gh_escape(d.message)}")
     return "\n".join(out)
+
+
+def terminal_highlighter():
+    """A function colouring one line of .cat source for a terminal, with the Pygments lexer
+    of this package (the same keyword lists as the grammar)."""
+    from pygments import highlight
+    from pygments.formatters import TerminalFormatter
+
+    from catgrammar.lexer import CatLexer
+
+    lexer, formatter = CatLexer(), TerminalFormatter()
+    return lambda line: highlight(line, lexer, formatter).rstrip("\n")

@@ -44,3 +44,18 @@ def test_check_a_whole_folder_and_the_stdlib():
 def test_module_entry_point_runs_in_a_fresh_process():
     res = run_catc_process("check", "examples/navigation")
     assert res.exit_code == 0, res.output
+
+
+def test_excerpts_are_highlighted_with_the_pygments_lexer_on_a_terminal():
+    from catgrammar.diagnostics import Diagnostics, format_text, terminal_highlighter
+    from catc.session import check_files
+
+    diags = Diagnostics()
+    check_files([str(TYPES)], diags)
+    plain = format_text(diags)
+    coloured = format_text(diags, highlight=terminal_highlighter())
+    assert "\x1b[" not in plain and "\x1b[" in coloured
+    # only the source lines change: stripping the colour codes gives the plain text back
+    import re
+
+    assert re.sub(r"\x1b\[[0-9;]*m", "", coloured) == plain

@@ -109,7 +109,13 @@ def _emit(diags, files: list[str], fmt: str, quiet: bool) -> None:
         if text:
             click.echo(text)
         return
-    text = format_text(diags)
+    colour = sys.stdout.isatty() and not os.environ.get("NO_COLOR")
+    if colour:
+        from catgrammar.diagnostics import terminal_highlighter
+
+        text = format_text(diags, highlight=terminal_highlighter())
+    else:
+        text = format_text(diags)
     if text:
         click.echo(_colour(text), err=False)
     if not quiet:
