@@ -88,8 +88,9 @@ def parse_output(text: str) -> EnhspResult:
 def run_enhsp(domain: str | Path, problem: str | Path, *, planner: str = "sat-hadd", timeout: float = 60.0,
               memory: str = "2g") -> EnhspResult:
     """Run ENHSP in place (its ``libs/`` folder sits beside the jar)."""
+    exe = java()  # Java first: it is the prerequisite of the jar
     jar = enhsp_jar()
-    cmd = [java(), f"-Xmx{memory}", "-jar", str(jar), "-o", str(domain), "-f", str(problem), "-planner", planner]
+    cmd = [exe, f"-Xmx{memory}", "-jar", str(jar), "-o", str(domain), "-f", str(problem), "-planner", planner]
     start = time.perf_counter()
     try:
         proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, cwd=jar.parent)
