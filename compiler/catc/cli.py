@@ -297,7 +297,6 @@ def optimize(ctx, paths, horizon, view, sequential, search_paths, problem_name, 
     """
     import json
 
-    from catc import ir
     from catc.optimize import OptStatus, objectives_of
     from catc.optimize import optimize as run_optimize
     from catc.solve import ValidationFailure

@@ -313,7 +313,6 @@ def relax(
     slack: dict[str, str] = {}
     slack_vars: list[tuple[Requirement, list[str]]] = []
     for req in reqs:
-        sort = "Int" if req.integral else "Real"
         base = f"d.{req.label}"
         if req.kind == "initial value":
             plus, minus = quote(base + ".up"), quote(base + ".down")

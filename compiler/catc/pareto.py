@@ -23,7 +23,7 @@ from fractions import Fraction
 import z3
 
 from catc import ir
-from catc.encode.smt import Encoder, _and, _or
+from catc.encode.smt import Encoder
 from catc.encode.z3backend import Z3Session, to_fraction
 from catc.plan import Plan
 from catc.solve import ValidationFailure, canonical_fresh, default_horizon

@@ -20,16 +20,15 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field, replace
-from fractions import Fraction
 
 import z3
 
 from catc import ir
-from catc.encode.smt import Encoder, _and, _or, quote, real_literal
+from catc.encode.smt import Encoder, _or, quote
 from catc.encode.z3backend import Z3Session, to_fraction
 from catc.ir import SortKind
 from catc.plan import Activation, Plan
-from catc.sexpr import effect_text, number_text, to_text
+from catc.sexpr import effect_text, to_text
 from catc.solve import ValidationFailure, default_horizon
 from catc.view import project_instance
 

@@ -14,7 +14,6 @@ from pathlib import Path
 
 import click
 
-from catc.export import BASELINES_HINT
 
 EXIT_OK, EXIT_FAIL, EXIT_INPUT, EXIT_UNKNOWN = 0, 1, 2, 3
 
