@@ -105,10 +105,8 @@ def definitions_of(tree: ast.SourceFile) -> list[Definition]:
 
 def analyse(path: str, text: str, search_paths: tuple[str, ...] = ()) -> Analysis:
     """``catc check`` on one document's in-memory text (its imports come from disk)."""
-    from catc.lints import lint_domain, lint_instance
     from catc.loader import Workspace, _norm
-    from catc.session import is_user_file
-    from catc.view import ViewError, apply_view
+    from catc.session import check_parsed
     from catgrammar.diagnostics import Diagnostics
     from catgrammar.parser import gc_paused, parse_source
 
@@ -119,31 +117,14 @@ def analyse(path: str, text: str, search_paths: tuple[str, ...] = ()) -> Analysi
         result.tree = tree
         ws = Workspace(diags, search_paths)
         ws.files[_norm(path)] = tree
-        checked = []
+        instances: dict = {}
         if tree is not None:
             for d in tree.definitions:
                 ws._index(d, path)
-            for d in tree.definitions:
-                if isinstance(d, ast.Domain) and any(d is e for e, _ in ws.domains.get(d.name.text, [])):
-                    ws.domain_ir(d.name.text, path, d.name.span)
-            for d in tree.definitions:
-                if isinstance(d, ast.Problem) and any(d is e for e, _ in ws.problems.get(d.name.text, [])):
-                    inst = ws.check_problem(d, path)
-                    if inst is None:
-                        continue
-                    try:
-                        apply_view(inst, None)
-                    except ViewError as exc:
-                        diags.report("E0506", str(exc), exc.span or d.name.span)
-                        continue
-                    checked.append(inst)
-            for dom in ws.checked_domains():
-                lint_domain(dom, diags, is_user_file, [i.problem for i in checked if i.domain is dom])
-            for inst in checked:
-                lint_instance(inst, diags, is_user_file)
+            _, instances = check_parsed(ws, [(path, tree)], diags)
     result.diagnostics = [d for d in diags if d.span is None or _same(d.span.file, path)]
     result.domains = ws.checked_domains()
-    result.problems = [i.problem for i in checked]
+    result.problems = [i.problem for i in instances.values()]
     if tree is not None:
         result.definitions = definitions_of(tree)
     seen = {id(tree)}

@@ -36,6 +36,14 @@ def _check_files(files, diags, search_paths):
         sf = ws.load(f)
         if sf is not None:
             parsed.append((f, sf))
+    return check_parsed(ws, parsed, diags)
+
+
+def check_parsed(
+    ws: Workspace, parsed: list[tuple[str, ast.SourceFile]], diags: Diagnostics
+) -> tuple[dict[str, ir.Domain], dict[str, ir.Instance]]:
+    """Check the definitions of files already loaded into ``ws`` (the CLI and the
+    language server share this): domains, then problems with their views, then lints."""
     domains: dict[str, ir.Domain] = {}
     instances: dict[str, ir.Instance] = {}
     for path, sf in parsed:
