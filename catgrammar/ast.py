@@ -9,68 +9,14 @@ unknown or misplaced operator.
 
 from __future__ import annotations
 
-import dataclasses
 from fractions import Fraction
-from operator import attrgetter
-from typing import Any, ClassVar, Union
+from typing import Union
 
+from catgrammar.record import Record, set_field
 from catgrammar.span import Span
 
-_set = object.__setattr__
-
-
-class _Node:
-    """What ``@dataclass(frozen=True, slots=True)`` gives every node, written out once.
-
-    The nodes used to be such dataclasses; generating their methods cost ~17 ms at every
-    start of ``catc`` (each ``@dataclass`` compiles six functions).  Each node now lists
-    ``__slots__`` and spells out ``__init__``; this base supplies the rest, with the same
-    behaviour: immutable (:class:`dataclasses.FrozenInstanceError`), equality and hash over
-    the fields in order, ``ClassName(field=value, ...)`` repr, ``__match_args__``, pickling,
-    and ``__dataclass_fields__``, so ``dataclasses.fields``/``replace``/``asdict`` work.
-    ``tests/test_generated_parser.py`` checks all of it against real dataclasses."""
-
-    __slots__ = ()
-    __match_args__: ClassVar[tuple[str, ...]] = ()
-    _values: ClassVar[Any]  # attrgetter of all fields, in order
-
-    def __init_subclass__(cls, **kwargs: Any) -> None:
-        super().__init_subclass__(**kwargs)
-        names: tuple[str, ...] = cls.__slots__  # type: ignore[assignment]
-        cls.__match_args__ = names
-        cls._values = attrgetter(*names)  # every node has at least two fields: a tuple
-        fields = {}
-        for name in names:
-            f = dataclasses.field()
-            f.name, f.type, f.kw_only = name, cls.__annotations__[name], False
-            f._field_type = dataclasses._FIELD  # type: ignore[attr-defined] - as @dataclass sets it
-            fields[name] = f
-        cls.__dataclass_fields__ = fields  # type: ignore[attr-defined]
-
-    def __setattr__(self, name: str, value: Any) -> None:
-        raise dataclasses.FrozenInstanceError(f"cannot assign to field {name!r}")
-
-    def __delattr__(self, name: str) -> None:
-        raise dataclasses.FrozenInstanceError(f"cannot delete field {name!r}")
-
-    def __eq__(self, other: object) -> bool:
-        if other.__class__ is self.__class__:
-            return self._values(self) == self._values(other)
-        return NotImplemented
-
-    def __hash__(self) -> int:
-        return hash(self._values(self))
-
-    def __repr__(self) -> str:
-        fields = ", ".join(f"{name}={getattr(self, name)!r}" for name in self.__slots__)
-        return f"{type(self).__qualname__}({fields})"
-
-    def __getstate__(self) -> list[Any]:
-        return [getattr(self, name) for name in self.__slots__]
-
-    def __setstate__(self, state: list[Any]) -> None:
-        for name, value in zip(self.__slots__, state):
-            _set(self, name, value)
+_set = set_field
+_Node = Record  # the base of every node
 
 
 class Name(_Node):

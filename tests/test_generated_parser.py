@@ -17,7 +17,6 @@ import os
 import pickle
 import subprocess
 import sys
-import typing
 
 import pytest
 
@@ -198,7 +197,7 @@ NODES = [
 
 def _reference(cls):
     """The frozen slotted dataclass the node class used to be."""
-    hints = typing.get_type_hints(cls, vars(ast))
+    hints = {name: eval(cls.__annotations__[name], vars(ast)) for name in cls.__slots__}  # the node's own fields
     return dataclasses.make_dataclass(
         cls.__name__, [(name, hints[name]) for name in cls.__slots__], frozen=True, slots=True
     )

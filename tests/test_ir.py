@@ -131,3 +131,70 @@ def test_view_rejects_an_objective_over_a_dropped_resource(tmp_path):
     with pytest.raises(ViewError, match="drops"):
         apply_view(dataclasses.replace(inst, problem=dataclasses.replace(
             inst.problem, metric=ir.Metric(ir.MetricMode.SINGLE, (ir.Objective(ir.Sense.MAXIMIZE, ir.ResourceRef("budget", ir.REAL)),)))), "software")
+
+
+# ---------------------------------------------------------------- records = frozen dataclasses
+
+IR_RECORDS = [c for c in vars(ir).values() if isinstance(c, type) and issubclass(c, ir.Record) and c is not ir.Record]
+
+
+def _reference_dataclass(cls):
+    """The frozen slotted dataclass the IR class used to be: same fields, defaults, compare flags."""
+    import inspect
+
+    params = inspect.signature(cls.__init__).parameters
+    spec = []
+    for name in cls.__slots__:
+        default = params[name].default
+        kw = {"compare": name in cls._compared, "repr": name in cls._compared}
+        if isinstance(default, type(ir.EMPTY)):  # the dataclasses had default_factory=_ro
+            kw["default_factory"] = ir._ro
+        elif default is not inspect.Parameter.empty:
+            kw["default"] = default
+        spec.append((name, object, dataclasses.field(**kw)))
+    return dataclasses.make_dataclass(cls.__name__, spec, frozen=True, slots=True)
+
+
+def test_every_ir_class_is_a_record():
+    assert len(IR_RECORDS) >= 29
+    assert not [c for c in vars(ir).values() if isinstance(c, type) and dataclasses.is_dataclass(c) and c not in IR_RECORDS]
+    assert {"Sort", "Morphism", "Domain", "Problem", "Instance", "Effect", "Literal"} <= {c.__name__ for c in IR_RECORDS}
+
+
+@pytest.mark.parametrize("cls", IR_RECORDS, ids=lambda c: c.__name__)
+def test_ir_records_behave_like_frozen_slotted_dataclasses(cls):
+    import copy
+    import pickle
+
+    ref = _reference_dataclass(cls)
+    names = cls.__slots__
+    assert tuple(f.name for f in dataclasses.fields(cls)) == tuple(f.name for f in dataclasses.fields(ref)) == names
+    assert [f.compare for f in dataclasses.fields(cls)] == [f.compare for f in dataclasses.fields(ref)]
+    required = [f.name for f in dataclasses.fields(ref) if f.default is f.default_factory is dataclasses.MISSING]
+    # defaults: the required fields alone give the same field values as the dataclass
+    minimal = {n: f"r{i}" for i, n in enumerate(required)}
+    assert [getattr(cls(**minimal), n) for n in names] == [getattr(ref(**minimal), n) for n in names]
+
+    values = [f"v{i}" for i in range(len(names))]
+    node, twin = cls(*values), cls(**dict(zip(names, values)))
+    expected = ref(*values)
+    assert node == twin and hash(node) == hash(twin) == hash(expected)
+    assert repr(node) == repr(expected)
+    for i, name in enumerate(names):  # a compared field changes equality; the others do not
+        other = dataclasses.replace(node, **{name: "different"})
+        assert (other == node) == (name not in cls._compared)
+        assert (other == node) == (dataclasses.replace(expected, **{name: "different"}) == expected)
+    assert not hasattr(node, "__dict__")
+    for act in (lambda: setattr(node, names[0], "x"), lambda: delattr(node, names[0]), lambda: setattr(node, "extra", 1)):
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            act()
+    assert pickle.loads(pickle.dumps(node)) == node
+    assert copy.deepcopy(node) == node and copy.copy(node) == node
+    assert dataclasses.asdict(node) == dict(zip(names, values))
+
+
+def test_sort_spans_do_not_take_part_in_equality():
+    a = ir.Sort(ir.SortKind.SYMBOL, "topic", span=None)
+    b = ir.Sort(ir.SortKind.SYMBOL, "topic", span=object())
+    assert a == b and hash(a) == hash(b) and "span" not in repr(b)
+    assert ir.Sort(ir.SortKind.SYMBOL, "class") != a

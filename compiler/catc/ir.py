@@ -11,12 +11,12 @@ Numbers are :class:`fractions.Fraction` everywhere.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from enum import Enum
 from fractions import Fraction
 from types import MappingProxyType
 from typing import Mapping, Union
 
+from catgrammar.record import Record, set_field as _set
 from catgrammar.span import Span
 
 # ---------------------------------------------------------------- sorts
@@ -31,14 +31,31 @@ class SortKind(str, Enum):
     SET = "set"
 
 
-@dataclass(frozen=True, slots=True)
-class Sort:
+class Sort(Record):
+    __slots__ = ("kind", "name", "parent", "values", "element", "span")
+    _compared = ("kind", "name", "parent", "values", "element")
     kind: SortKind
     name: str
-    parent: str | None = None  # symbolic sorts: the declared super-sort
-    values: tuple[str, ...] = ()  # enumerations: the values, in order
-    element: "Sort | None" = None  # sets: the element sort
-    span: Span | None = field(default=None, compare=False, repr=False)
+    parent: str | None  # symbolic sorts: the declared super-sort
+    values: tuple[str, ...]  # enumerations: the values, in order
+    element: "Sort | None"  # sets: the element sort
+    span: Span | None
+
+    def __init__(
+        self,
+        kind: SortKind,
+        name: str,
+        parent: str | None = None,
+        values: tuple[str, ...] = (),
+        element: "Sort | None" = None,
+        span: Span | None = None,
+    ) -> None:
+        _set(self, "kind", kind)
+        _set(self, "name", name)
+        _set(self, "parent", parent)
+        _set(self, "values", values)
+        _set(self, "element", element)
+        _set(self, "span", span)
 
     @property
     def is_numeric(self) -> bool:
@@ -64,36 +81,56 @@ def set_of(element: Sort) -> Sort:
 # ---------------------------------------------------------------- expressions
 
 
-@dataclass(frozen=True, slots=True)
-class Const:
+class Const(Record):
     """A literal: Fraction for numbers, bool, or the name of a symbolic constant."""
 
+    __slots__ = ("value", "sort", "span")
     value: Fraction | bool | str
     sort: Sort
-    span: Span | None = None
+    span: Span | None
+
+    def __init__(self, value: Fraction | bool | str, sort: Sort, span: Span | None = None) -> None:
+        _set(self, "value", value)
+        _set(self, "sort", sort)
+        _set(self, "span", span)
 
 
-@dataclass(frozen=True, slots=True)
-class ResourceRef:
+class ResourceRef(Record):
+    __slots__ = ("name", "sort", "span")
     name: str
     sort: Sort
-    span: Span | None = None
+    span: Span | None
+
+    def __init__(self, name: str, sort: Sort, span: Span | None = None) -> None:
+        _set(self, "name", name)
+        _set(self, "sort", sort)
+        _set(self, "span", span)
 
 
-@dataclass(frozen=True, slots=True)
-class ParamRef:
+class ParamRef(Record):
     """A morphism's free parameter θ (inside that morphism's conditions and effects)."""
 
+    __slots__ = ("name", "sort", "span")
     name: str
     sort: Sort
-    span: Span | None = None
+    span: Span | None
+
+    def __init__(self, name: str, sort: Sort, span: Span | None = None) -> None:
+        _set(self, "name", name)
+        _set(self, "sort", sort)
+        _set(self, "span", span)
 
 
-@dataclass(frozen=True, slots=True)
-class SetLit:
+class SetLit(Record):
+    __slots__ = ("elements", "sort", "span")
     elements: tuple["Expr", ...]
     sort: Sort
-    span: Span | None = None
+    span: Span | None
+
+    def __init__(self, elements: tuple["Expr", ...], sort: Sort, span: Span | None = None) -> None:
+        _set(self, "elements", elements)
+        _set(self, "sort", sort)
+        _set(self, "span", span)
 
 
 class ArithOp(str, Enum):
@@ -105,14 +142,20 @@ class ArithOp(str, Enum):
     MAX = "max"
 
 
-@dataclass(frozen=True, slots=True)
-class Arith:
+class Arith(Record):
     """n-ary arithmetic; ``(- x)`` is negation."""
 
+    __slots__ = ("op", "args", "sort", "span")
     op: ArithOp
     args: tuple["Expr", ...]
     sort: Sort
-    span: Span | None = None
+    span: Span | None
+
+    def __init__(self, op: ArithOp, args: tuple["Expr", ...], sort: Sort, span: Span | None = None) -> None:
+        _set(self, "op", op)
+        _set(self, "args", args)
+        _set(self, "sort", sort)
+        _set(self, "span", span)
 
 
 class CmpOp(str, Enum):
@@ -123,13 +166,27 @@ class CmpOp(str, Enum):
     GE = ">="
 
 
-@dataclass(frozen=True, slots=True)
-class Compare:
+class Compare(Record):
+    __slots__ = ("op", "left", "right", "span", "sort")
     op: CmpOp
     left: "Expr"
     right: "Expr"
-    span: Span | None = None
-    sort: Sort = BOOL
+    span: Span | None
+    sort: Sort
+
+    def __init__(
+        self,
+        op: CmpOp,
+        left: "Expr",
+        right: "Expr",
+        span: Span | None = None,
+        sort: Sort = BOOL,
+    ) -> None:
+        _set(self, "op", op)
+        _set(self, "left", left)
+        _set(self, "right", right)
+        _set(self, "span", span)
+        _set(self, "sort", sort)
 
 
 class BoolOpKind(str, Enum):
@@ -139,67 +196,118 @@ class BoolOpKind(str, Enum):
     IMPLY = "imply"
 
 
-@dataclass(frozen=True, slots=True)
-class BoolOp:
+class BoolOp(Record):
+    __slots__ = ("op", "args", "span", "sort")
     op: BoolOpKind
     args: tuple["Expr", ...]
-    span: Span | None = None
-    sort: Sort = BOOL
+    span: Span | None
+    sort: Sort
+
+    def __init__(
+        self,
+        op: BoolOpKind,
+        args: tuple["Expr", ...],
+        span: Span | None = None,
+        sort: Sort = BOOL,
+    ) -> None:
+        _set(self, "op", op)
+        _set(self, "args", args)
+        _set(self, "span", span)
+        _set(self, "sort", sort)
 
 
-@dataclass(frozen=True, slots=True)
-class Ite:
+class Ite(Record):
+    __slots__ = ("cond", "then", "orelse", "sort", "span")
     cond: "Expr"
     then: "Expr"
     orelse: "Expr"
     sort: Sort
-    span: Span | None = None
+    span: Span | None
+
+    def __init__(
+        self,
+        cond: "Expr",
+        then: "Expr",
+        orelse: "Expr",
+        sort: Sort,
+        span: Span | None = None,
+    ) -> None:
+        _set(self, "cond", cond)
+        _set(self, "then", then)
+        _set(self, "orelse", orelse)
+        _set(self, "sort", sort)
+        _set(self, "span", span)
 
 
-@dataclass(frozen=True, slots=True)
-class Member:
+class Member(Record):
+    __slots__ = ("element", "set", "span", "sort")
     element: "Expr"
     set: "Expr"
-    span: Span | None = None
-    sort: Sort = BOOL
+    span: Span | None
+    sort: Sort
+
+    def __init__(self, element: "Expr", set: "Expr", span: Span | None = None, sort: Sort = BOOL) -> None:
+        _set(self, "element", element)
+        _set(self, "set", set)
+        _set(self, "span", span)
+        _set(self, "sort", sort)
 
 
 # objective-only terms ------------------------------------------------------
 
 
-@dataclass(frozen=True, slots=True)
-class TotalChurn:
+class TotalChurn(Record):
     """Weighted symmetric difference against the deployed composition (paper eq. churn)."""
 
-    span: Span | None = None
-    sort: Sort = REAL
+    __slots__ = ("span", "sort")
+    span: Span | None
+    sort: Sort
+
+    def __init__(self, span: Span | None = None, sort: Sort = REAL) -> None:
+        _set(self, "span", span)
+        _set(self, "sort", sort)
 
 
-@dataclass(frozen=True, slots=True)
-class TotalCost:
+class TotalCost(Record):
     """Sum of the costs of every activation."""
 
-    span: Span | None = None
-    sort: Sort = REAL
+    __slots__ = ("span", "sort")
+    span: Span | None
+    sort: Sort
+
+    def __init__(self, span: Span | None = None, sort: Sort = REAL) -> None:
+        _set(self, "span", span)
+        _set(self, "sort", sort)
 
 
-@dataclass(frozen=True, slots=True)
-class Uses:
+class Uses(Record):
     """How many times a morphism is activated."""
 
+    __slots__ = ("morphism", "span", "sort")
     morphism: str
-    span: Span | None = None
-    sort: Sort = INT
+    span: Span | None
+    sort: Sort
+
+    def __init__(self, morphism: str, span: Span | None = None, sort: Sort = INT) -> None:
+        _set(self, "morphism", morphism)
+        _set(self, "span", span)
+        _set(self, "sort", sort)
 
 
-@dataclass(frozen=True, slots=True)
-class ParamValue:
+class ParamValue(Record):
     """The value of a morphism's θ (fixed, or used at most once)."""
 
+    __slots__ = ("morphism", "param", "sort", "span")
     morphism: str
     param: str
     sort: Sort
-    span: Span | None = None
+    span: Span | None
+
+    def __init__(self, morphism: str, param: str, sort: Sort, span: Span | None = None) -> None:
+        _set(self, "morphism", morphism)
+        _set(self, "param", param)
+        _set(self, "sort", sort)
+        _set(self, "span", span)
 
 
 Expr = Union[
@@ -243,49 +351,97 @@ def params_in(expr: Expr) -> frozenset[str]:
 # ---------------------------------------------------------------- declarations
 
 
-@dataclass(frozen=True, slots=True)
-class Constant:
+class Constant(Record):
+    __slots__ = ("name", "sort", "span")
     name: str
     sort: Sort
-    span: Span | None = None
+    span: Span | None
+
+    def __init__(self, name: str, sort: Sort, span: Span | None = None) -> None:
+        _set(self, "name", name)
+        _set(self, "sort", sort)
+        _set(self, "span", span)
 
 
-@dataclass(frozen=True, slots=True)
-class Resource:
+class Resource(Record):
     """An atomic object of the category."""
 
+    __slots__ = ("name", "sort", "group", "unit", "lower", "upper", "doc", "span")
     name: str
     sort: Sort
-    group: str | None = None
-    unit: str | None = None
-    lower: Fraction | None = None  # invariant bounds, numeric resources only
-    upper: Fraction | None = None
-    doc: str | None = None
-    span: Span | None = None
+    group: str | None
+    unit: str | None
+    lower: Fraction | None  # invariant bounds, numeric resources only
+    upper: Fraction | None
+    doc: str | None
+    span: Span | None
+
+    def __init__(
+        self,
+        name: str,
+        sort: Sort,
+        group: str | None = None,
+        unit: str | None = None,
+        lower: Fraction | None = None,
+        upper: Fraction | None = None,
+        doc: str | None = None,
+        span: Span | None = None,
+    ) -> None:
+        _set(self, "name", name)
+        _set(self, "sort", sort)
+        _set(self, "group", group)
+        _set(self, "unit", unit)
+        _set(self, "lower", lower)
+        _set(self, "upper", upper)
+        _set(self, "doc", doc)
+        _set(self, "span", span)
 
 
-@dataclass(frozen=True, slots=True)
-class Param:
+class Param(Record):
     """A free parameter θ of a morphism."""
 
+    __slots__ = ("name", "sort", "lower", "upper", "fixed", "span", "bounds_span")
     name: str
     sort: Sort
-    lower: Fraction | None = None
-    upper: Fraction | None = None
-    fixed: bool = False  # one value for the whole composition (else per activation)
-    span: Span | None = None
-    bounds_span: Span | None = None
+    lower: Fraction | None
+    upper: Fraction | None
+    fixed: bool  # one value for the whole composition (else per activation)
+    span: Span | None
+    bounds_span: Span | None
+
+    def __init__(
+        self,
+        name: str,
+        sort: Sort,
+        lower: Fraction | None = None,
+        upper: Fraction | None = None,
+        fixed: bool = False,
+        span: Span | None = None,
+        bounds_span: Span | None = None,
+    ) -> None:
+        _set(self, "name", name)
+        _set(self, "sort", sort)
+        _set(self, "lower", lower)
+        _set(self, "upper", upper)
+        _set(self, "fixed", fixed)
+        _set(self, "span", span)
+        _set(self, "bounds_span", bounds_span)
 
 
-@dataclass(frozen=True, slots=True)
-class Literal:
+class Literal(Record):
     """One labelled conjunct (a precondition, goal or soft literal).
 
     ``label`` names the source construct for unsat cores, e.g. ``pre/lidar-driver/2``."""
 
+    __slots__ = ("expr", "label", "span")
     expr: Expr
     label: str
-    span: Span | None = None
+    span: Span | None
+
+    def __init__(self, expr: Expr, label: str, span: Span | None = None) -> None:
+        _set(self, "expr", expr)
+        _set(self, "label", label)
+        _set(self, "span", span)
 
 
 class EffectKind(str, Enum):
@@ -301,13 +457,27 @@ class EffectKind(str, Enum):
         return self is not EffectKind.ASSIGN
 
 
-@dataclass(frozen=True, slots=True)
-class Effect:
+class Effect(Record):
+    __slots__ = ("kind", "resource", "value", "label", "span")
     kind: EffectKind
     resource: str
     value: Expr  # the new value, the amount, or the element
     label: str
-    span: Span | None = None
+    span: Span | None
+
+    def __init__(
+        self,
+        kind: EffectKind,
+        resource: str,
+        value: Expr,
+        label: str,
+        span: Span | None = None,
+    ) -> None:
+        _set(self, "kind", kind)
+        _set(self, "resource", resource)
+        _set(self, "value", value)
+        _set(self, "label", label)
+        _set(self, "span", span)
 
 
 class MorphismKind(str, Enum):
@@ -316,20 +486,44 @@ class MorphismKind(str, Enum):
     BEHAVIOR = "behavior"
 
 
-@dataclass(frozen=True, slots=True)
-class Morphism:
+class Morphism(Record):
     """A generator of the category: a component with pre- and postconditions."""
 
+    __slots__ = ("name", "kind", "params", "pre", "effects", "churn", "uses", "cost", "doc", "span")
     name: str
     kind: MorphismKind
     params: tuple[Param, ...]
     pre: tuple[Literal, ...]
     effects: tuple[Effect, ...]
-    churn: Fraction = Fraction(1)
-    uses: int | None = None  # None = unlimited
-    cost: Expr | None = None  # None = 1 per activation
-    doc: str | None = None
-    span: Span | None = None
+    churn: Fraction
+    uses: int | None  # None = unlimited
+    cost: Expr | None  # None = 1 per activation
+    doc: str | None
+    span: Span | None
+
+    def __init__(
+        self,
+        name: str,
+        kind: MorphismKind,
+        params: tuple[Param, ...],
+        pre: tuple[Literal, ...],
+        effects: tuple[Effect, ...],
+        churn: Fraction = Fraction(1),
+        uses: int | None = None,
+        cost: Expr | None = None,
+        doc: str | None = None,
+        span: Span | None = None,
+    ) -> None:
+        _set(self, "name", name)
+        _set(self, "kind", kind)
+        _set(self, "params", params)
+        _set(self, "pre", pre)
+        _set(self, "effects", effects)
+        _set(self, "churn", churn)
+        _set(self, "uses", uses)
+        _set(self, "cost", cost)
+        _set(self, "doc", doc)
+        _set(self, "span", span)
 
     def param(self, name: str) -> Param | None:
         for p in self.params:
@@ -352,59 +546,127 @@ class Morphism:
         return frozenset(e.resource for e in self.effects)
 
 
-@dataclass(frozen=True, slots=True)
-class Hole:
+class Hole(Record):
     """A structural free variable μ: a missing morphism ranging over one view's resources."""
 
+    __slots__ = ("name", "view", "max_effects", "max_preconditions", "span")
     name: str
     view: str | None
-    max_effects: int | None = None
-    max_preconditions: int | None = None
-    span: Span | None = None
+    max_effects: int | None
+    max_preconditions: int | None
+    span: Span | None
+
+    def __init__(
+        self,
+        name: str,
+        view: str | None,
+        max_effects: int | None = None,
+        max_preconditions: int | None = None,
+        span: Span | None = None,
+    ) -> None:
+        _set(self, "name", name)
+        _set(self, "view", view)
+        _set(self, "max_effects", max_effects)
+        _set(self, "max_preconditions", max_preconditions)
+        _set(self, "span", span)
 
 
-@dataclass(frozen=True, slots=True)
-class View:
+class View(Record):
     """A projection functor F_v: resources outside ``kept`` are sent to the unit I."""
 
+    __slots__ = ("name", "kept", "dropped", "span")
     name: str
     kept: frozenset[str]
     dropped: frozenset[str]
-    span: Span | None = None
+    span: Span | None
+
+    def __init__(
+        self,
+        name: str,
+        kept: frozenset[str],
+        dropped: frozenset[str],
+        span: Span | None = None,
+    ) -> None:
+        _set(self, "name", name)
+        _set(self, "kept", kept)
+        _set(self, "dropped", dropped)
+        _set(self, "span", span)
 
 
 def _ro(mapping: Mapping | None = None) -> Mapping:
     return MappingProxyType(dict(mapping or {}))
 
 
-@dataclass(frozen=True)
-class Domain:
+EMPTY: Mapping = _ro()  # the default of a record's mapping fields (read-only, so shareable)
+
+
+class Domain(Record):
+    __slots__ = (
+        "name", "requirements", "sorts", "constants", "resources", "morphisms", "holes", "views",
+        "imports", "span",
+    )
     name: str
     requirements: frozenset[str]
-    sorts: Mapping[str, Sort] = field(default_factory=_ro)
-    constants: Mapping[str, Constant] = field(default_factory=_ro)
-    resources: Mapping[str, Resource] = field(default_factory=_ro)
-    morphisms: Mapping[str, Morphism] = field(default_factory=_ro)
-    holes: Mapping[str, Hole] = field(default_factory=_ro)
-    views: Mapping[str, View] = field(default_factory=_ro)
-    imports: tuple[str, ...] = ()
-    span: Span | None = None
+    sorts: Mapping[str, Sort]
+    constants: Mapping[str, Constant]
+    resources: Mapping[str, Resource]
+    morphisms: Mapping[str, Morphism]
+    holes: Mapping[str, Hole]
+    views: Mapping[str, View]
+    imports: tuple[str, ...]
+    span: Span | None
+
+    def __init__(
+        self,
+        name: str,
+        requirements: frozenset[str],
+        sorts: Mapping[str, Sort] = EMPTY,
+        constants: Mapping[str, Constant] = EMPTY,
+        resources: Mapping[str, Resource] = EMPTY,
+        morphisms: Mapping[str, Morphism] = EMPTY,
+        holes: Mapping[str, Hole] = EMPTY,
+        views: Mapping[str, View] = EMPTY,
+        imports: tuple[str, ...] = (),
+        span: Span | None = None,
+    ) -> None:
+        _set(self, "name", name)
+        _set(self, "requirements", requirements)
+        _set(self, "sorts", sorts)
+        _set(self, "constants", constants)
+        _set(self, "resources", resources)
+        _set(self, "morphisms", morphisms)
+        _set(self, "holes", holes)
+        _set(self, "views", views)
+        _set(self, "imports", imports)
+        _set(self, "span", span)
 
 
-@dataclass(frozen=True, slots=True)
-class InitValue:
+class InitValue(Record):
+    __slots__ = ("resource", "value", "label", "span")
     resource: str
     value: Const | SetLit
     label: str
-    span: Span | None = None
+    span: Span | None
+
+    def __init__(self, resource: str, value: Const | SetLit, label: str, span: Span | None = None) -> None:
+        _set(self, "resource", resource)
+        _set(self, "value", value)
+        _set(self, "label", label)
+        _set(self, "span", span)
 
 
-@dataclass(frozen=True, slots=True)
-class Soft:
+class Soft(Record):
+    __slots__ = ("expr", "weight", "label", "span")
     expr: Expr
     weight: Fraction
     label: str
-    span: Span | None = None
+    span: Span | None
+
+    def __init__(self, expr: Expr, weight: Fraction, label: str, span: Span | None = None) -> None:
+        _set(self, "expr", expr)
+        _set(self, "weight", weight)
+        _set(self, "label", label)
+        _set(self, "span", span)
 
 
 class Sense(str, Enum):
@@ -412,11 +674,16 @@ class Sense(str, Enum):
     MAXIMIZE = "maximize"
 
 
-@dataclass(frozen=True, slots=True)
-class Objective:
+class Objective(Record):
+    __slots__ = ("sense", "term", "span")
     sense: Sense
     term: Expr
-    span: Span | None = None
+    span: Span | None
+
+    def __init__(self, sense: Sense, term: Expr, span: Span | None = None) -> None:
+        _set(self, "sense", sense)
+        _set(self, "term", term)
+        _set(self, "span", span)
 
 
 class MetricMode(str, Enum):
@@ -425,39 +692,82 @@ class MetricMode(str, Enum):
     PARETO = "pareto"
 
 
-@dataclass(frozen=True, slots=True)
-class Metric:
+class Metric(Record):
+    __slots__ = ("mode", "objectives", "span")
     mode: MetricMode
     objectives: tuple[Objective, ...]
-    span: Span | None = None
+    span: Span | None
+
+    def __init__(self, mode: MetricMode, objectives: tuple[Objective, ...], span: Span | None = None) -> None:
+        _set(self, "mode", mode)
+        _set(self, "objectives", objectives)
+        _set(self, "span", span)
 
 
-@dataclass(frozen=True)
-class Problem:
+class Problem(Record):
+    __slots__ = (
+        "name", "domain", "requirements", "objects", "init", "goal", "horizon", "softs", "metric",
+        "deployed", "view", "span", "horizon_span",
+    )
     name: str
     domain: str
     requirements: frozenset[str]
-    objects: Mapping[str, Constant] = field(default_factory=_ro)
-    init: Mapping[str, InitValue] = field(default_factory=_ro)
-    goal: tuple[Literal, ...] = ()
-    horizon: int | None = None
-    softs: tuple[Soft, ...] = ()
-    metric: Metric | None = None
-    deployed: tuple[str, ...] = ()
-    view: str | None = None
-    span: Span | None = None
-    horizon_span: Span | None = None
+    objects: Mapping[str, Constant]
+    init: Mapping[str, InitValue]
+    goal: tuple[Literal, ...]
+    horizon: int | None
+    softs: tuple[Soft, ...]
+    metric: Metric | None
+    deployed: tuple[str, ...]
+    view: str | None
+    span: Span | None
+    horizon_span: Span | None
+
+    def __init__(
+        self,
+        name: str,
+        domain: str,
+        requirements: frozenset[str],
+        objects: Mapping[str, Constant] = EMPTY,
+        init: Mapping[str, InitValue] = EMPTY,
+        goal: tuple[Literal, ...] = (),
+        horizon: int | None = None,
+        softs: tuple[Soft, ...] = (),
+        metric: Metric | None = None,
+        deployed: tuple[str, ...] = (),
+        view: str | None = None,
+        span: Span | None = None,
+        horizon_span: Span | None = None,
+    ) -> None:
+        _set(self, "name", name)
+        _set(self, "domain", domain)
+        _set(self, "requirements", requirements)
+        _set(self, "objects", objects)
+        _set(self, "init", init)
+        _set(self, "goal", goal)
+        _set(self, "horizon", horizon)
+        _set(self, "softs", softs)
+        _set(self, "metric", metric)
+        _set(self, "deployed", deployed)
+        _set(self, "view", view)
+        _set(self, "span", span)
+        _set(self, "horizon_span", horizon_span)
 
 
-@dataclass(frozen=True)
-class Instance:
+class Instance(Record):
     """A domain and one of its problems, checked together: the input of every query.
 
     ``view`` names the projection functor already applied (None = the full category)."""
 
+    __slots__ = ("domain", "problem", "view")
     domain: Domain
     problem: Problem
-    view: str | None = None
+    view: str | None
+
+    def __init__(self, domain: Domain, problem: Problem, view: str | None = None) -> None:
+        _set(self, "domain", domain)
+        _set(self, "problem", problem)
+        _set(self, "view", view)
 
     @property
     def resources(self) -> Mapping[str, Resource]:
@@ -491,3 +801,4 @@ class Instance:
             return list(sort.values)
         names = self.subsorts(sort)
         return [c.name for c in self.constants().values() if c.sort.name in names]
+
