@@ -82,12 +82,19 @@ class Export:
     report: ExportReport
     actions: dict[str, Activation]  # ground action name → activation
     grid: dict[str, Fraction]  # "morphism.param" → step used
+    flavor: str = "enhsp"
+    #: smtplan flavour: real θ expressed as PDDL+ dials (:mod:`catc.export.pddlplus`), by key
+    #: "morphism.param"; their values come from a timed plan, not from the action names.
+    dials: dict = field(default_factory=dict)
 
     def activation(self, name: str) -> Activation:
         return self.actions[name.lower()]
 
     def plan_from_actions(self, names: list[str]) -> Plan:
         """A sequential catc plan (one activation per step) from ground action names."""
+        if self.dials:
+            raise ExportError("this export has continuous θ (dials): read the timed plan with "
+                              "catc.export.pddlplus.parse_timed_plan instead of action names")
         return Plan(tuple((self.activation(n),) for n in names))
 
 
@@ -196,6 +203,8 @@ class _Exporter:
     # ---- expressions: fold θ, then print
     def _fold(self, e: ir.Expr, theta: Mapping[str, object]) -> ir.Expr:
         if isinstance(e, ir.ParamRef):
+            if e.name not in theta:  # a θ the action does not fix (a PDDL+ dial)
+                return e
             return ir.Const(theta[e.name], e.sort)
         if isinstance(e, ir.Arith):
             args = tuple(self._fold(a, theta) for a in e.args)
@@ -268,6 +277,8 @@ class _Exporter:
             return number(e.value)
         if isinstance(e, ir.ResourceRef) and e.name in self.func:
             return f"({self.func[e.name]})"
+        if isinstance(e, (ir.ParamRef, ir.ParamValue)):
+            return self.param_term(e)
         if isinstance(e, ir.Arith) and e.op in (ArithOp.ADD, ArithOp.SUB, ArithOp.MUL, ArithOp.DIV):
             args = [self.num(a) for a in e.args]
             if e.op is ArithOp.SUB and len(args) == 1:
@@ -277,6 +288,14 @@ class _Exporter:
                 out = f"({e.op.value} {out} {a})"
             return out
         raise Unsupported(f"numeric term {type(e).__name__}{'/' + e.op.value if isinstance(e, ir.Arith) else ''}")
+
+    def is_dial(self, m: ir.Morphism, p: ir.Param) -> bool:
+        """Whether θ ``p`` of ``m`` stays symbolic (a PDDL+ dial); never in PDDL 2.1."""
+        return False
+
+    def param_term(self, e: ir.ParamRef | ir.ParamValue) -> str:
+        """A θ left symbolic by :meth:`_fold` (only the PDDL+ flavour has such θ)."""
+        raise Unsupported(f"parameter {getattr(e, 'name', getattr(e, 'param', '?'))} as a numeric term")
 
     def _sym_atom(self, res: str, value: str) -> str:
         key = ("is", res, value)
@@ -436,7 +455,7 @@ class _Exporter:
         return effs, pres
 
     def action_text(self, m: ir.Morphism, theta: dict[str, object], objective_cost: bool) -> str | None:
-        name = self.names.fresh("a-" + m.name + "".join("-" + value_suffix(theta[p.name]) for p in m.params))
+        name = self.names.fresh("a-" + m.name + "".join("-" + value_suffix(theta[p.name]) for p in m.params if p.name in theta))
         pre: list[str] = []
         for lit in m.pre:
             e = self._fold(lit.expr, theta)
@@ -451,7 +470,7 @@ class _Exporter:
             pre.append(f"(< ({f}) {m.uses})")
             effs.append(f"(increase ({f}) 1)")
         for p in m.params:
-            if p.fixed:
+            if p.fixed and p.name in theta:
                 chosen = self.pred[("fixed", m.name, p.name)]
                 mine = self.pred[("fixval", m.name, p.name, value_suffix(theta[p.name]))]
                 self.requirements.update({":negative-preconditions", ":disjunctive-preconditions"})
@@ -460,6 +479,7 @@ class _Exporter:
         if self.horizon is not None:
             pre.append(f"(< (catc-steps) {self.horizon})")
             effs.append("(increase (catc-steps) 1)")
+        self.extra_conditions(m, theta, pre, effs)
         if objective_cost:
             c = ir.Const(Fraction(1), ir.REAL) if m.cost is None else self._fold(m.cost, theta)
             effs.append(f"(increase (total-cost) {self.num(c)})")
@@ -468,6 +488,9 @@ class _Exporter:
         pre_text = "(and " + " ".join(pre) + ")" if pre else "(and)"
         return (f"  (:action {name}\n    :parameters ()\n    :precondition {pre_text}\n"
                 f"    :effect (and {' '.join(effs)}))\n")
+
+    def extra_conditions(self, m: ir.Morphism, theta: Mapping[str, object], pre: list[str], effs: list[str]) -> None:
+        """Hook for the PDDL+ flavour (dial preconditions and effects); nothing here."""
 
     # ---- metric
     def metric(self) -> tuple[str | None, bool]:
@@ -526,7 +549,7 @@ class _Exporter:
                 self.func[("uses", m.name)] = self.names.fresh(f"used-{m.name}")
                 self.requirements.add(":numeric-fluents")
             for prm in m.params:
-                if prm.fixed:
+                if prm.fixed and not self.is_dial(m, prm):
                     self.pred[("fixed", m.name, prm.name)] = self.names.fresh(f"fixed-{m.name}-{prm.name}")
         metric, with_cost = self.metric()
         actions: list[str] = []
@@ -534,7 +557,7 @@ class _Exporter:
         for m in d.morphisms.values():
             values = self._theta_values(m)
             for prm, vals in zip(m.params, values):
-                if prm.fixed:
+                if prm.fixed and not self.is_dial(m, prm):
                     for v in vals:
                         self.pred[("fixval", m.name, prm.name, value_suffix(v))] = self.names.fresh(f"fixed-{m.name}-{prm.name}-{value_suffix(v)}")
             n_before = len(actions)
@@ -576,14 +599,18 @@ class _Exporter:
             dom.append("  (:predicates " + " ".join(f"({x})" for x in preds) + ")")
         if funcs:
             dom.append("  (:functions " + " ".join(f"({x})" for x in funcs) + ")")
-        dom_text = "\n".join(dom) + "\n" + "".join(actions) + ")\n"
         prob = [f";; generated by catc export pddl from problem {p.name}", f"(define (problem {sanitize(p.name)})",
                 f"  (:domain {sanitize(d.name)})", "  (:init", *("    " + i for i in init), "  )",
                 "  (:goal (and " + " ".join(g for g in goal if g != "(and)") + "))"]
         if metric:
             prob.append("  " + metric)
         prob_text = "\n".join(prob) + "\n)\n"
-        return Export(dom_text, prob_text, self.report, self.actions, self.grid_used)
+        dom_text = "\n".join(dom) + "\n" + "".join(actions) + self.extra_domain_text() + ")\n"
+        return Export(dom_text, prob_text, self.report, self.actions, self.grid_used, self.flavor)
+
+    def extra_domain_text(self) -> str:
+        """Hook for the PDDL+ flavour (dial actions and processes)."""
+        return ""
 
     def _init(self) -> list[str]:
         from catc.validate import initial_state
@@ -625,11 +652,16 @@ class _Exporter:
 
 def export_pddl(inst: ir.Instance, *, grid: Mapping[str, Fraction] | None = None, horizon: int | None = None,
                 flavor: str = "enhsp") -> Export:
-    """Translate ``inst`` (view already applied) to PDDL 2.1 domain and problem text."""
+    """Translate ``inst`` (view already applied) to PDDL domain and problem text.
+
+    ``flavor="enhsp"``: PDDL 2.1 numeric planning, every real θ on a ``grid``.
+    ``flavor="smtplan"``: PDDL+ for SMTPlan+ — a real θ without a grid step becomes a dial
+    (a fluent raised by a process between two instantaneous actions; :mod:`catc.export.pddlplus`).
+    """
     if flavor not in ("enhsp", "smtplan"):
         raise ExportError(f"unknown flavor {flavor!r}; expected 'enhsp' or 'smtplan'")
-    ex = _Exporter(inst, grid or {}, horizon, flavor)
-    out = ex.run()
     if flavor == "smtplan":
-        out.report.add("semantics", "flavor smtplan: same PDDL 2.1 text; SMTPlan+ reads :numeric-fluents domains without :action-costs metrics")
-    return out
+        from catc.export.pddlplus import PlusExporter  # PDDL+ (processes) for SMTPlan+
+
+        return PlusExporter(inst, grid or {}, horizon, flavor).run()
+    return _Exporter(inst, grid or {}, horizon, flavor).run()
