@@ -117,24 +117,28 @@ def strip_comment(line: str) -> str:
 
 def _split_declarations(line: str) -> list[str]:
     """``(:predicates (a) (b x))`` → ``["(:predicates", "(a)", "(b x)", ")"]``: one declaration
-    a line, as a hand-written PDDL file would have them."""
+    a line, as a hand-written PDDL file would have them (what follows the section's closing
+    parenthesis stays one line)."""
     head, _, rest = line.partition(" ")
-    rest = rest.strip()
-    if not rest.endswith(")"):
-        return [line]
-    body = rest[:-1]
-    items, depth, cur = [], 0, []
-    for ch in body:
+    items: list[str] = [head]
+    depth, cur = 1, []
+    for i, ch in enumerate(rest):
         if ch == "(":
             depth += 1
-        if depth > 0:
-            cur.append(ch)
-        if ch == ")":
+        elif ch == ")":
             depth -= 1
-            if depth == 0:
+        if depth >= 2 or (ch == ")" and depth == 1):
+            cur.append(ch)
+            if depth == 1:
                 items.append("".join(cur))
                 cur = []
-    return [head, *items, ")"]
+        elif depth == 0:
+            items.append(")")
+            tail = rest[i + 1:].strip()
+            if tail:
+                items.append(tail)
+            return items
+    return [line]  # unbalanced: leave it as written
 
 
 def model_lines(text: str, *, pddl: bool = False) -> list[str]:
