@@ -929,8 +929,9 @@ def default_examples() -> Path:
               help="Seconds per tool run.")
 @click.option("--examples", "examples_dir", type=click.Path(file_okay=False), help="The examples folder (default: the checkout's).")
 @click.option("--json", "as_json", is_flag=True, help="Print a catc.bench/1 JSON document instead of Markdown.")
+@click.option("--save-json", "save_json", type=click.Path(dir_okay=False), help="Also write the JSON document to this file.")
 @click.option("--keep", "keep_dir", type=click.Path(file_okay=False), help="Keep the exported PDDL files in this folder.")
-def bench_command(runs, quick, only, tables, timeout, examples_dir, as_json, keep_dir) -> None:
+def bench_command(runs, quick, only, tables, timeout, examples_dir, as_json, save_json, keep_dir) -> None:
     """Run catc and ENHSP on the same example problems and print the comparison tables.
 
     Needs the baselines extra (up-enhsp) and Java 17.  Markers are judged against the
@@ -992,7 +993,10 @@ def bench_command(runs, quick, only, tables, timeout, examples_dir, as_json, kee
     finally:
         if tmp is not None:
             tmp.cleanup()
+    text = json.dumps(_jsonable(doc), indent=1, ensure_ascii=False)
+    if save_json:
+        Path(save_json).write_text(text + "\n")
     if as_json:
-        click.echo(json.dumps(_jsonable(doc), indent=1, ensure_ascii=False))
+        click.echo(text)
     else:
         click.echo(markdown(doc))
