@@ -174,10 +174,22 @@ def test_navigation_precise_is_accepted_and_coarse_rejected():
 
 
 def test_timed_plan_text_round_trips_exact_values():
-    inst, ex = _smtplan("gpu-allocation", "max-confidence.cat")
+    _, ex = _smtplan("gpu-allocation", "max-confidence.cat")
     text = timed_plan_text(ex, [("a-slam", {}), ("a-vlm", {}), ("a-detector", {"m": Fraction(17, 4)})])
     assert "(start-adjust-detector-m)" in text and "(stop-adjust-detector-m)" in text
     assert parse_timed_plan(ex, text).steps[2][0].params["m"] == Fraction(17, 4)
+    with pytest.raises(ValueError, match="only rises"):
+        timed_plan_text(ex, [("a-detector", {"m": Fraction(1, 2)})])  # below the lower bound 1
+
+
+def test_navigation_plan_built_from_the_hand_known_distance_validates():
+    inst, ex = _smtplan("navigation", "precise.cat")
+    text = timed_plan_text(ex, [("a-move", {"d": Fraction("9.65")})])  # wait 9.65 − 0 on the dial
+    assert text.splitlines()[1].startswith("9.65:")
+    plan = parse_timed_plan(ex, text)
+    assert validate(inst, plan, horizon=1, sequential=True).ok
+    coarse, ex2 = _smtplan("navigation", "coarse.cat")
+    assert "precondition" in validate(coarse, parse_timed_plan(ex2, text), horizon=1, sequential=True).kinds()
 
 
 REPEAT = """(define (domain charging) (:requirements :numeric :free-parameters)

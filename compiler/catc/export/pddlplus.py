@@ -356,12 +356,15 @@ def timed_plan_text(export: Export, activations: list[tuple[str, Mapping[str, Fr
             if d.morphism != act.morphism or d.param not in values:
                 continue
             delta = Fraction(values[d.param]) - cur[d.key]
+            if delta < 0:
+                raise ValueError(f"{d.key} = {values[d.param]} is below the dial's current value {cur[d.key]}: "
+                                 "a dial only rises")
             if delta:
                 emit(d.start)
-                t += abs(delta)  # a negative delta cannot be reached: the plan then violates a bound
+                t += delta  # the dial runs for exactly value − current value
                 emit(d.stop)
                 t += gap
-                cur[d.key] += abs(delta)
+                cur[d.key] += delta
         emit(name)
         t += gap
         for d in export.dials.values():
@@ -394,7 +397,7 @@ def run_smtplan(domain, problem, *, timeout: float = 60.0) -> SmtplanResult:
         raise FileNotFoundError(SMTPLAN_HINT)
     start = time.perf_counter()
     try:
-        proc = subprocess.run([exe, str(domain), str(problem)], capture_output=True, text=True, timeout=timeout)
+        proc = subprocess.run([exe, str(domain), str(problem)], capture_output=True, text=True, timeout=timeout, check=False)
     except subprocess.TimeoutExpired as exc:
         out = exc.stdout.decode() if isinstance(exc.stdout, bytes) else (exc.stdout or "")
         return SmtplanResult("timeout", wall=time.perf_counter() - start, output=out)
