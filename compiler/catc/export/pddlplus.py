@@ -86,7 +86,6 @@ class PlusExporter(_Exporter):
 
     def declare(self) -> None:
         super().declare()
-        self.requirements.update({":time", ":numeric-fluents", ":negative-preconditions"})
         for m in self.inst.domain.morphisms.values():
             for p in m.params:
                 if p.sort.kind is not SortKind.REAL or self._step(m, p) is not None:
@@ -115,6 +114,7 @@ class PlusExporter(_Exporter):
                          self.names.fresh(f"start-adjust-{m.name}-{p.name}"), self.names.fresh(f"stop-adjust-{m.name}-{p.name}"),
                          self.names.fresh(f"adjust-{m.name}-{p.name}"), lock, reset)
                 self.dials[key] = d
+                self.requirements.update({":time", ":numeric-fluents", ":negative-preconditions"})
                 hi = "*" if p.upper is None else decimal_text(p.upper)
                 how = ("fixed: one value for the whole plan, the dial is locked by the first activation" if p.fixed
                        else "per activation, and the morphism is used at most once: the dial is locked by the activation"
