@@ -8,12 +8,10 @@ error[CODE]: message`` with the source line and a caret), JSON or GitHub annotat
 
 from __future__ import annotations
 
-import difflib
-import json
-from dataclasses import dataclass
 from enum import Enum
 from typing import Iterable, Iterator
 
+from catgrammar.record import Record, set_field
 from catgrammar.span import Source, Span
 
 
@@ -23,12 +21,18 @@ class Severity(str, Enum):
     NOTE = "note"
 
 
-@dataclass(frozen=True, slots=True)
-class Code:
+class Code(Record):
+    __slots__ = ("code", "name", "severity", "summary")
     code: str
     name: str
     severity: Severity
     summary: str
+
+    def __init__(self, code: str, name: str, severity: Severity, summary: str) -> None:
+        set_field(self, "code", code)
+        set_field(self, "name", name)
+        set_field(self, "severity", severity)
+        set_field(self, "summary", summary)
 
 
 def _codes(*rows: tuple[str, str, Severity, str]) -> dict[str, Code]:
@@ -98,6 +102,8 @@ CODES: dict[str, Code] = _codes(
 def suggest(word: str, candidates: Iterable[str]) -> str | None:
     """The closest candidate to a misspelled ``word``, or None."""
     pool = list(candidates)
+    import difflib  # only when a suggestion is wanted (start-up time)
+
     matches = difflib.get_close_matches(word, pool, n=1, cutoff=0.6)
     if matches:
         return matches[0]
@@ -111,19 +117,30 @@ def did_you_mean(word: str, candidates: Iterable[str]) -> str:
     return f"; did you mean '{best}'?" if best else ""
 
 
-@dataclass(frozen=True, slots=True)
-class Note:
+class Note(Record):
+    __slots__ = ("message", "span")
     message: str
-    span: Span | None = None
+    span: Span | None
+
+    def __init__(self, message: str, span: Span | None = None) -> None:
+        set_field(self, "message", message)
+        set_field(self, "span", span)
 
 
-@dataclass(frozen=True, slots=True)
-class Diagnostic:
+class Diagnostic(Record):
+    __slots__ = ("code", "message", "span", "severity", "notes")
     code: str
     message: str
     span: Span | None
     severity: Severity
-    notes: tuple[Note, ...] = ()
+    notes: tuple[Note, ...]
+
+    def __init__(self, code: str, message: str, span: Span | None, severity: Severity, notes: tuple[Note, ...] = ()) -> None:
+        set_field(self, "code", code)
+        set_field(self, "message", message)
+        set_field(self, "span", span)
+        set_field(self, "severity", severity)
+        set_field(self, "notes", notes)
 
     @property
     def name(self) -> str:
@@ -262,6 +279,8 @@ def summary_line(diags: Diagnostics, files: int) -> str:
 
 
 def format_json(diags: Diagnostics, files: list[str]) -> str:
+    import json
+
     return json.dumps(
         {
             "schema": "catc.check/1",

@@ -7,6 +7,8 @@ about 0.6 ms each class; with the AST's and the IR's ~70 classes that was ~40 ms
 ``@dataclass(frozen=True, slots=True)``: immutable (:class:`dataclasses.FrozenInstanceError`),
 equality and hash over the compared fields in order (``_compared``, default: all — the
 equivalent of ``field(compare=False)`` for the others, which are also left out of the repr),
+private caches in ``__slots__`` that are not fields (``_fields`` lists the fields when some
+slots are not),
 ``ClassName(field=value, ...)`` repr, ``__match_args__``, pickling, and
 ``__dataclass_fields__``, so ``dataclasses.fields``/``replace``/``asdict`` work.
 ``tests/test_generated_parser.py`` and ``tests/test_ir.py`` check all of it against real
@@ -35,13 +37,15 @@ class Record:
 
     __slots__ = ()
     __match_args__: ClassVar[tuple[str, ...]] = ()
+    _fields: ClassVar[tuple[str, ...]]  # the fields, in order (default: every slot)
     _compared: ClassVar[tuple[str, ...]]  # the fields taking part in ==, hash and repr
     _values: ClassVar[Any]  # getter of the compared fields, in order
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
-        names: tuple[str, ...] = cls.__slots__  # type: ignore[assignment]
+        names: tuple[str, ...] = cls.__dict__.get("_fields", cls.__slots__)
         compared = cls.__dict__.get("_compared", names)
+        cls._fields = names
         cls.__match_args__ = names
         cls._compared = compared
         cls._values = _getter(compared)
@@ -72,8 +76,7 @@ class Record:
         return f"{type(self).__qualname__}({fields})"
 
     def __getstate__(self) -> list[Any]:
-        return [getattr(self, name) for name in self.__slots__]
+        return [getattr(self, name) for name in self._fields]
 
     def __setstate__(self, state: list[Any]) -> None:
-        for name, value in zip(self.__slots__, state):
-            set_field(self, name, value)
+        self.__init__(*state)  # type: ignore[misc] - also rebuilds private caches

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import bisect
-from dataclasses import dataclass, field
 from typing import NamedTuple
 
 
@@ -34,22 +33,33 @@ class Span(NamedTuple):
         )
 
 
-@dataclass(slots=True)
 class Source:
-    """The text of one file, with a line index for excerpts and offset→position lookups."""
+    """The text of one file, with a line index for excerpts and offset→position lookups.
 
-    path: str
-    text: str
-    _line_starts: list[int] = field(default_factory=list, repr=False)
+    Mutable like the ``@dataclass(slots=True)`` it was (equal when path and text are; not
+    hashable), written out to keep ``@dataclass``'s start-up cost off every ``catc`` run."""
 
-    def __post_init__(self) -> None:
+    __slots__ = ("path", "text", "_line_starts")
+    __hash__ = None  # type: ignore[assignment]
+
+    def __init__(self, path: str, text: str) -> None:
+        self.path = path
+        self.text = text
         starts = [0]
-        find = self.text.find
+        find = text.find
         pos = find("\n")
         while pos != -1:
             starts.append(pos + 1)
             pos = find("\n", pos + 1)
         self._line_starts = starts
+
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is self.__class__:
+            return (self.path, self.text) == (other.path, other.text)  # type: ignore[attr-defined]
+        return NotImplemented
+
+    def __repr__(self) -> str:
+        return f"Source(path={self.path!r}, text={self.text!r})"
 
     def line_text(self, line: int) -> str:
         if line < 1 or line > len(self._line_starts):

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import os
 import re
-from dataclasses import dataclass
 from pathlib import Path
 
 from catgrammar import ast
@@ -37,10 +36,14 @@ def stdlib_names() -> list[str]:
     return sorted(p.stem for p in stdlib_dir().glob("*.cat"))
 
 
-@dataclass
 class Loaded:
-    path: str
-    file: ast.SourceFile
+    """A parsed file and where it was read from."""
+
+    __slots__ = ("path", "file")
+
+    def __init__(self, path: str, file: ast.SourceFile) -> None:
+        self.path = path
+        self.file = file
 
 
 def _norm(path: str) -> str:

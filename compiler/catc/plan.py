@@ -11,10 +11,11 @@ rationals (``"17/4"``) or integers, so nothing is ever a float.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from fractions import Fraction
 from types import MappingProxyType
 from typing import Any, Mapping, Union
+
+from catgrammar.record import Record, set_field
 
 Value = Union[Fraction, bool, str]
 SetValue = frozenset  # of symbol names
@@ -24,25 +25,34 @@ State = Mapping[str, StateValue]
 PLAN_SCHEMA = "catc.plan/1"
 
 
-@dataclass(frozen=True)
-class Activation:
+class Activation(Record):
     """One use of a morphism, with the values of its parameters θ."""
 
+    __slots__ = ("morphism", "params")
     morphism: str
-    params: Mapping[str, Value] = field(default_factory=lambda: MappingProxyType({}))
+    params: Mapping[str, Value]
 
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "params", MappingProxyType(dict(self.params)))
+    def __init__(self, morphism: str, params: Mapping[str, Value] | None = None) -> None:
+        set_field(self, "morphism", morphism)
+        set_field(self, "params", MappingProxyType(dict(params or {})))
+
+    def __hash__(self) -> int:  # params is a mapping: unhashable, as the dataclass was
+        raise TypeError(f"unhashable type: {type(self).__name__!r}")
 
 
-@dataclass(frozen=True)
-class Plan:
+class Plan(Record):
+    """Steps of parallel activations, and the sorts of the reserve (fresh) values used."""
+
+    __slots__ = ("steps", "fresh")
     steps: tuple[tuple[Activation, ...], ...]
-    fresh: Mapping[str, str] = field(default_factory=lambda: MappingProxyType({}))  # value → sort
+    fresh: Mapping[str, str]  # value → sort
 
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "steps", tuple(tuple(s) for s in self.steps))
-        object.__setattr__(self, "fresh", MappingProxyType(dict(self.fresh)))
+    def __init__(self, steps, fresh: Mapping[str, str] | None = None) -> None:
+        set_field(self, "steps", tuple(tuple(s) for s in steps))
+        set_field(self, "fresh", MappingProxyType(dict(fresh or {})))
+
+    def __hash__(self) -> int:
+        raise TypeError(f"unhashable type: {type(self).__name__!r}")
 
     @property
     def activations(self) -> list[tuple[int, Activation]]:

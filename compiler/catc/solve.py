@@ -14,7 +14,6 @@ is returned; a rejected answer is an internal error, never shown as a compositio
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
 from enum import Enum
 from typing import Callable
 
@@ -38,17 +37,35 @@ class ValidationFailure(RuntimeError):
     """The solver's answer did not survive independent validation (a bug in catc)."""
 
 
-@dataclass
 class SolveResult:
-    status: Status
-    horizon: int
-    plan: Plan | None = None
-    states: tuple = ()
-    final: bool = False  # UNSAT holds for every horizon (use limits bound the length)
-    length_bound: int | None = None  # Σ uses when every morphism is limited
-    reason: str | None = None  # why UNKNOWN
-    timings: dict[str, float] = field(default_factory=dict)
-    horizons_tried: int = 0
+    """The answer of :func:`solve`; filled in as the search goes."""
+
+    __slots__ = ("status", "horizon", "plan", "states", "final", "length_bound", "reason", "timings", "horizons_tried")
+
+    def __init__(
+        self,
+        status: Status,
+        horizon: int,
+        plan: Plan | None = None,
+        states: tuple = (),
+        final: bool = False,  # UNSAT holds for every horizon (use limits bound the length)
+        length_bound: int | None = None,  # Σ uses when every morphism is limited
+        reason: str | None = None,  # why UNKNOWN
+        timings: dict[str, float] | None = None,
+        horizons_tried: int = 0,
+    ) -> None:
+        self.status = status
+        self.horizon = horizon
+        self.plan = plan
+        self.states = states
+        self.final = final
+        self.length_bound = length_bound
+        self.reason = reason
+        self.timings: dict[str, float] = {} if timings is None else timings
+        self.horizons_tried = horizons_tried
+
+    def __repr__(self) -> str:
+        return f"SolveResult({self.status.name}, horizon={self.horizon}, plan={self.plan!r})"
 
 
 def use_bound(inst: ir.Instance) -> int | None:

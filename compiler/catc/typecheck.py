@@ -7,7 +7,6 @@ run reports all errors.  The sort rules are in ``docs/semantics.md`` §Sorts.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from enum import Enum
 from fractions import Fraction
 from typing import Callable, Mapping
@@ -49,15 +48,24 @@ _CMP = {"=": ir.CmpOp.EQ, "<": ir.CmpOp.LT, "<=": ir.CmpOp.LE, ">": ir.CmpOp.GT,
 _BOOL = {"and": ir.BoolOpKind.AND, "or": ir.BoolOpKind.OR, "not": ir.BoolOpKind.NOT, "imply": ir.BoolOpKind.IMPLY}
 
 
-@dataclass
 class Scope:
     """What names mean where an expression is checked."""
 
-    sorts: Mapping[str, Sort]
-    constants: Mapping[str, ir.Constant]
-    resources: Mapping[str, ir.Resource]
-    params: Mapping[str, ir.Param]
-    morphisms: Mapping[str, ir.Morphism] | None = None  # objectives only
+    __slots__ = ("sorts", "constants", "resources", "params", "morphisms")
+
+    def __init__(
+        self,
+        sorts: Mapping[str, Sort],
+        constants: Mapping[str, ir.Constant],
+        resources: Mapping[str, ir.Resource],
+        params: Mapping[str, ir.Param],
+        morphisms: Mapping[str, ir.Morphism] | None = None,  # objectives only
+    ) -> None:
+        self.sorts = sorts
+        self.constants = constants
+        self.resources = resources
+        self.params = params
+        self.morphisms = morphisms
 
     def parent_of(self, name: str) -> str | None:
         sort = self.sorts.get(name)

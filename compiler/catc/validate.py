@@ -28,10 +28,11 @@ as the encoder asserts every divisor of a literal that must hold to be non-zero.
 from __future__ import annotations
 
 from collections import Counter, defaultdict
-from dataclasses import dataclass
 from fractions import Fraction
 from types import MappingProxyType
 from typing import Callable, Mapping
+
+from catgrammar.record import Record, set_field
 
 from catc import ir
 from catc.ir import ArithOp, BoolOpKind, CmpOp, EffectKind, SortKind
@@ -62,22 +63,33 @@ KINDS = (
 _NON_BLOCKING = frozenset({"sequential", "resource-bounds"})
 
 
-@dataclass(frozen=True)
-class Violation:
+class Violation(Record):
+    __slots__ = ("kind", "message", "step", "morphism", "label")
     kind: str
     message: str
     step: int | None  # 1-based; None for whole-plan issues
-    morphism: str | None = None
-    label: str | None = None
+    morphism: str | None
+    label: str | None
+
+    def __init__(self, kind: str, message: str, step: int | None, morphism: str | None = None, label: str | None = None) -> None:
+        set_field(self, "kind", kind)
+        set_field(self, "message", message)
+        set_field(self, "step", step)
+        set_field(self, "morphism", morphism)
+        set_field(self, "label", label)
 
     def __str__(self) -> str:
         return f"[{self.kind}] {self.message}"
 
 
-@dataclass(frozen=True)
-class Report:
+class Report(Record):
+    __slots__ = ("violations", "states")
     violations: tuple[Violation, ...]
     states: tuple[Mapping[str, object], ...]  # s_0 .. s_n, up to the first step that cannot apply
+
+    def __init__(self, violations: tuple[Violation, ...], states: tuple[Mapping[str, object], ...]) -> None:
+        set_field(self, "violations", violations)
+        set_field(self, "states", states)
 
     @property
     def ok(self) -> bool:

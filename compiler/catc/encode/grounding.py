@@ -13,26 +13,32 @@ closed and get none.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from catgrammar.record import Record, set_field
 
 from catc import ir
 from catc.ir import SortKind
 
 
-@dataclass(frozen=True)
-class Universe:
+class Universe(Record):
     """The grounded values of one root sort."""
 
+    __slots__ = ("root", "elements", "fresh", "sort_of", "_index")
+    _fields = ("root", "elements", "fresh", "sort_of")
     root: str
     elements: tuple[str, ...]
-    fresh: frozenset[str] = frozenset()  # the reserve values
-    sort_of: dict[str, str] = field(default_factory=dict)  # element → its declared sort
+    fresh: frozenset[str]  # the reserve values
+    sort_of: dict[str, str]  # element → its declared sort
+
+    def __init__(self, root: str, elements: tuple[str, ...], fresh: frozenset[str] = frozenset(),
+                 sort_of: dict[str, str] | None = None) -> None:
+        set_field(self, "root", root)
+        set_field(self, "elements", elements)
+        set_field(self, "fresh", fresh)
+        set_field(self, "sort_of", {} if sort_of is None else sort_of)
+        set_field(self, "_index", {e: i for i, e in enumerate(elements)})
 
     def index(self, name: str) -> int:
         return self._index[name]
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "_index", {e: i for i, e in enumerate(self.elements)})
 
     def __len__(self) -> int:
         return len(self.elements)

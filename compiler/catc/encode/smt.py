@@ -30,9 +30,10 @@ core removes exactly that effect.
 from __future__ import annotations
 
 from collections import defaultdict
-from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Callable, Union
+
+from catgrammar.record import Record, set_field
 
 from catc import ir
 from catc.encode.grounding import Grounding
@@ -83,14 +84,16 @@ def at_most(bools: list[str], n: int) -> str:
     return f"(<= (+ {' '.join(f'(ite {b} 1 0)' for b in bools)}) {n})"
 
 
-@dataclass
 class Script:
     """Declarations and labelled assertions, in order; ``take`` hands out what is new."""
 
-    decls: list[tuple[str, str]] = field(default_factory=list)  # (quoted name, sort)
-    asserts: list[tuple[str | None, str]] = field(default_factory=list)
-    _decl_mark: int = 0
-    _assert_mark: int = 0
+    __slots__ = ("decls", "asserts", "_decl_mark", "_assert_mark")
+
+    def __init__(self) -> None:
+        self.decls: list[tuple[str, str]] = []  # (quoted name, sort)
+        self.asserts: list[tuple[str | None, str]] = []
+        self._decl_mark = 0
+        self._assert_mark = 0
 
     def take(self) -> tuple[list[tuple[str, str]], list[tuple[str | None, str]]]:
         d, a = self.decls[self._decl_mark :], self.asserts[self._assert_mark :]
@@ -101,11 +104,13 @@ class Script:
         return list(dict.fromkeys(label for label, _ in self.asserts if label is not None))
 
 
-@dataclass
 class _Ctx:
-    t: int
-    params: dict
-    guards: list
+    __slots__ = ("t", "params", "guards")
+
+    def __init__(self, t: int, params: dict, guards: list) -> None:
+        self.t = t
+        self.params = params
+        self.guards = guards
 
 
 _SMT_SORT = {SortKind.BOOL: "Bool", SortKind.INT: "Int", SortKind.REAL: "Real", SortKind.SYMBOL: "Int", SortKind.ENUM: "Int"}
@@ -560,9 +565,13 @@ class Encoder:
         return self._as(self.term(m.cost, _Ctx(t, params, [])), m.cost.sort, ir.REAL)  # type: ignore[return-value]
 
 
-@dataclass(frozen=True)
-class Encoded:
+class Encoded(Record):
     """An already-encoded term placed inside an IR node (objective arithmetic)."""
 
+    __slots__ = ("text", "sort")
     text: Term
     sort: ir.Sort
+
+    def __init__(self, text: Term, sort: ir.Sort) -> None:
+        set_field(self, "text", text)
+        set_field(self, "sort", sort)
