@@ -93,12 +93,19 @@ def bench_examples(runs: int) -> None:
 
 def bench_reference(runs: int) -> None:
     print("### Detection against a hand-written Z3 script (both as processes, interleaved)\n")
-    ours = CATC + ["solve", "examples/detection/person.cat"]
-    ref = [sys.executable, "benchmarks/reference/detection_z3.py"]
-    bare = [sys.executable, "-c", "import z3"]
-    times: dict[str, list[float]] = {"catc solve": [], "hand-written Z3 script": [], "python -c 'import z3'": []}
+    script = "benchmarks/reference/detection_z3.py"
+    cases = {
+        "catc solve": CATC + ["solve", "examples/detection/person.cat"],
+        "hand-written Z3 script": [sys.executable, script],
+        # the floor of any click-based command line doing the script's work: click is a core
+        # dependency (the guide's list), so its import is part of every catc run
+        "the script, importing click first": [sys.executable, "-c", f"import click, runpy; runpy.run_path({script!r})"],
+        "python -c 'import z3'": [sys.executable, "-c", "import z3"],
+        "python -c 'import z3, click'": [sys.executable, "-c", "import z3, click"],
+    }
+    times: dict[str, list[float]] = {label: [] for label in cases}
     for _ in range(runs):
-        for label, cmd in (("catc solve", ours), ("hand-written Z3 script", ref), ("python -c 'import z3'", bare)):
+        for label, cmd in cases.items():
             start = time.perf_counter()
             subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=ROOT)
             times[label].append(time.perf_counter() - start)
@@ -107,8 +114,11 @@ def bench_reference(runs: int) -> None:
     for label, xs in times.items():
         m, lo, hi = quartiles(xs)
         print(f"| {label} | {m:.3f} | {lo:.3f}–{hi:.3f} |")
-    ratio = statistics.median(times["catc solve"]) / statistics.median(times["hand-written Z3 script"])
-    print(f"\ncatc / hand-written: {ratio:.2f}× (target ≤ 1.3×; under 1 s: {statistics.median(times['catc solve']) < 1}).\n")
+    med = {label: statistics.median(xs) for label, xs in times.items()}
+    ratio = med["catc solve"] / med["hand-written Z3 script"]
+    floor = med["the script, importing click first"] / med["hand-written Z3 script"]
+    print(f"\ncatc / hand-written: {ratio:.2f}× (target ≤ 1.3×; under 1 s: {med['catc solve'] < 1}); "
+          f"the same script importing click: {floor:.2f}×; catc / that: {med['catc solve'] / med['the script, importing click first']:.2f}×.\n")
 
 
 # ---------------------------------------------------------------- 3. scaling
