@@ -27,11 +27,12 @@ def optimum_cases():
                 yield pytest.param(expect.parent, case, id=f"{expect.parent.name}/{case['file']}:{case.get('problem', '')}")
 
 
+@pytest.mark.parametrize("strategy", ["deepen", "single"])
 @pytest.mark.parametrize("folder, case", list(optimum_cases()))
-def test_example_optimum(folder, case):
+def test_example_optimum(folder, case, strategy):
     diags = Diagnostics()
     _, inst = load_instance(None, str(folder / case["file"]), diags, problem_name=case.get("problem"))
-    result = optimize(apply_view(inst, None))
+    result = optimize(apply_view(inst, None), strategy=strategy)
     assert result.status is OptStatus.OPT
     assert [v.value for v in result.values] == [Fraction(x) for x in case["optimum"]]
     assert all(v.attained for v in result.values)
@@ -88,17 +89,49 @@ def reachable_max_counter(nb, morphs, init_bools, init_c, goal, horizon):
     return best
 
 
+@pytest.mark.parametrize("strategy", ["deepen", "single"])
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 @given(domain=domains())
-def test_optimum_agrees_with_brute_force(tmp_path, domain):
+def test_optimum_agrees_with_brute_force(tmp_path, domain, strategy):
     path = tmp_path / "random.cat"
     path.write_text(to_cat(*domain).replace("(:requirements :numeric)", "(:requirements :numeric :optimization)"))
     diags = Diagnostics()
     _, inst = load_instance(None, str(path), diags)
     assert inst is not None, [d.message for d in diags]
     expected = reachable_max_counter(*domain)
-    result = optimize(inst, [ir.Objective(ir.Sense.MAXIMIZE, ir.ResourceRef("c", ir.INT))])
+    result = optimize(inst, [ir.Objective(ir.Sense.MAXIMIZE, ir.ResourceRef("c", ir.INT))], strategy=strategy)
     if expected is None:
         assert result.status is OptStatus.UNSAT
     else:
         assert result.status is OptStatus.OPT and result.values[0].value == expected
+
+
+LONGER_IS_BETTER = """
+(define (domain counter)
+  (:requirements :numeric :optimization)
+  (:resources (x int) (started bool))
+  (:morphism start :uses 1 :precondition (not started) :effect (assign started true))
+  (:morphism step :uses 3 :precondition started :effect (increase x 1)))
+(define (problem count)
+  (:domain counter)
+  (:init (= x 0) (= started false))
+  (:goal started)
+  (:horizon 6)
+  (:metric maximize x))
+"""
+
+
+@pytest.mark.parametrize("strategy", ["deepen", "single"])
+def test_optimum_needs_more_steps_than_the_shortest_composition(tmp_path, strategy):
+    """The shortest composition is `start` alone (x = 0); the optimum uses `step` all three
+    times it may, one per step after `start` (a morphism is activated at most once per step),
+    so x = 3 in 4 steps.  The deepening strategy must find the better, longer one."""
+    path = tmp_path / "counter.cat"
+    path.write_text(LONGER_IS_BETTER)
+    diags = Diagnostics()
+    _, inst = load_instance(None, str(path), diags)
+    assert inst is not None, [d.message for d in diags]
+    result = optimize(inst, strategy=strategy)
+    assert result.status is OptStatus.OPT and result.values[0].value == 3
+    assert sorted(a.morphism for _, a in result.plan.activations) == ["start", "step", "step", "step"]
+    assert len(result.plan.steps) == 4

@@ -286,9 +286,12 @@ def solve(paths, horizon, view, sequential, search_paths, problem_name, timeout,
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True), help="Stop after this many seconds; the best composition so far is reported (exit 3).")
 @click.option("--json", "as_json", is_flag=True, help="Print a catc.optimize/1 JSON document.")
 @click.option("--diagram", type=click.Path(dir_okay=False, writable=True), help="Write the composition as an SVG string diagram.")
+@click.option("--strategy", type=click.Choice(["deepen", "single"]), default="deepen", show_default=True,
+              help="deepen: optimise over the shortest feasible horizon, then prove nothing longer is better; "
+                   "single: one encoding of the whole horizon.")
 @click.pass_context
 def optimize(ctx, paths, horizon, view, sequential, search_paths, problem_name, minimize_terms, maximize_terms,
-             timeout, as_json, diagram):
+             timeout, as_json, diagram, strategy):
     """Find the best composition for the problem's (:metric ...) and soft constraints.
 
     PATHS is PROBLEM, or DOMAIN PROBLEM.  --minimize/--maximize replace the metric.  Exit 0
@@ -306,7 +309,7 @@ def optimize(ctx, paths, horizon, view, sequential, search_paths, problem_name, 
     if objectives is None and not objectives_of(inst) and not inst.problem.softs:
         _input_error("nothing to optimise: the problem has no (:metric ...) or (:soft ...); give --minimize or --maximize", as_json)
     try:
-        result = run_optimize(inst, objectives, horizon=horizon, sequential=sequential, timeout=timeout)
+        result = run_optimize(inst, objectives, horizon=horizon, sequential=sequential, timeout=timeout, strategy=strategy)
     except ValidationFailure as exc:
         click.echo(f"catc: internal error: {exc}", err=True)
         sys.exit(70)

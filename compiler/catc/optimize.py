@@ -73,56 +73,155 @@ def optimize(
     sequential: bool = False,
     timeout: float | None = None,
     prune: bool = True,
+    strategy: str = "deepen",
 ) -> OptResult:
-    from catc.validate import evaluate, objective_value, validate
+    """The optimum over every composition of at most ``horizon`` steps.
 
+    ``strategy="single"`` hands one encoding of the whole horizon to ``z3.Optimize``.
+    ``strategy="deepen"`` (default) finds the shortest feasible horizon k₀ by incremental
+    deepening (as ``catc solve``), optimises over k₀ steps, and then proves the value optimal
+    over the whole horizon with one satisfiability check — "is there a composition of at
+    most ``horizon`` steps that is lexicographically better?"; only when there is does it
+    optimise over the whole horizon.  Both give the same optimum; the second is usually
+    much faster because the long encoding only has to be refuted, not optimised."""
     objectives = objectives_of(inst) if objectives is None else objectives
     softs = list(inst.problem.softs)
     if not objectives and softs:
         objectives = [ir.Objective(ir.Sense.MINIMIZE, ir.Const(Fraction(0), ir.REAL))]
     if not objectives:
         raise ValueError("nothing to optimise: the problem has no (:metric ...) and no soft constraints")
+    if strategy not in ("deepen", "single"):
+        raise ValueError(f"unknown strategy {strategy!r}; expected 'deepen' or 'single'")
     k = default_horizon(inst) if horizon is None else horizon
     start = time.perf_counter()
-    timings = {"encode": 0.0, "solve": 0.0, "validate": 0.0}
+    deadline = start + timeout if timeout else None
+    if strategy == "single":
+        return _done(_optimize_at(inst, objectives, softs, k, sequential, deadline, prune), start)
 
+    from catc.solve import Status, solve
+
+    first = solve(inst, horizon=k, sequential=sequential, timeout=timeout, validate_answer=False, prune=False)
+    timings = {"encode": first.timings["encode"], "solve": first.timings["solve"], "validate": 0.0}
+    if first.status is Status.UNSAT:
+        return _done(OptResult(OptStatus.UNSAT, k, timings=timings), start)
+    if first.status is not Status.SAT:
+        return _done(OptResult(OptStatus.UNKNOWN, k, reason=first.reason, timings=timings), start)
+    k0 = len(first.plan.steps)
+    short = _optimize_at(inst, objectives, softs, k0, sequential, deadline, prune)
+    _add_timings(timings, short.timings)
+    short.horizon = k
+    exact = short.status is OptStatus.OPT and short.plan is not None and all(
+        v.attained and v.value is not None for v in short.values)
+    if not exact:  # unattained or unbounded over k₀ steps, or out of time: optimise over everything
+        if short.status is OptStatus.SUBOPT and _expired(deadline):
+            short.timings = timings
+            return _done(short, start)
+        whole = _optimize_at(inst, objectives, softs, k, sequential, deadline, prune)
+        _add_timings(timings, whole.timings)
+        whole.timings = timings
+        return _done(whole, start)
+    if k0 == k:
+        short.timings = timings
+        return _done(short, start)
+    r = _better_exists(inst, objectives, softs, [v.value for v in short.values], k, sequential, deadline, timings)
+    if r == z3.unsat:  # nothing better within the whole horizon: the short optimum is the optimum
+        short.timings = timings
+        return _done(short, start)
+    if r == z3.unknown:  # out of time: the short optimum is the best known
+        short.status, short.reason, short.timings = OptStatus.SUBOPT, "timeout", timings
+        return _done(short, start)
+    whole = _optimize_at(inst, objectives, softs, k, sequential, deadline, prune)
+    _add_timings(timings, whole.timings)
+    whole.timings = timings
+    return _done(whole, start)
+
+
+def _expired(deadline: float | None) -> bool:
+    return deadline is not None and time.perf_counter() >= deadline
+
+
+def _add_timings(total: dict[str, float], part: dict[str, float]) -> None:
+    for key in ("encode", "solve", "validate"):
+        total[key] = total.get(key, 0.0) + part.get(key, 0.0)
+
+
+def _encode_whole(inst: ir.Instance, k: int, sequential: bool, optimize: bool) -> tuple[Encoder, Z3Session]:
     enc = Encoder(inst, k, sequential=sequential)
     for _ in range(k):
         enc.add_step()
     for label, c in enc.goal_constraints(k) + enc.uses_constraints(k):
         enc.add(label, c)
-    session = Z3Session(enc, optimize=True)
+    session = Z3Session(enc, optimize=optimize)
     session.flush()
+    return enc, session
 
+
+def _objective_terms(enc: Encoder, session: Z3Session, objectives: list[ir.Objective], softs: list[ir.Soft],
+                     k: int) -> list[z3.ArithRef]:
+    """The objectives as Z3 terms; the first carries the soft penalties ``Σ wᵢ·zᵢ``."""
     soft_terms = [enc.term(s.expr, _final_ctx(k)) for s in softs]
     penalty = " ".join(f"(ite {t} 0.0 {real_literal(s.weight)})" for s, t in zip(softs, soft_terms))
-    handles = []
+    out = []
     for i, obj in enumerate(objectives):
         term = enc.objective(obj.term, k)
         if i == 0 and penalty:
             sign = "+" if obj.sense is ir.Sense.MINIMIZE else "-"
             term = f"({sign} {term} {penalty})"
-        expr = session.parse_term(term)
+        out.append(session.parse_term(term))
+    return out
+
+
+def _better_exists(inst, objectives, softs, values: list[Fraction], k: int, sequential: bool,
+                   deadline: float | None, timings: dict[str, float]) -> z3.CheckSatResult:
+    """Is there a composition of at most ``k`` steps lexicographically better than ``values``?"""
+    t0 = time.perf_counter()
+    enc, session = _encode_whole(inst, k, sequential, optimize=False)
+    terms = _objective_terms(enc, session, objectives, softs, k)
+    better, ties = [], []
+    for term, obj, v in zip(terms, objectives, values):
+        bound = z3.RealVal(f"{v.numerator}/{v.denominator}")
+        better.append(z3.And(*ties, term < bound if obj.sense is ir.Sense.MINIMIZE else term > bound))
+        ties.append(term == bound)
+    session.solver.add(z3.Or(*better))
+    timings["encode"] += time.perf_counter() - t0
+    if deadline is not None:
+        session.set_timeout(max(0.001, deadline - time.perf_counter()))
+    t1 = time.perf_counter()
+    r = session.solver.check()
+    timings["solve"] += time.perf_counter() - t1
+    return r
+
+
+def _optimize_at(inst: ir.Instance, objectives: list[ir.Objective], softs: list[ir.Soft], k: int,
+                 sequential: bool, deadline: float | None, prune: bool) -> OptResult:
+    """``z3.Optimize`` over one encoding of ``k`` steps (idle steps allowed)."""
+    from catc.validate import evaluate, objective_value, validate
+
+    start = time.perf_counter()
+    timings = {"encode": 0.0, "solve": 0.0, "validate": 0.0}
+    enc, session = _encode_whole(inst, k, sequential, optimize=True)
+    handles = []
+    for obj, expr in zip(objectives, _objective_terms(enc, session, objectives, softs, k)):
         handles.append(session.solver.minimize(expr) if obj.sense is ir.Sense.MINIMIZE else session.solver.maximize(expr))
     timings["encode"] = time.perf_counter() - start
 
-    if timeout:
-        session.set_timeout(timeout)
+    if deadline is not None:
+        session.set_timeout(max(0.001, deadline - time.perf_counter()))
     t1 = time.perf_counter()
     r = session.solver.check()
     timings["solve"] = time.perf_counter() - t1
     result = OptResult(OptStatus.UNKNOWN, k, timings=timings)
     if r == z3.unsat:
         result.status = OptStatus.UNSAT
-        return _done(result, start)
+        return result
     if r == z3.unknown:
         result.reason = session.reason_unknown()
-        if timeout and time.perf_counter() - start >= timeout * 0.99:
+        if _expired(deadline):
             result.reason = "timeout"
         try:
             session.solver.model()
         except z3.Z3Exception:
-            return _done(result, start)
+            return result
         result.status = OptStatus.SUBOPT
     else:
         result.status = OptStatus.OPT
@@ -183,7 +282,7 @@ def optimize(
             ov.bound = str(bound)
         result.values.append(ov)
     timings["validate"] = time.perf_counter() - t2
-    return _done(result, start)
+    return result
 
 
 def _limit_text(v: z3.ExprRef, sense: ir.Sense) -> str:
