@@ -127,7 +127,7 @@ def optimize(
     if r == z3.unsat:  # nothing better within the whole horizon: the short optimum is the optimum
         short.timings = timings
         return _done(short, start)
-    if r == z3.unknown:  # out of time: the short optimum is the best known
+    if r == z3.unknown and _expired(deadline):  # out of time: the short optimum is the best known
         short.status, short.reason, short.timings = OptStatus.SUBOPT, "timeout", timings
         return _done(short, start)
     whole = _optimize_at(inst, objectives, softs, k, sequential, deadline, prune)
@@ -145,13 +145,14 @@ def _add_timings(total: dict[str, float], part: dict[str, float]) -> None:
         total[key] = total.get(key, 0.0) + part.get(key, 0.0)
 
 
-def _encode_whole(inst: ir.Instance, k: int, sequential: bool, optimize: bool) -> tuple[Encoder, Z3Session]:
+def _encode_whole(inst: ir.Instance, k: int, sequential: bool, optimize: bool,
+                  logic: str | None = None) -> tuple[Encoder, Z3Session]:
     enc = Encoder(inst, k, sequential=sequential)
     for _ in range(k):
         enc.add_step()
     for label, c in enc.goal_constraints(k) + enc.uses_constraints(k):
         enc.add(label, c)
-    session = Z3Session(enc, optimize=optimize)
+    session = Z3Session(enc, optimize=optimize, logic=logic)
     session.flush()
     return enc, session
 
@@ -173,9 +174,15 @@ def _objective_terms(enc: Encoder, session: Z3Session, objectives: list[ir.Objec
 
 def _better_exists(inst, objectives, softs, values: list[Fraction], k: int, sequential: bool,
                    deadline: float | None, timings: dict[str, float]) -> z3.CheckSatResult:
-    """Is there a composition of at most ``k`` steps lexicographically better than ``values``?"""
+    """Is there a composition of at most ``k`` steps lexicographically better than ``values``?
+
+    Only an ``unsat`` answer is used (as a proof); anything else leads to optimising over the
+    whole horizon.  The check runs on Z3 configured for QF_LRA, measured ~10× faster on
+    these refutations than the default configuration (docs/benchmarks.md); that is sound for
+    ``unsat`` even if the configuration treated integer variables as reals, since the
+    relaxed formula is implied by the exact one: unsat there implies unsat here."""
     t0 = time.perf_counter()
-    enc, session = _encode_whole(inst, k, sequential, optimize=False)
+    enc, session = _encode_whole(inst, k, sequential, optimize=False, logic="QF_LRA")
     terms = _objective_terms(enc, session, objectives, softs, k)
     better, ties = [], []
     for term, obj, v in zip(terms, objectives, values):
@@ -187,7 +194,10 @@ def _better_exists(inst, objectives, softs, values: list[Fraction], k: int, sequ
     if deadline is not None:
         session.set_timeout(max(0.001, deadline - time.perf_counter()))
     t1 = time.perf_counter()
-    r = session.solver.check()
+    try:
+        r = session.solver.check()
+    except z3.Z3Exception:  # the configuration refused the formula: no proof from it
+        r = z3.unknown
     timings["solve"] += time.perf_counter() - t1
     return r
 

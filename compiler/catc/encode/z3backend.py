@@ -33,11 +33,15 @@ def _commands(decls, asserts) -> str:
 
 
 class Z3Session:
-    """``optimize=True`` drives a ``z3.Optimize`` instead of a ``z3.Solver``."""
+    """``optimize=True`` drives a ``z3.Optimize`` instead of a ``z3.Solver``; ``logic`` (e.g.
+    ``"QF_LRA"``) configures the solver for that logic (``z3.SolverFor``)."""
 
-    def __init__(self, enc: Encoder, *, optimize: bool = False):
+    def __init__(self, enc: Encoder, *, optimize: bool = False, logic: str | None = None):
         self.enc = enc
-        self.solver = z3.Optimize() if optimize else z3.Solver()
+        if optimize:
+            self.solver = z3.Optimize()
+        else:
+            self.solver = z3.SolverFor(logic) if logic else z3.Solver()
 
     def flush(self) -> None:
         decls, asserts = self.enc.script.take()
