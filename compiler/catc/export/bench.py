@@ -664,7 +664,8 @@ class Bench:
                 d = text_diff(lb.export.domain, cand.export.domain, pddl=True) + text_diff(lb.export.problem, cand.export.problem, pddl=True)
                 return {"found": True, "grid": {n: str(v) for n, v in grid.items()}, "enhsp": mk, "actions": len(cand.export.actions),
                         "pddl_lines": dataclasses.asdict(d), "tried": tried}
-        return {"found": False, "why": "no finer grid among step/" + ", /".join(map(str, REFINE_FACTORS)) + " reaches it", "tried": tried}
+        return {"found": False, "why": f"no finer grid among step/{', /'.join(map(str, REFINE_FACTORS))} reaches it within "
+                f"{self.timeout:g} s", "tried": tried}
 
     # ---- lifelong queries
     def queries(self, include_sar: bool) -> list[dict]:
@@ -878,7 +879,7 @@ def markdown(doc: dict) -> str:
                 rtext = (f"{grid_text({k: Fraction(v) for k, v in rec['grid'].items()})}: {rec['enhsp']}, "
                          f"{rec['actions']} actions, PDDL lines {LineDiff(**rec['pddl_lines']).text()}")
             else:
-                rtext = rec["why"]
+                rtext = rec["why"] + (f" (tried {'; '.join(rec['tried'])})" if rec.get("tried") else "")
             out.append(f"| {r['perturbation']} | {r['base']} → {Path(r['perturbed']).name} | "
                        f"{grid_text({k: Fraction(v) for k, v in r['grid'].items()})} | {r['catc']} | {r['enhsp']} | "
                        f"{cd.changed} + {cp.changed} = {(cd + cp).text()} | {pd.changed} + {pp.changed} = {(pd + pp).text()} | {rtext} |")
