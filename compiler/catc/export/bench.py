@@ -915,6 +915,23 @@ def _jsonable(x):
 # ====================================================================== CLI
 
 
+def byte_compile() -> None:
+    """Byte-compile catc's packages first, as ``pip install .`` does, so that the catc
+    processes' start-up matches an installed catc whatever PYTHONDONTWRITEBYTECODE says."""
+    import importlib
+
+    dirs = []
+    for name in ("catc", "catgrammar", "stdlib_domains"):
+        try:
+            mod = importlib.import_module(name)
+        except ImportError:
+            continue
+        if getattr(mod, "__file__", None):
+            dirs.append(str(Path(mod.__file__).parent))
+    if dirs:
+        subprocess.run([sys.executable, "-m", "compileall", "-q", *dirs], capture_output=True, check=False)
+
+
 def default_examples() -> Path:
     return Path(__file__).resolve().parents[3] / "examples"
 
@@ -930,9 +947,10 @@ def default_examples() -> Path:
               help="Seconds per tool run.")
 @click.option("--examples", "examples_dir", type=click.Path(file_okay=False), help="The examples folder (default: the checkout's).")
 @click.option("--json", "as_json", is_flag=True, help="Print a catc.bench/1 JSON document instead of Markdown.")
+@click.option("--no-compile", is_flag=True, help="Do not byte-compile catc first (by default it is, as `pip install .` does).")
 @click.option("--save-json", "save_json", type=click.Path(dir_okay=False), help="Also write the JSON document to this file.")
 @click.option("--keep", "keep_dir", type=click.Path(file_okay=False), help="Keep the exported PDDL files in this folder.")
-def bench_command(runs, quick, only, tables, timeout, examples_dir, as_json, save_json, keep_dir) -> None:
+def bench_command(runs, quick, only, tables, timeout, examples_dir, as_json, no_compile, save_json, keep_dir) -> None:
     """Run catc and ENHSP on the same example problems and print the comparison tables.
 
     Needs the baselines extra (up-enhsp) and Java 17.  Markers are judged against the
@@ -952,6 +970,8 @@ def bench_command(runs, quick, only, tables, timeout, examples_dir, as_json, sav
         click.echo(f"error: examples folder not found: {examples} (pass --examples DIR)", err=True)
         sys.exit(EXIT_INPUT)
     tables = tuple(tables) or TABLES
+    if not no_compile:
+        byte_compile()
 
     def keep(f: str) -> bool:
         return not only or any(t in f for t in only)
