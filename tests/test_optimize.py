@@ -135,3 +135,54 @@ def test_optimum_needs_more_steps_than_the_shortest_composition(tmp_path, strate
     assert result.status is OptStatus.OPT and result.values[0].value == 3
     assert sorted(a.morphism for _, a in result.plan.activations) == ["start", "step", "step", "step"]
     assert len(result.plan.steps) == 4
+
+
+def _counter_instance(tmp_path):
+    path = tmp_path / "counter.cat"
+    path.write_text(LONGER_IS_BETTER)
+    diags = Diagnostics()
+    _, inst = load_instance(None, str(path), diags)
+    assert inst is not None
+    return inst
+
+
+@pytest.mark.parametrize("behaviour", ["runs out of its budget", "gives up at once"])
+def test_deepen_falls_back_to_the_whole_horizon_when_no_refutation_comes(tmp_path, monkeypatch, behaviour):
+    """The refutation and the whole-horizon optimisation alternate; when the refutation never
+    answers (here: made to time out, or to give up), the whole-horizon optimum (x = 3, by hand
+    above) is still found and proven."""
+    import time as _time
+
+    import z3
+
+    import catc.optimize as opt
+
+    calls = []
+
+    def no_refutation(inst, objectives, softs, values, k, sequential, deadline, timings):
+        calls.append(values)
+        if behaviour == "runs out of its budget" and deadline is not None:
+            _time.sleep(max(0.0, deadline - _time.perf_counter()))
+        return z3.unknown
+
+    monkeypatch.setattr(opt, "_better_exists", no_refutation)
+    result = opt.optimize(_counter_instance(tmp_path), strategy="deepen")
+    assert calls == [[0]]  # the short optimum (start alone, x = 0) was offered for refutation once
+    assert result.status is OptStatus.OPT and result.values[0].value == 3
+
+
+def test_deepen_at_the_deadline_reports_the_short_optimum_as_best_found(tmp_path, monkeypatch):
+    import time as _time
+
+    import z3
+
+    import catc.optimize as opt
+
+    def slow(inst, objectives, softs, values, k, sequential, deadline, timings):
+        _time.sleep(max(0.0, deadline - _time.perf_counter()))
+        return z3.unknown
+
+    monkeypatch.setattr(opt, "_better_exists", slow)
+    result = opt.optimize(_counter_instance(tmp_path), strategy="deepen", timeout=0.2)
+    # the whole horizon never got time: the shortest composition's optimum, x = 0, best found
+    assert result.status is OptStatus.SUBOPT and result.reason == "timeout" and result.values[0].value == 0

@@ -82,8 +82,9 @@ def optimize(
     deepening (as ``catc solve``), optimises over k₀ steps, and then proves the value optimal
     over the whole horizon with one satisfiability check — "is there a composition of at
     most ``horizon`` steps that is lexicographically better?"; only when there is does it
-    optimise over the whole horizon.  Both give the same optimum; the second is usually
-    much faster because the long encoding only has to be refuted, not optimised."""
+    optimise over the whole horizon.  The refutation and the optimisation over the whole
+    horizon alternate with doubling time budgets, as neither is always faster.  Both
+    strategies give the same optimum."""
     objectives = objectives_of(inst) if objectives is None else objectives
     softs = list(inst.problem.softs)
     if not objectives and softs:
@@ -123,21 +124,55 @@ def optimize(
     if k0 == k:
         short.timings = timings
         return _done(short, start)
-    r = _better_exists(inst, objectives, softs, [v.value for v in short.values], k, sequential, deadline, timings)
-    if r == z3.unsat:  # nothing better within the whole horizon: the short optimum is the optimum
-        short.timings = timings
-        return _done(short, start)
-    if r == z3.unknown and _expired(deadline):  # out of time: the short optimum is the best known
-        short.status, short.reason, short.timings = OptStatus.SUBOPT, "timeout", timings
-        return _done(short, start)
-    whole = _optimize_at(inst, objectives, softs, k, sequential, deadline, prune)
-    _add_timings(timings, whole.timings)
-    whole.timings = timings
-    return _done(whole, start)
+    # Refute anything better over the whole horizon, or optimise over the whole horizon,
+    # whichever finishes first: the two alternate with doubling time budgets (neither is
+    # always the faster: see docs/benchmarks.md), so the cost stays within a small factor of
+    # the better of the two.
+    values = [v.value for v in short.values]
+    budget = max(0.25, time.perf_counter() - start)
+    refute = True
+    while True:
+        if refute:
+            limit = _sooner(deadline, budget)
+            r = _better_exists(inst, objectives, softs, values, k, sequential, limit, timings)
+            if r == z3.unsat:  # nothing better within the whole horizon: the short optimum is it
+                short.timings = timings
+                return _done(short, start)
+            if r == z3.sat or not _expired(limit):  # something better, or no proof to be had here
+                refute = False
+            budget *= 2
+        if _expired(deadline):
+            break
+        limit = _sooner(deadline, None if not refute else budget)
+        whole = _optimize_at(inst, objectives, softs, k, sequential, limit, prune)
+        _add_timings(timings, whole.timings)
+        if whole.reason != "timeout" or not refute and _expired(deadline):
+            whole.timings = timings
+            stopped = whole.reason == "timeout"
+            if stopped and (whole.plan is None or not _not_worse([v.value for v in whole.values], values, objectives)):
+                break  # stopped at the deadline with nothing better than the short optimum
+            return _done(whole, start)
+        if _expired(deadline):
+            if whole.plan is not None and _not_worse([v.value for v in whole.values], values, objectives):
+                whole.timings = timings
+                return _done(whole, start)
+            break
+        budget *= 2
+    short.status, short.reason, short.timings = OptStatus.SUBOPT, "timeout", timings
+    return _done(short, start)
+
+
+def _sooner(deadline: float | None, budget: float | None) -> float | None:
+    """The earlier of the deadline and ``budget`` seconds from now (None: no limit)."""
+    if budget is None:
+        return deadline
+    mine = time.perf_counter() + budget
+    return mine if deadline is None else min(deadline, mine)
 
 
 def _expired(deadline: float | None) -> bool:
-    return deadline is not None and time.perf_counter() >= deadline
+    """Past the deadline — with 50 ms of slack, as Z3's timer may stop a check a little early."""
+    return deadline is not None and time.perf_counter() >= deadline - 0.05
 
 
 def _add_timings(total: dict[str, float], part: dict[str, float]) -> None:
@@ -226,7 +261,7 @@ def _optimize_at(inst: ir.Instance, objectives: list[ir.Objective], softs: list[
         return result
     if r == z3.unknown:
         result.reason = session.reason_unknown()
-        if _expired(deadline):
+        if _expired(deadline) or (deadline is not None and result.reason in ("canceled", "timeout")):
             result.reason = "timeout"
         try:
             session.solver.model()
@@ -236,9 +271,12 @@ def _optimize_at(inst: ir.Instance, objectives: list[ir.Objective], softs: list[
     else:
         result.status = OptStatus.OPT
 
-    # Values: unbounded / not attained are read from the solver's bounds.
-    bounds = []
+    # Values: unbounded / not attained are read from the solver's bounds (of a finished run).
+    bounds: list[tuple[str, object]] = []
     for h, obj in zip(handles, objectives):
+        if result.status is OptStatus.SUBOPT:  # an interrupted run's bounds mean nothing
+            bounds.append(("exact", None))
+            continue
         v = h.value()
         text = str(v)
         if "oo" in text:
@@ -252,6 +290,10 @@ def _optimize_at(inst: ir.Instance, objectives: list[ir.Objective], softs: list[
     t2 = time.perf_counter()
     plan = session.extract(k)
     report = validate(inst, plan, horizon=k, sequential=sequential)
+    if not report.ok and result.status is OptStatus.SUBOPT:
+        # an interrupted z3.Optimize may hold a model it had not finished: not a composition
+        result.status = OptStatus.UNKNOWN
+        return result
     if not report.ok:
         raise ValidationFailure("the independent validator rejected the optimum's composition: "
                                 + "; ".join(v.message for v in report.violations[:5]))
