@@ -222,3 +222,57 @@ def test_missing_baselines_name_what_to_install(monkeypatch, tmp_path):
 
     with pytest.raises(click.ClickException, match=r"pip install --no-deps 'pddl==0.5.1'"):
         check_with_pddl_parser(tmp_path / "d.pddl", tmp_path / "p.pddl")
+
+
+def _action_block(domain: str, name: str) -> str:
+    start = domain.index(f"(:action {name}\n")
+    end = domain.find("(:action ", start + 1)
+    return domain[start:end if end != -1 else len(domain)]
+
+
+def test_maximising_a_resource_that_only_decreases_is_minimising_what_is_taken(tmp_path):
+    """Event II maximises range-to-base, which only `return-to-range` changes, by
+    (decrease range-to-base d), d ∈ [0, 500]: each ground action costs its d, every other
+    action costs nothing, and minimising the total cost maximises the final distance."""
+    inst = instance(EXAMPLES / "search-and-rescue", {"file": "event2-out-of-range.cat"})
+    ex = export_pddl(inst, grid={"d": Fraction(1), "mem": Fraction(1, 2), "ram-req": Fraction(1, 4)})
+    assert "(:metric minimize (total-cost))" in ex.problem and "(= (total-cost) 0)" in ex.problem
+    assert "(increase (total-cost) 4)" in _action_block(ex.domain, "a-return-to-range-4")
+    assert "total-cost" not in _action_block(ex.domain, "a-report")
+    assert any(c == "objective" and "range-to-base only decreases" in t for c, t in ex.report.items)
+
+
+def test_maximising_a_resource_that_may_rise_is_not_exported(tmp_path):
+    text = (EXAMPLES / "search-and-rescue" / "domain.cat").read_text()
+    # let return-to-range move by a signed amount: d ∈ [-5, 500] may raise range-to-base
+    assert "(d real :bounds (0 500))" in text
+    (tmp_path / "domain.cat").write_text(text.replace("(d real :bounds (0 500))", "(d real :bounds (-5 500))"))
+    (tmp_path / "p.cat").write_text((EXAMPLES / "search-and-rescue" / "event2-out-of-range.cat").read_text())
+    diags = Diagnostics()
+    _, inst = load_instance(None, str(tmp_path / "p.cat"), diags)
+    assert inst is not None, [d.message for d in diags]
+    ex = export_pddl(apply_view(inst, None), grid={"d": Fraction(1), "mem": Fraction(1, 2), "ram-req": Fraction(1, 4)})
+    assert "(:metric" not in ex.problem and "total-cost" not in ex.domain
+    assert any(c == "objective" and "maximisation is not exported" in t for c, t in ex.report.items)
+
+
+def test_enhsp_output_of_a_missing_file_is_an_error_not_unsat():
+    """ENHSP prints "Unsolvable Problem" even after failing to read its input (seen with a
+    relative path); that must not be taken for a proof of unsolvability."""
+    from catc.export.enhsp import parse_output
+
+    text = ("Domain parsed\nSEVERE: null\njava.io.FileNotFoundException: p.pddl (No such file or directory)\n"
+            "Problem Detected as Unsolvable by AIBR during preprocessing\nUnsolvable Problem\n")
+    assert parse_output(text).status == "error"
+    assert parse_output("Problem Detected as Unsolvable by AIBR during preprocessing\nUnsolvable Problem\n").status == "unsat"
+
+
+@needs_enhsp
+def test_run_accepts_relative_paths(tmp_path, monkeypatch):
+    from catc.export.enhsp import run_enhsp
+
+    ex = export_pddl(instance(EXAMPLES / "detection", {"file": "person.cat"}), grid=GRID)
+    (tmp_path / "d.pddl").write_text(ex.domain)
+    (tmp_path / "p.pddl").write_text(ex.problem)
+    monkeypatch.chdir(tmp_path)
+    assert run_enhsp("d.pddl", "p.pddl").status == "sat"

@@ -73,6 +73,8 @@ def parse_output(text: str) -> EnhspResult:
             actions.append(m.group(2).strip().split()[0].lower())
     if "Problem Solved" in text:
         status = "sat"
+    elif "FileNotFoundException" in text or "ParseException" in text:  # it says "Unsolvable" after these too
+        status = "error"
     elif "Problem unsolvable" in text or "Unsolvable Problem" in text or "Problem Detected as Unsolvable" in text:
         status = "unsat"
     else:
@@ -90,7 +92,9 @@ def run_enhsp(domain: str | Path, problem: str | Path, *, planner: str = "sat-ha
     """Run ENHSP in place (its ``libs/`` folder sits beside the jar)."""
     exe = java()  # Java first: it is the prerequisite of the jar
     jar = enhsp_jar()
-    cmd = [exe, f"-Xmx{memory}", "-jar", str(jar), "-o", str(domain), "-f", str(problem), "-planner", planner]
+    # absolute paths: ENHSP runs in the jar's folder
+    cmd = [exe, f"-Xmx{memory}", "-jar", str(jar), "-o", str(Path(domain).resolve()), "-f", str(Path(problem).resolve()),
+           "-planner", planner]
     start = time.perf_counter()
     try:
         proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, cwd=jar.parent)

@@ -10,7 +10,10 @@ The translation grounds everything the PDDL side cannot express symbolically:
 * ``:uses`` limits → a counter function ``(used-m)``; ``:fixed`` θ → ``(fixed-m-p-v)``
   predicates; resource bounds → preconditions on the successor values;
 * the metric → ``(:metric minimize ...)`` only for a single minimisation of
-  ``(total-cost)`` with non-negative costs, or of a numeric expression over resources.
+  ``(total-cost)`` with non-negative costs, or of a numeric expression over resources, or for
+  ``maximize R`` of a resource R that only decreases by non-negative θ-only amounts (then
+  each action costs what it takes from R, and ``minimize (total-cost)`` has the same optimal
+  plans).
 
 Everything not expressed is listed in the :class:`ExportReport` (never dropped silently).
 Action names are ``a-`` + the sanitized morphism name + a θ suffix; :attr:`Export.actions`
@@ -160,6 +163,23 @@ def _grid_values(lower: Fraction, upper: Fraction, step: Fraction) -> list[Fract
     return out
 
 
+def _lower_bound(e: ir.Expr, params: Mapping[str, ir.Param]) -> Fraction | None:
+    """A lower bound of a θ-only amount over θ's bounds (interval arithmetic), or None."""
+    if isinstance(e, ir.Const) and isinstance(e.value, Fraction) and not isinstance(e.value, bool):
+        return e.value
+    if isinstance(e, ir.ParamRef):
+        p = params.get(e.name)
+        return None if p is None or p.lower is None else Fraction(p.lower)
+    if isinstance(e, ir.Arith) and e.op is ArithOp.ADD:
+        lows = [_lower_bound(a, params) for a in e.args]
+        return None if any(x is None for x in lows) else sum(lows, Fraction(0))  # type: ignore[arg-type]
+    if isinstance(e, ir.Arith) and e.op is ArithOp.MUL and len(e.args) == 2:
+        lows = [_lower_bound(a, params) for a in e.args]
+        if all(x is not None and x >= 0 for x in lows):
+            return lows[0] * lows[1]  # type: ignore[operator]
+    return None
+
+
 class _Exporter:
     def __init__(self, inst: ir.Instance, grid: Mapping[str, Fraction], horizon: int | None, flavor: str) -> None:
         self.inst = inst
@@ -173,6 +193,7 @@ class _Exporter:
         self.func: dict[str, str] = {}  # resource / counter key → function name
         self.actions: dict[str, Activation] = {}
         self.grid_used: dict[str, Fraction] = {}
+        self._drained: str | None = None  # maximize R exported as minimize the total taken from R
         self.universe: dict[str, list[str]] = {}  # resource → values (set elements / symbols)
 
     # ---- vocabulary
@@ -481,8 +502,9 @@ class _Exporter:
             effs.append("(increase (catc-steps) 1)")
         self.extra_conditions(m, theta, pre, effs)
         if objective_cost:
-            c = ir.Const(Fraction(1), ir.REAL) if m.cost is None else self._fold(m.cost, theta)
-            effs.append(f"(increase (total-cost) {self.num(c)})")
+            c = self._action_cost(m, theta)
+            if c is not None:
+                effs.append(f"(increase (total-cost) {self.num(c)})")
         self.actions[name] = Activation(m.name, theta)
         pre = [p for p in pre if p != "(and)"]
         pre_text = "(and " + " ".join(pre) + ")" if pre else "(and)"
@@ -492,7 +514,34 @@ class _Exporter:
     def extra_conditions(self, m: ir.Morphism, theta: Mapping[str, object], pre: list[str], effs: list[str]) -> None:
         """Hook for the PDDL+ flavour (dial preconditions and effects); nothing here."""
 
+    def _action_cost(self, m: ir.Morphism, theta: Mapping[str, object]) -> ir.Expr | None:
+        """The action's contribution to (total-cost): its cost, or — for a metric maximising a
+        resource that only decreases — what it takes from that resource."""
+        if self._drained is None:
+            return ir.Const(Fraction(1), ir.REAL) if m.cost is None else self._fold(m.cost, theta)
+        amounts = [self._fold(e.value, theta) for e in m.effects
+                   if e.resource == self._drained and e.kind is ir.EffectKind.DECREASE]
+        if not amounts:
+            return None
+        return amounts[0] if len(amounts) == 1 else ir.Arith(ArithOp.ADD, tuple(amounts), ir.REAL)
+
     # ---- metric
+    def _drain_metric(self, name: str) -> bool:
+        """Whether ``maximize NAME`` can be exported as ``minimize (total-cost)``: every effect
+        on the resource is a decrease by an amount that depends on θ only and is never
+        negative within θ's bounds.  Then NAME's final value is its initial value minus the
+        total cost, and the two metrics have the same optimal plans."""
+        for m in self.inst.morphisms.values():
+            for e in m.effects:
+                if e.resource != name:
+                    continue
+                if e.kind is not ir.EffectKind.DECREASE or ir.resources_in(e.value):
+                    return False
+                low = _lower_bound(e.value, {p.name: p for p in m.params})
+                if low is None or low < 0:
+                    return False
+        return True
+
     def metric(self) -> tuple[str | None, bool]:
         """(metric text, whether actions must increase total-cost)."""
         met = self.inst.problem.metric
@@ -503,7 +552,16 @@ class _Exporter:
             return None, False
         obj = met.objectives[0]
         if obj.sense is ir.Sense.MAXIMIZE:
-            self.report.add("objective", "maximisation is not exported (ENHSP mishandles maximize); no metric written, the planner finds any plan")
+            term = obj.term
+            if isinstance(term, ir.ResourceRef) and term.name in self.func and self._drain_metric(term.name):
+                self._drained = term.name
+                self.requirements.add(":action-costs")
+                self.report.add("objective", f"maximize {term.name} is written as minimize (total-cost): {term.name} only "
+                                "decreases, each action costs what it takes from it, so its final value is its "
+                                "initial value minus the total cost")
+                return "(:metric minimize (total-cost))", True
+            self.report.add("objective", "maximisation is not exported (ENHSP mishandles maximize, and state-dependent "
+                            "action costs); no metric written, the planner finds any plan")
             return None, False
         if isinstance(obj.term, ir.TotalCost):
             for m in self.inst.morphisms.values():
