@@ -167,7 +167,9 @@ def test_deepen_falls_back_to_the_whole_horizon_when_no_refutation_comes(tmp_pat
 
     monkeypatch.setattr(opt, "_better_exists", no_refutation)
     result = opt.optimize(_counter_instance(tmp_path), strategy="deepen")
-    assert calls == [[0]]  # the short optimum (start alone, x = 0) was offered for refutation once
+    # offered for refutation: the first composition found and the short optimum, both
+    # `start` alone (x = 0); never anything else
+    assert calls == [[0], [0]]
     assert result.status is OptStatus.OPT and result.values[0].value == 3
 
 

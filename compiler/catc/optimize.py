@@ -108,7 +108,30 @@ def optimize(
     if first.status is not Status.SAT:
         return _done(OptResult(OptStatus.UNKNOWN, k, reason=first.reason, timings=timings), start)
     k0 = len(first.plan.steps)
-    short = _optimize_at(inst, objectives, softs, k0, sequential, deadline, prune)
+    from catc.validate import validate
+
+    if not validate(inst, first.plan, horizon=k, sequential=sequential).ok:
+        raise ValidationFailure("the independent validator rejected the solver's first composition")
+    if k0 < k:
+        # Often the first composition found is already optimal: try to refute anything better
+        # within the whole horizon, on a budget as long as the time spent so far.
+        values0 = _scores(inst, first.plan, objectives, softs, k, sequential)
+        if None not in values0:
+            budget0 = max(0.25, time.perf_counter() - start)
+            r = _better_exists(inst, objectives, softs, values0, k, sequential, _sooner(deadline, budget0), timings)
+            if r == z3.unsat:
+                t2 = time.perf_counter()
+                result = OptResult(OptStatus.OPT, k, timings=timings)
+                _finish(inst, result, first.plan, objectives, softs, [("exact", None)] * len(objectives), k,
+                        sequential, prune)
+                timings["validate"] += time.perf_counter() - t2
+                return _done(result, start)
+    short = None if _expired(deadline) else _optimize_at(inst, objectives, softs, k0, sequential, deadline, prune)
+    if short is None or (short.plan is None and _expired(deadline)):
+        # out of time before anything better: the first composition is the best known
+        result = OptResult(OptStatus.SUBOPT, k, reason="timeout", timings=timings)
+        _finish(inst, result, first.plan, objectives, softs, [("exact", None)] * len(objectives), k, sequential, prune)
+        return _done(result, start)
     _add_timings(timings, short.timings)
     short.horizon = k
     exact = short.status is OptStatus.OPT and short.plan is not None and all(
@@ -240,7 +263,7 @@ def _better_exists(inst, objectives, softs, values: list[Fraction], k: int, sequ
 def _optimize_at(inst: ir.Instance, objectives: list[ir.Objective], softs: list[ir.Soft], k: int,
                  sequential: bool, deadline: float | None, prune: bool) -> OptResult:
     """``z3.Optimize`` over one encoding of ``k`` steps (idle steps allowed)."""
-    from catc.validate import evaluate, objective_value, validate
+    from catc.validate import validate
 
     start = time.perf_counter()
     timings = {"encode": 0.0, "solve": 0.0, "validate": 0.0}
@@ -298,21 +321,39 @@ def _optimize_at(inst: ir.Instance, objectives: list[ir.Objective], softs: list[
         raise ValidationFailure("the independent validator rejected the optimum's composition: "
                                 + "; ".join(v.message for v in report.violations[:5]))
 
-    def scores(p: Plan) -> list[Fraction | None]:
-        rep = validate(inst, p, horizon=k, sequential=sequential)
-        fin = rep.states[-1]
-        pen = sum((s.weight for s in softs if evaluate(inst, s.expr, fin) is not True), Fraction(0))
-        out = []
-        for i, obj in enumerate(objectives):
-            v = objective_value(inst, p, obj.term, fin)
-            if v is not None and i == 0:
-                v = v + pen if obj.sense is ir.Sense.MINIMIZE else v - pen
-            out.append(v)
-        return out
+    _finish(inst, result, plan, objectives, softs, bounds, k, sequential, prune)
+    timings["validate"] = time.perf_counter() - t2
+    return result
+
+
+def _scores(inst: ir.Instance, p: Plan, objectives: list[ir.Objective], softs: list[ir.Soft], k: int,
+            sequential: bool) -> list[Fraction | None]:
+    """A composition's objective values, exact, from the validator's replay (the first with
+    the soft penalties)."""
+    from catc.validate import evaluate, objective_value, validate
+
+    rep = validate(inst, p, horizon=k, sequential=sequential)
+    fin = rep.states[-1]
+    pen = sum((s.weight for s in softs if evaluate(inst, s.expr, fin) is not True), Fraction(0))
+    out = []
+    for i, obj in enumerate(objectives):
+        v = objective_value(inst, p, obj.term, fin)
+        if v is not None and i == 0:
+            v = v + pen if obj.sense is ir.Sense.MINIMIZE else v - pen
+        out.append(v)
+    return out
+
+
+def _finish(inst: ir.Instance, result: OptResult, plan: Plan, objectives: list[ir.Objective], softs: list[ir.Soft],
+            bounds: list[tuple[str, object]], k: int, sequential: bool, prune: bool) -> None:
+    """Prune (keeping the values), rename fresh values, and fill in ``result`` from the
+    validator's replay; an OPT value must equal the solver's bound where it gave one."""
+    from catc.validate import evaluate, objective_value, validate
 
     if prune:
-        target = scores(plan)
-        plan = prune_plan(inst, plan, k, sequential, accept=lambda p: _not_worse(scores(p), target, objectives))
+        target = _scores(inst, plan, objectives, softs, k, sequential)
+        plan = prune_plan(inst, plan, k, sequential,
+                          accept=lambda p: _not_worse(_scores(inst, p, objectives, softs, k, sequential), target, objectives))
     plan = canonical_fresh(plan)
     report = validate(inst, plan, horizon=k, sequential=sequential)
     final = report.states[-1]
@@ -325,7 +366,7 @@ def _optimize_at(inst: ir.Instance, objectives: list[ir.Objective], softs: list[
             value = value + penalty_value if obj.sense is ir.Sense.MINIMIZE else value - penalty_value
         ov = ObjectiveValue(obj, value)
         if kind == "exact":
-            if value is not None and value != bound and result.status is OptStatus.OPT:
+            if bound is not None and value is not None and value != bound and result.status is OptStatus.OPT:
                 raise ValidationFailure(
                     f"objective {i + 1}: the solver reports {bound} but the composition's value is {value}"
                 )
@@ -333,8 +374,6 @@ def _optimize_at(inst: ir.Instance, objectives: list[ir.Objective], softs: list[
             ov.attained = False
             ov.bound = str(bound)
         result.values.append(ov)
-    timings["validate"] = time.perf_counter() - t2
-    return result
 
 
 def _limit_text(v: z3.ExprRef, sense: ir.Sense) -> str:
