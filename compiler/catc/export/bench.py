@@ -645,6 +645,8 @@ class Bench:
             return {"found": False, "why": f"no grid helps: the export writes no metric ({reason})"}
         if not pt.grid:
             return {"found": False, "why": "no real θ to refine"}
+        if pt.query == "recompose":  # judged on churn, which no grid changes
+            return {"found": False, "why": "no grid helps: churn against the deployed composition is not expressible in PDDL"}
         tried = []
         for k in REFINE_FACTORS:
             grid = {name: step / k for name, step in pt.grid.items()}
