@@ -32,7 +32,7 @@ def optimum_cases():
 def test_example_optimum(folder, case, strategy):
     diags = Diagnostics()
     _, inst = load_instance(None, str(folder / case["file"]), diags, problem_name=case.get("problem"))
-    result = optimize(apply_view(inst, None), strategy=strategy)
+    result = optimize(apply_view(inst, None), strategy=strategy, deepen_from=0)
     assert result.status is OptStatus.OPT
     assert [v.value for v in result.values] == [Fraction(x) for x in case["optimum"]]
     assert all(v.attained for v in result.values)
@@ -99,7 +99,7 @@ def test_optimum_agrees_with_brute_force(tmp_path, domain, strategy):
     _, inst = load_instance(None, str(path), diags)
     assert inst is not None, [d.message for d in diags]
     expected = reachable_max_counter(*domain)
-    result = optimize(inst, [ir.Objective(ir.Sense.MAXIMIZE, ir.ResourceRef("c", ir.INT))], strategy=strategy)
+    result = optimize(inst, [ir.Objective(ir.Sense.MAXIMIZE, ir.ResourceRef("c", ir.INT))], strategy=strategy, deepen_from=0)
     if expected is None:
         assert result.status is OptStatus.UNSAT
     else:
@@ -131,7 +131,7 @@ def test_optimum_needs_more_steps_than_the_shortest_composition(tmp_path, strate
     diags = Diagnostics()
     _, inst = load_instance(None, str(path), diags)
     assert inst is not None, [d.message for d in diags]
-    result = optimize(inst, strategy=strategy)
+    result = optimize(inst, strategy=strategy, deepen_from=0)
     assert result.status is OptStatus.OPT and result.values[0].value == 3
     assert sorted(a.morphism for _, a in result.plan.activations) == ["start", "step", "step", "step"]
     assert len(result.plan.steps) == 4
@@ -166,7 +166,7 @@ def test_deepen_falls_back_to_the_whole_horizon_when_no_refutation_comes(tmp_pat
         return z3.unknown
 
     monkeypatch.setattr(opt, "_better_exists", no_refutation)
-    result = opt.optimize(_counter_instance(tmp_path), strategy="deepen")
+    result = opt.optimize(_counter_instance(tmp_path), strategy="deepen", deepen_from=0)
     # offered for refutation: the first composition found and the short optimum, both
     # `start` alone (x = 0); never anything else
     assert calls == [[0], [0]]
@@ -185,6 +185,22 @@ def test_deepen_at_the_deadline_reports_the_short_optimum_as_best_found(tmp_path
         return z3.unknown
 
     monkeypatch.setattr(opt, "_better_exists", slow)
-    result = opt.optimize(_counter_instance(tmp_path), strategy="deepen", timeout=0.2)
+    result = opt.optimize(_counter_instance(tmp_path), strategy="deepen", timeout=0.2, deepen_from=0)
     # the whole horizon never got time: the shortest composition's optimum, x = 0, best found
     assert result.status is OptStatus.SUBOPT and result.reason == "timeout" and result.values[0].value == 0
+
+
+def test_short_horizons_use_the_single_encoding(tmp_path, monkeypatch):
+    """Under the default deepen strategy a horizon below DEEPEN_FROM goes straight to one
+    encoding: no deepening solve, no refutation."""
+    import catc.optimize as opt
+
+    def must_not_run(*args, **kwargs):
+        raise AssertionError("the deepening route ran on a short horizon")
+
+    monkeypatch.setattr(opt, "_better_exists", must_not_run)
+    monkeypatch.setattr("catc.solve.solve", must_not_run)
+    inst = _counter_instance(tmp_path)
+    assert inst.problem.horizon < opt.DEEPEN_FROM
+    result = opt.optimize(inst)
+    assert result.status is OptStatus.OPT and result.values[0].value == 3

@@ -58,6 +58,12 @@ class OptResult:
     timings: dict[str, float] = field(default_factory=dict)
 
 
+#: Horizons shorter than this are optimised with the single encoding even under ``deepen``:
+#: on the examples with 2–6 steps it costs 1.0–1.3× plain solve, the deepening route
+#: 1.2–2.2× (its extra encodings dominate such small problems; docs/benchmarks.md).
+DEEPEN_FROM = 8
+
+
 def objectives_of(inst: ir.Instance) -> list[ir.Objective]:
     metric = inst.problem.metric
     if metric is not None:
@@ -74,6 +80,7 @@ def optimize(
     timeout: float | None = None,
     prune: bool = True,
     strategy: str = "deepen",
+    deepen_from: int | None = None,
 ) -> OptResult:
     """The optimum over every composition of at most ``horizon`` steps.
 
@@ -84,7 +91,8 @@ def optimize(
     most ``horizon`` steps that is lexicographically better?"; only when there is does it
     optimise over the whole horizon.  The refutation and the optimisation over the whole
     horizon alternate with doubling time budgets, as neither is always faster.  Both
-    strategies give the same optimum."""
+    strategies give the same optimum.  Below ``deepen_from`` steps of horizon (default
+    :data:`DEEPEN_FROM`) ``deepen`` uses the single encoding, which is then as cheap."""
     objectives = objectives_of(inst) if objectives is None else objectives
     softs = list(inst.problem.softs)
     if not objectives and softs:
@@ -96,7 +104,7 @@ def optimize(
     k = default_horizon(inst) if horizon is None else horizon
     start = time.perf_counter()
     deadline = start + timeout if timeout else None
-    if strategy == "single":
+    if strategy == "single" or k < (DEEPEN_FROM if deepen_from is None else deepen_from):
         return _done(_optimize_at(inst, objectives, softs, k, sequential, deadline, prune), start)
 
     from catc.solve import Status, solve
