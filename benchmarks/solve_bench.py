@@ -15,7 +15,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import statistics
 import subprocess
 import sys
@@ -23,6 +22,9 @@ import tempfile
 import time
 import tomllib
 from pathlib import Path
+
+from catc.export.bench import cpu_text as machine  # shared with catc bench
+from catc.export.bench import quartiles
 
 ROOT = Path(__file__).resolve().parent.parent
 CATC = [sys.executable, "-m", "catc"]
@@ -36,22 +38,6 @@ def peak_rss(cmd: list[str]) -> tuple[float, float, int]:
     return time.perf_counter() - start, usage.ru_maxrss / 1024, os.waitstatus_to_exitcode(status)
 
 
-def quartiles(xs: list[float]) -> tuple[float, float, float]:
-    if len(xs) < 4:
-        m = statistics.median(xs)
-        return m, min(xs), max(xs)
-    q = statistics.quantiles(xs, n=4)
-    return statistics.median(xs), q[0], q[2]
-
-
-def machine() -> str:
-    model = platform.machine()
-    try:
-        with open("/proc/cpuinfo") as fh:
-            model = next(l.split(":", 1)[1].strip() for l in fh if l.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
-    return f"{model}, {os.cpu_count()} cores, Python {platform.python_version()}"
 
 
 # ---------------------------------------------------------------- 1. examples
@@ -198,6 +184,7 @@ def bench_queries(runs: int) -> None:
         ("recompose (stability first)", "examples/lifelong/cheaper-camera.cat", []),
         ("recompose --priority objective", "examples/lifelong/cheaper-camera.cat", []),
         ("diagnose", "examples/search-and-rescue/budget-cut.cat", []),
+        ("recompose (stability first)", "examples/search-and-rescue/cheaper-camera.cat", []),
         ("synthesize", "examples/holes/talk.cat", []),
         ("pareto", "examples/pareto-design/design.cat", []),
     ):
@@ -230,6 +217,41 @@ def bench_queries(runs: int) -> None:
     print()
 
 
+def bench_refutation(runs: int) -> None:
+    """The check `catc optimize --strategy deepen` uses as a proof — "a composition of at most
+    24 steps better than 10 m?" on search-and-rescue event II, unsat — on Z3's default
+    configuration and on Z3 configured for QF_LRA (what catc uses), in this process."""
+    import z3
+    from catc import ir
+    from catc.loader import load_instance
+    from catc.optimize import _encode_whole, _objective_terms
+
+    from catgrammar.diagnostics import Diagnostics
+
+    _, inst = load_instance(None, str(ROOT / "examples/search-and-rescue/event2-out-of-range.cat"), Diagnostics())
+    objectives = list(inst.problem.metric.objectives)
+    k = inst.problem.horizon
+    enc, session = _encode_whole(inst, k, False, optimize=False)
+    (term,) = _objective_terms(enc, session, objectives, [], k)
+    assert objectives[0].sense is ir.Sense.MAXIMIZE
+    formula = session.solver.assertions()
+    print("### The refutation behind `optimize --strategy deepen` (event II, 24 steps, better than 10 m)\n")
+    print("| Z3 configuration | answer | median (s) | IQR (s) |")
+    print("|---|---|---:|---|")
+    for label, make in (("default (`z3.Solver()`)", z3.Solver), ("QF_LRA (`z3.SolverFor('QF_LRA')`)", lambda: z3.SolverFor("QF_LRA"))):
+        walls, answer = [], None
+        for _ in range(runs):
+            solver = make()
+            solver.add(formula)
+            solver.add(term > 10)
+            start = time.perf_counter()
+            answer = solver.check()
+            walls.append(time.perf_counter() - start)
+        m, lo, hi = quartiles(walls)
+        print(f"| {label} | {answer} | {m:.3f} | {lo:.3f}–{hi:.3f} |")
+    print()
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--runs", type=int, default=5)
@@ -251,6 +273,7 @@ def main() -> None:
         bench_reference(max(args.runs, 15))
     if args.only in (None, "queries"):
         bench_queries(args.runs)
+        bench_refutation(args.runs)
     if args.only in (None, "scaling"):
         bench_scaling(max(1, args.runs // 3), sizes, horizons)
 

@@ -118,28 +118,30 @@ def optimize(
     k0 = len(first.plan.steps)
     from catc.validate import validate
 
-    if not validate(inst, first.plan, horizon=k, sequential=sequential).ok:
+    report0 = validate(inst, first.plan, horizon=k, sequential=sequential)
+    if not report0.ok:
         raise ValidationFailure("the independent validator rejected the solver's first composition")
+
+    def first_plan(status: OptStatus, reason: str | None = None) -> OptResult:
+        """The first composition as the answer (no solver bound to compare its values with)."""
+        t2 = time.perf_counter()
+        result = OptResult(status, k, reason=reason, timings=timings)
+        _finish(inst, result, first.plan, objectives, softs, [("exact", None)] * len(objectives), k, sequential, prune)
+        timings["validate"] += time.perf_counter() - t2
+        return _done(result, start)
+
     if k0 < k:
         # Often the first composition found is already optimal: try to refute anything better
         # within the whole horizon, on a budget as long as the time spent so far.
-        values0 = _scores(inst, first.plan, objectives, softs, k, sequential)
+        values0 = _scores(inst, first.plan, objectives, softs, k, sequential, report0)
         if None not in values0:
             budget0 = max(0.25, time.perf_counter() - start)
             r = _better_exists(inst, objectives, softs, values0, k, sequential, _sooner(deadline, budget0), timings)
             if r == z3.unsat:
-                t2 = time.perf_counter()
-                result = OptResult(OptStatus.OPT, k, timings=timings)
-                _finish(inst, result, first.plan, objectives, softs, [("exact", None)] * len(objectives), k,
-                        sequential, prune)
-                timings["validate"] += time.perf_counter() - t2
-                return _done(result, start)
+                return first_plan(OptStatus.OPT)
     short = None if _expired(deadline) else _optimize_at(inst, objectives, softs, k0, sequential, deadline, prune)
     if short is None or (short.plan is None and _expired(deadline)):
-        # out of time before anything better: the first composition is the best known
-        result = OptResult(OptStatus.SUBOPT, k, reason="timeout", timings=timings)
-        _finish(inst, result, first.plan, objectives, softs, [("exact", None)] * len(objectives), k, sequential, prune)
-        return _done(result, start)
+        return first_plan(OptStatus.SUBOPT, "timeout")  # out of time: the first composition is the best known
     _add_timings(timings, short.timings)
     short.horizon = k
     exact = short.status is OptStatus.OPT and short.plan is not None and all(
@@ -177,13 +179,10 @@ def optimize(
         limit = _sooner(deadline, None if not refute else budget)
         whole = _optimize_at(inst, objectives, softs, k, sequential, limit, prune)
         _add_timings(timings, whole.timings)
-        if whole.reason != "timeout" or not refute and _expired(deadline):
+        if whole.reason != "timeout":  # finished
             whole.timings = timings
-            stopped = whole.reason == "timeout"
-            if stopped and (whole.plan is None or not _not_worse([v.value for v in whole.values], values, objectives)):
-                break  # stopped at the deadline with nothing better than the short optimum
             return _done(whole, start)
-        if _expired(deadline):
+        if _expired(deadline):  # the best found wins if it is at least as good as the short optimum
             if whole.plan is not None and _not_worse([v.value for v in whole.values], values, objectives):
                 whole.timings = timings
                 return _done(whole, start)
@@ -335,12 +334,12 @@ def _optimize_at(inst: ir.Instance, objectives: list[ir.Objective], softs: list[
 
 
 def _scores(inst: ir.Instance, p: Plan, objectives: list[ir.Objective], softs: list[ir.Soft], k: int,
-            sequential: bool) -> list[Fraction | None]:
+            sequential: bool, report=None) -> list[Fraction | None]:
     """A composition's objective values, exact, from the validator's replay (the first with
-    the soft penalties)."""
+    the soft penalties); ``report`` is the replay when the caller already has it."""
     from catc.validate import evaluate, objective_value, validate
 
-    rep = validate(inst, p, horizon=k, sequential=sequential)
+    rep = report if report is not None else validate(inst, p, horizon=k, sequential=sequential)
     fin = rep.states[-1]
     pen = sum((s.weight for s in softs if evaluate(inst, s.expr, fin) is not True), Fraction(0))
     out = []

@@ -505,13 +505,19 @@ def grid_text(grid: Grid) -> str:
     return ", ".join(f"{k}={fraction_text(v)}" for k, v in sorted(grid.items()))
 
 
-def machine() -> str:
+def cpu_text() -> str:
+    """The processor model, the core count and the Python version (also used by the scripts
+    in benchmarks/)."""
     model = platform.machine()
     try:
         with open("/proc/cpuinfo") as fh:
             model = next(l.split(":", 1)[1].strip() for l in fh if l.startswith("model name"))
     except (OSError, StopIteration):
         pass
+    return f"{model}, {os.cpu_count()} cores, Python {platform.python_version()}"
+
+
+def machine() -> str:
     java = "?"
     exe = shutil.which("java")
     if exe:
@@ -526,7 +532,7 @@ def machine() -> str:
         enhsp = f"up-enhsp {version('up-enhsp')}"
     except Exception:  # noqa: BLE001 - only a label
         enhsp = "up-enhsp ?"
-    return f"{model}, {os.cpu_count()} cores, Python {platform.python_version()}, {java}, {enhsp}"
+    return f"{cpu_text()}, {java}, {enhsp}"
 
 
 # ====================================================================== the benchmark
