@@ -11,13 +11,15 @@ private caches in ``__slots__`` that are not fields (``_fields`` lists the field
 slots are not),
 ``ClassName(field=value, ...)`` repr, ``__match_args__``, pickling, and
 ``__dataclass_fields__``, so ``dataclasses.fields``/``replace``/``asdict`` work.
+:mod:`dataclasses` itself is imported only when one of those is used: importing it costs
+~7 ms of start-up (it imports :mod:`inspect`), so ``__dataclass_fields__`` is built on first
+access and :func:`replace` here does what ``dataclasses.replace`` does.
 ``tests/test_generated_parser.py`` and ``tests/test_ir.py`` check all of it against real
 dataclasses.
 """
 
 from __future__ import annotations
 
-import dataclasses
 from operator import attrgetter
 from typing import Any, ClassVar
 
@@ -30,6 +32,34 @@ def _getter(names: tuple[str, ...]):
         one = attrgetter(names[0])
         return lambda obj: (one(obj),)
     return attrgetter(*names)
+
+
+class _DataclassFields:
+    """``Record.__dataclass_fields__``: the ``dataclasses.Field`` objects ``@dataclass`` would
+    have made, built on first access and then stored on the class in its place."""
+
+    def __get__(self, obj: Any, cls: type) -> dict[str, Any]:
+        import dataclasses
+
+        fields = {}
+        for name in cls._fields:
+            f = dataclasses.field(compare=name in cls._compared, repr=name in cls._compared)
+            f.name, f.type, f.kw_only = name, cls.__annotations__[name], False
+            f._field_type = dataclasses._FIELD  # type: ignore[attr-defined] - as @dataclass sets it
+            fields[name] = f
+        type.__setattr__(cls, "__dataclass_fields__", fields)
+        return fields
+
+
+_DATACLASS_FIELDS = _DataclassFields()
+
+
+def replace(obj: Any, /, **changes: Any) -> Any:
+    """A copy of the record ``obj`` with ``changes``, as ``dataclasses.replace`` makes it."""
+    for name in obj._fields:
+        if name not in changes:
+            changes[name] = getattr(obj, name)
+    return obj.__class__(**changes)
 
 
 class Record:
@@ -49,19 +79,18 @@ class Record:
         cls.__match_args__ = names
         cls._compared = compared
         cls._values = _getter(compared)
-        fields = {}
-        for name in names:
-            f = dataclasses.field(compare=name in compared, repr=name in compared)
-            f.name, f.type, f.kw_only = name, cls.__annotations__[name], False
-            f._field_type = dataclasses._FIELD  # type: ignore[attr-defined] - as @dataclass sets it
-            fields[name] = f
-        cls.__dataclass_fields__ = fields  # type: ignore[attr-defined]
+        # every class gets its own, so a subclass never sees its base's fields
+        cls.__dataclass_fields__ = _DATACLASS_FIELDS  # type: ignore[attr-defined]
 
     def __setattr__(self, name: str, value: Any) -> None:
-        raise dataclasses.FrozenInstanceError(f"cannot assign to field {name!r}")
+        from dataclasses import FrozenInstanceError
+
+        raise FrozenInstanceError(f"cannot assign to field {name!r}")
 
     def __delattr__(self, name: str) -> None:
-        raise dataclasses.FrozenInstanceError(f"cannot delete field {name!r}")
+        from dataclasses import FrozenInstanceError
+
+        raise FrozenInstanceError(f"cannot delete field {name!r}")
 
     def __eq__(self, other: object) -> bool:
         if other.__class__ is self.__class__:

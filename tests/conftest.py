@@ -39,12 +39,26 @@ class Result:
         return self.stdout + self.stderr
 
 
-def run_catc(*args: str, cwd: Path | None = None) -> Result:
-    """Run the CLI in-process; any exception escaping click is a test failure."""
+class _Executable:
+    """``catc`` as the executable runs it (:func:`catc.entry.main`: a plain ``catc solve``
+    without click, everything else through click), shaped for ``CliRunner.invoke``."""
+
+    name = "catc"
+
+    @staticmethod
+    def main(args, prog_name=None, **_):
+        from catc.entry import main
+
+        main(list(args))
+
+
+def run_catc(*args: str, cwd: Path | None = None, via_click: bool = False) -> Result:
+    """Run the CLI in-process as the executable does (``via_click``: always through
+    click's parser); any exception escaping is a test failure."""
     from catc.cli import main
 
     runner = CliRunner()
-    res = runner.invoke(main, [str(a) for a in args], catch_exceptions=True)
+    res = runner.invoke(main if via_click else _Executable, [str(a) for a in args], catch_exceptions=True)
     if res.exception is not None and not isinstance(res.exception, SystemExit):
         raise AssertionError(f"catc {' '.join(map(str, args))} raised {res.exception!r}") from res.exception
     return Result(res.exit_code, res.stdout, res.stderr)

@@ -7,6 +7,7 @@ from fractions import Fraction
 
 import pytest
 
+from catgrammar import record
 from catgrammar.diagnostics import Diagnostics
 from catc import ir
 from catc.loader import load_instance
@@ -182,6 +183,7 @@ def test_ir_records_behave_like_frozen_slotted_dataclasses(cls):
     assert repr(node) == repr(expected)
     for i, name in enumerate(names):  # a compared field changes equality; the others do not
         other = dataclasses.replace(node, **{name: "different"})
+        assert [getattr(record.replace(node, **{name: "different"}), n) for n in names] == [getattr(other, n) for n in names]
         assert (other == node) == (name not in cls._compared)
         assert (other == node) == (dataclasses.replace(expected, **{name: "different"}) == expected)
     assert not hasattr(node, "__dict__")

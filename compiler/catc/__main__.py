@@ -1,3 +1,3 @@
-from catc.cli import main
+from catc.entry import main
 
 main()

@@ -14,11 +14,12 @@ from pathlib import Path
 import click
 
 from catc import __version__
-
-EXIT_OK = 0
-EXIT_FAIL = 1
-EXIT_INPUT = 2
-EXIT_UNKNOWN = 3
+from catc import command
+from catc.command import EXIT_FAIL, EXIT_INPUT, EXIT_OK, EXIT_UNKNOWN
+from catc.command import console as _console
+from catc.command import input_error as _input_error
+from catc.command import progress as _progress
+from catc.command import write_diagram as _write_diagram
 
 _UNREADABLE = {"E0001", "E0002", "E0003", "E0005"}
 
@@ -58,22 +59,7 @@ class _Group(click.Group):
             return None
 
     def invoke(self, ctx: click.Context):
-        try:
-            return super().invoke(ctx)
-        except (click.exceptions.Exit, click.exceptions.Abort, click.ClickException, SystemExit):
-            raise
-        except BrokenPipeError:  # e.g. `catc solve ... | head`: stop quietly, as Unix tools do
-            devnull = os.open(os.devnull, os.O_WRONLY)
-            os.dup2(devnull, sys.stdout.fileno())
-            sys.exit(EXIT_FAIL)
-        except RecursionError:
-            click.echo("catc: error: input nests too deeply to process", err=True)
-            sys.exit(EXIT_INPUT)
-        except Exception as exc:  # pragma: no cover - a bug, reported without a traceback
-            if os.environ.get("CATC_DEBUG"):
-                raise
-            click.echo(f"catc: internal error: {type(exc).__name__}: {exc} (set CATC_DEBUG=1 for details)", err=True)
-            sys.exit(70)
+        return command.guarded(super().invoke, ctx, passthrough=(click.exceptions.Exit, click.exceptions.Abort, click.ClickException))
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
@@ -168,57 +154,15 @@ def check(paths: tuple[str, ...], fmt: str, strict: bool, search_paths: tuple[st
 # ====================================================================== queries
 
 
-def _instance(paths: tuple[str, ...], view: str | None, search_paths, problem: str | None, as_json: bool):
-    """Files → checked instance with its view applied, or exit 2 with the diagnostics."""
-    from catgrammar.diagnostics import Diagnostics, format_text
-    from catc.loader import load_instance
-    from catc.view import ViewError, apply_view
-
+def _check_paths(paths: tuple[str, ...]) -> None:
     if len(paths) not in (1, 2):
         raise click.UsageError("give PROBLEM or DOMAIN PROBLEM")
-    domain_path, problem_path = (None, paths[0]) if len(paths) == 1 else paths
-    diags = Diagnostics()
-    for p in paths:
-        if not Path(p).is_file():
-            diags.report("E0001", f"cannot read '{p}': no such file", None)
-    inst = None
-    if not diags.has_errors:
-        _, inst = load_instance(domain_path, problem_path, diags, search_paths, problem)
-    if inst is not None and not diags.has_errors:
-        try:
-            return apply_view(inst, view)
-        except ViewError as exc:
-            diags.report("E0506", str(exc), exc.span)
-    if as_json:
-        import json
-
-        click.echo(json.dumps({"schema": "catc.error/1", "status": "error",
-                               "diagnostics": [d.to_json() for d in diags.sorted()]}, indent=2))
-    else:
-        click.echo(format_text(diags), err=True)
-    sys.exit(EXIT_INPUT)
 
 
-def _console(as_json: bool):
-    """Rich on a terminal; plain aligned text when piped (no colour codes, faster start)."""
-    if sys.stdout.isatty() and not os.environ.get("NO_COLOR"):
-        from rich.console import Console
-
-        return Console(highlight=False)
-    from catc.report import PlainConsole
-
-    return PlainConsole(click.echo)
-
-
-def _progress(enabled: bool):
-    """A rich status line on a terminal (stderr), showing the horizon being tried."""
-    import contextlib
-
-    if not enabled or not sys.stderr.isatty():
-        return contextlib.nullcontext(None)
-    from rich.console import Console
-
-    return Console(stderr=True).status("solving…")
+def _instance(paths: tuple[str, ...], view: str | None, search_paths, problem: str | None, as_json: bool):
+    """Files → checked instance with its view applied, or exit 2 with the diagnostics."""
+    _check_paths(paths)
+    return command.instance(paths, view, search_paths, problem, as_json)
 
 
 _common_query_options = [
@@ -250,33 +194,8 @@ def solve(paths, horizon, view, sequential, search_paths, problem_name, timeout,
 
     PATHS is PROBLEM, or DOMAIN PROBLEM.  Exit 0 SAT, 1 UNSAT, 2 input error, 3 unknown/timeout.
     """
-    import json
-
-    from catc.solve import Status, ValidationFailure
-    from catc.solve import solve as run_solve
-
-    inst = _instance(paths, view, search_paths, problem_name, as_json)
-    status_ctx = _progress(not as_json)
-    with status_ctx as status:
-        def progress(t, k, elapsed):
-            if status is not None:
-                status.update(f"solving: horizon {t} of {k} ({elapsed:.1f} s)")
-        try:
-            result = run_solve(inst, horizon=horizon, sequential=sequential, timeout=timeout,
-                               progress=progress, strategy=strategy, prune=not no_prune)
-        except ValidationFailure as exc:
-            click.echo(f"catc: internal error: {exc}", err=True)
-            sys.exit(70)
-    if as_json:
-        from catc.report import solve_json
-
-        click.echo(json.dumps(solve_json(inst, result, sequential=sequential, strategy=strategy), indent=2))
-    else:
-        from catc.report import print_solve
-
-        print_solve(_console(False), inst, result)
-    _write_diagram(diagram, inst, result.plan if result.status is Status.SAT else None, result.states, as_json)
-    sys.exit({Status.SAT: EXIT_OK, Status.UNSAT: EXIT_FAIL, Status.UNKNOWN: EXIT_UNKNOWN}[result.status])
+    _check_paths(paths)
+    command.solve(paths, horizon, view, sequential, search_paths, problem_name, timeout, strategy, as_json, diagram, no_prune)
 
 
 @main.command()
@@ -362,29 +281,6 @@ def _cli_objectives(ctx, inst, as_json):
             click.echo(format_text(diags), err=True)
         sys.exit(EXIT_INPUT)
     return out
-
-
-def _input_error(message: str, as_json: bool) -> None:
-    if as_json:
-        import json
-
-        click.echo(json.dumps({"schema": "catc.error/1", "status": "error",
-                               "diagnostics": [{"code": "E0505", "name": "bad-objective", "severity": "error",
-                                                "message": message, "location": None, "notes": []}]}, indent=2))
-    else:
-        click.echo(f"catc: error[E0505]: {message}", err=True)
-    sys.exit(EXIT_INPUT)
-
-
-def _write_diagram(path, inst, plan, states, as_json: bool) -> None:
-    if not path or plan is None:
-        return
-    from catc.render.diagram import render_svg
-
-    Path(path).write_text(render_svg(inst, plan, states=list(states), title=f"{inst.problem.name} ({inst.domain.name})"),
-                          encoding="utf-8")
-    if not as_json:
-        click.echo(f"diagram written to {path}", err=True)
 
 
 def _excerpt_fn():

@@ -58,6 +58,7 @@ class LabelledModel:
         slack: dict[str, str] | None = None,
         slack_decls: list[tuple[str, str]] = (),  # type: ignore[assignment]
         optimize: bool = False,
+        ctx: z3.Context | None = None,
     ):
         self.inst = inst
         self.k = horizon
@@ -90,13 +91,13 @@ class LabelledModel:
         decls = list(slack_decls) + enc.script.decls + [
             (q, "Bool") for label, q in self.indicator.items() if label not in enc.indicators
         ]
-        self.session = Z3Session(enc, optimize=optimize)
+        self.session = Z3Session(enc, optimize=optimize, ctx=ctx)
         enc.script.asserts = [(None, t) for t in structural] + [
             (label, f"(=> {self.indicator[label]} {_and(parts)})") for label, parts in groups.items()
         ]
         enc.script.decls = decls
         self.session.flush()
-        self._ind_expr = {label: z3.Bool(q[1:-1]) for label, q in self.indicator.items()}
+        self._ind_expr = {label: z3.Bool(q[1:-1], self.session.ctx) for label, q in self.indicator.items()}
         self.checks = 0
 
     def check(self, labels: Iterable[str], timeout: float | None = None) -> tuple[z3.CheckSatResult, list[str]]:
@@ -328,9 +329,10 @@ def relax(
     # loop ends when no cheaper relaxation exists (proven) or at the time limit (best found).
     deadline = start + timeout if timeout else None
     models = []
+    ctx = z3.Context()  # one for both: a skeleton found by one is asserted in the other
     for optimize in (False, True):
         lm = LabelledModel(inst, k, sequential=sequential, components=components, horizon_label=False,
-                           slack=slack, slack_decls=slack_decls, optimize=optimize)
+                           slack=slack, slack_decls=slack_decls, optimize=optimize, ctx=ctx)
         lm.session.solver.add(lm.session.parse_term(_and([f"(>= {v} 0)" for _, vs in slack_vars for v in vs])))
         for l in lm.labels:
             lm.session.solver.add(lm._ind_expr[l])
@@ -361,7 +363,7 @@ def relax(
         if r == z3.unknown:
             break
         m = feas.session.solver.model()
-        skeleton = [z3.Bool(q[1:-1]) == m.eval(z3.Bool(q[1:-1]), model_completion=True) for q in acts]
+        skeleton = [z3.Bool(q[1:-1], ctx) == m.eval(z3.Bool(q[1:-1], ctx), model_completion=True) for q in acts]
         lp.session.solver.push()
         lp.session.solver.add(skeleton)
         lp.session.set_timeout(_remaining(deadline))
@@ -372,7 +374,7 @@ def relax(
         lm_model = lp.session.solver.model()
         values: dict[str, Fraction] = {}
         for req, vs in slack_vars:
-            amounts = [to_fraction(lm_model.eval(z3.Int(v[1:-1]) if req.integral else z3.Real(v[1:-1]), model_completion=True)) for v in vs]
+            amounts = [to_fraction(lm_model.eval(z3.Int(v[1:-1], ctx) if req.integral else z3.Real(v[1:-1], ctx), model_completion=True)) for v in vs]
             values[req.label] = amounts[0] - amounts[1] if req.kind == "initial value" else amounts[0]
         cost_value = to_fraction(h_cost.value())
         best = (cost_value, values, lp.session.extract(lp.extended))
@@ -380,7 +382,7 @@ def relax(
         if cost_value == 0:
             result.proven = True
             break
-        feas.session.solver.add(feas_cost < z3.RealVal(f"{cost_value.numerator}/{cost_value.denominator}"))
+        feas.session.solver.add(feas_cost < z3.RealVal(f"{cost_value.numerator}/{cost_value.denominator}", ctx))
     if best is None:
         result.status = "unsat" if r == z3.unsat else "unknown"
         return _finish(result, start)

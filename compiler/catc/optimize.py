@@ -251,7 +251,7 @@ def _better_exists(inst, objectives, softs, values: list[Fraction], k: int, sequ
     terms = _objective_terms(enc, session, objectives, softs, k)
     better, ties = [], []
     for term, obj, v in zip(terms, objectives, values):
-        bound = z3.RealVal(f"{v.numerator}/{v.denominator}")
+        bound = z3.RealVal(f"{v.numerator}/{v.denominator}", session.ctx)
         better.append(z3.And(*ties, term < bound if obj.sense is ir.Sense.MINIMIZE else term > bound))
         ties.append(term == bound)
     session.solver.add(z3.Or(*better))
@@ -387,7 +387,7 @@ def _limit_text(v: z3.ExprRef, sense: ir.Sense) -> str:
     """A bound Z3 reports with an infinitesimal (a supremum/infimum that no composition
     reaches), as 'sup 4 (not attained)'."""
     eps = [c for c in _constants(v) if c.decl().name() == "epsilon"]
-    limit = z3.simplify(z3.substitute(v, *[(e, z3.RealVal(0)) for e in eps])) if eps else v
+    limit = z3.simplify(z3.substitute(v, *[(e, z3.RealVal(0, v.ctx)) for e in eps])) if eps else v
     word = "infimum" if sense is ir.Sense.MINIMIZE else "supremum"
     try:
         from catc.sexpr import number_text

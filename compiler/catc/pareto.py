@@ -80,7 +80,7 @@ def pareto(
     result.timings["encode"] = time.perf_counter() - start
 
     def better(i: int, v: Fraction, strict: bool) -> z3.BoolRef:
-        e, lit = exprs[i], z3.RealVal(f"{v.numerator}/{v.denominator}")
+        e, lit = exprs[i], z3.RealVal(f"{v.numerator}/{v.denominator}", exprs[i].ctx)
         if objectives[i].sense is ir.Sense.MINIMIZE:
             return e < lit if strict else e <= lit
         return e > lit if strict else e >= lit

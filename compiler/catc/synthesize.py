@@ -173,7 +173,7 @@ def synthesize(
         result.status = "unsat" if r == z3.unsat else "unknown"
         return _finish(result, start)
     model = opt.model()
-    step = next(t for t, q in enumerate(mu.acts) if z3.is_true(model.eval(z3.Bool(q[1:-1]), model_completion=True)))
+    step = next(t for t, q in enumerate(mu.acts) if z3.is_true(model.eval(z3.Bool(q[1:-1], model.ctx), model_completion=True)))
     effects = _effects(model, mu, inst)
     skeleton = ir.Morphism(hole.name, ir.MorphismKind.SOFTWARE, (), (), tuple(effects), uses=1,
                            doc="synthesised by catc for hole " + hole.name)
@@ -201,20 +201,20 @@ def _effects(model: z3.ModelRef, mu: _Hole, inst: ir.Instance) -> list[ir.Effect
     out: list[ir.Effect] = []
     n = 0
     for kind, sel, r, value in mu.selectors:
-        if not z3.is_true(model.eval(z3.Bool(sel[1:-1]), model_completion=True)):
+        if not z3.is_true(model.eval(z3.Bool(sel[1:-1], model.ctx), model_completion=True)):
             continue
         n += 1
         label = f"eff/{mu.hole.name}/{n}"
         if kind in ("set", "clear"):
             out.append(ir.Effect(ir.EffectKind.ASSIGN, r.name, ir.Const(kind == "set", ir.BOOL), label))
         elif kind == "change":
-            raw = model.eval(z3.Int(value[1:-1]) if r.sort.kind is SortKind.INT else z3.Real(value[1:-1]), model_completion=True)
+            raw = model.eval(z3.Int(value[1:-1], model.ctx) if r.sort.kind is SortKind.INT else z3.Real(value[1:-1], model.ctx), model_completion=True)
             amount = to_fraction(raw)
             k = ir.EffectKind.INCREASE if amount >= 0 else ir.EffectKind.DECREASE
             out.append(ir.Effect(k, r.name, ir.Const(abs(amount), r.sort if r.sort.kind is SortKind.INT else ir.REAL), label))
         else:
             sort = r.sort.element if kind != "assign" else r.sort
-            index = model.eval(z3.Int(value[1:-1]), model_completion=True).as_long()
+            index = model.eval(z3.Int(value[1:-1], model.ctx), model_completion=True).as_long()
             universe = mu.enc.grounding.universe(sort)  # type: ignore[arg-type]
             element = ir.Const(universe.elements[index], sort)  # type: ignore[arg-type]
             kinds = {"add": ir.EffectKind.ADD, "remove": ir.EffectKind.REMOVE, "assign": ir.EffectKind.ASSIGN}
@@ -228,7 +228,7 @@ def _plan_with_mu(plan_without: Plan, model, mu: _Hole, step: int, name: str, k:
     steps = []
     for t in range(k):
         acts = [Activation(m.name, _params(model, enc, t, m)) for m in enc.morphisms
-                if z3.is_true(model.eval(z3.Bool(enc.act[t][m.name][1:-1]), model_completion=True))]
+                if z3.is_true(model.eval(z3.Bool(enc.act[t][m.name][1:-1], model.ctx), model_completion=True))]
         if t == step:
             acts.append(Activation(name))
         if acts:

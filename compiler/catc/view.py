@@ -13,7 +13,7 @@ the view is a composition of the same components.
 
 from __future__ import annotations
 
-from dataclasses import replace
+from catgrammar.record import replace
 
 from catc import ir
 

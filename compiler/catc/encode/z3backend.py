@@ -34,14 +34,21 @@ def _commands(decls, asserts) -> str:
 
 class Z3Session:
     """``optimize=True`` drives a ``z3.Optimize`` instead of a ``z3.Solver``; ``logic`` (e.g.
-    ``"QF_LRA"``) configures the solver for that logic (``z3.SolverFor``)."""
+    ``"QF_LRA"``) configures the solver for that logic (``z3.SolverFor``).
 
-    def __init__(self, enc: Encoder, *, optimize: bool = False, logic: str | None = None):
+    A session works in its own Z3 context unless given one (``ctx``, for sessions whose
+    terms meet): Z3's term ids, and with them its search and the model it returns, depend
+    on every term its context has seen, so in the shared default context the same query
+    could get a different (equally valid) answer after other queries in one process — in
+    the language server, the lifelong loop, tests.  A fresh context costs about 1 ms."""
+
+    def __init__(self, enc: Encoder, *, optimize: bool = False, logic: str | None = None, ctx: z3.Context | None = None):
         self.enc = enc
+        self.ctx = ctx = z3.Context() if ctx is None else ctx
         if optimize:
-            self.solver = z3.Optimize()
+            self.solver = z3.Optimize(ctx=ctx)
         else:
-            self.solver = z3.SolverFor(logic) if logic else z3.Solver()
+            self.solver = z3.SolverFor(logic, ctx=ctx) if logic else z3.Solver(ctx=ctx)
 
     def flush(self) -> None:
         decls, asserts = self.enc.script.take()
@@ -60,7 +67,7 @@ class Z3Session:
         self.solver.push()
         if extra:
             self.solver.from_string("".join(f"(assert {c})" for c in extra))
-        return self.solver.check(*[z3.Bool(a[1:-1] if a.startswith("|") else a) for a in assumptions])
+        return self.solver.check(*[z3.Bool(a[1:-1] if a.startswith("|") else a, self.ctx) for a in assumptions])
 
     def pop(self) -> None:
         self.solver.pop()
@@ -77,7 +84,7 @@ class Z3Session:
         for t in range(steps):
             step = []
             for m in enc.morphisms:
-                if not z3.is_true(model.eval(z3.Bool(enc.act[t][m.name][1:-1]), model_completion=True)):
+                if not z3.is_true(model.eval(z3.Bool(enc.act[t][m.name][1:-1], model.ctx), model_completion=True)):
                     continue
                 params = {}
                 for p in m.params:
@@ -95,17 +102,17 @@ class Z3Session:
         """An encoded term as a Z3 expression (for objectives and cores)."""
         self.flush()
         decls = "".join(f"(declare-fun {n} () {s})" for n, s in self.enc.script.decls)
-        return z3.parse_smt2_string(f"{decls}(assert (= {text} {text}))")[0].arg(0)
+        return z3.parse_smt2_string(f"{decls}(assert (= {text} {text}))", ctx=self.ctx)[0].arg(0)
 
 
 def value_in_model(model: z3.ModelRef, name: str, sort: ir.Sort, enc: Encoder, fresh: dict[str, str]):
     """The value of variable ``name`` of IR sort ``sort`` (symbols decoded through the
     grounding; fresh values recorded in ``fresh``)."""
     if sort.kind is SortKind.BOOL:
-        return z3.is_true(model.eval(z3.Bool(name), model_completion=True))
+        return z3.is_true(model.eval(z3.Bool(name, model.ctx), model_completion=True))
     if sort.kind is SortKind.REAL:
-        return to_fraction(model.eval(z3.Real(name), model_completion=True))
-    raw = model.eval(z3.Int(name), model_completion=True).as_long()
+        return to_fraction(model.eval(z3.Real(name, model.ctx), model_completion=True))
+    raw = model.eval(z3.Int(name, model.ctx), model_completion=True).as_long()
     if sort.kind is SortKind.INT:
         return Fraction(raw)
     u = enc.grounding.universe(sort)

@@ -1,0 +1,177 @@
+"""The ``catc`` executable's click-free route for plain ``catc solve`` command lines
+(catc.entry): it reads arguments exactly as click does or leaves them to click, and the
+command then behaves the same whichever route it took."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import tomllib
+
+import click
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from catc import cli, command
+from catc.entry import SOLVE_DEFAULTS, SOLVE_OPTIONS, parse_solve
+from conftest import ROOT, run_catc
+
+EXAMPLES = ROOT / "examples"
+
+
+def click_params(args: list[str]) -> dict | None:
+    """What click passes to the ``solve`` command for ``args`` (None: click rejects them)."""
+    try:
+        with cli.solve.make_context("solve", list(args)) as ctx:
+            return dict(ctx.params)
+    except (click.ClickException, click.exceptions.Exit):
+        return None
+
+
+def test_options_and_defaults_are_clicks():
+    options = {name: p for p in cli.solve.params for name in p.opts}
+    for name, (dest, kind) in SOLVE_OPTIONS.items():
+        assert options[name].name == dest
+        assert options[name].is_flag == (kind == "flag")
+        if isinstance(kind, tuple):
+            assert kind == tuple(options[name].type.choices)
+    defaults = click_params(["p.cat"])
+    assert defaults.pop("paths") == ("p.cat",) and defaults == SOLVE_DEFAULTS
+
+
+PLAIN = [
+    ["p.cat"],
+    ["d.cat", "p.cat"],
+    ["p.cat", "--json"],
+    ["--json", "d.cat", "p.cat", "--sequential", "--no-prune"],
+    ["-k", "3", "p.cat"],
+    ["-k3", "p.cat"],
+    ["--horizon=12", "p.cat", "--horizon", "4"],  # the last one counts, as in click
+    ["p.cat", "--timeout", "2.5", "--strategy", "single"],
+    ["p.cat", "--timeout=10", "--view", "sim", "--problem", "detect-person"],
+    ["p.cat", "--horizon", "007"],
+    [""],  # an empty path: click passes it on (and the command reports it unreadable)
+]
+
+
+@pytest.mark.parametrize("args", PLAIN, ids=" ".join)
+def test_plain_command_lines_are_read_as_click_reads_them(args):
+    params = parse_solve(args)
+    assert params is not None
+    assert params == click_params(args)
+
+
+LEFT_TO_CLICK = [
+    [],
+    ["a.cat", "b.cat", "c.cat"],  # click's usage error, from the command
+    ["--help"], ["-h", "p.cat"],
+    ["p.cat", "--path", "lib"],
+    ["p.cat", "--diagram", "out.svg"],
+    ["--", "p.cat"], ["-", "p.cat"],
+    ["p.cat", "-k", "-1"], ["p.cat", "-k"], ["p.cat", "-k=3"], ["p.cat", "--horizon="],
+    ["p.cat", "--horizon", "3.0"], ["p.cat", "--horizon", "٣"], ["p.cat", "--horizon", " 3"],
+    ["p.cat", "--timeout", "0"], ["p.cat", "--timeout", "nan"], ["p.cat", "--timeout", "1e3"],
+    ["p.cat", "--timeout", "-1"], ["p.cat", "--timeout", ".5"], ["p.cat", "--timeout", "5."],
+    ["p.cat", "--view", "--json"], ["p.cat", "--view", ""], ["p.cat", "--view"],
+    ["p.cat", "--strategy", "Single"], ["p.cat", "--json=1"], ["p.cat", "--jso"], ["p.cat", "-x"],
+    ["p.cat", "--version"],
+]
+
+
+@pytest.mark.parametrize("args", LEFT_TO_CLICK, ids=lambda a: " ".join(a) or "(none)")
+def test_other_command_lines_are_left_to_click(args):
+    assert parse_solve(args) is None
+
+
+WORDS = sorted({*SOLVE_OPTIONS, "--path", "--diagram", "--help", "-h", "--", "-", "-x", "--jso", "--version"}) + [
+    "p.cat", "d.cat", "", "0", "3", "-1", "07", "2.5", "0.0", "nan", "inf", "1e3", ".5", "x", "sim",
+    "single", "incremental", "Single", "-k3", "-k=3", "--horizon=2", "--horizon=", "--json=1",
+    "--timeout=0.5", "--view=", "--strategy=single", "lib", "out.svg", "٣", " 3",
+]
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.lists(st.sampled_from(WORDS), max_size=7))
+def test_whatever_is_read_here_click_reads_the_same(args):
+    params = parse_solve(args)
+    if params is not None:
+        assert params == click_params(args)
+
+
+# ---------------------------------------------------------------- the same command either way
+
+
+def solve_cases():
+    for expect in sorted(EXAMPLES.glob("*/expect.toml")):
+        for case in tomllib.loads(expect.read_text())["case"]:
+            args = [str(expect.parent / case["file"])] + (["--problem", case["problem"]] if "problem" in case else [])
+            yield pytest.param(args, id=f"{expect.parent.name}/{case['file']}:{case.get('problem', '')}")
+
+
+def without_timings(text: str) -> str:
+    return "\n".join(line for line in text.splitlines() if not line.startswith("time: "))
+
+
+@pytest.mark.parametrize("args", solve_cases())
+def test_both_routes_answer_every_example_alike(args):
+    assert parse_solve(args) is not None and parse_solve(args + ["--json"]) is not None
+    fast, slow = run_catc("solve", *args), run_catc("solve", *args, via_click=True)
+    assert fast.exit_code == slow.exit_code and fast.exit_code in (0, 1)
+    assert without_timings(fast.stdout) == without_timings(slow.stdout) and fast.stderr == slow.stderr
+    fast, slow = run_catc("solve", *args, "--json"), run_catc("solve", *args, "--json", via_click=True)
+    docs = [json.loads(r.stdout) for r in (fast, slow)]
+    for doc in docs:
+        doc.pop("timings")
+    assert fast.exit_code == slow.exit_code and docs[0] == docs[1]
+
+
+@pytest.mark.parametrize("args", [
+    ["missing.cat"],
+    ["missing.cat", "--json"],
+    [str(ROOT / "tests/fixtures/invalid/names.cat")],
+    [str(EXAMPLES / "detection/person.cat"), "--view", "no-such-view"],
+    [str(EXAMPLES / "detection/person.cat"), "--problem", "no-such-problem", "--json"],
+    [str(EXAMPLES / "navigation/precise.cat"), "--sequential", "-k", "0"],
+], ids=" ".join)
+def test_both_routes_report_bad_input_alike(args):
+    assert parse_solve(args) is not None
+    fast, slow = run_catc("solve", *args), run_catc("solve", *args, via_click=True)
+    assert (fast.exit_code, without_timings(fast.stdout), fast.stderr) == (slow.exit_code, without_timings(slow.stdout), slow.stderr)
+
+
+def test_interrupt_and_internal_errors_are_reported_as_click_does(monkeypatch):
+    person = str(EXAMPLES / "detection/person.cat")
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    def broken(*args, **kwargs):
+        raise ValueError("a bug")
+
+    monkeypatch.setattr(command, "solve", interrupted)
+    for via_click in (False, True):
+        res = run_catc("solve", person, via_click=via_click)
+        assert res.exit_code == 1 and res.stderr == "\nAborted!\n"
+    monkeypatch.setattr(command, "solve", broken)
+    for via_click in (False, True):
+        res = run_catc("solve", person, via_click=via_click)
+        assert res.exit_code == 70
+        assert res.stderr == "catc: internal error: ValueError: a bug (set CATC_DEBUG=1 for details)\n"
+
+
+def test_a_plain_solve_imports_neither_click_nor_dataclasses():
+    probe = (
+        "import sys\n"
+        "from catc.entry import main\n"
+        "try:\n"
+        "    main(['solve', 'examples/detection/person.cat', '--json'])\n"
+        "except SystemExit as exc:\n"
+        "    code = exc.code\n"
+        "heavy = sorted(m for m in sys.modules if m.split('.')[0] in ('click', 'dataclasses', 'inspect', 'rich'))\n"
+        "print(code, heavy, file=sys.stderr)\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", probe], cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert json.loads(proc.stdout)["status"] == "sat"
+    assert proc.stderr.strip() == "0 []"
