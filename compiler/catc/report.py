@@ -174,8 +174,9 @@ def print_solve(console, inst: ir.Instance, result, *, timings: bool = True, hea
         console.print(f"[bold {colour}]{status}[/]  the solver gave up ({result.reason}) for {where}")
     if timings and result.timings:
         t = result.timings
+        start = f"Z3 start {t['start'] * 1000:.0f} ms, " if "start" in t else ""
         console.print(
-            f"[dim]time: encode {t.get('encode', 0) * 1000:.0f} ms, solve {t.get('solve', 0) * 1000:.0f} ms, "
+            f"[dim]time: {start}encode {t.get('encode', 0) * 1000:.0f} ms, solve {t.get('solve', 0) * 1000:.0f} ms, "
             f"validate {t.get('validate', 0) * 1000:.0f} ms; horizons tried {result.horizons_tried}[/]"
         )
 
