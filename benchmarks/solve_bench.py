@@ -239,10 +239,10 @@ def bench_refutation(runs: int) -> None:
     print("### The refutation behind `optimize --strategy deepen` (event II, 24 steps, better than 10 m)\n")
     print("| Z3 configuration | answer | median (s) | IQR (s) |")
     print("|---|---|---:|---|")
-    for label, make in (("default (`z3.Solver()`)", z3.Solver), ("QF_LRA (`z3.SolverFor('QF_LRA')`)", lambda: z3.SolverFor("QF_LRA"))):
+    for label, make in (("default (`z3.Solver()`)", z3.Solver), ("QF_LRA (`z3.SolverFor('QF_LRA')`)", lambda ctx: z3.SolverFor("QF_LRA", ctx=ctx))):
         walls, answer = [], None
         for _ in range(runs):
-            solver = make()
+            solver = make(ctx=session.ctx)
             solver.add(formula)
             solver.add(term > 10)
             start = time.perf_counter()

@@ -242,7 +242,7 @@ def _better_exists(inst, objectives, softs, values: list[Fraction], k: int, sequ
     """Is there a composition of at most ``k`` steps lexicographically better than ``values``?
 
     Only an ``unsat`` answer is used (as a proof); anything else leads to optimising over the
-    whole horizon.  The check runs on Z3 configured for QF_LRA, measured ~10× faster on
+    whole horizon.  The check runs on Z3 configured for QF_LRA, measured ~8–10× faster on
     these refutations than the default configuration (docs/benchmarks.md); that is sound for
     ``unsat`` even if the configuration treated integer variables as reals, since the
     relaxed formula is implied by the exact one: unsat there implies unsat here."""
