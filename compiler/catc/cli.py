@@ -165,6 +165,13 @@ def _instance(paths: tuple[str, ...], view: str | None, search_paths, problem: s
     return command.instance(paths, view, search_paths, problem, as_json)
 
 
+def _with_progress(as_json: bool, run, *args, **kwargs):
+    """``run(*args, **kwargs)`` with a status line on a terminal: what the query is doing
+    and for how long (``progress`` messages; nothing with ``--json`` or when piped)."""
+    with _progress(not as_json) as status:
+        return run(*args, **kwargs, progress=command.reporter(status))
+
+
 _common_query_options = [
     click.argument("paths", nargs=-1, required=True, type=click.Path()),
     click.option("--horizon", "-k", type=click.IntRange(min=0), help="Most steps a composition may take (default: the problem's (:horizon), else the sum of use limits, else 10)."),
@@ -228,7 +235,8 @@ def optimize(ctx, paths, horizon, view, sequential, search_paths, problem_name, 
     if objectives is None and not objectives_of(inst) and not inst.problem.softs:
         _input_error("nothing to optimise: the problem has no (:metric ...) or (:soft ...); give --minimize or --maximize", as_json)
     try:
-        result = run_optimize(inst, objectives, horizon=horizon, sequential=sequential, timeout=timeout, strategy=strategy)
+        result = _with_progress(as_json, run_optimize, inst, objectives, horizon=horizon, sequential=sequential,
+                                timeout=timeout, strategy=strategy)
     except ValidationFailure as exc:
         click.echo(f"catc: internal error: {exc}", err=True)
         sys.exit(70)
@@ -340,8 +348,8 @@ def diagnose(paths, horizon, view, sequential, search_paths, problem_name, relat
     if relative_to is not None:
         rel = [] if relative_to.strip().lower() == "none" else _parse_components(relative_to)
         _check_components(inst, rel, as_json)
-    result = run_diagnose(inst, horizon=horizon, sequential=sequential, relative_to=rel,
-                          all_cores=all_cores, max_cores=max_cores, timeout=timeout)
+    result = _with_progress(as_json, run_diagnose, inst, horizon=horizon, sequential=sequential, relative_to=rel,
+                            all_cores=all_cores, max_cores=max_cores, timeout=timeout)
     index = label_index(inst)
     if as_json:
         click.echo(json.dumps(diagnosis_json(inst, result, index), indent=2))
@@ -383,7 +391,7 @@ def relax(paths, horizon, view, sequential, search_paths, problem_name, only, we
     if relative_to is not None:
         rel = [] if relative_to.strip().lower() == "none" else _parse_components(relative_to)
         _check_components(inst, rel, as_json)
-    result = run_relax(inst, horizon=horizon, sequential=sequential, only=only, weights=weights,
+    result = _with_progress(as_json, run_relax, inst, horizon=horizon, sequential=sequential, only=only, weights=weights,
                        discrete=discrete, relative_to=rel, timeout=timeout)
     index = label_index(inst)
     if as_json:
@@ -420,7 +428,8 @@ def recompose(paths, horizon, view, sequential, search_paths, problem_name, depl
         _check_components(inst, components, as_json)
     elif not inst.problem.deployed:
         _input_error("no deployed composition: add (:deployed ...) to the problem or pass --deployed", as_json)
-    rec = run_recompose(inst, deployed=components, priority=priority, horizon=horizon, sequential=sequential, timeout=timeout)
+    rec = _with_progress(as_json, run_recompose, inst, deployed=components, priority=priority, horizon=horizon,
+                         sequential=sequential, timeout=timeout)
     if as_json:
         click.echo(json.dumps(recompose_json(inst, rec), indent=2))
     else:

@@ -100,7 +100,7 @@ def console(as_json: bool = False):
 
 
 def progress(enabled: bool):
-    """A rich status line on a terminal (stderr), showing the horizon being tried."""
+    """A rich status line on a terminal (stderr), showing what the query is doing."""
     import contextlib
 
     if not enabled or not sys.stderr.isatty():
@@ -108,6 +108,28 @@ def progress(enabled: bool):
     from rich.console import Console
 
     return Console(stderr=True).status("solving…")
+
+
+def reporter(status) -> Callable[[str], None] | None:
+    """A ``progress(message)`` callback for a query, showing ``message`` on the status line
+    with the time since the query started, kept current while the solver works (rich
+    redraws the line from its own thread); None without a status line."""
+    if status is None:
+        return None
+    import time
+
+    from rich.text import Text
+
+    start = time.perf_counter()
+
+    class Live:
+        def __init__(self, message: str) -> None:
+            self.message = message
+
+        def __rich__(self) -> Text:
+            return Text(f"{self.message} ({time.perf_counter() - start:.1f} s)")
+
+    return lambda message: status.update(Live(message))
 
 
 def input_error(message: str, as_json: bool) -> NoReturn:

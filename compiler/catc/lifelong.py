@@ -23,7 +23,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Iterable
+from typing import Callable, Iterable
 
 import z3
 
@@ -165,6 +165,7 @@ def diagnose(
     all_cores: bool = False,
     max_cores: int = 5,
     timeout: float | None = None,
+    progress: Callable[[str], None] | None = None,
 ) -> Diagnosis:
     start = time.perf_counter()
     deadline = start + timeout if timeout else None
@@ -173,6 +174,8 @@ def diagnose(
     model = LabelledModel(inst, k, sequential=sequential, components=components)
     result = Diagnosis("unknown", total=len(model.labels), relative_to=components, horizon=k)
     result.timings["encode"] = time.perf_counter() - start
+    say = progress or (lambda message: None)
+    say(f"checking {len(model.labels)} requirements together")
     r, core = model.check(model.labels, _remaining(deadline))
     if r == z3.sat:
         result.status = "sat"
@@ -193,6 +196,7 @@ def diagnose(
             r, core = model.check(labels, _remaining(deadline))
             if r != z3.unsat:
                 continue
+            say(f"{len(found)} core(s) found; shrinking a core of {len(core)} requirements")
             mus = _shrink(model, core, deadline)
             if mus is None:
                 result.complete = False
@@ -299,6 +303,7 @@ def relax(
     discrete: bool = False,
     relative_to: Iterable[str] | None = None,
     timeout: float | None = None,
+    progress: Callable[[str], None] | None = None,
 ) -> RelaxResult:
     from catc.validate import validate
 
@@ -306,7 +311,9 @@ def relax(
     k = default_horizon(inst) if horizon is None else horizon
     components = (tuple(relative_to) or None) if relative_to is not None else (inst.problem.deployed or None)
     result = RelaxResult("unknown", horizon=k)
+    say = progress or (lambda message: None)
     if discrete:
+        say("looking for the fewest requirements to drop")
         return _relax_discrete(inst, k, sequential, components, timeout, result, start)
 
     reqs = eligible_requirements(inst, only, weights)
@@ -354,6 +361,7 @@ def relax(
     result.timings["encode"] = time.perf_counter() - start
     best = None
     result.proven = False
+    say("looking for a restoration")
     while True:
         feas.session.set_timeout(_remaining(deadline))
         r = feas.session.solver.check()
@@ -382,6 +390,7 @@ def relax(
         if cost_value == 0:
             result.proven = True
             break
+        say(f"best restoration so far: weighted total {cost_value}; is there a cheaper one?")
         feas.session.solver.add(feas_cost < z3.RealVal(f"{cost_value.numerator}/{cost_value.denominator}", ctx))
     if best is None:
         result.status = "unsat" if r == z3.unsat else "unknown"
@@ -485,6 +494,7 @@ def recompose(
     horizon: int | None = None,
     sequential: bool = False,
     timeout: float | None = None,
+    progress: Callable[[str], None] | None = None,
 ) -> Recomposition:
     from catc.optimize import objectives_of, optimize
 
@@ -494,7 +504,7 @@ def recompose(
     mission = [o for o in mission if not isinstance(o.term, ir.TotalChurn)]
     churn = ir.Objective(ir.Sense.MINIMIZE, ir.TotalChurn())
     order = [churn] + mission if priority == "stability" else mission + [churn]
-    result = optimize(inst, order, horizon=horizon, sequential=sequential, timeout=timeout)
+    result = optimize(inst, order, horizon=horizon, sequential=sequential, timeout=timeout, progress=progress)
     rec = Recomposition(result, inst.problem.deployed, priority)
     if result.plan is not None:
         used = result.plan.components

@@ -11,6 +11,7 @@ validator's, and it must equal the solver's (else: internal error).
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from enum import Enum
 from fractions import Fraction
@@ -81,6 +82,7 @@ def optimize(
     prune: bool = True,
     strategy: str = "deepen",
     deepen_from: int | None = None,
+    progress: Callable[[str], None] | None = None,
 ) -> OptResult:
     """The optimum over every composition of at most ``horizon`` steps.
 
@@ -92,7 +94,9 @@ def optimize(
     optimise over the whole horizon.  The refutation and the optimisation over the whole
     horizon alternate with doubling time budgets, as neither is always faster.  Both
     strategies give the same optimum.  Below ``deepen_from`` steps of horizon (default
-    :data:`DEEPEN_FROM`) ``deepen`` uses the single encoding, which is then as cheap."""
+    :data:`DEEPEN_FROM`) ``deepen`` uses the single encoding, which is then as cheap.
+    ``progress(message)`` is told what is being tried as it starts."""
+    say = progress or (lambda message: None)
     objectives = objectives_of(inst) if objectives is None else objectives
     softs = list(inst.problem.softs)
     if not objectives and softs:
@@ -105,11 +109,13 @@ def optimize(
     start = time.perf_counter()
     deadline = start + timeout if timeout else None
     if strategy == "single" or k < (DEEPEN_FROM if deepen_from is None else deepen_from):
+        say(f"optimising over {k} steps")
         return _done(_optimize_at(inst, objectives, softs, k, sequential, deadline, prune), start)
 
     from catc.solve import Status, solve
 
-    first = solve(inst, horizon=k, sequential=sequential, timeout=timeout, validate_answer=False, prune=False)
+    first = solve(inst, horizon=k, sequential=sequential, timeout=timeout, validate_answer=False, prune=False,
+                  progress=lambda t, k, elapsed: say(f"looking for a first composition: horizon {t} of {k}"))
     timings = {"encode": first.timings["encode"], "solve": first.timings["solve"], "validate": 0.0}
     if first.status is Status.UNSAT:
         return _done(OptResult(OptStatus.UNSAT, k, timings=timings), start)
@@ -135,10 +141,12 @@ def optimize(
         # within the whole horizon, on a budget as long as the time spent so far.
         values0 = _scores(inst, first.plan, objectives, softs, k, sequential, report0)
         if None not in values0:
+            say(f"first composition: {k0} steps; is there a better one within {k} steps?")
             budget0 = max(0.25, time.perf_counter() - start)
             r = _better_exists(inst, objectives, softs, values0, k, sequential, _sooner(deadline, budget0), timings)
             if r == z3.unsat:
                 return first_plan(OptStatus.OPT)
+    say(f"optimising over {k0} steps")
     short = None if _expired(deadline) else _optimize_at(inst, objectives, softs, k0, sequential, deadline, prune)
     if short is None or (short.plan is None and _expired(deadline)):
         return first_plan(OptStatus.SUBOPT, "timeout")  # out of time: the first composition is the best known
@@ -150,6 +158,7 @@ def optimize(
         if short.status is OptStatus.SUBOPT and _expired(deadline):
             short.timings = timings
             return _done(short, start)
+        say(f"optimising over all {k} steps")
         whole = _optimize_at(inst, objectives, softs, k, sequential, deadline, prune)
         _add_timings(timings, whole.timings)
         whole.timings = timings
@@ -166,6 +175,7 @@ def optimize(
     refute = True
     while True:
         if refute:
+            say(f"optimum over {k0} steps: {_values_text(values)}; is there a better one within {k} steps?")
             limit = _sooner(deadline, budget)
             r = _better_exists(inst, objectives, softs, values, k, sequential, limit, timings)
             if r == z3.unsat:  # nothing better within the whole horizon: the short optimum is it
@@ -177,6 +187,7 @@ def optimize(
         if _expired(deadline):
             break
         limit = _sooner(deadline, None if not refute else budget)
+        say(f"optimum over {k0} steps: {_values_text(values)}; optimising over all {k} steps")
         whole = _optimize_at(inst, objectives, softs, k, sequential, limit, prune)
         _add_timings(timings, whole.timings)
         if whole.reason != "timeout":  # finished
@@ -190,6 +201,10 @@ def optimize(
         budget *= 2
     short.status, short.reason, short.timings = OptStatus.SUBOPT, "timeout", timings
     return _done(short, start)
+
+
+def _values_text(values: list[Fraction]) -> str:
+    return ", ".join(str(v) for v in values)
 
 
 def _sooner(deadline: float | None, budget: float | None) -> float | None:
