@@ -62,7 +62,9 @@ def test_input_errors_exit_2_with_diagnostics(tmp_path):
     res = run_catc("solve", str(bad), "--json")
     assert res.exit_code == 2 and json.loads(res.stdout)["diagnostics"][0]["code"] == "E0207"
     res = run_catc("solve", str(tmp_path / "missing.cat"))
-    assert res.exit_code == 2 and "E0001" in res.stderr
+    assert res.exit_code == 2 and "E0001" in res.stderr and "no such file" in res.stderr
+    res = run_catc("solve", str(tmp_path))
+    assert res.exit_code == 2 and f"error[E0001]: cannot read '{tmp_path}': it is a folder; give a .cat file" in res.stderr
     res = run_catc("solve", "a.cat", "b.cat", "c.cat")
     assert res.exit_code == 2
 

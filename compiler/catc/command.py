@@ -68,7 +68,9 @@ def instance(paths: tuple[str, ...], view: str | None, search_paths, problem: st
     domain_path, problem_path = (None, paths[0]) if len(paths) == 1 else paths
     diags = Diagnostics()
     for p in paths:
-        if not Path(p).is_file():
+        if Path(p).is_dir():
+            diags.report("E0001", f"cannot read '{p}': it is a folder; give a .cat file", None)
+        elif not Path(p).is_file():
             diags.report("E0001", f"cannot read '{p}': no such file", None)
     inst = None
     if not diags.has_errors:
