@@ -16,7 +16,8 @@ from __future__ import annotations
 import os
 import sys
 from pathlib import Path
-from typing import Any, Callable, NoReturn
+from collections.abc import Callable
+from typing import Any, NoReturn
 
 EXIT_OK = 0
 EXIT_FAIL = 1
@@ -172,12 +173,11 @@ def solve(paths: tuple[str, ...], horizon: int | None = None, view: str | None =
 
     inst = instance(paths, view, search_paths, problem_name, as_json)
     with progress(not as_json) as status:
-        def report_progress(t, k, elapsed):
-            if status is not None:
-                status.update(f"solving: horizon {t} of {k} ({elapsed:.1f} s)")
+        report = reporter(status)
         try:
-            result = run_solve(inst, horizon=horizon, sequential=sequential, timeout=timeout,
-                               progress=report_progress, strategy=strategy, prune=not no_prune)
+            result = run_solve(inst, horizon=horizon, sequential=sequential, timeout=timeout, strategy=strategy,
+                               progress=report and (lambda t, k, elapsed: report(f"solving: horizon {t} of {k}")),
+                               prune=not no_prune)
         except ValidationFailure as exc:
             echo(f"catc: internal error: {exc}", err=True)
             sys.exit(EXIT_INTERNAL)

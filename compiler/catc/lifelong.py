@@ -23,7 +23,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Callable, Iterable
+from collections.abc import Callable, Iterable
 
 import z3
 
