@@ -1026,20 +1026,43 @@ def _fmt(v: Fraction | None) -> str:
 
 
 def check_objective_text(text: str, inst: ir.Instance, diags: Diagnostics, origin: str) -> ir.Expr | None:
-    """A numeric objective term given on the command line (``--minimize EXPR``), checked
-    against an instance.  Diagnostics point into the pseudo-file ``origin``."""
+    """A numeric objective term given on the command line (``--minimize EXPR``) or through
+    the API, checked against an instance.  Diagnostics point into ``text`` itself, as the
+    pseudo-file ``origin`` (the term is parsed inside a wrapper problem; the wrapper never
+    shows)."""
     from catgrammar.parser import parse_text
+    from catgrammar.span import Source
 
     prefix = "(define (problem objective) (:metric minimize "
     wrapped = prefix + text + "))"
-    parsed = parse_text(wrapped, origin, diags)
-    if parsed is None:
+    local = Diagnostics()
+    term = None
+    parsed = parse_text(wrapped, origin, local)
+    if parsed is not None:
+        metric = next((s for s in parsed.definitions[0].sections if isinstance(s, ast.Metric)), None)
+        if metric is None or len(metric.objectives) != 1:
+            local.report("E0505", f"expected one objective term, got {text!r}", None)
+        else:
+            constants = inst.constants()
+            scope = Scope(inst.domain.sorts, constants, inst.domain.resources, {}, inst.domain.morphisms)
+            term = ExprChecker(scope, local, lambda *args: None).numeric(metric.objectives[0].term, Context.OBJECTIVE)
+    diags.add_source(Source(origin, text))
+    for d in local:
+        diags.report(d.code, d.message, _unwrapped(d.span, len(prefix), text),
+                     *[Note(n.message, _unwrapped(n.span, len(prefix), text)) for n in d.notes], severity=d.severity)
+    return None if local.has_errors else term
+
+
+def _unwrapped(span: Span | None, shift: int, text: str) -> Span | None:
+    """A span of the wrapped objective text moved onto the term ``text`` alone (clamped to it)."""
+    if span is None:
         return None
-    metric = next((s for s in parsed.definitions[0].sections if isinstance(s, ast.Metric)), None)
-    if metric is None or len(metric.objectives) != 1:
-        diags.report("E0505", f"expected one objective term, got {text!r}", None)
-        return None
-    constants = inst.constants()
-    scope = Scope(inst.domain.sorts, constants, inst.domain.resources, {}, inst.domain.morphisms)
-    checker = ExprChecker(scope, diags, lambda *args: None)
-    return checker.numeric(metric.objectives[0].term, Context.OBJECTIVE)
+    start = min(max(span.start - shift, 0), len(text))
+    end = min(max(span.end - shift, start), len(text))
+
+    def position(offset: int) -> tuple[int, int]:
+        line_start = text.rfind("\n", 0, offset) + 1
+        return text.count("\n", 0, offset) + 1, offset - line_start + 1
+
+    (line, column), (end_line, end_column) = position(start), position(end)
+    return span._replace(line=line, column=column, end_line=end_line, end_column=end_column, start=start, end=end)

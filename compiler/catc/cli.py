@@ -479,20 +479,9 @@ def pareto(ctx, paths, horizon, view, sequential, search_paths, problem_name, mi
             click.echo(f"catc: error: {exc}", err=True)
             sys.exit(EXIT_INPUT)
     if as_json:
-        from catc.plan import decimal_text, value_to_json
+        from catc.report import pareto_json
 
-        click.echo(json.dumps({
-            "schema": "catc.pareto/1",
-            "status": result.status,
-            "complete": result.complete,
-            "objectives": [{"sense": o.sense.value, "term": to_text(o.term)} for o in objectives],
-            "points": [{"values": [value_to_json(v) for v in p.values],
-                        "decimals": [decimal_text(v) for v in p.values],
-                        "components": sorted(p.plan.components),
-                        "steps": [[{"morphism": a.morphism, "params": {k: value_to_json(v) for k, v in a.params.items()}}
-                                   for a in step] for step in p.plan.steps]} for p in result.points],
-            "timings": {k: round(v, 6) for k, v in result.timings.items()},
-        }, indent=2))
+        click.echo(json.dumps(pareto_json(inst, result), indent=2))
     else:
         from catc.report import Table, show_value
 
@@ -540,19 +529,9 @@ def synthesize(paths, horizon, view, sequential, search_paths, problem_name, hol
         _input_error(str(exc), as_json)
     skeleton = to_cat(result.morphism, result.hole) if result.morphism is not None else None
     if as_json:
-        from catc.sexpr import effect_text, to_text
+        from catc.report import synthesize_json
 
-        m = result.morphism
-        click.echo(json.dumps({
-            "schema": "catc.synthesize/1",
-            "status": result.status,
-            "hole": result.hole.name,
-            "view": result.hole.view,
-            "effects": [effect_text(e) for e in m.effects] if m else None,
-            "preconditions": [to_text(l.expr) for l in m.pre] if m else None,
-            "applied_at_step": result.step,
-            "skeleton": skeleton,
-        }, indent=2))
+        click.echo(json.dumps(synthesize_json(result), indent=2))
     elif emit == "cat":
         if skeleton is None:
             click.echo(f"; no skeleton: {result.status}", err=True)
@@ -593,7 +572,6 @@ def validate(paths, horizon, view, sequential, search_paths, problem_name, plan_
     import json
 
     from catc.plan import PlanFormatError, plan_from_json
-    from catc.report import state_json
     from catc.validate import validate as run_validate
 
     inst = _instance(paths, view, search_paths, problem_name, as_json)
@@ -613,13 +591,9 @@ def validate(paths, horizon, view, sequential, search_paths, problem_name, plan_
         sys.exit(EXIT_INPUT)
     report = run_validate(inst, plan, horizon=horizon, sequential=sequential)
     if as_json:
-        click.echo(json.dumps({
-            "schema": "catc.validate/1",
-            "valid": report.ok,
-            "violations": [{"kind": v.kind, "message": v.message, "step": v.step, "morphism": v.morphism, "label": v.label}
-                           for v in report.violations],
-            "final_state": state_json(report.states[-1]) if report.ok and report.states else None,
-        }, indent=2))
+        from catc.report import validate_json
+
+        click.echo(json.dumps(validate_json(report), indent=2))
     elif report.ok:
         click.echo(f"valid: {len(plan)} steps reach the goal of '{inst.problem.name}'")
     else:

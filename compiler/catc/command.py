@@ -63,24 +63,13 @@ def instance(paths: tuple[str, ...], view: str | None, search_paths, problem: st
     """PROBLEM or DOMAIN PROBLEM (the caller checks there are one or two paths) → the
     checked instance with its view applied, or exit 2 with the diagnostics."""
     from catgrammar.diagnostics import Diagnostics, format_text
-    from catc.loader import load_instance
-    from catc.view import ViewError, apply_view
+    from catc.api import load_checked
 
     domain_path, problem_path = (None, paths[0]) if len(paths) == 1 else paths
     diags = Diagnostics()
-    for p in paths:
-        if Path(p).is_dir():
-            diags.report("E0001", f"cannot read '{p}': it is a folder; give a .cat file", None)
-        elif not Path(p).is_file():
-            diags.report("E0001", f"cannot read '{p}': no such file", None)
-    inst = None
-    if not diags.has_errors:
-        _, inst = load_instance(domain_path, problem_path, diags, search_paths, problem)
-    if inst is not None and not diags.has_errors:
-        try:
-            return apply_view(inst, view)
-        except ViewError as exc:
-            diags.report("E0506", str(exc), exc.span)
+    inst = load_checked(problem_path, domain_path, diags, view=view, problem_name=problem, search_paths=search_paths)
+    if inst is not None:
+        return inst
     if as_json:
         import json
 
@@ -186,7 +175,7 @@ def solve(paths: tuple[str, ...], horizon: int | None = None, view: str | None =
 
         from catc.report import solve_json
 
-        echo(json.dumps(solve_json(inst, result, sequential=sequential, strategy=strategy), indent=2))
+        echo(json.dumps(solve_json(inst, result), indent=2))
     else:
         from catc.report import print_solve
 

@@ -37,7 +37,7 @@ def state_json(state: Mapping[str, Any]) -> dict:
     return {k: value_to_json(v) for k, v in state.items()}
 
 
-def solve_json(inst: ir.Instance, result, *, sequential: bool, strategy: str) -> dict:
+def solve_json(inst: ir.Instance, result) -> dict:
     plan: Plan | None = result.plan
     doc: dict = {
         "schema": "catc.solve/1",
@@ -46,8 +46,8 @@ def solve_json(inst: ir.Instance, result, *, sequential: bool, strategy: str) ->
         "domain": inst.domain.name,
         "view": inst.view,
         "horizon": result.horizon,
-        "sequential": sequential,
-        "strategy": strategy,
+        "sequential": result.sequential,
+        "strategy": result.strategy,
         "steps": None,
         "fresh": None,
         "initial_state": None,
@@ -446,3 +446,47 @@ def recompose_json(inst: ir.Instance, rec) -> dict:
     doc["churn"] = value_to_json(rec.churn) if rec.churn is not None else None
     doc["changes"] = [{"morphism": i.morphism, "change": i.change, "weight": value_to_json(i.weight)} for i in rec.items]
     return doc
+
+
+def pareto_json(inst: ir.Instance, result) -> dict:
+    from catc.sexpr import to_text
+
+    return {
+        "schema": "catc.pareto/1",
+        "status": result.status,
+        "complete": result.complete,
+        "objectives": [{"sense": o.sense.value, "term": to_text(o.term)} for o in result.objectives],
+        "points": [{"values": [value_to_json(v) for v in p.values],
+                    "decimals": [decimal_text(v) for v in p.values],
+                    "components": sorted(p.plan.components),
+                    "steps": [[{"morphism": a.morphism, "params": {k: value_to_json(v) for k, v in a.params.items()}}
+                               for a in step] for step in p.plan.steps]} for p in result.points],
+        "timings": {k: round(v, 6) for k, v in result.timings.items()},
+    }
+
+
+def synthesize_json(result) -> dict:
+    from catc.sexpr import effect_text, to_text
+    from catc.synthesize import to_cat
+
+    m = result.morphism
+    return {
+        "schema": "catc.synthesize/1",
+        "status": result.status,
+        "hole": result.hole.name,
+        "view": result.hole.view,
+        "effects": [effect_text(e) for e in m.effects] if m else None,
+        "preconditions": [to_text(l.expr) for l in m.pre] if m else None,
+        "applied_at_step": result.step,
+        "skeleton": to_cat(m, result.hole) if m is not None else None,
+    }
+
+
+def validate_json(report) -> dict:
+    return {
+        "schema": "catc.validate/1",
+        "valid": report.ok,
+        "violations": [{"kind": v.kind, "message": v.message, "step": v.step, "morphism": v.morphism, "label": v.label}
+                       for v in report.violations],
+        "final_state": state_json(report.states[-1]) if report.ok and report.states else None,
+    }

@@ -40,7 +40,8 @@ class ValidationFailure(RuntimeError):
 class SolveResult:
     """The answer of :func:`solve`; filled in as the search goes."""
 
-    __slots__ = ("status", "horizon", "plan", "states", "final", "length_bound", "reason", "timings", "horizons_tried")
+    __slots__ = ("status", "horizon", "plan", "states", "final", "length_bound", "reason", "timings", "horizons_tried",
+                 "sequential", "strategy")
 
     def __init__(
         self,
@@ -53,6 +54,8 @@ class SolveResult:
         reason: str | None = None,  # why UNKNOWN
         timings: dict[str, float] | None = None,
         horizons_tried: int = 0,
+        sequential: bool = False,  # how it was solved (echoed by catc.solve/1)
+        strategy: str = "incremental",
     ) -> None:
         self.status = status
         self.horizon = horizon
@@ -63,6 +66,8 @@ class SolveResult:
         self.reason = reason
         self.timings: dict[str, float] = {} if timings is None else timings
         self.horizons_tried = horizons_tried
+        self.sequential = sequential
+        self.strategy = strategy
 
     def __repr__(self) -> str:
         return f"SolveResult({self.status.name}, horizon={self.horizon}, plan={self.plan!r})"
@@ -224,6 +229,7 @@ def solve(
         final = bound is not None and k >= bound
         result = SolveResult(Status.UNSAT, k, final=final, length_bound=bound)
     result.horizons_tried = tried
+    result.sequential, result.strategy = sequential, strategy
     if result.status is Status.SAT and validate_answer:
         from catc.validate import validate
 

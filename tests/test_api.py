@@ -1,0 +1,118 @@
+"""The Python API (catc.api): the same answers and documents as the command line, located
+errors as exceptions, objectives from .cat text."""
+
+from __future__ import annotations
+
+import doctest
+import json
+from fractions import Fraction
+
+import pytest
+
+import catc.api
+from catc.api import CatError, Model, load
+from catc.optimize import OptStatus
+from catc.solve import Status
+from conftest import ROOT, run_catc
+
+EX = ROOT / "examples"
+
+
+def test_the_module_example_runs(monkeypatch):
+    monkeypatch.chdir(ROOT)
+    failures, tried = doctest.testmod(catc.api)
+    assert tried >= 4 and failures == 0
+
+
+def without_timings(doc: dict) -> dict:
+    doc.pop("timings", None)
+    return doc
+
+
+# every query: the API's document is the command line's (each query works in its own Z3
+# context, so the two runs are the same computation)
+QUERIES = [
+    ("solve", ["detection/person.cat"], lambda m: m.solve()),
+    ("solve", ["navigation/coarse.cat"], lambda m: m.solve()),
+    ("optimize", ["gpu-allocation/retask.cat"], lambda m: m.optimize()),
+    ("pareto", ["pareto-design/design.cat"], lambda m: m.pareto()),
+    ("diagnose", ["lifelong/budget-cut.cat"], lambda m: m.diagnose()),
+    ("relax", ["lifelong/budget-cut.cat"], lambda m: m.relax()),
+    ("relax", ["lifelong/budget-cut.cat", "--discrete"], lambda m: m.relax(discrete=True)),
+    ("recompose", ["lifelong/cheaper-camera.cat", "--priority", "objective"], lambda m: m.recompose(priority="objective")),
+    ("synthesize", ["holes/talk.cat"], lambda m: m.synthesize()),
+]
+
+
+@pytest.mark.parametrize("command, args, query", QUERIES, ids=[f"{c} {' '.join(a)}" for c, a, _ in QUERIES])
+def test_every_query_gives_the_command_lines_document(command, args, query):
+    model = load(EX / args[0])
+    cli = run_catc(command, str(EX / args[0]), *args[1:], "--json")
+    assert without_timings(model.to_json(query(model))) == without_timings(json.loads(cli.stdout))
+
+
+def test_objectives_from_cat_text():
+    model = load(EX / "gpu-allocation/retask.cat")
+    result = model.optimize([model.minimize("gpu-used")])
+    # the least footprint 2.25 + 9.5 + 2.5 = 14.25 GB (gpu-allocation/expect.toml)
+    assert result.status is OptStatus.OPT and result.values[0].value == Fraction(57, 4)
+    with pytest.raises(CatError) as err:
+        model.maximize("(+ gpu-used no-such-resource)")
+    # located in the term as written (column 13: after "(+ gpu-used "), never in a wrapper around it
+    assert err.value.codes == ["E0202"] and str(err.value).startswith("<maximize>:1:13: error[E0202]")
+    assert "define" not in str(err.value) and " 1 | (+ gpu-used no-such-resource)" in str(err.value)
+    with pytest.raises(CatError) as err:
+        model.minimize("(+ gpu-used\n   nope)")
+    assert str(err.value).startswith("<minimize>:2:4: error[E0202]")
+
+
+def test_validate_takes_a_plan_or_a_document():
+    model = load(EX / "detection/person.cat")
+    answer = model.solve()
+    doc = {"schema": "catc.plan/1", "steps": model.to_json(answer)["steps"]}
+    assert model.validate(answer.plan).ok and model.validate(doc).ok
+    broken = dict(doc, steps=doc["steps"][1:])  # the driver runs before the camera is mounted
+    report = model.validate(broken)
+    assert not report.ok and model.to_json(report)["valid"] is False
+
+
+def test_errors_are_located_exceptions(tmp_path):
+    with pytest.raises(CatError) as err:
+        load(tmp_path / "missing.cat")
+    assert err.value.codes == ["E0001"] and "no such file" in str(err.value)
+    with pytest.raises(CatError) as err:
+        load(tmp_path)
+    assert err.value.codes == ["E0001"] and "it is a folder" in str(err.value)
+    bad = tmp_path / "bad.cat"
+    bad.write_text("(define (problem p) (:domain ghost) (:goal true))\n")
+    with pytest.raises(CatError) as err:
+        load(bad)
+    assert "E0207" in err.value.codes and f"{bad}:1:" in str(err.value)
+    with pytest.raises(CatError) as err:
+        load(EX / "detection/person.cat", view="no-such-view")
+    assert err.value.codes == ["E0506"]
+
+
+def test_views_domains_and_named_problems():
+    full = load(EX / "semantics/view.cat", problem_name="shop-full")
+    assert full.solve().status is Status.UNSAT  # semantics/expect.toml
+    assert load(EX / "semantics/view.cat", problem_name="shop-software").solve().status is Status.SAT
+    model = load(EX / "detection/person.cat", EX / "detection/domain.cat")
+    assert isinstance(model, Model) and "detect-person" in repr(model)
+    with pytest.raises(TypeError):
+        model.to_json("not a result")
+
+
+def test_the_examples_in_docs_api_run(monkeypatch, capsys):
+    import re
+
+    monkeypatch.chdir(ROOT)
+    blocks = re.findall(r"```python\n(.*?)```", (ROOT / "docs/api.md").read_text(encoding="utf-8"), re.S)
+    assert len(blocks) == 2
+    scope: dict = {}
+    for block in blocks:
+        exec(compile(block, "docs/api.md", "exec"), scope)  # noqa: S102 - the documentation's own examples
+    assert scope["answer"].states[-1]["ram"] == Fraction(23, 2)  # 16 - 0.5 - 4 GB, as the comment says
+    assert scope["best"].values[0].value == Fraction(57, 4)
+    assert scope["doc"]["schema"] == "catc.solve/1"
+    assert capsys.readouterr().out.startswith("sat\nmount-rgb-camera {}\n")
