@@ -16,7 +16,7 @@ from catc.loader import load_instance
 from catc.optimize import OptStatus, optimize
 from catc.view import apply_view
 
-from conftest import ROOT, run_catc
+from conftest import ROOT, run_catc, run_catc_process
 from test_solve_property import domains, successors, to_cat
 
 
@@ -204,3 +204,18 @@ def test_short_horizons_use_the_single_encoding(tmp_path, monkeypatch):
     assert inst.problem.horizon < opt.DEEPEN_FROM
     result = opt.optimize(inst)
     assert result.status is OptStatus.OPT and result.values[0].value == 3
+
+
+def test_objectives_keep_their_command_line_order_across_minimize_and_maximize():
+    """Lexicographic order is the order on the command line, also when --minimize and
+    --maximize interleave (click groups each option's values; the order is recorded while
+    parsing, in-process as in a process)."""
+    args = ["--maximize", "confidence", "--minimize", "gpu-used", "--maximize", "(- 0 gpu-used)", "--json"]
+    expected = [("maximize", "confidence"), ("minimize", "gpu-used"), ("maximize", "(- 0 gpu-used)")]
+    retask = str(ROOT / "examples/gpu-allocation/retask.cat")
+    for res in (run_catc("optimize", retask, *args), run_catc_process("optimize", retask, *args)):
+        assert res.exit_code == 0, res.output
+        assert [(o["sense"], o["term"]) for o in json.loads(res.stdout)["objectives"]] == expected
+    res = run_catc("pareto", str(ROOT / "examples/gpu-allocation/retask.cat"), "--maximize", "confidence",
+                   "--minimize", "gpu-used", "--json")
+    assert [(o["sense"], o["term"]) for o in json.loads(res.stdout)["objectives"]] == expected[:2]

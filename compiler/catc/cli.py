@@ -172,6 +172,27 @@ def _with_progress(as_json: bool, run, *args, **kwargs):
         return run(*args, **kwargs, progress=command.reporter(status))
 
 
+_ORDER = "catc.option_order"
+
+
+class _InOrder(click.Command):
+    """A command that records the order its options occurred in (``ctx.meta``): click
+    groups the values of each repeatable option, and ``--minimize a --maximize b
+    --minimize c`` is a lexicographic order across the two options."""
+
+    def make_parser(self, ctx: click.Context):
+        parser = super().make_parser(ctx)
+        parse = parser.parse_args
+
+        def parse_in_order(args):
+            opts, rest, order = parse(args=args)
+            ctx.meta[_ORDER] = [param.name for param in order]
+            return opts, rest, order
+
+        parser.parse_args = parse_in_order
+        return parser
+
+
 _common_query_options = [
     click.argument("paths", nargs=-1, required=True, type=click.Path()),
     click.option("--horizon", "-k", type=click.IntRange(min=0), help="Most steps a composition may take (default: the problem's (:horizon), else the sum of use limits, else 10)."),
@@ -205,7 +226,7 @@ def solve(paths, horizon, view, sequential, search_paths, problem_name, timeout,
     command.solve(paths, horizon, view, sequential, search_paths, problem_name, timeout, strategy, as_json, diagram, no_prune)
 
 
-@main.command()
+@main.command(cls=_InOrder)
 @_query_options
 @click.option("--minimize", "minimize_terms", multiple=True, metavar="EXPR", help="Minimise this term (repeatable; with --maximize, in the order given: lexicographic).")
 @click.option("--maximize", "maximize_terms", multiple=True, metavar="EXPR", help="Maximise this term (repeatable).")
@@ -257,20 +278,10 @@ def _cli_objectives(ctx, inst, as_json):
     from catc import ir
     from catc.check import check_objective_text
 
-    # click does not keep the interleaving of two options; recover it from argv when run as
-    # a program, and fall back to all --minimize terms first otherwise.
-    mins, maxs = list(ctx.params["minimize_terms"]), list(ctx.params["maximize_terms"])
-    raw: list[tuple[str, str]] = []
-    argv = sys.argv
-    i = 0
-    while i < len(argv):
-        if argv[i] in ("--minimize", "--maximize") and i + 1 < len(argv):
-            raw.append((argv[i][2:], argv[i + 1]))
-            i += 2
-            continue
-        i += 1
-    if sorted(t for s, t in raw if s == "minimize") != sorted(mins) or sorted(t for s, t in raw if s == "maximize") != sorted(maxs):
-        raw = [("minimize", t) for t in mins] + [("maximize", t) for t in maxs]
+    # the terms in command-line order: each option's values in order, interleaved as the
+    # options occurred (recorded by _InOrder while parsing)
+    values = {"minimize_terms": iter(ctx.params["minimize_terms"]), "maximize_terms": iter(ctx.params["maximize_terms"])}
+    raw = [(name.removesuffix("_terms"), next(values[name])) for name in ctx.meta.get(_ORDER, ()) if name in values]
     if not raw:
         return None
     diags = Diagnostics()
@@ -439,7 +450,7 @@ def recompose(paths, horizon, view, sequential, search_paths, problem_name, depl
     sys.exit({OptStatus.OPT: EXIT_OK, OptStatus.UNSAT: EXIT_FAIL, OptStatus.UNBOUNDED: EXIT_FAIL}.get(status, EXIT_UNKNOWN))
 
 
-@main.command()
+@main.command(cls=_InOrder)
 @_query_options
 @click.option("--minimize", "minimize_terms", multiple=True, metavar="EXPR", help="An objective to minimise (repeatable; replaces the metric).")
 @click.option("--maximize", "maximize_terms", multiple=True, metavar="EXPR", help="An objective to maximise (repeatable).")
