@@ -114,7 +114,7 @@ def without_timings(text: str) -> str:
     return "\n".join(line for line in text.splitlines() if not line.startswith("time: "))
 
 
-@pytest.mark.parametrize("args", solve_cases())
+@pytest.mark.parametrize("args", list(solve_cases()))
 def test_both_routes_answer_every_example_alike(args):
     assert parse_solve(args) is not None and parse_solve(args + ["--json"]) is not None
     fast, slow = run_catc("solve", *args), run_catc("solve", *args, via_click=True)

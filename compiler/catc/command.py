@@ -15,8 +15,8 @@ from __future__ import annotations
 
 import os
 import sys
-from pathlib import Path
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any, NoReturn
 
 EXIT_OK = 0
@@ -49,7 +49,7 @@ def guarded(call: Callable[..., Any], *args: Any, passthrough: tuple[type[BaseEx
     except RecursionError:
         echo("catc: error: input nests too deeply to process", err=True)
         sys.exit(EXIT_INPUT)
-    except Exception as exc:  # pragma: no cover - a bug, reported without a traceback
+    except Exception as exc:  # a bug, reported without a traceback
         if os.environ.get("CATC_DEBUG"):
             raise
         echo(f"catc: internal error: {type(exc).__name__}: {exc} (set CATC_DEBUG=1 for details)", err=True)
