@@ -116,3 +116,12 @@ def test_the_examples_in_docs_api_run(monkeypatch, capsys):
     assert scope["best"].values[0].value == Fraction(57, 4)
     assert scope["doc"]["schema"] == "catc.solve/1"
     assert capsys.readouterr().out.startswith("sat\nmount-rgb-camera {}\n")
+
+
+def test_long_queries_report_progress():
+    seen: list[str] = []
+    result = load(EX / "lifelong/budget-cut.cat").relax(progress=seen.append)
+    assert result.cost == 19860 and seen[0] == "looking for a restoration"  # lifelong/expect.toml
+    seen.clear()
+    load(EX / "search-and-rescue/event2-out-of-range.cat").optimize(progress=seen.append)
+    assert "first composition: 10 steps; is there a better one within 24 steps?" in seen

@@ -14,13 +14,15 @@ command line over its checked instance; each method returns the query's result o
 replayed by the independent validator where the query produces a composition (as the
 command line does before printing), and :meth:`Model.to_json` turns any result into the
 command's documented ``--json`` document (docs/cli.md).  All numbers are exact
-(:class:`fractions.Fraction`).  Nothing here imports click.
+(:class:`fractions.Fraction`).  The long queries (optimize, diagnose, relax, recompose) take
+``progress``, a function called with a message as each phase starts (what the command line
+shows on its status line).  Nothing here imports click.
 """
 
 from __future__ import annotations
 
 import os
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from fractions import Fraction
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Union
@@ -128,13 +130,14 @@ class Model:
                      prune=prune)
 
     def optimize(self, objectives: Sequence[ir.Objective] | None = None, *, horizon: int | None = None,
-                 sequential: bool = False, timeout: float | None = None, strategy: str = "deepen"):
+                 sequential: bool = False, timeout: float | None = None, strategy: str = "deepen",
+                 progress: Callable[[str], None] | None = None):
         """The best composition (``catc optimize``), lexicographic over ``objectives``
         (default: the problem's metric and soft constraints): a :class:`catc.optimize.OptResult`."""
         from catc.optimize import optimize
 
         return optimize(self.instance, None if objectives is None else list(objectives), horizon=horizon,
-                        sequential=sequential, timeout=timeout, strategy=strategy)
+                        sequential=sequential, timeout=timeout, strategy=strategy, progress=progress)
 
     def pareto(self, objectives: Sequence[ir.Objective] | None = None, *, horizon: int | None = None,
                sequential: bool = False, max_points: int = 100, timeout: float | None = None):
@@ -145,18 +148,19 @@ class Model:
                       sequential=sequential, max_points=max_points, timeout=timeout)
 
     def diagnose(self, *, relative_to: Iterable[str] | None = None, all_cores: bool = False, max_cores: int = 5,
-                 horizon: int | None = None, sequential: bool = False, timeout: float | None = None):
+                 horizon: int | None = None, sequential: bool = False, timeout: float | None = None,
+                 progress: Callable[[str], None] | None = None):
         """Why there is no composition (``catc diagnose``): irreducible cores of labelled
         requirements, a :class:`catc.lifelong.Diagnosis`.  ``relative_to``: the composition
         to keep (default the problem's ``(:deployed ...)``; ``()`` for none)."""
         from catc.lifelong import diagnose
 
         return diagnose(self.instance, horizon=horizon, sequential=sequential, relative_to=relative_to,
-                        all_cores=all_cores, max_cores=max_cores, timeout=timeout)
+                        all_cores=all_cores, max_cores=max_cores, timeout=timeout, progress=progress)
 
     def relax(self, *, only: Iterable[str] = (), weights: Mapping[str, Fraction | int | str] | None = None,
               discrete: bool = False, relative_to: Iterable[str] | None = None, horizon: int | None = None,
-              sequential: bool = False, timeout: float | None = None):
+              sequential: bool = False, timeout: float | None = None, progress: Callable[[str], None] | None = None):
         """The least weighted weakening that restores feasibility (``catc relax``): a
         :class:`catc.lifelong.RelaxResult`.  ``weights`` map labels, label prefixes or
         resources to exact weights."""
@@ -164,18 +168,18 @@ class Model:
 
         exact = None if weights is None else {k: Fraction(v) for k, v in weights.items()}
         return relax(self.instance, horizon=horizon, sequential=sequential, only=only, weights=exact,
-                     discrete=discrete, relative_to=relative_to, timeout=timeout)
+                     discrete=discrete, relative_to=relative_to, timeout=timeout, progress=progress)
 
     def recompose(self, *, deployed: Iterable[str] | None = None, priority: str = "stability",
                   objectives: Sequence[ir.Objective] | None = None, horizon: int | None = None,
-                  sequential: bool = False, timeout: float | None = None):
+                  sequential: bool = False, timeout: float | None = None, progress: Callable[[str], None] | None = None):
         """A new composition with the least churn against the deployed one (``catc
         recompose``): a :class:`catc.lifelong.Recomposition`."""
         from catc.lifelong import recompose
 
         return recompose(self.instance, deployed=deployed, priority=priority,
                          objectives=None if objectives is None else list(objectives), horizon=horizon,
-                         sequential=sequential, timeout=timeout)
+                         sequential=sequential, timeout=timeout, progress=progress)
 
     def synthesize(self, hole: str | None = None, *, horizon: int | None = None, sequential: bool = False,
                    timeout: float | None = None):
