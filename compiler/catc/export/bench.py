@@ -473,6 +473,20 @@ def smtplan_run(loaded: Loaded, exe: str, timeout: float) -> ToolRun:
 # ====================================================================== presentation
 
 
+def _diagnose_row(problem: str, catc_runs: Sequence[ToolRun], enhsp_runs: Sequence[ToolRun], exp: Expected) -> dict:
+    """A lifelong-queries row for diagnose: catc's core against expect.toml, ENHSP's bare
+    "unsolvable"."""
+    got = catc_runs[0].detail.get("cores") or []
+    labels = sorted(x["label"] for x in got[0]) if got else []
+    first = enhsp_runs[0]
+    return {"query": "diagnose", "problem": problem,
+            "catc": {"answer": ("core " + ", ".join(labels)) if labels else catc_runs[0].status,
+                     "agrees": labels == sorted(exp.case.get("diagnose", [])), "wall": [r.wall for r in catc_runs]},
+            "enhsp": {"answer": first.status.upper() + ("; no cause given" if first.status == "unsat" else ""),
+                      "calls": 1, "wall": [r.wall for r in enhsp_runs],
+                      "planning_ms": [r.planning_ms for r in enhsp_runs if r.planning_ms is not None]}}
+
+
 def summary(runs: Sequence[ToolRun]) -> str:
     walls = [r.wall for r in runs]
     if not walls:
@@ -695,16 +709,7 @@ class Bench:
             rec_s.append(run_catc(self.examples / cc, "recompose", ("--priority", "stability"), self.timeout))
             rec_o.append(run_catc(self.examples / cc, "recompose", ("--priority", "objective"), self.timeout))
             e_rec.append(enhsp_run(lc, "opt-hrmax", self.timeout, value_of=churn_of))
-        # diagnose
-        want = sorted(exp_bc.case.get("diagnose", []))
-        got = diag[0].detail.get("cores") or []
-        labels = sorted(x["label"] for x in got[0]) if got else []
-        rows.append({"query": "diagnose", "problem": lf,
-                     "catc": {"answer": ("core " + ", ".join(labels)) if labels else diag[0].status,
-                              "agrees": labels == want, "wall": [r.wall for r in diag]},
-                     "enhsp": {"answer": e_unsat[0].status.upper() + ("; no cause given" if e_unsat[0].status == "unsat" else ""),
-                               "calls": 1, "wall": [r.wall for r in e_unsat],
-                               "planning_ms": [r.planning_ms for r in e_unsat if r.planning_ms is not None]}})
+        rows.append(_diagnose_row(lf, diag, e_unsat, exp_bc))
         # relax: catc relative to the deployed composition (expect.toml), and of the whole
         # problem (--relative-to none), which is what ENHSP's bisection can answer
         want_relax = {k: Fraction(v) for k, v in exp_bc.case.get("relax", {}).items()}
@@ -758,20 +763,12 @@ class Bench:
         if include_sar:
             sf = "search-and-rescue/budget-cut.cat"
             ls = self.load(sf)
-            want = sorted(expected_for(self.examples, sf).case.get("diagnose", []))
             sd, se = [], []
             for trial in range(self.runs):
                 self.log(f"queries (SAR) trial {trial + 1}/{self.runs}")
                 sd.append(run_catc(self.examples / sf, "diagnose", (), self.timeout))
                 se.append(enhsp_run(ls, "sat-hadd", self.timeout))
-            got = sd[0].detail.get("cores") or []
-            labels = sorted(x["label"] for x in got[0]) if got else []
-            rows.append({"query": "diagnose", "problem": sf,
-                         "catc": {"answer": ("core " + ", ".join(labels)) if labels else sd[0].status,
-                                  "agrees": labels == want, "wall": [r.wall for r in sd]},
-                         "enhsp": {"answer": se[0].status.upper() + ("; no cause given" if se[0].status == "unsat" else ""),
-                                   "calls": 1, "wall": [r.wall for r in se],
-                                   "planning_ms": [r.planning_ms for r in se if r.planning_ms is not None]}})
+            rows.append(_diagnose_row(sf, sd, se, expected_for(self.examples, sf)))
         return rows
 
     def bisect_budget(self, lb: Loaded, resource: str = "budget", tolerance: Fraction = Fraction(1)) -> dict:
