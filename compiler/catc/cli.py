@@ -274,7 +274,7 @@ def optimize(ctx, paths, horizon, view, sequential, search_paths, problem_name, 
 
 def _cli_objectives(ctx, inst, as_json):
     """--minimize/--maximize terms in command-line order, checked; None when none given."""
-    from catgrammar.diagnostics import Diagnostics, format_text
+    from catgrammar.diagnostics import Diagnostics
     from catc import ir
     from catc.check import check_objective_text
 
@@ -291,14 +291,7 @@ def _cli_objectives(ctx, inst, as_json):
         if term is not None:
             out.append(ir.Objective(ir.Sense(sense), term))
     if diags.has_errors:
-        if as_json:
-            import json
-
-            click.echo(json.dumps({"schema": "catc.error/1", "status": "error",
-                                   "diagnostics": [d.to_json() for d in diags.sorted()]}, indent=2))
-        else:
-            click.echo(format_text(diags), err=True)
-        sys.exit(EXIT_INPUT)
+        command.input_errors(diags, as_json)
     return out
 
 

@@ -62,20 +62,28 @@ def guarded(call: Callable[..., Any], *args: Any, passthrough: tuple[type[BaseEx
 def instance(paths: tuple[str, ...], view: str | None, search_paths, problem: str | None, as_json: bool):
     """PROBLEM or DOMAIN PROBLEM (the caller checks there are one or two paths) → the
     checked instance with its view applied, or exit 2 with the diagnostics."""
-    from catgrammar.diagnostics import Diagnostics, format_text
+    from catgrammar.diagnostics import Diagnostics
     from catc.api import load_checked
 
     domain_path, problem_path = (None, paths[0]) if len(paths) == 1 else paths
     diags = Diagnostics()
     inst = load_checked(problem_path, domain_path, diags, view=view, problem_name=problem, search_paths=search_paths)
-    if inst is not None:
-        return inst
+    if inst is None:
+        input_errors(diags, as_json)
+    return inst
+
+
+def input_errors(diags, as_json: bool) -> NoReturn:
+    """Report located input errors — a catc.error/1 document with ``--json``, compiler-style
+    text on standard error otherwise — and exit 2."""
     if as_json:
         import json
 
         echo(json.dumps({"schema": "catc.error/1", "status": "error",
                          "diagnostics": [d.to_json() for d in diags.sorted()]}, indent=2))
     else:
+        from catgrammar.diagnostics import format_text
+
         echo(format_text(diags), err=True)
     sys.exit(EXIT_INPUT)
 

@@ -40,7 +40,9 @@ class Z3Session:
     terms meet): Z3's term ids, and with them its search and the model it returns, depend
     on every term its context has seen, so in the shared default context the same query
     could get a different (equally valid) answer after other queries in one process — in
-    the language server, the lifelong loop, tests.  A fresh context costs about 1 ms."""
+    the language server, the lifelong loop, tests.  A fresh context costs about 1 ms when the
+    previous one has been freed, 7–8 ms while others are alive (measured by hand); the first
+    of a process initialises Z3 (the "Z3 start" column of docs/benchmarks.md)."""
 
     def __init__(self, enc: Encoder, *, optimize: bool = False, logic: str | None = None, ctx: z3.Context | None = None):
         self.enc = enc
