@@ -3,8 +3,10 @@ the smallest sizes).  The figures themselves are never asserted: timings vary by
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
+import tomllib
 
 import pytest
 
@@ -28,8 +30,15 @@ def test_solve_bench_runs_every_section():
     assert "catc / hand-written:" in out and "Largest encoding share:" in out
     # every example and query answered as its expectation says: no ERR, and the refutation is a proof
     assert "| ERR |" not in out and "| unsat |" in out
+    # each example row's answer is its hand-derived expectation (examples/*/expect.toml)
+    rows = dict(re.findall(r"^\| (\S+\.cat(?: \([\w-]+\))?) \| (SAT|UNSAT|UNKNOWN) \|", out, re.M))
+    for expect in sorted((ROOT / "examples").glob("*/expect.toml")):
+        for case in tomllib.loads(expect.read_text())["case"]:
+            name = f"{expect.parent.name}/{case['file']}" + (f" ({case['problem']})" if "problem" in case else "")
+            assert rows[name] == case["status"].upper(), name
 
 
 def test_parse_check_runs():
     out = run("benchmarks/parse_check.py", "--sizes", "200", "--runs", "1")
     assert "200" in out
+    assert re.search(r"^\| 200 \| [\d,]+ \| [\d.]+ \| [\d.]+ \| [\d.]+ \| \d+ \| — \|$", out, re.M), out
