@@ -125,3 +125,15 @@ def test_long_queries_report_progress():
     seen.clear()
     load(EX / "search-and-rescue/event2-out-of-range.cat").optimize(progress=seen.append)
     assert "first composition: 10 steps; is there a better one within 24 steps?" in seen
+
+
+def test_the_api_does_not_import_click():
+    import subprocess
+    import sys
+
+    probe = ("import sys\nfrom catc.api import load\nm = load('examples/detection/person.cat')\n"
+             "m.to_json(m.solve()); m.to_json(m.optimize([m.minimize('ram')]))\n"
+             "print(sorted(x for x in sys.modules if x.split('.')[0] == 'click'))")
+    proc = subprocess.run([sys.executable, "-c", probe], cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "[]"
