@@ -22,7 +22,7 @@ sys.path[:0] = [str(ROOT), str(ROOT / "compiler")]
 
 from catgrammar.diagnostics import Diagnostics  # noqa: E402
 from catgrammar.parser import gc_paused, lark_parser, parse_source, read_source  # noqa: E402
-from catc.loader import Workspace  # noqa: E402
+from catc.frontend.workspace import Workspace  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from solve_bench import machine  # noqa: E402

@@ -23,8 +23,8 @@ import time
 import tomllib
 from pathlib import Path
 
-from catc.export.bench import cpu_text as machine  # shared with catc bench
-from catc.export.bench import quartiles
+from catc.bench.harness import cpu_text as machine  # shared with catc bench
+from catc.bench.harness import quartiles
 
 ROOT = Path(__file__).resolve().parent.parent
 CATC = [sys.executable, "-m", "catc"]
@@ -224,8 +224,8 @@ def bench_refutation(runs: int) -> None:
     configuration and on Z3 configured for QF_LRA (what catc uses), in this process."""
     import z3
     from catc import ir
-    from catc.loader import load_instance
-    from catc.optimize import _encode_whole, _objective_terms
+    from catc.frontend.workspace import load_instance
+    from catc.queries.optimize import _encode_whole, _objective_terms
 
     from catgrammar.diagnostics import Diagnostics
 

@@ -2,7 +2,7 @@
 
 A faithful, typed record of what the user wrote, each node carrying its source
 :class:`~catgrammar.span.Span`.  Nothing here is resolved or checked; the checker in
-``catc.check`` turns it into the categorical IR.  Expressions keep one generic shape,
+``catc.frontend.check`` turns it into the categorical IR.  Expressions keep one generic shape,
 :class:`Call` (``(head args...)``), so the checker can say precisely what is wrong with an
 unknown or misplaced operator.
 """

@@ -40,14 +40,14 @@ class Result:
 
 
 class _Executable:
-    """``catc`` as the executable runs it (:func:`catc.entry.main`: a plain ``catc solve``
+    """``catc`` as the executable runs it (:func:`catc.interfaces.entry.main`: a plain ``catc solve``
     without click, everything else through click), shaped for ``CliRunner.invoke``."""
 
     name = "catc"
 
     @staticmethod
     def main(args, prog_name=None, **_):
-        from catc.entry import main
+        from catc.interfaces.entry import main
 
         main(list(args))
 
@@ -55,7 +55,7 @@ class _Executable:
 def run_catc(*args: str, cwd: Path | None = None, via_click: bool = False) -> Result:
     """Run the CLI in-process as the executable does (``via_click``: always through
     click's parser); any exception escaping is a test failure."""
-    from catc.cli import main
+    from catc.interfaces.cli import main
 
     runner = CliRunner()
     res = runner.invoke(main if via_click else _Executable, [str(a) for a in args], catch_exceptions=True)

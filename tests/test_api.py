@@ -9,10 +9,10 @@ from fractions import Fraction
 
 import pytest
 
-import catc.api
+import catc.interfaces.api
 from catc.api import CatError, Model, load
-from catc.optimize import OptStatus
-from catc.solve import Status
+from catc.queries.optimize import OptStatus
+from catc.queries.solve import Status
 from conftest import ROOT, run_catc
 
 EX = ROOT / "examples"
@@ -20,7 +20,7 @@ EX = ROOT / "examples"
 
 def test_the_module_example_runs(monkeypatch):
     monkeypatch.chdir(ROOT)
-    failures, tried = doctest.testmod(catc.api)
+    failures, tried = doctest.testmod(catc.interfaces.api)
     assert tried >= 4 and failures == 0
 
 

@@ -15,9 +15,9 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from catc.cli import main
-from catc.plan import decimal_text
-from catc.export.bench import LineDiff, expected_for, judge, line_diff, model_lines, quartiles, strip_comment, text_diff
+from catc.interfaces.cli import main
+from catc.semantics.plan import decimal_text
+from catc.bench.harness import LineDiff, expected_for, judge, line_diff, model_lines, quartiles, strip_comment, text_diff
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"
@@ -134,7 +134,7 @@ def test_help_lists_the_options():
 
 
 def test_missing_java_or_extra_names_what_to_install(monkeypatch):
-    from catc.export import enhsp
+    from catc.targets import enhsp
 
     monkeypatch.setattr(enhsp.shutil, "which", lambda _: None)
     r = CliRunner().invoke(main, ["bench", "--runs", "1", "--quick"])
@@ -148,7 +148,7 @@ def test_missing_java_or_extra_names_what_to_install(monkeypatch):
 
 
 def test_missing_examples_folder_is_an_input_error(tmp_path, monkeypatch):
-    from catc.export import enhsp
+    from catc.targets import enhsp
 
     if enhsp.available() is not None:
         pytest.skip(enhsp.available())
@@ -160,7 +160,7 @@ def test_missing_examples_folder_is_an_input_error(tmp_path, monkeypatch):
 
 
 def _enhsp_missing() -> str | None:
-    from catc.export.enhsp import available
+    from catc.targets.enhsp import available
 
     return available()
 

@@ -48,7 +48,7 @@ def test_module_entry_point_runs_in_a_fresh_process():
 
 def test_excerpts_are_highlighted_with_the_pygments_lexer_on_a_terminal():
     from catgrammar.diagnostics import Diagnostics, format_text, terminal_highlighter
-    from catc.session import check_files
+    from catc.frontend.session import check_files
 
     diags = Diagnostics()
     check_files([str(TYPES)], diags)

@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from catgrammar.diagnostics import Diagnostics
-from catc.session import check_files
+from catc.frontend.session import check_files
 
 from conftest import FIXTURES, repo_cat_files, run_catc
 

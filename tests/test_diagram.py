@@ -1,4 +1,4 @@
-"""String diagrams of compositions (catc.render.diagram): structure of the SVG, not pixels."""
+"""String diagrams of compositions (catc.present.diagram): structure of the SVG, not pixels."""
 
 from __future__ import annotations
 
@@ -9,10 +9,10 @@ import pytest
 from catgrammar.diagnostics import Diagnostics
 
 from catc import ir
-from catc.loader import load_instance
-from catc.plan import Activation as A
-from catc.plan import Plan
-from catc.render.diagram import format_value, render_svg
+from catc.frontend.workspace import load_instance
+from catc.semantics.plan import Activation as A
+from catc.semantics.plan import Plan
+from catc.present.diagram import format_value, render_svg
 
 from conftest import ROOT
 

@@ -1,5 +1,5 @@
 """The ``catc`` executable's click-free route for plain ``catc solve`` command lines
-(catc.entry): it reads arguments exactly as click does or leaves them to click, and the
+(catc.interfaces.entry): it reads arguments exactly as click does or leaves them to click, and the
 command then behaves the same whichever route it took."""
 
 from __future__ import annotations
@@ -14,8 +14,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from catc import cli, command
-from catc.entry import SOLVE_DEFAULTS, SOLVE_OPTIONS, parse_solve
+from catc.interfaces import cli, command
+from catc.interfaces.entry import SOLVE_DEFAULTS, SOLVE_OPTIONS, parse_solve
 from conftest import ROOT, run_catc
 
 EXAMPLES = ROOT / "examples"
@@ -164,7 +164,7 @@ def test_interrupt_and_internal_errors_are_reported_as_click_does(monkeypatch):
 def test_a_plain_solve_imports_neither_click_nor_dataclasses():
     probe = (
         "import sys\n"
-        "from catc.entry import main\n"
+        "from catc.interfaces.entry import main\n"
         "try:\n"
         "    main(['solve', 'examples/detection/person.cat', '--json'])\n"
         "except SystemExit as exc:\n"

@@ -14,9 +14,9 @@ from pathlib import Path
 import pytest
 
 from catgrammar.diagnostics import Diagnostics
-from catc.loader import load_instance
-from catc.solve import Status, solve
-from catc.view import apply_view
+from catc.frontend.workspace import load_instance
+from catc.queries.solve import Status, solve
+from catc.ir.views import apply_view
 
 from conftest import ROOT
 
@@ -84,7 +84,7 @@ def test_every_example_problem_has_an_expectation():
 
 
 def test_answers_do_not_depend_on_what_the_process_solved_before():
-    """Each query works in its own Z3 context (catc.encode.z3backend): in one shared
+    """Each query works in its own Z3 context (catc.smt.z3backend): in one shared
     context Z3's search depends on every term seen before, and the detection example's
     driver was given the reserve topic on every second solve (found by the routes test in
     tests/test_entry.py).  Solve every example twice over, in one process."""

@@ -28,10 +28,10 @@ from pathlib import Path
 
 import pytest
 
-from catc.export.pddl import export_pddl
-from catc.loader import load_instance
-from catc.validate import objective_value, validate
-from catc.view import apply_view
+from catc.targets.pddl import export_pddl
+from catc.frontend.workspace import load_instance
+from catc.semantics.validate import objective_value, validate
+from catc.ir.views import apply_view
 from catgrammar.diagnostics import Diagnostics
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -39,7 +39,7 @@ EXAMPLES = ROOT / "examples"
 
 
 def _enhsp_missing() -> str | None:
-    from catc.export.enhsp import available
+    from catc.targets.enhsp import available
 
     return available()
 
@@ -89,7 +89,7 @@ def _instance(folder: str, file: str, problem: str | None):
 
 
 def _run(ex, tmp_path: Path):
-    from catc.export.enhsp import run_enhsp
+    from catc.targets.enhsp import run_enhsp
 
     dom, prob = tmp_path / "domain.pddl", tmp_path / "problem.pddl"
     dom.write_text(ex.domain)

@@ -24,13 +24,13 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from catc.cli import main
-from catc.export.pddl import RESERVED, ExportError, export_pddl
-from catc.solve import Status, default_horizon, solve
-from catc.validate import validate
+from catc.interfaces.cli import main
+from catc.targets.pddl import RESERVED, ExportError, export_pddl
+from catc.queries.solve import Status, default_horizon, solve
+from catc.semantics.validate import validate
 from catgrammar.diagnostics import Diagnostics
-from catc.loader import load_instance
-from catc.view import apply_view
+from catc.frontend.workspace import load_instance
+from catc.ir.views import apply_view
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"
@@ -76,7 +76,7 @@ def _pddl_missing() -> str | None:
 
 
 def _enhsp_missing() -> str | None:
-    from catc.export.enhsp import available
+    from catc.targets.enhsp import available
 
     return available()
 
@@ -122,7 +122,7 @@ def test_export_parses_with_pddl_and_unified_planning(folder, case, tmp_path):
 @needs_enhsp
 @pytest.mark.parametrize("folder, case", list(cases(mark_slow=True)))
 def test_enhsp_agrees_with_catc_and_its_plans_validate(folder, case, tmp_path, request):
-    from catc.export.enhsp import run_enhsp
+    from catc.targets.enhsp import run_enhsp
 
     inst = instance(folder, case)
     ex = export_pddl(inst, grid=GRID)
@@ -208,8 +208,8 @@ def test_horizon_bounds_the_number_of_actions():
 
 
 def test_missing_baselines_name_what_to_install(monkeypatch, tmp_path):
-    from catc.export import enhsp
-    from catc.export.cli import check_with_pddl_parser
+    from catc.targets import enhsp
+    from catc.interfaces.export_cli import check_with_pddl_parser
 
     monkeypatch.setattr(enhsp.shutil, "which", lambda _: None)
     with pytest.raises(enhsp.BaselineMissing, match="Java 17"):
@@ -259,7 +259,7 @@ def test_maximising_a_resource_that_may_rise_is_not_exported(tmp_path):
 def test_enhsp_output_of_a_missing_file_is_an_error_not_unsat():
     """ENHSP prints "Unsolvable Problem" even after failing to read its input (seen with a
     relative path); that must not be taken for a proof of unsolvability."""
-    from catc.export.enhsp import parse_output
+    from catc.targets.enhsp import parse_output
 
     text = ("Domain parsed\nSEVERE: null\njava.io.FileNotFoundException: p.pddl (No such file or directory)\n"
             "Problem Detected as Unsolvable by AIBR during preprocessing\nUnsolvable Problem\n")
@@ -269,7 +269,7 @@ def test_enhsp_output_of_a_missing_file_is_an_error_not_unsat():
 
 @needs_enhsp
 def test_run_accepts_relative_paths(tmp_path, monkeypatch):
-    from catc.export.enhsp import run_enhsp
+    from catc.targets.enhsp import run_enhsp
 
     ex = export_pddl(instance(EXAMPLES / "detection", {"file": "person.cat"}), grid=GRID)
     (tmp_path / "d.pddl").write_text(ex.domain)

@@ -24,10 +24,10 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from catc.cli import main
-from catc.export.pddl import ExportError, export_pddl
-from catc.export.pddlplus import PlanReadError, parse_timed_plan, read_timed_actions, timed_plan_text
-from catc.validate import validate
+from catc.interfaces.cli import main
+from catc.targets.pddl import ExportError, export_pddl
+from catc.targets.pddlplus import PlanReadError, parse_timed_plan, read_timed_actions, timed_plan_text
+from catc.semantics.validate import validate
 from test_export_pddl import EXAMPLES, cases, instance
 
 
@@ -309,7 +309,7 @@ def test_cli_smtplan_needs_no_grid_and_checks_with_pddlplus_parsers(tmp_path):
 
 
 def test_cli_run_without_smtplan_binary_exits_2(tmp_path, monkeypatch):
-    from catc.export import pddlplus
+    from catc.targets import pddlplus
 
     monkeypatch.setattr(pddlplus.shutil, "which", lambda _: None)
     r = CliRunner().invoke(main, ["export", "pddl", str(EXAMPLES / "navigation/precise.cat"), "-o", str(tmp_path),

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from catc.fmt import format_text
+from catc.frontend.formatter import format_text
 from catgrammar.diagnostics import Diagnostics
 from conftest import ROOT, repo_cat_files, run_catc
 
@@ -50,7 +50,7 @@ def _plain(obj, seen=None):
 
 
 def _check(path: Path):
-    from catc.session import check_files
+    from catc.frontend.session import check_files
 
     diags = Diagnostics()
     domains, instances = check_files([str(path)], diags, [str(path.parent)])
@@ -95,7 +95,7 @@ def test_ir_comparison_sees_changes() -> None:
 def _parse_check(text: str):
     import tempfile
 
-    from catc.session import check_files
+    from catc.frontend.session import check_files
 
     with tempfile.TemporaryDirectory() as d:
         p = Path(d) / "x.cat"
@@ -234,7 +234,7 @@ def _hooks() -> list[dict]:
 def test_pre_commit_hooks_name_real_commands() -> None:
     import shlex
 
-    from catc.cli import main
+    from catc.interfaces.cli import main
 
     hooks = {h["id"]: h for h in _hooks()}
     assert set(hooks) == {"catc-check", "catc-fmt"}

@@ -16,7 +16,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from catgrammar.diagnostics import Diagnostics
-from catc.session import check_files
+from catc.frontend.session import check_files
 
 from conftest import repo_cat_files
 

@@ -76,13 +76,13 @@ _ISOLATION = """
 import sys
 import catgrammar.span, catgrammar.ast
 assert "catgrammar.parser" not in sys.modules, "importing catgrammar.span/ast loads the parser"
-import catc.cli, catgrammar.parser
+import catc.interfaces.cli, catgrammar.parser
 from catgrammar.diagnostics import Diagnostics
 diags = Diagnostics()
 src = catgrammar.parser.read_source("examples/detection/person.cat", diags)
 assert catgrammar.parser.parse_source(src, diags) is not None, [d.message for d in diags]
 try:
-    catc.cli.main(["solve", "examples/detection/person.cat"], standalone_mode=False)
+    catc.interfaces.cli.main(["solve", "examples/detection/person.cat"], standalone_mode=False)
 except SystemExit:
     pass
 loaded = sorted(m for m in sys.modules if m.split(".")[0] in ("lark", "interegular"))

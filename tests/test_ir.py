@@ -10,8 +10,9 @@ import pytest
 from catgrammar import record
 from catgrammar.diagnostics import Diagnostics
 from catc import ir
-from catc.loader import load_instance
-from catc.view import ViewError, apply_view, project_instance
+from catc.ir import nodes
+from catc.frontend.workspace import load_instance
+from catc.ir.views import ViewError, apply_view, project_instance
 
 from conftest import ROOT
 
@@ -136,7 +137,7 @@ def test_view_rejects_an_objective_over_a_dropped_resource(tmp_path):
 
 # ---------------------------------------------------------------- records = frozen dataclasses
 
-IR_RECORDS = [c for c in vars(ir).values() if isinstance(c, type) and issubclass(c, ir.Record) and c is not ir.Record]
+IR_RECORDS = [c for c in vars(nodes).values() if isinstance(c, type) and issubclass(c, nodes.Record) and c is not nodes.Record]
 
 
 def _reference_dataclass(cls):
@@ -148,8 +149,8 @@ def _reference_dataclass(cls):
     for name in cls.__slots__:
         default = params[name].default
         kw = {"compare": name in cls._compared, "repr": name in cls._compared}
-        if isinstance(default, type(ir.EMPTY)):  # the dataclasses had default_factory=_ro
-            kw["default_factory"] = ir._ro
+        if isinstance(default, type(ir.EMPTY)):  # the dataclasses had default_factory=frozen
+            kw["default_factory"] = ir.frozen
         elif default is not inspect.Parameter.empty:
             kw["default"] = default
         spec.append((name, object, dataclasses.field(**kw)))
@@ -158,7 +159,7 @@ def _reference_dataclass(cls):
 
 def test_every_ir_class_is_a_record():
     assert len(IR_RECORDS) >= 29
-    assert not [c for c in vars(ir).values() if isinstance(c, type) and dataclasses.is_dataclass(c) and c not in IR_RECORDS]
+    assert not [c for c in vars(nodes).values() if isinstance(c, type) and dataclasses.is_dataclass(c) and c not in IR_RECORDS]
     assert {"Sort", "Morphism", "Domain", "Problem", "Instance", "Effect", "Literal"} <= {c.__name__ for c in IR_RECORDS}
 
 

@@ -10,11 +10,11 @@ from fractions import Fraction
 import pytest
 
 from catgrammar.diagnostics import Diagnostics
-from catc.lifelong import diagnose, recompose, relax, relaxed_instance
-from catc.loader import load_instance
-from catc.optimize import OptStatus
-from catc.solve import Status, solve
-from catc.view import apply_view
+from catc.queries.lifelong import diagnose, recompose, relax, relaxed_instance
+from catc.frontend.workspace import load_instance
+from catc.queries.optimize import OptStatus
+from catc.queries.solve import Status, solve
+from catc.ir.views import apply_view
 
 from conftest import ROOT, run_catc
 
@@ -79,7 +79,7 @@ def test_core_is_irreducible_by_brute_force():
     """Every proper subset of the core, and the core itself, checked by fresh solves."""
     inst = load(LIFE, {"file": "budget-cut.cat"})
     core = diagnose(inst).cores[0]
-    from catc.lifelong import LabelledModel
+    from catc.queries.lifelong import LabelledModel
     import z3
 
     model = LabelledModel(inst, 7, components=inst.problem.deployed)
@@ -105,7 +105,7 @@ def test_relaxation_matches_a_bisection_over_the_budget():
         extra = [m for m in trial.morphisms if m not in inst.problem.deployed]
         morphisms = {n: (replace(m, pre=m.pre + (ir.Literal(ir.Const(False, ir.BOOL), f"pre/{n}/off"),)) if n in extra else m)
                      for n, m in trial.morphisms.items()}
-        trial = ir.Instance(replace(trial.domain, morphisms=ir._ro(morphisms)), trial.problem, trial.view)
+        trial = ir.Instance(replace(trial.domain, morphisms=ir.frozen(morphisms)), trial.problem, trial.view)
         return solve(trial).status is Status.SAT
 
     lo, hi = Fraction(500), Fraction(40000)

@@ -86,7 +86,7 @@ async def test_diagnostics_follow_the_in_memory_text(client: LanguageClient) -> 
     assert any(d.severity == types.DiagnosticSeverity.Error for d in diags)
     assert any("persn" in d.message for d in diags)
     # the same as catc check on that text
-    from catc.lsp import analyse
+    from catc.interfaces.lsp import analyse
 
     expected = {(d.code, d.message) for d in analyse(str(PROBLEM), bad).diagnostics}
     assert {(d.code, d.message) for d in diags} == expected
@@ -183,7 +183,7 @@ def test_missing_pygls_message() -> None:
         "        raise ImportError(name)\n"
         "    return real(name, *a, **k)\n"
         "builtins.__import__ = fake\n"
-        "from catc.cli import main\n"
+        "from catc.interfaces.cli import main\n"
         "sys.argv = ['catc', 'lsp']\n"
         "main()\n"
     )
@@ -213,7 +213,7 @@ EVERY = ROOT / "tests" / "fixtures" / "valid" / "every-construct.cat"
     ],
 )
 def test_definitions(name: str, kind: str, declared: str) -> None:
-    from catc.lsp import analyse, lookup
+    from catc.interfaces.lsp import analyse, lookup
 
     text = EVERY.read_text()
     a = analyse(str(EVERY), text)
@@ -226,7 +226,7 @@ def test_definitions(name: str, kind: str, declared: str) -> None:
 
 
 def test_imported_domain_definitions_and_hover() -> None:
-    from catc.lsp import analyse, hover_text, lookup, names_in_scope, word_at
+    from catc.interfaces.lsp import analyse, hover_text, lookup, names_in_scope, word_at
 
     a = analyse(str(EVERY), EVERY.read_text())
     # robot-base (the standard library) is imported: its resources are in scope
@@ -242,7 +242,7 @@ def test_imported_domain_definitions_and_hover() -> None:
 
 
 def test_diagnostics_use_the_given_text_not_the_file() -> None:
-    from catc.lsp import analyse
+    from catc.interfaces.lsp import analyse
 
     text = EVERY.read_text().replace("(>= confidence 0.7)", "(>= confidenc 0.7)")
     a = analyse(str(EVERY), text)

@@ -12,9 +12,9 @@ from hypothesis import strategies as st
 
 from catgrammar.diagnostics import Diagnostics
 from catc import ir
-from catc.loader import load_instance
-from catc.optimize import OptStatus, optimize
-from catc.view import apply_view
+from catc.frontend.workspace import load_instance
+from catc.queries.optimize import OptStatus, optimize
+from catc.ir.views import apply_view
 
 from conftest import ROOT, run_catc, run_catc_process
 from test_solve_property import domains, successors, to_cat
@@ -155,7 +155,7 @@ def test_deepen_falls_back_to_the_whole_horizon_when_no_refutation_comes(tmp_pat
 
     import z3
 
-    import catc.optimize as opt
+    import catc.queries.optimize as opt
 
     calls = []
 
@@ -178,7 +178,7 @@ def test_deepen_at_the_deadline_reports_the_short_optimum_as_best_found(tmp_path
 
     import z3
 
-    import catc.optimize as opt
+    import catc.queries.optimize as opt
 
     def slow(inst, objectives, softs, values, k, sequential, deadline, timings):
         _time.sleep(max(0.0, deadline - _time.perf_counter()))
@@ -193,13 +193,13 @@ def test_deepen_at_the_deadline_reports_the_short_optimum_as_best_found(tmp_path
 def test_short_horizons_use_the_single_encoding(tmp_path, monkeypatch):
     """Under the default deepen strategy a horizon below DEEPEN_FROM goes straight to one
     encoding: no deepening solve, no refutation."""
-    import catc.optimize as opt
+    import catc.queries.optimize as opt
 
     def must_not_run(*args, **kwargs):
         raise AssertionError("the deepening route ran on a short horizon")
 
     monkeypatch.setattr(opt, "_better_exists", must_not_run)
-    monkeypatch.setattr("catc.solve.solve", must_not_run)
+    monkeypatch.setattr("catc.queries.solve.solve", must_not_run)
     inst = _counter_instance(tmp_path)
     assert inst.problem.horizon < opt.DEEPEN_FROM
     result = opt.optimize(inst)

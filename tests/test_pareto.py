@@ -6,10 +6,10 @@ import itertools
 import json
 
 from catgrammar.diagnostics import Diagnostics
-from catc.loader import load_instance
-from catc.pareto import dominates, pareto
-from catc.plan import Activation, Plan
-from catc.validate import objective_value, validate
+from catc.frontend.workspace import load_instance
+from catc.queries.pareto import dominates, pareto
+from catc.semantics.plan import Activation, Plan
+from catc.semantics.validate import objective_value, validate
 
 from conftest import ROOT, run_catc
 

@@ -1,5 +1,5 @@
 """What long queries tell the user while they run: the ``progress(message)`` callbacks behind
-the terminal status line (catc.command.reporter), checked against the examples' hand-derived
+the terminal status line (catc.interfaces.command.reporter), checked against the examples' hand-derived
 expectations (examples/*/expect.toml)."""
 
 from __future__ import annotations
@@ -9,11 +9,11 @@ import re
 from fractions import Fraction
 
 from catgrammar.diagnostics import Diagnostics
-from catc import command
-from catc.lifelong import diagnose, recompose, relax
-from catc.loader import load_instance
-from catc.optimize import OptStatus, optimize
-from catc.view import apply_view
+from catc.interfaces import command
+from catc.queries.lifelong import diagnose, recompose, relax
+from catc.frontend.workspace import load_instance
+from catc.queries.optimize import OptStatus, optimize
+from catc.ir.views import apply_view
 
 from conftest import ROOT
 

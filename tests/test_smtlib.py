@@ -13,10 +13,10 @@ import tomllib
 import pytest
 
 from catgrammar.diagnostics import Diagnostics
-from catc.encode.smtlib import emit_smt2
-from catc.loader import load_instance
-from catc.solve import default_horizon, solve
-from catc.view import apply_view
+from catc.smt.smtlib import emit_smt2
+from catc.frontend.workspace import load_instance
+from catc.queries.solve import default_horizon, solve
+from catc.ir.views import apply_view
 
 from conftest import ROOT, run_catc
 

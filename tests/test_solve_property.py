@@ -16,8 +16,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from catgrammar.diagnostics import Diagnostics
-from catc.loader import load_instance
-from catc.solve import Status, solve
+from catc.frontend.workspace import load_instance
+from catc.queries.solve import Status, solve
 
 COUNTER_MAX = 3
 

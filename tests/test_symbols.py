@@ -51,7 +51,7 @@ def test_reserved_words_are_declared_symbols():
 
 
 def test_every_operator_is_known_to_the_checker():
-    from catc import typecheck
+    from catc.frontend import typecheck
 
     heads = {op.value for op in symbols.EXPRESSION_OPERATORS} | {op.value for op in symbols.OBJECTIVE_OPERATORS}
     assert heads == {op.value for op in symbols.Operator} - {"assign", "increase", "decrease", "add", "remove"}

@@ -7,9 +7,9 @@ import json
 import re
 
 from catgrammar.diagnostics import Diagnostics
-from catc.loader import load_instance
-from catc.solve import Status, solve
-from catc.synthesize import synthesize
+from catc.frontend.workspace import load_instance
+from catc.queries.solve import Status, solve
+from catc.queries.synthesize import synthesize
 
 from conftest import ROOT, run_catc
 

@@ -1,3 +1,3 @@
-from catc.entry import main
+from catc.interfaces.entry import main
 
 main()

@@ -70,7 +70,7 @@ def commands():
 def run(argv: list[str]) -> dict:
     from click.testing import CliRunner
 
-    from catc.entry import main
+    from catc.interfaces.entry import main
 
     class Exe:
         name = "catc"

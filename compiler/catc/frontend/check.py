@@ -1,0 +1,1068 @@
+"""The type checker: AST definitions → categorical IR (:mod:`catc.ir`).
+
+:class:`DomainChecker` resolves imports, sorts, constants, resources, morphisms, holes and
+views; :class:`ProblemChecker` checks a problem against its checked domain and yields an
+:class:`~catc.ir.Instance`.  Both report every error they find (never only the first) and
+return ``None`` when anything was wrong.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from typing import TYPE_CHECKING, Iterable
+
+from catgrammar import ast
+from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
+from catgrammar.span import Span
+from catgrammar.symbols import (
+    HOLE_OPTIONS,
+    MORPHISM_OPTIONS,
+    PARAMETER_OPTIONS,
+    RESERVED_NAMES,
+    RESOURCE_OPTIONS,
+    SOFT_OPTIONS,
+    VIEW_OPTIONS,
+    Option,
+    Requirement,
+    expand_requirements,
+)
+from catc import ir
+from catc.ir import BOOL, INT, REAL, Sort, SortKind
+from catc.frontend.typecheck import Context, ExprChecker, Scope, assignable, describe, fold_constant
+
+if TYPE_CHECKING:  # pragma: no cover
+    from catc.frontend.workspace import Workspace
+
+
+_REQUIREMENTS = {r.value: r for r in Requirement}
+_KINDS = {k.value: k for k in ir.MorphismKind}
+
+
+class _Requirements:
+    """The declared requirement flags of one definition and the 'missing flag' reporter."""
+
+    def __init__(self, decls: Iterable[ast.Requirements], diags: Diagnostics, extra: frozenset[str] = frozenset()):
+        self.diags = diags
+        self.section: Span | None = None
+        flags: set[Requirement] = {_REQUIREMENTS[f] for f in extra if f in _REQUIREMENTS}
+        for decl in decls:
+            self.section = self.section or decl.span
+            for flag in decl.flags:
+                if flag.text in _REQUIREMENTS:
+                    flags.add(_REQUIREMENTS[flag.text])
+                else:
+                    diags.report(
+                        "E0212",
+                        f"unknown requirement '{flag.text}'{did_you_mean(flag.text, _REQUIREMENTS)}",
+                        flag.span,
+                    )
+        self.flags = expand_requirements(flags)
+        self._reported: set[Requirement] = set()
+
+    @property
+    def names(self) -> frozenset[str]:
+        return frozenset(f.value for f in self.flags)
+
+    def need(self, flag: Requirement, span: Span | None, what: str) -> None:
+        if flag in self.flags or flag in self._reported:
+            return
+        self._reported.add(flag)
+        notes = [Note("requirements are declared here", self.section)] if self.section else []
+        self.diags.report(
+            "E0401",
+            f"{what} needs the requirement '{flag.value}'; add it to (:requirements ...)",
+            span,
+            *notes,
+        )
+
+
+def _options(
+    opts: Iterable[ast.Opt], allowed: Iterable[Option], owner: str, diags: Diagnostics
+) -> dict[str, ast.Opt]:
+    """Options by key; duplicates reported (the grammar already rejects unknown keys)."""
+    allowed_keys = {o.value for o in allowed}
+    out: dict[str, ast.Opt] = {}
+    for opt in opts:
+        if opt.key not in allowed_keys:  # pragma: no cover - excluded by the grammar
+            diags.report("E0106", f"option '{opt.key}' is not allowed in {owner}", opt.span)
+        elif opt.key in out:
+            diags.report(
+                "E0205",
+                f"option '{opt.key}' is given twice in {owner}",
+                opt.span,
+                Note("first given here", out[opt.key].span),
+            )
+        else:
+            out[opt.key] = opt
+    return out
+
+
+def _positive_int(num: ast.Num, what: str, diags: Diagnostics, *, allow_zero: bool = False) -> int | None:
+    v = num.value
+    if v.denominator != 1 or v < 0 or (v == 0 and not allow_zero):
+        kind = "a non-negative" if allow_zero else "a positive"
+        diags.report("E0307", f"{what} must be {kind} integer, got {num.text}", num.span)
+        return None
+    return int(v)
+
+
+def _bounds(b: ast.Bounds, sort: Sort, diags: Diagnostics, what: str) -> tuple[Fraction | None, Fraction | None, bool]:
+    lo = b.lower.value if b.lower else None
+    hi = b.upper.value if b.upper else None
+    ok = True
+    if not sort.is_numeric:
+        diags.report("E0306", f":bounds apply to numbers only, but {what} is {describe(sort)}", b.span)
+        return None, None, False
+    if sort.kind is SortKind.INT:
+        for n in (b.lower, b.upper):
+            if n is not None and n.value.denominator != 1:
+                diags.report("E0306", f"{what} is an int, so its bounds must be integers, got {n.text}", n.span)
+                ok = False
+    if lo is not None and hi is not None and lo > hi:
+        diags.report("E0306", f"empty bounds for {what}: lower {b.lower.text} exceeds upper {b.upper.text}", b.span)  # type: ignore[union-attr]
+        ok = False
+    return lo, hi, ok
+
+
+class DomainChecker:
+    def __init__(self, workspace: "Workspace", node: ast.Domain, path: str, diags: Diagnostics):
+        self.ws = workspace
+        self.node = node
+        self.path = path
+        self.diags = diags
+        self.sorts: dict[str, Sort] = {}
+        self.constants: dict[str, ir.Constant] = {}
+        self.resources: dict[str, ir.Resource] = {}
+        self.morphisms: dict[str, ir.Morphism] = {}
+        self.holes: dict[str, ir.Hole] = {}
+        self.views: dict[str, ir.View] = {}
+        self.imported: list[str] = []
+        self.imported_domains: list[ir.Domain] = []
+        self.failed = False
+
+    # ------------------------------------------------------------------ names
+    def _declare(self, table: dict, name: ast.Name, what: str, existing_span=None) -> bool:
+        text = name.text
+        if text in RESERVED_NAMES:
+            self.diags.report("E0203", f"'{text}' is a keyword and cannot name a {what}", name.span)
+            return False
+        if text in table:
+            prev = table[text]
+            span = getattr(prev, "span", None) or existing_span
+            notes = [Note("previously declared here", span)] if span else []
+            self.diags.report("E0201", f"{what} '{text}' is declared twice", name.span, *notes)
+            return False
+        return True
+
+    def _value_name_taken(self, name: ast.Name, what: str) -> bool:
+        """Resources, constants and enumeration values share one namespace."""
+        for table, kind in ((self.resources, "resource"), (self.constants, "constant")):
+            if name.text in table:
+                prev = table[name.text]
+                notes = [Note(f"the {kind} is declared here", prev.span)] if prev.span else []
+                self.diags.report(
+                    "E0201", f"{what} '{name.text}' has the name of a {kind}", name.span, *notes
+                )
+                return True
+        return False
+
+    # ------------------------------------------------------------------ run
+    def run(self) -> ir.Domain | None:
+        before = len(self.diags.errors)
+        sections = self.node.sections
+        self.req = _Requirements((s for s in sections if isinstance(s, ast.Requirements)), self.diags)
+        for sec in sections:
+            if isinstance(sec, ast.Imports):
+                self._imports(sec)
+        for sec in sections:
+            if isinstance(sec, ast.Sorts):
+                self._sorts(sec)
+        self._check_sort_cycles()
+        for sec in sections:
+            if isinstance(sec, ast.Constants):
+                self._constants(sec)
+        for sec in sections:
+            if isinstance(sec, ast.Resources):
+                for r in sec.resources:
+                    self._resource(r)
+        for sec in sections:
+            if isinstance(sec, ast.ViewDecl):
+                self._view(sec)
+        for sec in sections:
+            if isinstance(sec, ast.MorphismDecl):
+                self._morphism(sec)
+        for sec in sections:
+            if isinstance(sec, ast.HoleDecl):
+                self._hole(sec)
+        if len(self.diags.errors) > before or self.failed:
+            return None
+        return ir.Domain(
+            name=self.node.name.text,
+            requirements=self.req.names | self._imported_requirements(),
+            sorts=ir.frozen(self.sorts),
+            constants=ir.frozen(self.constants),
+            resources=ir.frozen(self.resources),
+            morphisms=ir.frozen(self.morphisms),
+            holes=ir.frozen(self.holes),
+            views=ir.frozen(self.views),
+            imports=tuple(self.imported),
+            span=self.node.span,
+        )
+
+    def _imported_requirements(self) -> frozenset[str]:
+        out: set[str] = set()
+        for dom in self.imported_domains:
+            out |= dom.requirements
+        return frozenset(out)
+
+    # ------------------------------------------------------------------ imports
+    def _imports(self, sec: ast.Imports) -> None:
+        for name in sec.names:
+            dom = self.ws.domain_ir(name.text, self.path, name.span, importing=True)
+            if dom is None:
+                self.failed = True
+                continue
+            if name.text in self.imported:
+                continue
+            self.imported.append(name.text)
+            self.imported_domains.append(dom)
+            self._merge(dom, name)
+
+    def _merge(self, dom: ir.Domain, via: ast.Name) -> None:
+        tables = (
+            (self.sorts, dom.sorts, "sort"),
+            (self.constants, dom.constants, "constant"),
+            (self.resources, dom.resources, "resource"),
+            (self.morphisms, dom.morphisms, "morphism"),
+            (self.holes, dom.holes, "hole"),
+            (self.views, dom.views, "view"),
+        )
+        for mine, theirs, what in tables:
+            for key, value in theirs.items():
+                if key in mine and mine[key] != value:
+                    self.diags.report(
+                        "E0201",
+                        f"{what} '{key}' from '{dom.name}' conflicts with another definition of it",
+                        via.span,
+                    )
+                    continue
+                mine[key] = value
+
+    # ------------------------------------------------------------------ sorts
+    def _sorts(self, sec: ast.Sorts) -> None:
+        self.req.need(Requirement.SYMBOLS, sec.span, "declaring sorts")
+        for group in sec.groups:
+            parent = group.parent
+            for name in group.names:
+                if not self._declare(self.sorts, name, "sort"):
+                    continue
+                if isinstance(parent, ast.EnumSpec):
+                    self._enum(name, parent)
+                    continue
+                parent_name = None
+                if parent is not None and parent.text != "symbol":
+                    parent_name = parent.text
+                self.sorts[name.text] = Sort(SortKind.SYMBOL, name.text, parent=parent_name, span=name.span)
+        # Resolve parents only now: a sort may name a parent declared later in the section.
+        for group in sec.groups:
+            parent = group.parent
+            if not isinstance(parent, ast.Name) or parent.text == "symbol":
+                continue
+            if parent.text in ("bool", "int", "real", "set", "enum"):
+                self.diags.report(
+                    "E0304",
+                    f"a symbolic sort's parent must be 'symbol' or another symbolic sort, not '{parent.text}'",
+                    parent.span,
+                )
+            elif parent.text not in self.sorts:
+                self.diags.report(
+                    "E0202",
+                    f"unknown sort '{parent.text}'{did_you_mean(parent.text, list(self.sorts) + ['symbol'])}",
+                    parent.span,
+                )
+            elif self.sorts[parent.text].kind is SortKind.ENUM:
+                self.diags.report(
+                    "E0304", f"enumeration '{parent.text}' is closed and cannot have sub-sorts", parent.span
+                )
+
+    def _enum(self, name: ast.Name, spec: ast.EnumSpec) -> None:
+        values: list[str] = []
+        for v in spec.values:
+            if v.text in values:
+                self.diags.report("E0201", f"enumeration value '{v.text}' is listed twice", v.span)
+                continue
+            if not self._declare(self.constants, v, "enumeration value") or self._value_name_taken(v, "enumeration value"):
+                continue
+            values.append(v.text)
+        if not values:
+            self.diags.report("E0304", f"enumeration '{name.text}' has no values", spec.span)
+        sort = Sort(SortKind.ENUM, name.text, values=tuple(values), span=name.span)
+        self.sorts[name.text] = sort
+        for v in spec.values:
+            if v.text in values and v.text not in self.constants:
+                self.constants[v.text] = ir.Constant(v.text, sort, v.span)
+
+    def _check_sort_cycles(self) -> None:
+        for start in list(self.sorts):
+            seen = [start]
+            name = self.sorts[start].parent
+            while name is not None and name in self.sorts:
+                if name == start:
+                    self.diags.report(
+                        "E0304",
+                        f"sort '{start}' is its own ancestor: {' - '.join(seen + [start])}",
+                        self.sorts[start].span,
+                    )
+                    self.failed = True
+                    break
+                if name in seen:
+                    break
+                seen.append(name)
+                name = self.sorts[name].parent
+
+    def resolve_type(self, t: ast.TypeExpr, what: str, req: _Requirements) -> Sort | None:
+        if isinstance(t, ast.SetType):
+            req.need(Requirement.SETS, t.span, f"the set-valued {what}")
+            elem = self._named_sort(t.element, req, what)
+            if elem is None:
+                return None
+            if not elem.is_symbolic:
+                self.diags.report(
+                    "E0304", f"sets hold symbols; a set of '{elem.name}' is not supported", t.element.span
+                )
+                return None
+            return ir.set_of(elem)
+        return self._named_sort(t.name, req, what)
+
+    def _named_sort(self, name: ast.Name, req: _Requirements, what: str) -> Sort | None:
+        builtin = {"bool": BOOL, "int": INT, "real": REAL}.get(name.text)
+        if builtin is not None:
+            if builtin.is_numeric:
+                req.need(Requirement.NUMERIC, name.span, f"the numeric {what}")
+            return builtin
+        if name.text in self.sorts:
+            return self.sorts[name.text]
+        if name.text in ("symbol", "set", "enum"):
+            self.diags.report(
+                "E0304", f"'{name.text}' is not a sort by itself; declare a sort in (:sorts ...)", name.span
+            )
+            return None
+        self.diags.report(
+            "E0202",
+            f"unknown sort '{name.text}'{did_you_mean(name.text, list(self.sorts) + ['bool', 'int', 'real'])}",
+            name.span,
+        )
+        return None
+
+    # ------------------------------------------------------------------ constants
+    def _constants(self, sec: ast.Constants) -> None:
+        self.req.need(Requirement.SYMBOLS, sec.span, "declaring constants")
+        for group in sec.groups:
+            sort = self._constant_sort(group)
+            for name in group.names:
+                if not self._declare(self.constants, name, "constant") or self._value_name_taken(name, "constant"):
+                    continue
+                if sort is not None:
+                    self.constants[name.text] = ir.Constant(name.text, sort, name.span)
+
+    def _constant_sort(self, group: ast.TypedGroup) -> Sort | None:
+        if group.type is None:
+            self.diags.report(
+                "E0304",
+                f"constant{'s' if len(group.names) > 1 else ''} "
+                f"{', '.join(repr(n.text) for n in group.names)} need a sort: write '... - SORT'",
+                group.span,
+            )
+            return None
+        sort = self._named_sort(group.type, self.req, "constant")
+        if sort is None:
+            return None
+        if sort.kind is SortKind.ENUM:
+            self.diags.report(
+                "E0504",
+                f"enumeration '{sort.name}' is closed; its values are listed in its (enum ...) declaration",
+                group.type.span,
+            )
+            return None
+        if sort.kind is not SortKind.SYMBOL:
+            self.diags.report("E0304", f"constants must have a symbolic sort, not '{sort.name}'", group.type.span)
+            return None
+        return sort
+
+    # ------------------------------------------------------------------ resources
+    def _resource(self, r: ast.ResourceDecl) -> None:
+        if not self._declare(self.resources, r.name, "resource") or self._value_name_taken(r.name, "resource"):
+            return
+        sort = self.resolve_type(r.type, f"resource '{r.name.text}'", self.req)
+        opts = _options(r.options, RESOURCE_OPTIONS, f"resource '{r.name.text}'", self.diags)
+        if sort is None:
+            return
+        if sort.is_symbolic:
+            self.req.need(Requirement.SYMBOLS, r.type.span, f"the symbolic resource '{r.name.text}'")
+        lo = hi = None
+        if Option.BOUNDS.value in opts:
+            lo, hi, _ = _bounds(opts[Option.BOUNDS.value].value, sort, self.diags, f"resource '{r.name.text}'")  # type: ignore[arg-type]
+        group = opts.get(Option.GROUP.value)
+        unit = opts.get(Option.UNIT.value)
+        doc = opts.get(Option.DOC.value)
+        self.resources[r.name.text] = ir.Resource(
+            r.name.text,
+            sort,
+            group=group.value.text if group else None,  # type: ignore[union-attr]
+            unit=unit.value.text if unit else None,  # type: ignore[union-attr]
+            lower=lo,
+            upper=hi,
+            doc=doc.value.text if doc else None,  # type: ignore[union-attr]
+            span=r.name.span,
+        )
+
+    # ------------------------------------------------------------------ views
+    def _view(self, v: ast.ViewDecl) -> None:
+        self.req.need(Requirement.VIEWS, v.span, f"view '{v.name.text}'")
+        if not self._declare(self.views, v.name, "view"):
+            return
+        opts = _options(v.options, VIEW_OPTIONS, f"view '{v.name.text}'", self.diags)
+        keep, drop = opts.get(Option.KEEP.value), opts.get(Option.DROP.value)
+        if keep and drop:
+            self.diags.report(
+                "E0506", f"view '{v.name.text}' gives both :keep and :drop; give one", drop.span
+            )
+            return
+        listed: set[str] = set()
+        chosen = keep or drop
+        for name in chosen.value if chosen else ():  # type: ignore[union-attr]
+            if name.text not in self.resources:
+                self.diags.report(
+                    "E0202",
+                    f"unknown resource '{name.text}'{did_you_mean(name.text, self.resources)}",
+                    name.span,
+                )
+            listed.add(name.text)
+        everything = frozenset(self.resources)
+        kept = frozenset(listed) & everything if keep else everything - listed
+        self.views[v.name.text] = ir.View(v.name.text, kept, everything - kept, v.name.span)
+
+    # ------------------------------------------------------------------ morphisms
+    def _morphism(self, m: ast.MorphismDecl) -> None:
+        name = m.name.text
+        if not self._declare(self.morphisms, m.name, "morphism"):
+            return
+        if name in self.holes:
+            self.diags.report("E0201", f"'{name}' names both a hole and a morphism", m.name.span)
+            return
+        owner = f"morphism '{name}'"
+        opts = _options(m.options, MORPHISM_OPTIONS, owner, self.diags)
+        kind = ir.MorphismKind.SOFTWARE
+        if Option.KIND.value in opts:
+            k: ast.Name = opts[Option.KIND.value].value  # type: ignore[assignment]
+            if k.text in _KINDS:
+                kind = _KINDS[k.text]
+            else:
+                self.diags.report(
+                    "E0307",
+                    f"unknown morphism kind '{k.text}'"
+                    + (did_you_mean(k.text, _KINDS) or f"; expected one of {', '.join(_KINDS)}"),
+                    k.span,
+                )
+        churn = Fraction(1)
+        if Option.CHURN.value in opts:
+            self.req.need(Requirement.RECOMPOSITION, opts[Option.CHURN.value].span, ":churn")
+            num: ast.Num = opts[Option.CHURN.value].value  # type: ignore[assignment]
+            if num.value < 0:
+                self.diags.report("E0307", f":churn must not be negative, got {num.text}", num.span)
+            churn = num.value
+        uses = None
+        if Option.USES.value in opts:
+            uses = _positive_int(opts[Option.USES.value].value, ":uses", self.diags)  # type: ignore[arg-type]
+
+        params = self._params(m, opts.get(Option.PARAMETERS.value))
+        scope = Scope(self.sorts, self.constants, self.resources, {p.name: p for p in params})
+        checker = ExprChecker(scope, self.diags, self.req.need)
+        pre = self._literals(checker, opts.get(Option.PRECONDITION.value), f"pre/{name}")
+        effects = self._effects(checker, opts.get(Option.EFFECT.value), name)
+        cost = None
+        if Option.COST.value in opts:
+            node = opts[Option.COST.value].value
+            cost = checker.numeric(node, Context.COST)  # type: ignore[arg-type]
+            folded = fold_constant(cost) if cost is not None else None
+            if isinstance(folded, ir.Const) and folded.value < 0:  # type: ignore[operator]
+                self.diags.report("E0307", ":cost must not be negative", node.span)  # type: ignore[union-attr]
+        doc = opts.get(Option.DOC.value)
+        self.morphisms[name] = ir.Morphism(
+            name=name,
+            kind=kind,
+            params=tuple(params),
+            pre=tuple(pre),
+            effects=tuple(effects),
+            churn=churn,
+            uses=uses,
+            cost=cost,
+            doc=doc.value.text if doc else None,  # type: ignore[union-attr]
+            span=m.name.span,
+        )
+
+    def _params(self, m: ast.MorphismDecl, opt: ast.Opt | None) -> list[ir.Param]:
+        if opt is None:
+            return []
+        self.req.need(Requirement.FREE_PARAMETERS, opt.span, "free parameters")
+        out: list[ir.Param] = []
+        seen: dict[str, ir.Param] = {}
+        for p in opt.value:  # type: ignore[union-attr]
+            pname = p.name.text
+            if pname in RESERVED_NAMES:
+                self.diags.report("E0203", f"'{pname}' is a keyword and cannot name a parameter", p.name.span)
+                continue
+            if pname in seen:
+                self.diags.report(
+                    "E0201",
+                    f"parameter '{pname}' is declared twice",
+                    p.name.span,
+                    Note("previously declared here", seen[pname].span),
+                )
+                continue
+            clash = self.resources.get(pname) or self.constants.get(pname)
+            if clash is not None:
+                kind = "resource" if pname in self.resources else "constant"
+                self.diags.report(
+                    "E0204",
+                    f"parameter '{pname}' has the name of a {kind}; rename it so references are unambiguous",
+                    p.name.span,
+                    *([Note(f"the {kind} is declared here", clash.span)] if clash.span else []),
+                )
+                continue
+            sort = self.resolve_type(p.type, f"parameter '{pname}'", self.req)
+            popts = _options(p.options, PARAMETER_OPTIONS, f"parameter '{pname}'", self.diags)
+            if sort is None:
+                continue
+            if sort.kind is SortKind.SET:
+                self.diags.report(
+                    "E0304", "set-valued parameters are not supported; use a symbol parameter and 'add'", p.type.span
+                )
+                continue
+            lo = hi = None
+            bspan = None
+            if Option.BOUNDS.value in popts:
+                b = popts[Option.BOUNDS.value].value
+                lo, hi, _ = _bounds(b, sort, self.diags, f"parameter '{pname}'")  # type: ignore[arg-type]
+                bspan = b.span  # type: ignore[union-attr]
+            param = ir.Param(pname, sort, lo, hi, Option.FIXED.value in popts, p.name.span, bspan)
+            seen[pname] = param
+            out.append(param)
+        return out
+
+    def _literals(self, checker: ExprChecker, opt: ast.Opt | None, prefix: str) -> list[ir.Literal]:
+        if opt is None:
+            return []
+        return split_literals(checker, opt.value, prefix, Context.CONDITION)  # type: ignore[arg-type]
+
+    def _effects(self, checker: ExprChecker, opt: ast.Opt | None, morphism: str) -> list[ir.Effect]:
+        if opt is None:
+            return []
+        out: list[ir.Effect] = []
+        stack: list[ast.Expr] = [opt.value]  # type: ignore[list-item]
+        flat: list[ast.Expr] = []
+        while stack:
+            node = stack.pop()
+            if isinstance(node, ast.Call) and node.head.text == "and":
+                stack.extend(reversed(node.args))
+            else:
+                flat.append(node)
+        for i, node in enumerate(flat, 1):
+            eff = self._effect(checker, node, f"eff/{morphism}/{i}")
+            if eff is not None:
+                out.append(eff)
+        _check_effect_conflicts(out, self.diags)
+        return out
+
+    def _effect(self, checker: ExprChecker, node: ast.Expr, label: str) -> ir.Effect | None:
+        heads = ("assign", "increase", "decrease", "add", "remove")
+        if not isinstance(node, ast.Call) or node.head.text not in heads:
+            if isinstance(node, ast.Call):
+                head = node.head.text
+                hint = did_you_mean(head, heads + ("and",))
+                msg = f"'{head}' is not an effect{hint}" if hint else (
+                    f"'{head}' is not an effect; effects are (and ...), (assign r v), (increase r v), "
+                    f"(decrease r v), (add s x) and (remove s x)"
+                )
+            else:
+                msg = "an effect must be (assign r v), (increase r v), (decrease r v), (add s x) or (remove s x)"
+            self.diags.report("E0305", msg, node.span)
+            return None
+        head = node.head.text
+        if not checker._arity(node, 2, 2):
+            return None
+        target_node, value_node = node.args
+        if not isinstance(target_node, ast.Ref) or target_node.name not in self.resources:
+            what = "this"
+            if isinstance(target_node, ast.Ref):
+                if target_node.name in checker.scope.params:
+                    what = f"parameter '{target_node.name}'"
+                elif target_node.name in self.constants:
+                    what = f"constant '{target_node.name}'"
+                else:
+                    self.diags.report(
+                        "E0202",
+                        f"unknown resource '{target_node.name}'{did_you_mean(target_node.name, self.resources)}",
+                        target_node.span,
+                    )
+                    return None
+            self.diags.report("E0308", f"'{head}' writes a resource; {what} is not one", target_node.span)
+            return None
+        res = self.resources[target_node.name]
+        kind = ir.EffectKind(head)
+        if kind in (ir.EffectKind.ADD, ir.EffectKind.REMOVE):
+            if res.sort.kind is not SortKind.SET:
+                self.diags.report(
+                    "E0303", f"'{head}' needs a set resource, but '{res.name}' is {describe(res.sort)}", target_node.span
+                )
+                return None
+            value = checker.term(value_node, Context.TERM)
+            if value is None:
+                return None
+            if not assignable(res.sort.element, value.sort, self.sorts):  # type: ignore[arg-type]
+                self.diags.report(
+                    "E0301",
+                    f"cannot {head} {describe(value.sort)} {'to' if head == 'add' else 'from'} "
+                    f"'{res.name}', {describe(res.sort)}",
+                    value_node.span,
+                )
+                return None
+        elif kind in (ir.EffectKind.INCREASE, ir.EffectKind.DECREASE):
+            if not res.sort.is_numeric:
+                self.diags.report(
+                    "E0301", f"'{head}' needs a numeric resource, but '{res.name}' is {describe(res.sort)}", target_node.span
+                )
+                return None
+            value = checker.term(value_node, Context.TERM)
+            if value is None:
+                return None
+            if not assignable(res.sort, value.sort, self.sorts):
+                self.diags.report(
+                    "E0301",
+                    f"cannot {head} '{res.name}', {describe(res.sort)}, by {describe(value.sort)}",
+                    value_node.span,
+                )
+                return None
+        else:
+            value = checker.term(value_node, Context.TERM, res.sort)
+            if value is None:
+                return None
+            if not assignable(res.sort, value.sort, self.sorts):
+                self.diags.report(
+                    "E0301",
+                    f"cannot assign {describe(value.sort)} to '{res.name}', {describe(res.sort)}",
+                    value_node.span,
+                )
+                return None
+        return ir.Effect(kind, res.name, value, label, node.span)
+
+    # ------------------------------------------------------------------ holes
+    def _hole(self, h: ast.HoleDecl) -> None:
+        self.req.need(Requirement.HOLES, h.span, f"hole '{h.name.text}'")
+        if not self._declare(self.holes, h.name, "hole"):
+            return
+        if h.name.text in self.morphisms:
+            self.diags.report("E0201", f"'{h.name.text}' names both a hole and a morphism", h.name.span)
+            return
+        opts = _options(h.options, HOLE_OPTIONS, f"hole '{h.name.text}'", self.diags)
+        view = None
+        if Option.HOLE_VIEW.value in opts:
+            vname: ast.Name = opts[Option.HOLE_VIEW.value].value  # type: ignore[assignment]
+            if vname.text not in self.views:
+                self.diags.report(
+                    "E0202", f"unknown view '{vname.text}'{did_you_mean(vname.text, self.views)}", vname.span
+                )
+            view = vname.text
+        max_eff = max_pre = None
+        if Option.MAX_EFFECTS.value in opts:
+            max_eff = _positive_int(opts[Option.MAX_EFFECTS.value].value, ":max-effects", self.diags)  # type: ignore[arg-type]
+        if Option.MAX_PRECONDITIONS.value in opts:
+            max_pre = _positive_int(
+                opts[Option.MAX_PRECONDITIONS.value].value, ":max-preconditions", self.diags, allow_zero=True  # type: ignore[arg-type]
+            )
+        self.holes[h.name.text] = ir.Hole(h.name.text, view, max_eff, max_pre, h.name.span)
+
+
+def split_literals(checker: ExprChecker, node: ast.Expr, prefix: str, ctx: Context) -> list[ir.Literal]:
+    """Split a top-level conjunction into labelled literals ``prefix/1``, ``prefix/2``, ..."""
+    flat: list[ast.Expr] = []
+    stack = [node]
+    while stack:
+        n = stack.pop()
+        if isinstance(n, ast.Call) and n.head.text == "and":
+            stack.extend(reversed(n.args))
+        else:
+            flat.append(n)
+    out = []
+    for i, n in enumerate(flat, 1):
+        e = checker.condition(n, ctx)
+        if e is not None:
+            out.append(ir.Literal(e, f"{prefix}/{i}", n.span))
+    return out
+
+
+def _check_effect_conflicts(effects: list[ir.Effect], diags: Diagnostics) -> None:
+    by_res: dict[str, list[ir.Effect]] = {}
+    for e in effects:
+        by_res.setdefault(e.resource, []).append(e)
+    for res, effs in by_res.items():
+        assigns = [e for e in effs if e.kind is ir.EffectKind.ASSIGN]
+        if assigns and len(effs) > 1:
+            other = next(e for e in effs if e is not assigns[0])
+            diags.report(
+                "E0501",
+                f"'{res}' is written twice in one effect: an assign cannot be combined with another write",
+                other.span,
+                Note("the assign is here", assigns[0].span),
+            )
+            continue
+        adds = {_elem_key(e.value): e for e in effs if e.kind is ir.EffectKind.ADD}
+        for e in effs:
+            if e.kind is ir.EffectKind.REMOVE and _elem_key(e.value) in adds:
+                diags.report(
+                    "E0501",
+                    f"the same element is both added to and removed from '{res}' in one effect",
+                    e.span,
+                    Note("the add is here", adds[_elem_key(e.value)].span),
+                )
+
+
+def _elem_key(expr: ir.Expr) -> tuple:
+    if isinstance(expr, ir.Const):
+        return ("c", expr.value)
+    if isinstance(expr, ir.ParamRef):
+        return ("p", expr.name)
+    return ("x", id(expr))
+
+
+# ====================================================================== problems
+
+
+class ProblemChecker:
+    def __init__(self, workspace: "Workspace", node: ast.Problem, path: str, diags: Diagnostics):
+        self.ws = workspace
+        self.node = node
+        self.path = path
+        self.diags = diags
+
+    def _single(self, cls, what: str):
+        found = [s for s in self.node.sections if isinstance(s, cls)]
+        for extra in found[1:]:
+            self.diags.report(
+                "E0205", f"{what} is given twice", extra.span, Note("first given here", found[0].span)
+            )
+        return found[0] if found else None
+
+    def run(self) -> ir.Instance | None:
+        before = len(self.diags.errors)
+        node = self.node
+        dref = self._single(ast.DomainRef, "(:domain ...)")
+        if dref is None:
+            self.diags.report(
+                "E0206", f"problem '{node.name.text}' does not name its domain: add (:domain NAME)", node.name.span
+            )
+            return None
+        domain = self.ws.domain_ir(dref.name.text, self.path, dref.name.span)
+        if domain is None:
+            return None
+        self.domain = domain
+        self.req = _Requirements(
+            (s for s in node.sections if isinstance(s, ast.Requirements)), self.diags, domain.requirements
+        )
+        objects = self._objects()
+        constants = dict(domain.constants)
+        constants.update(objects)
+        self.scope = Scope(domain.sorts, constants, domain.resources, {}, domain.morphisms)
+        self.checker = ExprChecker(self.scope, self.diags, self.req.need)
+
+        view = self._view()
+        init = self._init(view)
+        goal_sec = self._single(ast.Goal, "(:goal ...)")
+        goal = split_literals(self.checker, goal_sec.condition, "goal", Context.CONDITION) if goal_sec else []
+        if goal_sec is None:
+            self.diags.report("E0206", f"problem '{node.name.text}' has no (:goal ...)", node.name.span)
+        horizon_sec = self._single(ast.Horizon, "(:horizon ...)")
+        horizon = None
+        if horizon_sec is not None:
+            horizon = _positive_int(horizon_sec.steps, "the horizon", self.diags, allow_zero=True)
+        softs = self._softs()
+        metric = self._metric()
+        deployed = self._deployed()
+        if len(self.diags.errors) > before:
+            return None
+        problem = ir.Problem(
+            name=node.name.text,
+            domain=domain.name,
+            requirements=self.req.names,
+            objects=ir.frozen(objects),
+            init=ir.frozen(init),
+            goal=tuple(goal),
+            horizon=horizon,
+            softs=tuple(softs),
+            metric=metric,
+            deployed=tuple(deployed),
+            view=view,
+            span=node.span,
+            horizon_span=horizon_sec.span if horizon_sec else None,
+        )
+        return ir.Instance(domain, problem)
+
+    def _objects(self) -> dict[str, ir.Constant]:
+        out: dict[str, ir.Constant] = {}
+        for sec in self.node.sections:
+            if not isinstance(sec, ast.Objects):
+                continue
+            self.req.need(Requirement.SYMBOLS, sec.span, "problem objects")
+            for group in sec.groups:
+                sort = None
+                if group.type is None:
+                    self.diags.report("E0304", "objects need a sort: write '... - SORT'", group.span)
+                else:
+                    sort = self.domain.sorts.get(group.type.text)
+                    if sort is None:
+                        self.diags.report(
+                            "E0202",
+                            f"unknown sort '{group.type.text}'{did_you_mean(group.type.text, self.domain.sorts)}",
+                            group.type.span,
+                        )
+                    elif sort.kind is SortKind.ENUM:
+                        self.diags.report(
+                            "E0504",
+                            f"enumeration '{sort.name}' is closed; problems cannot add values to it "
+                            f"(declare it '- symbol' to make it open)",
+                            group.type.span,
+                        )
+                        sort = None
+                for name in group.names:
+                    prev = out.get(name.text) or self.domain.constants.get(name.text)
+                    if name.text in RESERVED_NAMES:
+                        self.diags.report("E0203", f"'{name.text}' is a keyword and cannot name an object", name.span)
+                    elif prev is not None:
+                        notes = [Note("previously declared here", prev.span)] if prev.span else []
+                        self.diags.report("E0201", f"object '{name.text}' is declared twice", name.span, *notes)
+                    elif name.text in self.domain.resources:
+                        self.diags.report("E0201", f"object '{name.text}' has the name of a resource", name.span)
+                    elif sort is not None:
+                        out[name.text] = ir.Constant(name.text, sort, name.span)
+        return out
+
+    def _view(self) -> str | None:
+        sec = self._single(ast.ViewUse, "(:view ...)")
+        if sec is None:
+            return None
+        self.req.need(Requirement.VIEWS, sec.span, "(:view ...)")
+        if sec.name.text not in self.domain.views:
+            self.diags.report(
+                "E0202",
+                f"unknown view '{sec.name.text}'{did_you_mean(sec.name.text, self.domain.views)}",
+                sec.name.span,
+            )
+            return None
+        return sec.name.text
+
+    def _init(self, view: str | None) -> dict[str, ir.InitValue]:
+        out: dict[str, ir.InitValue] = {}
+        resources = self.domain.resources
+        sections = [s for s in self.node.sections if isinstance(s, ast.Init)]
+        attempted: set[str] = set()
+        for sec in sections:
+            for lit in sec.literals:
+                attempted |= _init_target(lit)
+                parsed = self._init_literal(lit)
+                if parsed is None:
+                    continue
+                name, value = parsed
+                if name in out:
+                    self.diags.report(
+                        "E0205",
+                        f"'{name}' is given an initial value twice",
+                        lit.span,
+                        Note("first given here", out[name].span),
+                    )
+                    continue
+                out[name] = ir.InitValue(name, value, f"init/{name}", lit.span)
+        dropped = self.domain.views[view].dropped if view else frozenset()
+        missing = []
+        for res in resources.values():
+            if res.name in out:
+                continue
+            if res.sort.kind is SortKind.BOOL:
+                out[res.name] = ir.InitValue(res.name, ir.Const(False, BOOL), f"init/{res.name}", None)
+            elif res.sort.kind is SortKind.SET:
+                out[res.name] = ir.InitValue(res.name, ir.SetLit((), res.sort), f"init/{res.name}", None)
+            elif res.name not in dropped and res.name not in attempted:
+                missing.append(res)
+        if missing:
+            where = sections[0].span if sections else self.node.name.span
+            names = ", ".join(f"'{r.name}'" for r in missing)
+            self.diags.report(
+                "E0503",
+                f"no initial value for {names}: numeric and symbolic resources must be given one with (= resource value)",
+                where,
+                *[Note(f"'{r.name}' is declared here", r.span) for r in missing[:3] if r.span],
+            )
+        return out
+
+    def _init_literal(self, lit: ast.Expr) -> tuple[str, ir.Const | ir.SetLit] | None:
+        res = self.domain.resources
+        if isinstance(lit, ast.Ref) and lit.name in res and res[lit.name].sort.kind is SortKind.BOOL:
+            return lit.name, ir.Const(True, BOOL, lit.span)
+        if (
+            isinstance(lit, ast.Call)
+            and lit.head.text == "not"
+            and len(lit.args) == 1
+            and isinstance(lit.args[0], ast.Ref)
+            and lit.args[0].name in res
+            and res[lit.args[0].name].sort.kind is SortKind.BOOL
+        ):
+            return lit.args[0].name, ir.Const(False, BOOL, lit.span)
+        if not (isinstance(lit, ast.Call) and lit.head.text == "=" and len(lit.args) == 2):
+            self.diags.report(
+                "E0502",
+                "an initial-state literal is (= resource value), a bool resource, or (not resource)",
+                lit.span,
+            )
+            return None
+        target, value_node = lit.args
+        if not isinstance(target, ast.Ref) or target.name not in res:
+            label = target.name if isinstance(target, ast.Ref) else None
+            if label is not None:
+                self.diags.report(
+                    "E0202", f"unknown resource '{label}'{did_you_mean(label, res)}", target.span
+                )
+            else:
+                self.diags.report("E0502", "the left side of an initial-state literal must be a resource", target.span)
+            return None
+        r = res[target.name]
+        value = self.checker.term(value_node, Context.CONSTANT, r.sort)
+        if value is None:
+            return None
+        folded = fold_constant(value)
+        if folded is None:
+            self.diags.report("E0502", "an initial value must be a constant", value_node.span)
+            return None
+        if not assignable(r.sort, folded.sort, self.domain.sorts):
+            self.diags.report(
+                "E0301",
+                f"'{r.name}' is {describe(r.sort)} and cannot start as {describe(folded.sort)}",
+                value_node.span,
+            )
+            return None
+        if isinstance(folded, ir.Const) and r.sort.is_numeric:
+            v = folded.value
+            if (r.lower is not None and v < r.lower) or (r.upper is not None and v > r.upper):  # type: ignore[operator]
+                self.diags.report(
+                    "E0307",
+                    f"initial value {_fmt(v)} of '{r.name}' lies outside its bounds "  # type: ignore[arg-type]
+                    f"[{_fmt(r.lower)}, {_fmt(r.upper)}]",
+                    value_node.span,
+                )
+                return None
+            folded = ir.Const(v, r.sort, folded.span)
+        return target.name, folded
+
+    def _softs(self) -> list[ir.Soft]:
+        out = []
+        for i, sec in enumerate((s for s in self.node.sections if isinstance(s, ast.Soft)), 1):
+            self.req.need(Requirement.OPTIMIZATION, sec.span, "a soft constraint")
+            opts = _options(sec.options, SOFT_OPTIONS, "(:soft ...)", self.diags)
+            weight = Fraction(1)
+            if Option.WEIGHT.value in opts:
+                num: ast.Num = opts[Option.WEIGHT.value].value  # type: ignore[assignment]
+                if num.value <= 0:
+                    self.diags.report("E0307", f"a soft constraint's weight must be positive, got {num.text}", num.span)
+                weight = num.value
+            expr = self.checker.condition(sec.condition)
+            if expr is not None:
+                out.append(ir.Soft(expr, weight, f"soft/{i}", sec.span))
+        return out
+
+    def _metric(self) -> ir.Metric | None:
+        sec = self._single(ast.Metric, "(:metric ...)")
+        if sec is None:
+            return None
+        self.req.need(Requirement.OPTIMIZATION, sec.span, "(:metric ...)")
+        objectives = []
+        for obj in sec.objectives:
+            term = self.checker.numeric(obj.term, Context.OBJECTIVE)
+            if term is not None:
+                objectives.append(ir.Objective(ir.Sense(obj.sense.text), term, obj.span))
+        mode = ir.MetricMode(sec.mode)
+        if mode is ir.MetricMode.PARETO and len(sec.objectives) < 2:
+            self.diags.report("E0505", "a pareto metric needs at least two objectives", sec.span)
+        return ir.Metric(mode, tuple(objectives), sec.span)
+
+    def _deployed(self) -> list[str]:
+        out: list[str] = []
+        for sec in self.node.sections:
+            if not isinstance(sec, ast.Deployed):
+                continue
+            self.req.need(Requirement.RECOMPOSITION, sec.span, "(:deployed ...)")
+            for name in sec.names:
+                if name.text not in self.domain.morphisms:
+                    self.diags.report(
+                        "E0202",
+                        f"unknown morphism '{name.text}'{did_you_mean(name.text, self.domain.morphisms)}",
+                        name.span,
+                    )
+                elif name.text in out:
+                    self.diags.report("E0205", f"'{name.text}' is listed twice in (:deployed ...)", name.span)
+                else:
+                    out.append(name.text)
+        return out
+
+
+def _init_target(lit: ast.Expr) -> set[str]:
+    """The resource an init literal is about, even when the literal is ill-typed."""
+    if isinstance(lit, ast.Call) and lit.args and isinstance(lit.args[0], ast.Ref):
+        return {lit.args[0].name}
+    return {lit.name} if isinstance(lit, ast.Ref) else set()
+
+
+def _fmt(v: Fraction | None) -> str:
+    if v is None:
+        return "*"
+    return str(v.numerator) if v.denominator == 1 else f"{float(v):g} ({v})"
+
+
+def check_objective_text(text: str, inst: ir.Instance, diags: Diagnostics, origin: str) -> ir.Expr | None:
+    """A numeric objective term given on the command line (``--minimize EXPR``) or through
+    the API, checked against an instance.  Diagnostics point into ``text`` itself, as the
+    pseudo-file ``origin`` (the term is parsed inside a wrapper problem; the wrapper never
+    shows)."""
+    from catgrammar.parser import parse_text
+    from catgrammar.span import Source
+
+    prefix = "(define (problem objective) (:metric minimize "
+    wrapped = prefix + text + "))"
+    local = Diagnostics()
+    term = None
+    parsed = parse_text(wrapped, origin, local)
+    if parsed is not None:
+        metric = next((s for s in parsed.definitions[0].sections if isinstance(s, ast.Metric)), None)
+        if metric is None or len(metric.objectives) != 1:
+            local.report("E0505", f"expected one objective term, got {text!r}", None)
+        else:
+            constants = inst.constants()
+            scope = Scope(inst.domain.sorts, constants, inst.domain.resources, {}, inst.domain.morphisms)
+            term = ExprChecker(scope, local, lambda *args: None).numeric(metric.objectives[0].term, Context.OBJECTIVE)
+    diags.add_source(Source(origin, text))
+    for d in local:
+        diags.report(d.code, d.message, _unwrapped(d.span, len(prefix), text),
+                     *[Note(n.message, _unwrapped(n.span, len(prefix), text)) for n in d.notes], severity=d.severity)
+    return None if local.has_errors else term
+
+
+def _unwrapped(span: Span | None, shift: int, text: str) -> Span | None:
+    """A span of the wrapped objective text moved onto the term ``text`` alone (clamped to it)."""
+    if span is None:
+        return None
+    start = min(max(span.start - shift, 0), len(text))
+    end = min(max(span.end - shift, start), len(text))
+
+    def position(offset: int) -> tuple[int, int]:
+        line_start = text.rfind("\n", 0, offset) + 1
+        return text.count("\n", 0, offset) + 1, offset - line_start + 1
+
+    (line, column), (end_line, end_column) = position(start), position(end)
+    return span._replace(line=line, column=column, end_line=end_line, end_column=end_column, start=start, end=end)

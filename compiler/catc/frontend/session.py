@@ -1,0 +1,73 @@
+"""Front-end entry points shared by the CLI, the language server and the Python API."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from catgrammar import ast
+from catgrammar.diagnostics import Diagnostics
+from catgrammar.parser import gc_paused
+from catc import ir
+from catc.frontend.lints import lint_domain, lint_instance
+from catc.frontend.workspace import Workspace, stdlib_dir
+from catc.ir.views import ViewError, apply_view
+
+
+def is_user_file(path: str) -> bool:
+    """Lints are reported for the user's files, not for the standard library."""
+    try:
+        return stdlib_dir() not in Path(path).resolve().parents
+    except OSError:  # pragma: no cover
+        return True
+
+
+def check_files(
+    files: list[str], diags: Diagnostics, search_paths: tuple[str, ...] | list[str] = ()
+) -> tuple[dict[str, ir.Domain], dict[str, ir.Instance]]:
+    """Check every definition in ``files``: errors and lints go to ``diags``."""
+    with gc_paused():
+        return _check_files(files, diags, search_paths)
+
+
+def _check_files(files, diags, search_paths):
+    ws = Workspace(diags, search_paths)
+    parsed: list[tuple[str, ast.SourceFile]] = []
+    for f in files:
+        sf = ws.load(f)
+        if sf is not None:
+            parsed.append((f, sf))
+    return check_parsed(ws, parsed, diags)
+
+
+def check_parsed(
+    ws: Workspace, parsed: list[tuple[str, ast.SourceFile]], diags: Diagnostics
+) -> tuple[dict[str, ir.Domain], dict[str, ir.Instance]]:
+    """Check the definitions of files already loaded into ``ws`` (the CLI and the
+    language server share this): domains, then problems with their views, then lints."""
+    domains: dict[str, ir.Domain] = {}
+    instances: dict[str, ir.Instance] = {}
+    for path, sf in parsed:
+        for d in sf.definitions:
+            if isinstance(d, ast.Domain) and any(d is e for e, _ in ws.domains.get(d.name.text, [])):
+                dom = ws.domain_ir(d.name.text, path, d.name.span)
+                if dom is not None:
+                    domains[dom.name] = dom
+    checked: list[ir.Instance] = []
+    for path, sf in parsed:
+        for d in sf.definitions:
+            if isinstance(d, ast.Problem) and any(d is e for e, _ in ws.problems.get(d.name.text, [])):
+                inst = ws.check_problem(d, path)
+                if inst is None:
+                    continue
+                try:
+                    apply_view(inst, None)
+                except ViewError as exc:
+                    diags.report("E0506", str(exc), exc.span or d.name.span)
+                    continue
+                instances[inst.problem.name] = inst
+                checked.append(inst)
+    for dom in ws.checked_domains():
+        lint_domain(dom, diags, is_user_file, [i.problem for i in checked if i.domain is dom])
+    for inst in checked:
+        lint_instance(inst, diags, is_user_file)
+    return domains, instances

@@ -1,0 +1,237 @@
+"""Finding, parsing and checking files: the workspace.
+
+A :class:`Workspace` owns every parsed file of a run.  Domains are found by name, in this
+order: files already loaded, ``.cat`` files in the folder of the file that refers to the
+domain, the extra search paths (``--path`` and ``CATC_PATH``), and the standard library
+(``stdlib_domains``).  Each domain is checked once; import cycles are reported.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from pathlib import Path
+
+from catgrammar import ast
+from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
+from catgrammar.parser import gc_paused, parse_source, read_source
+from catgrammar.span import Span
+from catc import ir
+from catc.frontend.check import DomainChecker, ProblemChecker
+
+STDLIB_DIR = Path(__file__).resolve().parents[3] / "stdlib_domains"
+
+
+def stdlib_dir() -> Path:
+    """The folder of the standard library domains (installed or in a checkout)."""
+    try:
+        import stdlib_domains
+
+        return Path(stdlib_domains.__file__).resolve().parent
+    except ImportError:  # pragma: no cover - running from a bare checkout
+        return STDLIB_DIR
+
+
+def stdlib_names() -> list[str]:
+    return sorted(p.stem for p in stdlib_dir().glob("*.cat"))
+
+
+class Loaded:
+    """A parsed file and where it was read from."""
+
+    __slots__ = ("path", "file")
+
+    def __init__(self, path: str, file: ast.SourceFile) -> None:
+        self.path = path
+        self.file = file
+
+
+def _norm(path: str) -> str:
+    return os.path.normcase(os.path.abspath(path))
+
+
+def _folder(path: str) -> Path:
+    return Path(path).resolve().parent
+
+
+def _domain_pattern(name: str) -> re.Pattern[str]:
+    return re.compile(r"\(\s*domain\s+" + re.escape(name) + r"\s*\)")
+
+
+class Workspace:
+    def __init__(self, diags: Diagnostics, search_paths: list[str] | tuple[str, ...] = ()):
+        self.diags = diags
+        env = [p for p in os.environ.get("CATC_PATH", "").split(os.pathsep) if p]
+        self.search_paths = [Path(p) for p in list(search_paths) + env]
+        self.files: dict[str, ast.SourceFile | None] = {}
+        #: every loaded definition by name: several when unrelated folders reuse a name
+        self.domains: dict[str, list[tuple[ast.Domain, str]]] = {}
+        self.problems: dict[str, list[tuple[ast.Problem, str]]] = {}
+        self._checked: dict[int, ir.Domain | None] = {}  # id(ast.Domain) → checked IR
+        self._stack: list[tuple[str, int]] = []
+        self.stdlib = stdlib_dir()
+
+    # -------------------------------------------------------------- files
+    def load(self, path: str) -> ast.SourceFile | None:
+        key = _norm(path)
+        if key in self.files:
+            return self.files[key]
+        self.files[key] = None
+        src = read_source(path, self.diags)
+        parsed = parse_source(src, self.diags) if src is not None else None
+        self.files[key] = parsed
+        if parsed is not None:
+            for d in parsed.definitions:
+                self._index(d, path)
+        return parsed
+
+    def _index(self, d: ast.Definition, path: str) -> None:
+        """Record a definition.  Two definitions of one name in one folder are ambiguous
+        (a reference from that folder could mean either); in different folders they are not."""
+        table = self.domains if isinstance(d, ast.Domain) else self.problems
+        what = "domain" if isinstance(d, ast.Domain) else "problem"
+        entries = table.setdefault(d.name.text, [])
+        folder = _folder(path)
+        for prev, prev_path in entries:
+            if _folder(prev_path) == folder:
+                where = "twice in one file" if _norm(prev_path) == _norm(path) else "in two files of one folder"
+                self.diags.report(
+                    "E0210",
+                    f"{what} '{d.name.text}' is defined {where}",
+                    d.name.span,
+                    Note("also defined here", prev.name.span),
+                )
+                return
+        entries.append((d, path))  # type: ignore[arg-type]
+
+    def _scan(self, folder: Path, name: str) -> tuple[ast.Domain, str] | None:
+        """Load the ``.cat`` files of ``folder`` that seem to define domain ``name``."""
+        if not folder.is_dir():
+            return None
+        found = self._in_folder(name, folder)
+        if found:
+            return found
+        pattern = _domain_pattern(name)
+        preferred = folder / f"{name}.cat"
+        candidates = [preferred] if preferred.is_file() else []
+        candidates += sorted(p for p in folder.glob("*.cat") if p != preferred)
+        for p in candidates:
+            if _norm(str(p)) in self.files:
+                continue
+            try:
+                head = p.read_bytes()[:1_000_000].decode("utf-8", errors="replace")
+            except OSError:
+                continue
+            if pattern.search(head):
+                self.load(str(p))
+                found = self._in_folder(name, folder)
+                if found:
+                    return found
+        return None
+
+    def _in_folder(self, name: str, folder: Path) -> tuple[ast.Domain, str] | None:
+        target = folder.resolve()
+        for d, p in self.domains.get(name, []):
+            if _folder(p) == target:
+                return d, p
+        return None
+
+    def find_domain(self, name: str, near: str | None, ref: Span | None = None) -> tuple[ast.Domain, str] | None:
+        """The domain ``name`` as seen from the file ``near``: its own folder first, then the
+        other loaded files (when exactly one folder defines it), ``--path``, the stdlib."""
+        if near is not None:
+            found = self._scan(Path(near).parent, name)  # unresolved: keep the user's relative paths
+            if found:
+                return found
+        loaded = self.domains.get(name, [])
+        if len(loaded) == 1:
+            return loaded[0]
+        if len(loaded) > 1:
+            self.diags.report(
+                "E0210",
+                f"domain '{name}' is defined in several folders; keep the problem next to the one it means "
+                f"or pass only that one",
+                ref,
+                *[Note("defined here", d.name.span) for d, _ in loaded],
+            )
+            return None
+        for folder in self.search_paths + [self.stdlib]:
+            found = self._scan(folder, name)
+            if found:
+                return found
+        return None
+
+    def known_domain_names(self) -> list[str]:
+        return sorted(set(self.domains) | set(stdlib_names()))
+
+    # -------------------------------------------------------------- checking
+    def domain_ir(self, name: str, near: str | None, ref: Span | None, importing: bool = False) -> ir.Domain | None:
+        found = self.find_domain(name, near, ref)
+        if found is None:
+            if not self.domains.get(name) or len(self.domains[name]) <= 1:
+                code = "E0208" if importing else "E0207"
+                what = "imported domain" if importing else "domain"
+                hint = did_you_mean(name, self.known_domain_names())
+                self.diags.report(
+                    code,
+                    f"{what} '{name}' not found (searched the folder of this file, the loaded files, "
+                    f"--path/CATC_PATH and the standard library){hint}",
+                    ref,
+                )
+            return None
+        node, path = found
+        key = id(node)
+        if any(k == key for _, k in self._stack):
+            names = [n for n, _ in self._stack]
+            cycle = " -> ".join(names[names.index(name):] + [name])
+            self.diags.report("E0209", f"circular import: {cycle}", ref)
+            return None
+        if key in self._checked:
+            return self._checked[key]
+        self._stack.append((name, key))
+        try:
+            result = DomainChecker(self, node, path, self.diags).run()
+        finally:
+            self._stack.pop()
+        self._checked[key] = result
+        return result
+
+    def checked_domains(self) -> list[ir.Domain]:
+        return [d for d in self._checked.values() if d is not None]
+
+    def check_problem(self, node: ast.Problem, path: str) -> ir.Instance | None:
+        return ProblemChecker(self, node, path, self.diags).run()
+
+
+
+def load_instance(
+    domain_path: str | None,
+    problem_path: str,
+    diags: Diagnostics,
+    search_paths: list[str] | tuple[str, ...] = (),
+    problem_name: str | None = None,
+) -> tuple[Workspace, ir.Instance | None]:
+    """The common front end of every query command: files → checked instance."""
+    with gc_paused():
+        return _load_instance(domain_path, problem_path, diags, search_paths, problem_name)
+
+
+def _load_instance(domain_path, problem_path, diags, search_paths, problem_name):
+    ws = Workspace(diags, search_paths)
+    if domain_path is not None:
+        ws.load(domain_path)
+    parsed = ws.load(problem_path)
+    if parsed is None:
+        return ws, None
+    problems = [d for d in parsed.definitions if isinstance(d, ast.Problem)]
+    if problem_name is not None:
+        problems = [p for p in problems if p.name.text == problem_name]
+    if not problems:
+        what = f"no problem named '{problem_name}'" if problem_name else "no (define (problem ...)) found"
+        diags.report("E0206", f"{what} in {problem_path}", None)
+        return ws, None
+    if len(problems) > 1:
+        names = ", ".join(p.name.text for p in problems)
+        diags.report("E0206", f"{problem_path} defines several problems ({names}); choose one with --problem", None)
+        return ws, None
+    return ws, ws.check_problem(problems[0], problem_path)

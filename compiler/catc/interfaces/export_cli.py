@@ -1,0 +1,216 @@
+"""``catc export pddl``: PDDL 2.1 numeric (``--flavor enhsp``) or PDDL+ (``--flavor smtplan``)
+domain and problem, with an export report.
+
+Exit codes follow docs/cli.md: 0 written; 1 ``--run`` found no plan; 2 usage errors,
+unreadable input, or a model the export refuses (e.g. a real θ without a grid step in the
+enhsp flavour), and a missing ``baselines`` extra, Java or SMTPlan+ binary; 3 the planner
+gave up (``--run``).
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from fractions import Fraction
+from pathlib import Path
+
+import click
+
+
+EXIT_OK, EXIT_FAIL, EXIT_INPUT, EXIT_UNKNOWN = 0, 1, 2, 3
+
+
+def _grid(specs: tuple[str, ...]) -> dict[str, Fraction]:
+    out: dict[str, Fraction] = {}
+    for spec in specs:
+        name, sep, step = spec.partition("=")
+        try:
+            if not sep or not name:
+                raise ValueError
+            value = Fraction(step)
+        except (ValueError, ZeroDivisionError):
+            raise click.BadParameter(f"expected PARAM=STEP (e.g. camera-driver.ram-req=0.25), got {spec!r}", param_hint="--grid") from None
+        if value <= 0:
+            raise click.BadParameter(f"grid step must be positive, got {spec!r}", param_hint="--grid")
+        out[name] = value
+    return out
+
+
+def check_with_pddl_parser(domain_file: Path, problem_file: Path) -> None:
+    """Parse the written files with the PyPI ``pddl`` package (a parser we did not write)."""
+    try:
+        from pddl import parse_domain, parse_problem
+    except ImportError:
+        raise click.ClickException(
+            "the PyPI 'pddl' parser is missing: pip install --no-deps 'pddl==0.5.1' "
+            "(it pins an older lark but works with catc's), or pass --no-check"
+        ) from None
+    parse_domain(str(domain_file))
+    parse_problem(str(problem_file))
+
+
+def check_pddlplus(domain_file: Path, problem_file: Path) -> list[str]:
+    """Parse PDDL+ files with unified-planning's reader (which supports processes and events)
+    and, when installed, PyPI ``pddl-plus-parser``; returns what was checked.
+
+    (The PyPI ``pddl`` package has no processes, so it is not used for this flavour.)"""
+    try:
+        from unified_planning.io import PDDLReader
+    except ImportError:
+        raise click.ClickException("unified-planning is missing (it parses the PDDL+ export): "
+                                   "pip install 'catc-lang[baselines]', or pass --no-check") from None
+    problem = PDDLReader().parse_problem(str(domain_file), str(problem_file))
+    done = [f"unified-planning's PDDLReader ({len(problem.actions)} actions, {len(problem.processes)} processes)"]
+    try:
+        from pddl_plus_parser.lisp_parsers import DomainParser, ProblemParser
+    except ImportError:
+        done.append("pddl-plus-parser not installed: skipped (pip install 'catc-lang[baselines]')")
+        return done
+    dom = DomainParser(domain_file).parse_domain()
+    ProblemParser(problem_file, dom).parse_problem()
+    done.append(f"pddl-plus-parser ({len(dom.actions)} actions; it skips :process blocks)")
+    return done
+
+
+@click.group(name="export")
+def export_command() -> None:
+    """Export a model to other planners' formats (DESIGN §6)."""
+
+
+@export_command.command(name="pddl")
+@click.argument("paths", nargs=-1, required=True, type=click.Path())
+@click.option("-o", "--output", "out_dir", required=True, type=click.Path(file_okay=False),
+              help="Folder for domain.pddl, problem.pddl, report.md and actions.json.")
+@click.option("--grid", "grid_specs", multiple=True, metavar="PARAM=STEP",
+              help="Grid step for a real θ (MORPHISM.PARAM or PARAM); repeatable. Required for every real θ "
+                   "in the enhsp flavour; optional in the smtplan flavour (a θ without a step becomes a PDDL+ dial).")
+@click.option("--flavor", type=click.Choice(["enhsp", "smtplan"]), default="enhsp", show_default=True)
+@click.option("--horizon", "-k", type=click.IntRange(min=0), help="Bound the number of (sequential) actions with a counter.")
+@click.option("--view", help="Export this view (overrides the problem's (:view ...)).")
+@click.option("--path", "search_paths", multiple=True, type=click.Path(file_okay=False), help="Extra folder to search for domains.")
+@click.option("--problem", "problem_name", help="The problem to use when the file defines several.")
+@click.option("--no-check", is_flag=True, help="Do not parse the written files (PyPI 'pddl' for enhsp; "
+              "unified-planning and pddl-plus-parser for smtplan).")
+@click.option("--run", "run_planner", is_flag=True, help="Run ENHSP (enhsp) or an SMTPlan binary on PATH (smtplan) and "
+              "validate its plan with catc's validator.")
+@click.option("--planner", default="sat-hadd", show_default=True, help="ENHSP -planner configuration (e.g. opt-blind).")
+@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=60.0, show_default=True, help="Seconds for the planner (--run).")
+def pddl_command(paths, out_dir, grid_specs, flavor, horizon, view, search_paths, problem_name, no_check,
+                 run_planner, planner, timeout) -> None:
+    """Write PROBLEM (or DOMAIN PROBLEM) as PDDL planning files.
+
+    --flavor enhsp: PDDL 2.1 numeric planning, real parameters θ discretised on --grid.
+    --flavor smtplan: PDDL+ for SMTPlan+, a real θ without a --grid step is exact (a dial:
+    a fluent raised by a process; docs/export.md).  Whatever PDDL cannot express (holes,
+    soft constraints, reserve values, parallel steps, ...) is listed in report.md.
+    """
+    from catc.interfaces.cli import _instance
+    from catc.targets.pddl import ExportError, export_pddl
+
+    grid = _grid(grid_specs)
+    inst = _instance(paths, view, search_paths, problem_name, False)
+    try:
+        ex = export_pddl(inst, grid=grid, horizon=horizon, flavor=flavor)
+    except ExportError as exc:
+        click.echo(f"error: {exc}", err=True)
+        sys.exit(EXIT_INPUT)
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    dom, prob = out / "domain.pddl", out / "problem.pddl"
+    dom.write_text(ex.domain)
+    prob.write_text(ex.problem)
+    report = ex.report.markdown(f"problem {inst.problem.name} of domain {inst.domain.name}")
+    (out / "report.md").write_text(report)
+    from catc.semantics.plan import value_to_json
+
+    (out / "actions.json").write_text(json.dumps(
+        {n: {"morphism": a.morphism, "params": {k: value_to_json(v) for k, v in a.params.items()}} for n, a in ex.actions.items()},
+        indent=1) + "\n")
+    if ex.dials:  # smtplan flavour: how to read each real θ off a timed plan
+        (out / "dials.json").write_text(json.dumps(
+            {k: {"morphism": d.morphism, "param": d.param, "lower": value_to_json(d.lower),
+                 "upper": None if d.upper is None else value_to_json(d.upper), "fluent": d.fluent,
+                 "start": d.start, "stop": d.stop, "process": d.process, "lock": d.lock, "reset": d.reset}
+             for k, d in ex.dials.items()}, indent=1) + "\n")
+    click.echo(f"wrote {dom}, {prob} ({len(ex.actions)} ground actions{f', {len(ex.dials)} dials' if ex.dials else ''}), "
+               f"{out / 'report.md'}")
+    click.echo(report.rstrip())
+    if not no_check and flavor == "smtplan":
+        try:
+            checked = check_pddlplus(dom, prob)
+        except click.ClickException as exc:
+            click.echo(f"error: {exc.message}", err=True)
+            sys.exit(EXIT_INPUT)
+        except Exception as exc:  # the parsers' own errors
+            click.echo(f"error: a PDDL+ parser rejects the export: {type(exc).__name__}: {exc}", err=True)
+            sys.exit(EXIT_INPUT)
+        for line in checked:
+            click.echo(f"parsed by {line}: ok" if "skipped" not in line else line)
+    elif not no_check:
+        try:
+            check_with_pddl_parser(dom, prob)
+        except click.ClickException as exc:
+            click.echo(f"error: {exc.message}", err=True)
+            sys.exit(EXIT_INPUT)
+        except Exception as exc:  # the parser's own errors
+            click.echo(f"error: the PyPI 'pddl' parser rejects the export: {exc}", err=True)
+            sys.exit(EXIT_INPUT)
+        click.echo("parsed by the PyPI 'pddl' package: ok")
+    if run_planner and flavor == "smtplan":
+        _run_smtplan(inst, ex, dom, prob, timeout)
+    elif run_planner:
+        from catc.targets.enhsp import BaselineMissing, run_enhsp
+        from catc.semantics.validate import validate
+
+        try:
+            res = run_enhsp(dom, prob, planner=planner, timeout=timeout)
+        except BaselineMissing as exc:
+            click.echo(f"error: {exc}", err=True)
+            sys.exit(EXIT_INPUT)
+        click.echo(f"ENHSP ({planner}): {res.status.upper()} in {res.wall:.2f} s"
+                   + (f", {len(res.actions)} actions, metric {res.metric}" if res.status == "sat" else ""))
+        if res.status == "sat":
+            plan = ex.plan_from_actions(res.actions)
+            for i, name in enumerate(res.actions, 1):
+                click.echo(f"  {i:3d}  {name}")
+            rep = validate(inst, plan, horizon=len(plan), sequential=True)
+            if not rep.ok:
+                click.echo("catc's validator REJECTS the plan: " + "; ".join(str(v) for v in rep.violations[:5]), err=True)
+                sys.exit(EXIT_FAIL)
+            click.echo("catc's validator accepts the plan (sequential semantics)")
+        elif res.status == "unsat":
+            sys.exit(EXIT_FAIL)
+        else:
+            click.echo(res.output[-2000:], err=True)
+            sys.exit(EXIT_UNKNOWN)
+
+
+def _run_smtplan(inst, ex, dom: Path, prob: Path, timeout: float) -> None:
+    """``--run --flavor smtplan``: only with an ``SMTPlan`` executable on PATH (no package
+    of SMTPlan+ exists); its timed plan is read back with exact θ and validated."""
+    from catc.targets.pddlplus import SMTPLAN_HINT, PlanReadError, parse_timed_plan, run_smtplan, smtplan_binary
+    from catc.semantics.validate import validate
+
+    if smtplan_binary() is None:
+        click.echo(f"error: {SMTPLAN_HINT}; the files are written, --run needs the planner", err=True)
+        sys.exit(EXIT_INPUT)
+    res = run_smtplan(dom, prob, timeout=timeout)
+    click.echo(f"SMTPlan+: {res.status.upper()} in {res.wall:.2f} s"
+               + (f", {len(res.actions)} timed actions" if res.status == "sat" else ""))
+    if res.status == "nosolution":
+        sys.exit(EXIT_FAIL)
+    if res.status != "sat":
+        click.echo(res.output[-2000:], err=True)
+        sys.exit(EXIT_UNKNOWN)
+    for a in res.actions:
+        click.echo(f"  {a.time}: ({a.name})")
+    try:
+        plan = parse_timed_plan(ex, res.plan_text)
+    except PlanReadError as exc:
+        click.echo(f"error: SMTPlan+'s plan cannot be read back: {exc}", err=True)
+        sys.exit(EXIT_FAIL)
+    rep = validate(inst, plan, horizon=max(len(plan), 1), sequential=True)
+    if not rep.ok:
+        click.echo("catc's validator REJECTS the plan: " + "; ".join(str(v) for v in rep.violations[:5]), err=True)
+        sys.exit(EXIT_FAIL)
+    click.echo("catc's validator accepts the plan (sequential semantics)")

@@ -1,0 +1,484 @@
+"""``catc lsp``: a language server for .cat files (pygls 2.x, over stdio).
+
+Features: the diagnostics of ``catc check`` on open/change (computed from the editor's
+in-memory text), hover (resources, morphisms, sorts, constants, views, holes), go to
+definition, completion (keywords and names in scope) and document symbols.
+
+The analysis (:func:`analyse`) does not depend on pygls; the server part imports pygls only
+when the command runs, so the rest of catc works without the ``lsp`` extra.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import sys
+from dataclasses import dataclass, field
+from urllib.parse import unquote, urlparse
+
+import click
+
+from catgrammar import ast
+from catgrammar.span import Source, Span
+
+MISSING = "catc lsp needs the 'lsp' extra: pip install 'catc-lang[lsp]'"
+
+_WORD = re.compile(r"[:A-Za-z_][A-Za-z0-9_-]*")
+
+
+# ---------------------------------------------------------------- analysis (no pygls)
+
+
+@dataclass
+class Definition:
+    kind: str  # domain | problem | sort | enum value | constant | object | resource | morphism | hole | view | parameter
+    name: str
+    span: Span  # of the name
+    whole: Span  # of the declaration
+    owner: str | None = None  # the domain/problem (or morphism for parameters)
+
+
+@dataclass
+class Analysis:
+    path: str
+    text: str
+    diagnostics: list = field(default_factory=list)  # catgrammar Diagnostic objects of this file
+    tree: ast.SourceFile | None = None
+    definitions: list[Definition] = field(default_factory=list)  # this file and the domains it sees
+    domains: list = field(default_factory=list)  # checked ir.Domain objects
+    problems: list = field(default_factory=list)  # checked ir.Problem objects
+
+
+def _same(a: str, b: str) -> bool:
+    return os.path.normcase(os.path.abspath(a)) == os.path.normcase(os.path.abspath(b))
+
+
+def _opt_names(value) -> list[ast.Name]:
+    if isinstance(value, ast.Name):
+        return [value]
+    if isinstance(value, (tuple, list)):
+        return [v for v in value if isinstance(v, ast.Name)]
+    return []
+
+
+def definitions_of(tree: ast.SourceFile) -> list[Definition]:
+    out: list[Definition] = []
+    for d in tree.definitions:
+        owner = d.name.text
+        if isinstance(d, ast.Domain):
+            out.append(Definition("domain", owner, d.name.span, d.span))
+            for s in d.sections:
+                if isinstance(s, ast.Sorts):
+                    for g in s.groups:
+                        for n in g.names:
+                            out.append(Definition("sort", n.text, n.span, g.span, owner))
+                        if isinstance(g.parent, ast.EnumSpec):
+                            for v in g.parent.values:
+                                out.append(Definition("enum value", v.text, v.span, g.parent.span, owner))
+                elif isinstance(s, ast.Constants):
+                    for g in s.groups:
+                        for n in g.names:
+                            out.append(Definition("constant", n.text, n.span, g.span, owner))
+                elif isinstance(s, ast.Resources):
+                    for r in s.resources:
+                        out.append(Definition("resource", r.name.text, r.name.span, r.span, owner))
+                elif isinstance(s, ast.MorphismDecl):
+                    out.append(Definition("morphism", s.name.text, s.name.span, s.span, owner))
+                    for o in s.options:
+                        if isinstance(o.value, (tuple, list)):
+                            for p in o.value:
+                                if isinstance(p, ast.ParameterDecl):
+                                    out.append(Definition("parameter", p.name.text, p.name.span, p.span, s.name.text))
+                elif isinstance(s, ast.HoleDecl):
+                    out.append(Definition("hole", s.name.text, s.name.span, s.span, owner))
+                elif isinstance(s, ast.ViewDecl):
+                    out.append(Definition("view", s.name.text, s.name.span, s.span, owner))
+        elif isinstance(d, ast.Problem):
+            out.append(Definition("problem", owner, d.name.span, d.span))
+            for s in d.sections:
+                if isinstance(s, ast.Objects):
+                    for g in s.groups:
+                        for n in g.names:
+                            out.append(Definition("object", n.text, n.span, g.span, owner))
+    return out
+
+
+def analyse(path: str, text: str, search_paths: tuple[str, ...] = ()) -> Analysis:
+    """``catc check`` on one document's in-memory text (its imports come from disk)."""
+    from catc.frontend.workspace import Workspace, _norm
+    from catc.frontend.session import check_parsed
+    from catgrammar.diagnostics import Diagnostics
+    from catgrammar.parser import gc_paused, parse_source
+
+    result = Analysis(path, text)
+    diags = Diagnostics()
+    with gc_paused():
+        tree = parse_source(Source(path, text), diags)
+        result.tree = tree
+        ws = Workspace(diags, search_paths)
+        ws.files[_norm(path)] = tree
+        instances: dict = {}
+        if tree is not None:
+            for d in tree.definitions:
+                ws._index(d, path)
+            _, instances = check_parsed(ws, [(path, tree)], diags)
+    result.diagnostics = [d for d in diags if d.span is None or _same(d.span.file, path)]
+    result.domains = ws.checked_domains()
+    result.problems = [i.problem for i in instances.values()]
+    if tree is not None:
+        result.definitions = definitions_of(tree)
+    seen = {id(tree)}
+    for key, other in ws.files.items():
+        if other is not None and id(other) not in seen and not _same(key, path):
+            seen.add(id(other))
+            result.definitions += definitions_of(other)
+    return result
+
+
+def word_at(text: str, line: int, character: int) -> str | None:
+    """The name (or :keyword) under a 0-based position."""
+    lines = text.split("\n")
+    if line >= len(lines):
+        return None
+    s = lines[line]
+    for m in _WORD.finditer(s):
+        if m.start() <= character <= m.end():
+            return m.group()
+    return None
+
+
+def lookup(a: Analysis, name: str) -> list[Definition]:
+    """Definitions named ``name``: this file's first, then those of the domains it uses."""
+    found = [d for d in a.definitions if d.name == name]
+    found.sort(key=lambda d: (not _same(d.span.file, a.path),))
+    return found
+
+
+def hover_text(a: Analysis, name: str) -> str | None:
+    from catc.ir.text import effect_text, number_text, to_text
+
+    for dom in a.domains:
+        r = dom.resources.get(name)
+        if r is not None:
+            lines = [f"**resource** `{r.name}` : {_sort_text(r.sort)}"]
+            if r.unit:
+                lines.append(f"unit: {r.unit}")
+            if r.group:
+                lines.append(f"group: {r.group}")
+            if r.lower is not None or r.upper is not None:
+                lo = number_text(r.lower) if r.lower is not None else "*"
+                hi = number_text(r.upper) if r.upper is not None else "*"
+                lines.append(f"bounds: ({lo} {hi})")
+            if r.doc:
+                lines.append("")
+                lines.append(r.doc)
+            lines.append(f"\n(domain `{dom.name}`)")
+            return "\n".join(lines)
+    for dom in a.domains:
+        m = dom.morphisms.get(name)
+        if m is not None:
+            lines = [f"**morphism** `{m.name}` ({m.kind.value})"]
+            if m.doc:
+                lines += ["", m.doc, ""]
+            extra = [f"churn {number_text(m.churn)}"]
+            if m.uses is not None:
+                extra.append(f"uses ≤ {m.uses}")
+            if m.cost is not None:
+                extra.append(f"cost {to_text(m.cost)}")
+            lines.append(", ".join(extra))
+            if m.params:
+                lines.append("\nparameters:")
+                for p in m.params:
+                    b = ""
+                    if p.lower is not None or p.upper is not None:
+                        lo = number_text(p.lower) if p.lower is not None else "*"
+                        hi = number_text(p.upper) if p.upper is not None else "*"
+                        b = f" in ({lo} {hi})"
+                    lines.append(f"- `{p.name}` : {_sort_text(p.sort)}{b}{' (fixed)' if p.fixed else ''}")
+            if m.pre:
+                lines.append("\npreconditions:")
+                lines += [f"- `{to_text(lit.expr)}`" for lit in m.pre]
+            if m.effects:
+                lines.append("\neffects:")
+                lines += [f"- `{effect_text(e)}`" for e in m.effects]
+            lines.append(f"\n(domain `{dom.name}`)")
+            return "\n".join(lines)
+    for dom in a.domains:
+        s = dom.sorts.get(name)
+        if s is not None:
+            return f"**sort** `{name}`: {_sort_text(s, expand=True)}\n\n(domain `{dom.name}`)"
+        c = dom.constants.get(name)
+        if c is not None:
+            return f"**constant** `{name}` : {_sort_text(c.sort)}\n\n(domain `{dom.name}`)"
+        v = dom.views.get(name)
+        if v is not None:
+            return f"**view** `{name}`: keeps {', '.join(sorted(v.kept)) or 'nothing'}\n\n(domain `{dom.name}`)"
+        h = dom.holes.get(name)
+        if h is not None:
+            bits = [f"view {h.view}" if h.view else "no view"]
+            if h.max_effects is not None:
+                bits.append(f"at most {h.max_effects} effects")
+            if h.max_preconditions is not None:
+                bits.append(f"at most {h.max_preconditions} preconditions")
+            return f"**hole** `{name}`: {', '.join(bits)}\n\n(domain `{dom.name}`)"
+    for p in a.problems:
+        o = p.objects.get(name)
+        if o is not None:
+            return f"**object** `{name}` : {_sort_text(o.sort)}\n\n(problem `{p.name}`)"
+    defs = lookup(a, name)
+    if defs:
+        d = defs[0]
+        return f"**{d.kind}** `{d.name}`" + (f"\n\n({d.owner})" if d.owner else "")
+    return None
+
+
+def _sort_text(sort, expand: bool = False) -> str:
+    kind = getattr(sort.kind, "value", str(sort.kind))
+    if getattr(sort, "element", None) is not None:
+        return f"(set {sort.element.name})"
+    if expand and sort.values:
+        return f"(enum {' '.join(sort.values)})"
+    if expand and sort.parent:
+        return f"{kind} (a kind of {sort.parent})"
+    if expand:
+        return f"{kind} sort"
+    return sort.name or kind
+
+
+def names_in_scope(a: Analysis) -> dict[str, str]:
+    """name → what it is, for completion."""
+    out: dict[str, str] = {}
+    for d in a.definitions:
+        out.setdefault(d.name, d.kind)
+    for dom in a.domains:
+        for n in dom.resources:
+            out.setdefault(n, "resource")
+        for n in dom.morphisms:
+            out.setdefault(n, "morphism")
+        for n in dom.constants:
+            out.setdefault(n, "constant")
+        for n in dom.sorts:
+            out.setdefault(n, "sort")
+        for n in dom.views:
+            out.setdefault(n, "view")
+        for n in dom.holes:
+            out.setdefault(n, "hole")
+    for p in a.problems:
+        for n in p.objects:
+            out.setdefault(n, "object")
+    return out
+
+
+def uri_to_path(uri: str) -> str:
+    parsed = urlparse(uri)
+    if parsed.scheme == "file":
+        return unquote(parsed.path)
+    return uri
+
+
+def path_to_uri(path: str) -> str:
+    from pathlib import Path
+
+    try:
+        return Path(os.path.abspath(path)).as_uri()
+    except ValueError:  # pragma: no cover
+        return path
+
+
+# ---------------------------------------------------------------- the server
+
+
+def build_server():
+    from lsprotocol import types
+    from pygls.lsp.server import LanguageServer
+
+    from catc import __version__
+    from catgrammar.diagnostics import Severity
+    from catgrammar.symbols import all_keywords
+
+    server = LanguageServer("catc", __version__, text_document_sync_kind=types.TextDocumentSyncKind.Full)
+    server.analyses = {}  # uri → Analysis (the last one)
+
+    def rng(span: Span | None) -> types.Range:
+        if span is None:
+            return types.Range(types.Position(0, 0), types.Position(0, 0))
+        return types.Range(
+            types.Position(span.line - 1, span.column - 1),
+            types.Position(span.end_line - 1, max(span.end_column - 1, 0)),
+        )
+
+    severity = {
+        Severity.ERROR: types.DiagnosticSeverity.Error,
+        Severity.WARNING: types.DiagnosticSeverity.Warning,
+    }
+
+    def refresh(ls, uri: str) -> None:
+        doc = ls.workspace.get_text_document(uri)
+        path = uri_to_path(uri)
+        try:
+            a = analyse(path, doc.source)
+        except Exception as exc:  # never take the editor down with an internal error
+            ls.window_log_message(types.LogMessageParams(types.MessageType.Error, f"catc: {exc!r}"))
+            return
+        previous = ls.analyses.get(uri)
+        if a.tree is None and previous is not None:  # keep symbols/definitions of the last good parse
+            a.definitions = previous.definitions or a.definitions
+            a.domains = a.domains or previous.domains
+            a.tree = previous.tree
+        ls.analyses[uri] = a
+        out = []
+        for d in a.diagnostics:
+            related = []
+            for note in getattr(d, "notes", ()) or ():
+                if getattr(note, "span", None) is not None:
+                    related.append(
+                        types.DiagnosticRelatedInformation(
+                            types.Location(path_to_uri(note.span.file), rng(note.span)), note.message
+                        )
+                    )
+            out.append(
+                types.Diagnostic(
+                    range=rng(d.span),
+                    message=d.message,
+                    severity=severity.get(d.severity, types.DiagnosticSeverity.Information),
+                    code=d.code,
+                    source="catc",
+                    related_information=related or None,
+                )
+            )
+        ls.text_document_publish_diagnostics(types.PublishDiagnosticsParams(uri=uri, diagnostics=out))
+
+    @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
+    def did_open(ls, params: types.DidOpenTextDocumentParams) -> None:
+        refresh(ls, params.text_document.uri)
+
+    @server.feature(types.TEXT_DOCUMENT_DID_CHANGE)
+    def did_change(ls, params: types.DidChangeTextDocumentParams) -> None:
+        refresh(ls, params.text_document.uri)
+
+    @server.feature(types.TEXT_DOCUMENT_DID_SAVE)
+    def did_save(ls, params: types.DidSaveTextDocumentParams) -> None:
+        refresh(ls, params.text_document.uri)
+
+    @server.feature(types.TEXT_DOCUMENT_DID_CLOSE)
+    def did_close(ls, params: types.DidCloseTextDocumentParams) -> None:
+        ls.analyses.pop(params.text_document.uri, None)
+        ls.text_document_publish_diagnostics(
+            types.PublishDiagnosticsParams(uri=params.text_document.uri, diagnostics=[])
+        )
+
+    def current(ls, uri: str) -> Analysis:
+        a = ls.analyses.get(uri)
+        if a is None:
+            refresh(ls, uri)
+            a = ls.analyses.get(uri) or Analysis(uri_to_path(uri), "")
+        return a
+
+    @server.feature(types.TEXT_DOCUMENT_HOVER)
+    def hover(ls, params: types.HoverParams):
+        a = current(ls, params.text_document.uri)
+        doc = ls.workspace.get_text_document(params.text_document.uri)
+        name = word_at(doc.source, params.position.line, params.position.character)
+        if not name:
+            return None
+        text = hover_text(a, name)
+        if text is None:
+            return None
+        return types.Hover(contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value=text))
+
+    @server.feature(types.TEXT_DOCUMENT_DEFINITION)
+    def definition(ls, params: types.DefinitionParams):
+        a = current(ls, params.text_document.uri)
+        doc = ls.workspace.get_text_document(params.text_document.uri)
+        name = word_at(doc.source, params.position.line, params.position.character)
+        if not name:
+            return None
+        defs = lookup(a, name)
+        if not defs:
+            return None
+        return [types.Location(path_to_uri(d.span.file), rng(d.span)) for d in defs]
+
+    @server.feature(
+        types.TEXT_DOCUMENT_COMPLETION, types.CompletionOptions(trigger_characters=[":", "("])
+    )
+    def completion(ls, params: types.CompletionParams):
+        a = current(ls, params.text_document.uri)
+        kinds = {
+            "resource": types.CompletionItemKind.Variable,
+            "morphism": types.CompletionItemKind.Function,
+            "sort": types.CompletionItemKind.Class,
+            "constant": types.CompletionItemKind.Constant,
+            "object": types.CompletionItemKind.Constant,
+            "enum value": types.CompletionItemKind.EnumMember,
+            "view": types.CompletionItemKind.Interface,
+            "hole": types.CompletionItemKind.Struct,
+            "domain": types.CompletionItemKind.Module,
+            "problem": types.CompletionItemKind.Module,
+            "parameter": types.CompletionItemKind.TypeParameter,
+        }
+        items = [
+            types.CompletionItem(label=k, kind=types.CompletionItemKind.Keyword, detail="keyword")
+            for k in sorted({w for words in all_keywords().values() for w in words})
+        ]
+        items += [
+            types.CompletionItem(label=n, kind=kinds.get(kind, types.CompletionItemKind.Text), detail=kind)
+            for n, kind in sorted(names_in_scope(a).items())
+        ]
+        return types.CompletionList(is_incomplete=False, items=items)
+
+    @server.feature(types.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
+    def document_symbol(ls, params: types.DocumentSymbolParams):
+        a = current(ls, params.text_document.uri)
+        sk = types.SymbolKind
+        kind_of = {
+            "resource": sk.Variable,
+            "morphism": sk.Function,
+            "view": sk.Interface,
+            "hole": sk.Struct,
+            "sort": sk.Class,
+            "constant": sk.Constant,
+            "object": sk.Constant,
+        }
+        top: list = []
+        by_owner: dict[str, list] = {}
+        for d in a.definitions:
+            if not _same(d.span.file, a.path):
+                continue
+            if d.kind in ("domain", "problem"):
+                children: list = []
+                by_owner[d.name] = children
+                top.append(
+                    types.DocumentSymbol(
+                        name=d.name,
+                        detail=d.kind,
+                        kind=sk.Module if d.kind == "domain" else sk.Namespace,
+                        range=rng(d.whole),
+                        selection_range=rng(d.span),
+                        children=children,
+                    )
+                )
+            elif d.kind in kind_of and d.owner in by_owner:
+                by_owner[d.owner].append(
+                    types.DocumentSymbol(
+                        name=d.name, detail=d.kind, kind=kind_of[d.kind], range=rng(d.whole), selection_range=rng(d.span)
+                    )
+                )
+        return top
+
+    return server
+
+
+@click.command("lsp")
+@click.option("--stdio", is_flag=True, help="Talk over standard input/output (the default; accepted for editors).")
+def lsp_command(stdio: bool) -> None:
+    """Run the .cat language server over stdio (needs the 'lsp' extra).
+
+    Diagnostics as `catc check`, hover, go to definition, completion and document symbols.
+    """
+    try:
+        import lsprotocol  # noqa: F401
+        import pygls  # noqa: F401
+    except ImportError:
+        click.echo(MISSING, err=True)
+        sys.exit(2)
+    build_server().start_io()

@@ -1,0 +1,1 @@
+"""Renderers of compositions: string diagrams (:mod:`catc.present.diagram`)."""

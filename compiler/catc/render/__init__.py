@@ -1,1 +1,0 @@
-"""Renderers of compositions: string diagrams (:mod:`catc.render.diagram`)."""

@@ -1,0 +1,853 @@
+"""The independent plan validator: replay a composition on exact rationals.
+
+Every answer of the SMT encoder is re-checked here against docs/semantics.md §4 with plain
+Python and :class:`fractions.Fraction`.  This module shares only the IR (:mod:`catc.ir`) and
+the plan type (:mod:`catc.semantics.plan`) with the encoder; it has its own expression evaluator (a
+table from IR class to handler), its own successor-state function and its own
+non-interference test, so a bug in the encoder cannot hide behind the same bug here.
+
+What is checked (each failure is one :class:`Violation`, all of them are collected):
+
+* per activation, independent of the state: the morphism exists, every parameter has a
+  value of its sort within its bounds, no unknown parameter is given, ``:fixed`` parameters
+  agree across the composition; per step: a morphism at most once, and with
+  ``sequential=True`` at most one activation;
+* replayed from s₀: every precondition literal holds in the state before its step, no two
+  activations of a step interfere, every effect can be evaluated (a zero divisor makes the
+  literal or effect containing it fail), and every state respects the resources' bounds;
+* plan-wide: ``:uses`` limits, the horizon, and the goal in the final state.
+
+Replay stops at the first step that cannot be applied (``Report.states`` then ends with the
+state before it); state-independent checks still cover every step.
+
+Division by zero is *strict*: a divisor that evaluates to 0 anywhere in a literal (also in
+an ``if`` branch not taken or an ``or`` argument not needed) makes the whole literal false,
+as the encoder asserts every divisor of a literal that must hold to be non-zero.
+"""
+
+from __future__ import annotations
+
+from collections import Counter, defaultdict
+from fractions import Fraction
+from types import MappingProxyType
+from typing import Callable, Mapping
+
+from catgrammar.record import Record, set_field
+
+from catc import ir
+from catc.ir import ArithOp, BoolOpKind, CmpOp, EffectKind, SortKind
+from catc.semantics.plan import Activation, Plan
+
+#: Every kind of :class:`Violation`, in the order of the checks.
+KINDS = (
+    "unknown-morphism",
+    "unknown-parameter",
+    "missing-parameter",
+    "parameter-sort",
+    "parameter-bounds",
+    "fixed-parameter",
+    "duplicate-in-step",
+    "precondition",
+    "interference",
+    "sequential",
+    "division-by-zero",
+    "resource-bounds",
+    "uses",
+    "horizon",
+    "goal",
+    "initial-state",
+)
+
+# Violations after which the step's successor state is not defined (the step does not
+# apply): everything except these, which leave the successor well defined.
+_NON_BLOCKING = frozenset({"sequential", "resource-bounds"})
+
+
+class Violation(Record):
+    __slots__ = ("kind", "message", "step", "morphism", "label")
+    kind: str
+    message: str
+    step: int | None  # 1-based; None for whole-plan issues
+    morphism: str | None
+    label: str | None
+
+    def __init__(self, kind: str, message: str, step: int | None, morphism: str | None = None, label: str | None = None) -> None:
+        set_field(self, "kind", kind)
+        set_field(self, "message", message)
+        set_field(self, "step", step)
+        set_field(self, "morphism", morphism)
+        set_field(self, "label", label)
+
+    def __str__(self) -> str:
+        return f"[{self.kind}] {self.message}"
+
+
+class Report(Record):
+    __slots__ = ("violations", "states")
+    violations: tuple[Violation, ...]
+    states: tuple[Mapping[str, object], ...]  # s_0 .. s_n, up to the first step that cannot apply
+
+    def __init__(self, violations: tuple[Violation, ...], states: tuple[Mapping[str, object], ...]) -> None:
+        set_field(self, "violations", violations)
+        set_field(self, "states", states)
+
+    @property
+    def ok(self) -> bool:
+        return not self.violations
+
+    @property
+    def final_state(self) -> Mapping[str, object]:
+        return self.states[-1]
+
+    def kinds(self) -> list[str]:
+        return [v.kind for v in self.violations]
+
+
+# ====================================================================== evaluation
+
+
+class EvaluationError(Exception):
+    """An expression has no value (a resource without a value, a missing parameter, a
+    value of the wrong type, an objective term without a composition)."""
+
+
+class MissingValue(EvaluationError):
+    """A resource without a value in the state (an initial value is missing)."""
+
+
+class DivisionByZero(EvaluationError):
+    def __init__(self, expr: ir.Arith, divisor_text: str):
+        super().__init__(f"division by zero: {divisor_text} is 0 in {show(expr)}")
+        self.expr = expr
+
+
+class Undefined(EvaluationError):
+    """An objective term that the composition does not define (``(param m p)`` of an
+    unused morphism, or of a morphism used with several values)."""
+
+
+class _Env:
+    __slots__ = ("instance", "state", "params", "plan")
+
+    def __init__(self, instance, state, params, plan=None):
+        self.instance = instance
+        self.state = state
+        self.params = params
+        self.plan = plan
+
+
+def _norm(v: object) -> object:
+    """Plan values as the evaluator uses them: ints become Fractions (bools stay bools)."""
+    if isinstance(v, bool):
+        return v
+    if isinstance(v, int):
+        return Fraction(v)
+    return v
+
+
+def _is_num(v: object) -> bool:
+    return isinstance(v, Fraction) and not isinstance(v, bool)
+
+
+def _num(env: _Env, e: ir.Expr) -> Fraction:
+    v = _eval(env, e)
+    if not _is_num(v):
+        raise EvaluationError(f"{show(e)} is {fmt(v)}, not a number")
+    return v  # type: ignore[return-value]
+
+
+def _bool(env: _Env, e: ir.Expr) -> bool:
+    v = _eval(env, e)
+    if not isinstance(v, bool):
+        raise EvaluationError(f"{show(e)} is {fmt(v)}, not true or false")
+    return v
+
+
+def _h_const(env: _Env, e: ir.Const):
+    return _norm(e.value)
+
+
+def _h_resource(env: _Env, e: ir.ResourceRef):
+    try:
+        return env.state[e.name]
+    except KeyError:
+        raise MissingValue(f"resource '{e.name}' has no value") from None
+
+
+def _h_param(env: _Env, e: ir.ParamRef):
+    if env.params is None or e.name not in env.params:
+        raise EvaluationError(f"parameter '{e.name}' has no value")
+    return _norm(env.params[e.name])
+
+
+def _h_setlit(env: _Env, e: ir.SetLit):
+    out = set()
+    for x in e.elements:
+        v = _eval(env, x)
+        if not isinstance(v, str):
+            raise EvaluationError(f"set element {show(x)} is {fmt(v)}, not a symbol")
+        out.add(v)
+    return frozenset(out)
+
+
+def _h_arith(env: _Env, e: ir.Arith):
+    args = [_num(env, a) for a in e.args]  # strict: every argument is evaluated
+    op = e.op
+    if not args:
+        raise EvaluationError(f"{show(e)} has no arguments")
+    if op is ArithOp.ADD:
+        return sum(args, Fraction(0))
+    if op is ArithOp.SUB:
+        if len(args) == 1:
+            return -args[0]
+        return args[0] - sum(args[1:], Fraction(0))
+    if op is ArithOp.MUL:
+        out = Fraction(1)
+        for a in args:
+            out *= a
+        return out
+    if op is ArithOp.DIV:
+        out = args[0]
+        for sub, a in zip(e.args[1:], args[1:]):
+            if a == 0:
+                raise DivisionByZero(e, show(sub))
+            out /= a
+        return out
+    if op is ArithOp.MIN:
+        return min(args)
+    if op is ArithOp.MAX:
+        return max(args)
+    raise EvaluationError(f"unknown arithmetic operator {op!r}")
+
+
+_ORDER: dict[CmpOp, Callable[[Fraction, Fraction], bool]] = {
+    CmpOp.LT: lambda a, b: a < b,
+    CmpOp.LE: lambda a, b: a <= b,
+    CmpOp.GT: lambda a, b: a > b,
+    CmpOp.GE: lambda a, b: a >= b,
+}
+
+
+def _kind_of(v: object) -> str:
+    if isinstance(v, bool):
+        return "bool"
+    if _is_num(v):
+        return "number"
+    if isinstance(v, str):
+        return "symbol"
+    if isinstance(v, frozenset):
+        return "set"
+    return type(v).__name__
+
+
+def _h_compare(env: _Env, e: ir.Compare):
+    left, right = _eval(env, e.left), _eval(env, e.right)
+    if e.op is CmpOp.EQ:
+        if _kind_of(left) != _kind_of(right):
+            raise EvaluationError(f"cannot compare {fmt(left)} with {fmt(right)} in {show(e)}")
+        return left == right
+    if not (_is_num(left) and _is_num(right)):
+        raise EvaluationError(f"{show(e)} compares non-numbers {fmt(left)} and {fmt(right)}")
+    return _ORDER[e.op](left, right)  # type: ignore[arg-type]
+
+
+def _h_boolop(env: _Env, e: ir.BoolOp):
+    args = [_bool(env, a) for a in e.args]  # strict
+    op = e.op
+    if op is BoolOpKind.AND:
+        return all(args)
+    if op is BoolOpKind.OR:
+        return any(args)
+    if op is BoolOpKind.NOT:
+        if len(args) != 1:
+            raise EvaluationError(f"{show(e)}: 'not' takes one argument")
+        return not args[0]
+    if op is BoolOpKind.IMPLY:
+        if not args:
+            raise EvaluationError(f"{show(e)}: 'imply' needs arguments")
+        return (not all(args[:-1])) or args[-1]
+    raise EvaluationError(f"unknown boolean operator {op!r}")
+
+
+def _h_ite(env: _Env, e: ir.Ite):
+    cond = _bool(env, e.cond)
+    then, orelse = _eval(env, e.then), _eval(env, e.orelse)  # strict: both branches
+    return then if cond else orelse
+
+
+def _h_member(env: _Env, e: ir.Member):
+    x, s = _eval(env, e.element), _eval(env, e.set)
+    if not isinstance(s, frozenset):
+        raise EvaluationError(f"{show(e.set)} is {fmt(s)}, not a set")
+    return x in s
+
+
+def _need_plan(env: _Env, e: ir.Expr) -> Plan:
+    if env.plan is None:
+        raise EvaluationError(f"{show(e)} is an objective term: it needs a composition")
+    return env.plan
+
+
+def _morphism(env: _Env, name: str) -> ir.Morphism:
+    m = env.instance.morphisms.get(name)
+    if m is None:
+        raise Undefined(f"unknown morphism '{name}'")
+    return m
+
+
+def _h_total_cost(env: _Env, e: ir.TotalCost):
+    plan = _need_plan(env, e)
+    total = Fraction(0)
+    for _, act in plan.activations:
+        m = _morphism(env, act.morphism)
+        if m.cost is None:
+            total += 1
+        else:
+            total += _num(_Env(env.instance, env.state, dict(act.params)), m.cost)
+    return total
+
+
+def _h_total_churn(env: _Env, e: ir.TotalChurn):
+    plan = _need_plan(env, e)
+    used = {a.morphism for _, a in plan.activations}
+    deployed = set(env.instance.problem.deployed)
+    return sum((_morphism(env, n).churn for n in sorted(used ^ deployed)), Fraction(0))
+
+
+def _h_uses(env: _Env, e: ir.Uses):
+    plan = _need_plan(env, e)
+    return Fraction(sum(1 for _, a in plan.activations if a.morphism == e.morphism))
+
+
+def _h_param_value(env: _Env, e: ir.ParamValue):
+    plan = _need_plan(env, e)
+    values = [_norm(a.params[e.param]) for _, a in plan.activations if a.morphism == e.morphism and e.param in a.params]
+    uses = sum(1 for _, a in plan.activations if a.morphism == e.morphism)
+    if not values or len(values) != uses:
+        raise Undefined(f"(param {e.morphism} {e.param}) is undefined: '{e.morphism}' is not used with a value for it")
+    if any(v != values[0] for v in values[1:]):
+        raise Undefined(f"(param {e.morphism} {e.param}) is undefined: '{e.morphism}' is used with several values")
+    return values[0]
+
+
+_HANDLERS: dict[type, Callable[[_Env, ir.Expr], object]] = {
+    ir.Const: _h_const,
+    ir.ResourceRef: _h_resource,
+    ir.ParamRef: _h_param,
+    ir.SetLit: _h_setlit,
+    ir.Arith: _h_arith,
+    ir.Compare: _h_compare,
+    ir.BoolOp: _h_boolop,
+    ir.Ite: _h_ite,
+    ir.Member: _h_member,
+    ir.TotalCost: _h_total_cost,
+    ir.TotalChurn: _h_total_churn,
+    ir.Uses: _h_uses,
+    ir.ParamValue: _h_param_value,
+}
+
+
+def _eval(env: _Env, e: ir.Expr) -> object:
+    handler = _HANDLERS.get(type(e))
+    if handler is None:
+        raise EvaluationError(f"cannot evaluate a {type(e).__name__}")
+    return handler(env, e)
+
+
+def evaluate(instance: ir.Instance, expr: ir.Expr, state: Mapping[str, object], params: Mapping[str, object] | None = None) -> object:
+    """The value of ``expr`` in ``state`` with parameter values ``params`` (name → value).
+
+    Raises :class:`DivisionByZero` when a divisor anywhere in ``expr`` is 0 and
+    :class:`EvaluationError` when the expression has no value."""
+    return _eval(_Env(instance, state, dict(params or {})), expr)
+
+
+def objective_value(instance: ir.Instance, plan: Plan, term: ir.Expr, final_state: Mapping[str, object]) -> Fraction | None:
+    """An objective term on the composition: resources on ``final_state``, plus
+    ``(total-cost)``, ``(total-churn)`` (against ``(:deployed ...)``), ``(uses m)`` and
+    ``(param m p)``.  None when the term is undefined (a parameter of an unused morphism,
+    a zero divisor, an unknown morphism in the plan)."""
+    try:
+        return _eval(_Env(instance, final_state, {}, plan), term)  # type: ignore[return-value]
+    except EvaluationError:
+        return None
+
+
+# ====================================================================== presentation
+
+
+def fmt(v: object) -> str:
+    """A value as the language writes it (numbers exact: decimals when they terminate)."""
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, Fraction):
+        if v.denominator == 1:
+            return str(v.numerator)
+        d = v.denominator
+        for p in (2, 5):
+            while d % p == 0:
+                d //= p
+        if d == 1:  # terminating decimal
+            sign = "-" if v < 0 else ""
+            a = abs(v)
+            places = 0
+            while (a * 10**places).denominator != 1:
+                places += 1
+            digits = str((a * 10**places).numerator).rjust(places + 1, "0")
+            return f"{sign}{digits[:-places]}.{digits[-places:]}"
+        return f"{v.numerator}/{v.denominator}"
+    if isinstance(v, frozenset):
+        return "{" + " ".join(sorted(map(str, v))) + "}"
+    if isinstance(v, str):
+        return v
+    return repr(v)
+
+
+def _show_const(e):
+    return fmt(_norm(e.value))
+
+
+_SHOW: dict[type, Callable] = {
+    ir.Const: _show_const,
+    ir.ResourceRef: lambda e: e.name,
+    ir.ParamRef: lambda e: e.name,
+    ir.SetLit: lambda e: "{" + " ".join(show(x) for x in e.elements) + "}",
+    ir.Arith: lambda e: "(" + " ".join([e.op.value, *(show(a) for a in e.args)]) + ")",
+    ir.Compare: lambda e: f"({e.op.value} {show(e.left)} {show(e.right)})",
+    ir.BoolOp: lambda e: "(" + " ".join([e.op.value, *(show(a) for a in e.args)]) + ")",
+    ir.Ite: lambda e: f"(if {show(e.cond)} {show(e.then)} {show(e.orelse)})",
+    ir.Member: lambda e: f"(member {show(e.element)} {show(e.set)})",
+    ir.TotalCost: lambda e: "(total-cost)",
+    ir.TotalChurn: lambda e: "(total-churn)",
+    ir.Uses: lambda e: f"(uses {e.morphism})",
+    ir.ParamValue: lambda e: f"(param {e.morphism} {e.param})",
+}
+
+
+def show(e: ir.Expr) -> str:
+    """An IR expression as s-expression text (for messages)."""
+    f = _SHOW.get(type(e))
+    return f(e) if f else f"<{type(e).__name__}>"
+
+
+def _activation_text(act: Activation) -> str:
+    if not act.params:
+        return act.morphism
+    return f"{act.morphism}(" + ", ".join(f"{k}={fmt(_norm(v))}" for k, v in act.params.items()) + ")"
+
+
+def _bindings(expr: ir.Expr, state: Mapping[str, object], params: Mapping[str, object]) -> str:
+    """``battery = 73.3, d = 73``: the values an expression reads."""
+    parts = []
+    for name in sorted(ir.resources_in(expr)):
+        parts.append(f"{name} = {fmt(state[name]) if name in state else '(no value)'}")
+    for name in sorted(ir.params_in(expr)):
+        if name in params:
+            parts.append(f"{name} = {fmt(_norm(params[name]))}")
+    return ", ".join(parts)
+
+
+# ====================================================================== states
+
+
+def _initial(instance: ir.Instance) -> tuple[dict[str, object], list[Violation]]:
+    state: dict[str, object] = {}
+    problems: list[Violation] = []
+    init = instance.problem.init
+    for name, r in instance.resources.items():
+        iv = init.get(name)
+        label = iv.label if iv is not None else f"init/{name}"
+        if iv is None:
+            if r.sort.kind is SortKind.BOOL:
+                state[name] = False
+            elif r.sort.kind is SortKind.SET:
+                state[name] = frozenset()
+            else:
+                problems.append(Violation("initial-state", f"resource '{name}' has no initial value", None, None, label))
+            continue
+        try:
+            value = _eval(_Env(instance, {}, {}), iv.value)
+        except EvaluationError as exc:
+            problems.append(Violation("initial-state", f"the initial value of '{name}' cannot be evaluated: {exc}", None, None, label))
+            continue
+        state[name] = value
+        why = _resource_value_problem(instance, r, value)
+        if why:
+            problems.append(Violation("initial-state", f"initial value of '{name}': {why}", None, None, label))
+    for name, iv in init.items():
+        if name not in instance.resources:
+            problems.append(Violation("initial-state", f"initial value for unknown resource '{name}'", None, None, iv.label))
+    return state, problems
+
+
+def initial_state(instance: ir.Instance) -> dict[str, object]:
+    """s₀: the problem's initial values; bools default to false and sets to {} (closed
+    world).  A numeric or symbolic resource without an initial value is left out."""
+    return _initial(instance)[0]
+
+
+def _bounds_problem(lower: Fraction | None, upper: Fraction | None, v: Fraction) -> str | None:
+    if (lower is not None and v < lower) or (upper is not None and v > upper):
+        lo = "*" if lower is None else fmt(lower)
+        hi = "*" if upper is None else fmt(upper)
+        return f"{fmt(v)} is outside the bounds ({lo} {hi})"
+    return None
+
+
+def _resource_value_problem(instance: ir.Instance, r: ir.Resource, v: object) -> str | None:
+    k = r.sort.kind
+    if k in (SortKind.INT, SortKind.REAL):
+        if not _is_num(v):
+            return f"{fmt(v)} is not a number"
+        if k is SortKind.INT and v.denominator != 1:  # type: ignore[union-attr]
+            return f"{fmt(v)} is not an integer"
+        return _bounds_problem(r.lower, r.upper, v)  # type: ignore[arg-type]
+    if k is SortKind.BOOL:
+        return None if isinstance(v, bool) else f"{fmt(v)} is not true or false"
+    if k is SortKind.SET:
+        return None if isinstance(v, frozenset) else f"{fmt(v)} is not a set"
+    return None if isinstance(v, str) else f"{fmt(v)} is not a symbol"
+
+
+# ====================================================================== validation
+
+
+def _sort_problem(instance: ir.Instance, sort: ir.Sort, v: object, fresh: Mapping[str, str], constants) -> str | None:
+    """Why ``v`` is not a value of ``sort`` (None when it is)."""
+    k = sort.kind
+    if k is SortKind.BOOL:
+        return None if isinstance(v, bool) else f"{fmt(v)} is not true or false"
+    if k in (SortKind.INT, SortKind.REAL):
+        if isinstance(v, float):
+            return f"{v!r} is a float; numbers must be exact (Fraction)"
+        if not _is_num(v):
+            return f"{fmt(v)} is not a number"
+        if k is SortKind.INT and v.denominator != 1:  # type: ignore[union-attr]
+            return f"{fmt(v)} is not an integer"
+        return None
+    if k is SortKind.ENUM:
+        if isinstance(v, str) and v in sort.values:
+            return None
+        return f"{fmt(v)} is not a value of the enumeration {sort.name} ({' '.join(sort.values)})"
+    if k is SortKind.SYMBOL:
+        if not isinstance(v, str):
+            return f"{fmt(v)} is not a symbol"
+        allowed = instance.subsorts(sort)
+        c = constants.get(v)
+        if c is not None:
+            if c.sort.name in allowed:
+                return None
+            return f"'{v}' is a constant of sort {c.sort.name}, not of {sort.name} or a sub-sort"
+        fs = fresh.get(v)
+        if fs is None:
+            return f"'{v}' is neither a constant of the model nor a fresh value listed in the plan"
+        decl = instance.domain.sorts.get(fs)
+        if decl is None or decl.kind is not SortKind.SYMBOL:
+            return f"fresh value '{v}' has sort '{fs}', which is not an open symbolic sort"
+        if fs not in allowed:
+            return f"fresh value '{v}' is of sort {fs}, not of {sort.name} or a sub-sort"
+        return None
+    return f"parameters of sort {sort} are not supported"
+
+
+def _first_reader(m: ir.Morphism, r: str) -> str | None:
+    for lit in m.pre:
+        if r in ir.resources_in(lit.expr):
+            return lit.label
+    for eff in m.effects:
+        if r in ir.resources_in(eff.value):
+            return eff.label
+    return None
+
+
+def _first_effect(m: ir.Morphism, r: str, kinds) -> str | None:
+    for eff in m.effects:
+        if eff.resource == r and eff.kind in kinds:
+            return eff.label
+    return None
+
+
+_UPDATES = (EffectKind.INCREASE, EffectKind.DECREASE, EffectKind.ADD, EffectKind.REMOVE)
+
+
+class _Live:
+    """One activation that takes part in the replay of its step."""
+
+    __slots__ = ("act", "m", "params", "values")
+
+    def __init__(self, act: Activation, m: ir.Morphism, params: dict[str, object]):
+        self.act = act
+        self.m = m
+        self.params = params
+        self.values: list[object] = []  # effect values (None when not evaluable)
+
+    @property
+    def name(self) -> str:
+        return self.m.name
+
+    @property
+    def assigns(self) -> frozenset[str]:
+        return frozenset(e.resource for e in self.m.effects if e.kind is EffectKind.ASSIGN)
+
+    @property
+    def updates(self) -> frozenset[str]:
+        return frozenset(e.resource for e in self.m.effects if e.kind is not EffectKind.ASSIGN)
+
+
+class _Validator:
+    def __init__(self, instance: ir.Instance, plan: Plan, horizon: int | None, sequential: bool):
+        self.inst = instance
+        self.plan = plan
+        self.horizon = horizon if horizon is not None else instance.problem.horizon
+        self.sequential = sequential
+        self.constants = instance.constants()
+        self.out: list[Violation] = []
+
+    def add(self, kind: str, message: str, step: int | None, morphism: str | None = None, label: str | None = None) -> None:
+        self.out.append(Violation(kind, message, step, morphism, label))
+
+    # -------------------------------------------------------------- static checks
+    def static(self) -> list[list[_Live]]:
+        """Checks that do not depend on the state; returns, per step, the activations
+        whose parameters are usable (first occurrence of each morphism)."""
+        fixed_seen: dict[tuple[str, str], tuple[int, object]] = {}
+        live_steps: list[list[_Live]] = []
+        for i, step in enumerate(self.plan.steps, 1):
+            live: list[_Live] = []
+            if self.sequential and len(step) > 1:
+                names = ", ".join(a.morphism for a in step)
+                self.add("sequential", f"step {i} runs {len(step)} activations ({names}) but the composition must be sequential", i)
+            counts = Counter(a.morphism for a in step)
+            for name, n in counts.items():
+                if n > 1:
+                    self.add("duplicate-in-step", f"step {i} activates '{name}' {n} times; a morphism occurs at most once in a step", i, name)
+            seen: set[str] = set()
+            for act in step:
+                usable = self.activation(i, act, fixed_seen)
+                if usable is not None and act.morphism not in seen:
+                    live.append(usable)
+                seen.add(act.morphism)
+            live_steps.append(live)
+        return live_steps
+
+    def activation(self, i: int, act: Activation, fixed_seen) -> _Live | None:
+        m = self.inst.morphisms.get(act.morphism)
+        if m is None:
+            self.add("unknown-morphism", f"step {i}: unknown morphism '{act.morphism}'", i, act.morphism)
+            return None
+        usable = True
+        declared = {p.name for p in m.params}
+        for name in act.params:
+            if name not in declared:
+                self.add("unknown-parameter", f"step {i}: '{m.name}' has no parameter '{name}' (given {fmt(_norm(act.params[name]))})", i, m.name)
+        params: dict[str, object] = {}
+        for p in m.params:
+            if p.name not in act.params:
+                self.add("missing-parameter", f"step {i}: {_activation_text(act)} gives no value for parameter '{p.name}' ({p.sort})", i, m.name)
+                usable = False
+                continue
+            v = _norm(act.params[p.name])
+            why = _sort_problem(self.inst, p.sort, v, self.plan.fresh, self.constants)
+            if why:
+                self.add("parameter-sort", f"step {i}: parameter '{p.name}' of '{m.name}' must be of sort {p.sort}: {why}", i, m.name)
+                usable = False
+            elif p.sort.is_numeric:
+                out = _bounds_problem(p.lower, p.upper, v)  # type: ignore[arg-type]
+                if out:
+                    self.add("parameter-bounds", f"step {i}: parameter '{p.name}' of '{m.name}': {out}", i, m.name)
+            if p.fixed:
+                key = (m.name, p.name)
+                if key not in fixed_seen:
+                    fixed_seen[key] = (i, v)
+                elif fixed_seen[key][1] != v:
+                    j, w = fixed_seen[key]
+                    self.add(
+                        "fixed-parameter",
+                        f"step {i}: :fixed parameter '{p.name}' of '{m.name}' is {fmt(v)}, but {fmt(w)} in step {j}",
+                        i,
+                        m.name,
+                    )
+            params[p.name] = v
+        return _Live(act, m, params) if usable else None
+
+    # -------------------------------------------------------------- plan-wide checks
+    def plan_wide(self) -> None:
+        counts = Counter(a.morphism for _, a in self.plan.activations)
+        for name, n in counts.items():
+            m = self.inst.morphisms.get(name)
+            if m is not None and m.uses is not None and n > m.uses:
+                self.add("uses", f"'{name}' is activated {n} times but allows at most {m.uses} (:uses)", None, name)
+        if self.horizon is not None and len(self.plan) > self.horizon:
+            self.add("horizon", f"the composition has {len(self.plan)} steps but the horizon is {self.horizon}", None)
+
+    # -------------------------------------------------------------- replay
+    def literal(self, i: int | None, lit: ir.Literal, state, params, morphism: str | None, kind: str, where: str) -> bool:
+        try:
+            ok = _bool(_Env(self.inst, state, params), lit.expr)
+        except DivisionByZero as exc:
+            self.add("division-by-zero", f"{where}{lit.label} {show(lit.expr)} is false: {exc} ({_bindings(lit.expr, state, params)})", i, morphism, lit.label)
+            return False
+        except EvaluationError as exc:
+            self.add("initial-state" if isinstance(exc, MissingValue) else kind, f"{where}{lit.label} {show(lit.expr)} cannot be evaluated: {exc}", i, morphism, lit.label)
+            return False
+        if not ok:
+            bindings = _bindings(lit.expr, state, params)
+            self.add(kind, f"{where}{lit.label} {show(lit.expr)} is false" + (f" with {bindings}" if bindings else ""), i, morphism, lit.label)
+        return ok
+
+    def step(self, i: int, live: list[_Live], state: Mapping[str, object]) -> bool:
+        """Check one step in ``state``; True when nothing forbids applying it."""
+        ok = True
+        for a in live:
+            where = f"step {i}: {_activation_text(a.act)}: precondition "
+            for lit in a.m.pre:
+                ok &= self.literal(i, lit, state, a.params, a.name, "precondition", where)
+            a.values = []
+            for eff in a.m.effects:
+                try:
+                    a.values.append(_eval(_Env(self.inst, state, a.params), eff.value))
+                except DivisionByZero as exc:
+                    self.add("division-by-zero", f"step {i}: {_activation_text(a.act)}: effect {eff.label} cannot be applied: {exc}", i, a.name, eff.label)
+                    a.values.append(None)
+                    ok = False
+                except EvaluationError as exc:
+                    self.add("initial-state", f"step {i}: {_activation_text(a.act)}: effect {eff.label} cannot be evaluated: {exc}", i, a.name, eff.label)
+                    a.values.append(None)
+                    ok = False
+        ok &= self.interference(i, live)
+        return ok
+
+    def interference(self, i: int, live: list[_Live]) -> bool:
+        ok = True
+        for x in range(len(live)):
+            for y in range(x + 1, len(live)):
+                for a, b in ((live[x], live[y]), (live[y], live[x])):
+                    ok &= self.pair(i, a, b, first=a is live[x])
+        return ok
+
+    def pair(self, i: int, a: _Live, b: _Live, first: bool) -> bool:
+        ok = True
+        rb = b.m.reads
+        for r in sorted(a.assigns):
+            if r in b.assigns:
+                if first:  # assign/assign: report once per pair
+                    self.add(
+                        "interference",
+                        f"step {i}: '{a.name}' and '{b.name}' both assign '{r}' "
+                        f"({_first_effect(a.m, r, (EffectKind.ASSIGN,))}, {_first_effect(b.m, r, (EffectKind.ASSIGN,))})",
+                        i, a.name, _first_effect(a.m, r, (EffectKind.ASSIGN,)),
+                    )
+                ok = False
+            elif r in rb or r in b.updates:
+                how = "reads" if r in rb else "updates"
+                other = _first_reader(b.m, r) if r in rb else _first_effect(b.m, r, _UPDATES)
+                self.add(
+                    "interference",
+                    f"step {i}: '{a.name}' assigns '{r}' ({_first_effect(a.m, r, (EffectKind.ASSIGN,))}) while '{b.name}' {how} it ({other})",
+                    i, a.name, _first_effect(a.m, r, (EffectKind.ASSIGN,)),
+                )
+                ok = False
+        for r in sorted(a.updates & rb):
+            label = _first_effect(a.m, r, _UPDATES)
+            self.add(
+                "interference",
+                f"step {i}: '{a.name}' updates '{r}' ({label}) while '{b.name}' reads it ({_first_reader(b.m, r)})",
+                i, a.name, label,
+            )
+            ok = False
+        for eff, v in zip(a.m.effects, a.values):
+            if eff.kind is not EffectKind.ADD or v is None:
+                continue
+            for eff2, w in zip(b.m.effects, b.values):
+                if eff2.kind is EffectKind.REMOVE and eff2.resource == eff.resource and w == v:
+                    self.add(
+                        "interference",
+                        f"step {i}: '{a.name}' adds {fmt(v)} to '{eff.resource}' ({eff.label}) while '{b.name}' removes it ({eff2.label})",
+                        i, a.name, eff.label,
+                    )
+                    ok = False
+        return ok
+
+    def successor(self, i: int, live: list[_Live], state: Mapping[str, object]) -> dict[str, object] | None:
+        new = dict(state)
+        assigned: dict[str, object] = {}
+        delta: dict[str, Fraction] = defaultdict(Fraction)
+        added: dict[str, set] = defaultdict(set)
+        removed: dict[str, set] = defaultdict(set)
+        writer: dict[str, tuple[str, str]] = {}
+        for a in live:
+            for eff, v in zip(a.m.effects, a.values):
+                writer.setdefault(eff.resource, (a.name, eff.label))
+                k = eff.kind
+                if k is EffectKind.ASSIGN:
+                    assigned[eff.resource] = v
+                elif k is EffectKind.INCREASE:
+                    delta[eff.resource] += v  # type: ignore[operator]
+                elif k is EffectKind.DECREASE:
+                    delta[eff.resource] -= v  # type: ignore[operator]
+                elif k is EffectKind.ADD:
+                    added[eff.resource].add(v)
+                else:
+                    removed[eff.resource].add(v)
+        try:
+            for r, d in delta.items():
+                if not _is_num(state.get(r)):
+                    raise MissingValue(f"resource '{r}' has no value")
+                new[r] = state[r] + d  # type: ignore[operator]
+            for r in set(added) | set(removed):
+                if not isinstance(state.get(r), frozenset):
+                    raise MissingValue(f"resource '{r}' has no value")
+                new[r] = frozenset((state[r] - removed[r]) | added[r])  # type: ignore[operator]
+        except EvaluationError as exc:
+            self.add("initial-state", f"step {i}: {exc}", i)
+            return None
+        new.update(assigned)
+        for r in sorted(writer):
+            res = self.inst.resources.get(r)
+            if res is None or not res.sort.is_numeric or r not in new:
+                continue
+            why = _resource_value_problem(self.inst, res, new[r])  # bounds, and integral for int
+            if why:
+                name, label = writer[r]
+                self.add("resource-bounds", f"step {i}: after the step '{r}' = {why} (written by '{name}', {label})", i, name, label)
+        return new
+
+    # -------------------------------------------------------------- driver
+    def run(self) -> Report:
+        s0, problems = _initial(self.inst)
+        self.out.extend(problems)
+        live_steps = self.static()
+        self.plan_wide()
+        states: list[Mapping[str, object]] = [MappingProxyType(dict(s0))]
+        state: Mapping[str, object] = s0
+        complete = True
+        for i, live in enumerate(live_steps, 1):
+            static_blocked = any(v.step == i and v.kind not in _NON_BLOCKING for v in self.out)
+            ok = self.step(i, live, state)
+            if static_blocked or not ok:
+                complete = False
+                break
+            new = self.successor(i, live, state)
+            if new is None:
+                complete = False
+                break
+            state = new
+            states.append(MappingProxyType(dict(new)))
+        if complete:
+            for lit in self.inst.problem.goal:
+                self.literal(None, lit, state, {}, None, "goal", "goal ")
+        def rank(iv: tuple[int, Violation]):
+            n, v = iv
+            if v.step is not None:
+                return (v.step, n)
+            return (-1 if v.kind == "initial-state" else float("inf"), n)
+
+        ranked = sorted(enumerate(self.out), key=rank)
+        return Report(tuple(v for _, v in ranked), tuple(states))
+
+
+def validate(instance: ir.Instance, plan: Plan, *, horizon: int | None = None, sequential: bool = False) -> Report:
+    """Replay ``plan`` on ``instance`` (whose view is already applied) and report every
+    violation of docs/semantics.md §4.  ``horizon`` overrides the problem's ``(:horizon k)``;
+    ``sequential`` allows at most one activation per step."""
+    return _Validator(instance, plan, horizon, sequential).run()

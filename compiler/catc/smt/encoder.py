@@ -1,0 +1,577 @@
+"""IR → SMT-LIB2: the bounded composition formula of paper eq. (logic_formula).
+
+The encoder writes SMT-LIB2 commands (a :class:`Script`), and both backends consume the
+same script: Z3 reads it through its Python API (``Solver.from_string``, a step at a time
+for incremental solving, :mod:`catc.smt.z3backend`), and ``catc compile --emit smt2``
+prints it with every assertion named after its source construct.  Building text and letting
+Z3's C++ parser build the terms is about seven times faster than building the same terms
+through the Python API (docs/benchmarks.md), and the printed file is equivalent to what the
+API solves by construction; tests still solve it with the ``z3`` binary and with cvc5.
+
+Variables, for a horizon built one step at a time:
+
+* ``|s.r.t|`` — resource ``r`` in state ``t`` (Bool, Int or Real; an Int index into the
+  grounded universe for a symbol; one Bool ``|s.r.t.e|`` per universe element ``e`` for a set);
+* ``|b.a.t|`` — morphism ``a`` is activated in step ``t`` (from state ``t`` to ``t+1``);
+* ``|th.a.p.t|`` — parameter ``p`` of ``a`` in step ``t`` (``|th.a.p|`` when ``:fixed``).
+
+Constraints (``docs/semantics.md`` §4): ``b ⇒ pre`` per precondition literal; successor-state
+axioms (the frame value unless an active morphism writes the resource: assignments, summed
+increments, set unions); non-interference (or one activation per step when sequential); θ
+bounds and sorts; resource bounds in every state; use limits; initial state; goal.
+
+Every constraint stemming from a source construct is filed under its label (``pre/m/i``,
+``eff/m/i``, ``init/r``, ``goal/i``, ``bound/m/p``, ``bounds/r``, ``uses/m``); structural
+constraints (frame, interference, typing) have none.  With ``track=True`` an effect's value
+is a variable pinned by the effect's labelled constraint, so dropping that label from a
+core removes exactly that effect.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from fractions import Fraction
+from typing import Callable, Union
+
+from catgrammar.record import Record, set_field
+
+from catc import ir
+from catc.smt.grounding import Grounding
+from catc.ir import SortKind
+
+# A term is SMT-LIB text; a symbol may also be a known universe index (int); a set is a
+# mapping universe index → Bool text.
+Term = Union[str, int, dict]
+
+
+def real_literal(v: Fraction) -> str:
+    def pos(n: int) -> str:
+        return f"{n}.0"
+
+    a = abs(v)
+    text = pos(a.numerator) if a.denominator == 1 else f"(/ {pos(a.numerator)} {pos(a.denominator)})"
+    return f"(- {text})" if v < 0 else text
+
+
+def int_literal(n: int) -> str:
+    return f"(- {-n})" if n < 0 else str(n)
+
+
+def quote(name: str) -> str:
+    return f"|{name}|"
+
+
+def _and(parts: list[str]) -> str:
+    parts = [p for p in parts if p != "true"]
+    if not parts:
+        return "true"
+    return parts[0] if len(parts) == 1 else f"(and {' '.join(parts)})"
+
+
+def _or(parts: list[str]) -> str:
+    parts = [p for p in parts if p != "false"]
+    if not parts:
+        return "false"
+    return parts[0] if len(parts) == 1 else f"(or {' '.join(parts)})"
+
+
+def at_most(bools: list[str], n: int) -> str:
+    """Σ ite(b, 1, 0) ≤ n — plain linear arithmetic, understood by every SMT solver."""
+    if len(bools) <= n:
+        return "true"
+    if n == 1 and len(bools) == 2:
+        return f"(not (and {bools[0]} {bools[1]}))"
+    return f"(<= (+ {' '.join(f'(ite {b} 1 0)' for b in bools)}) {n})"
+
+
+class Script:
+    """Declarations and labelled assertions, in order; ``take`` hands out what is new."""
+
+    __slots__ = ("decls", "asserts", "_decl_mark", "_assert_mark")
+
+    def __init__(self) -> None:
+        self.decls: list[tuple[str, str]] = []  # (quoted name, sort)
+        self.asserts: list[tuple[str | None, str]] = []
+        self._decl_mark = 0
+        self._assert_mark = 0
+
+    def take(self) -> tuple[list[tuple[str, str]], list[tuple[str | None, str]]]:
+        d, a = self.decls[self._decl_mark :], self.asserts[self._assert_mark :]
+        self._decl_mark, self._assert_mark = len(self.decls), len(self.asserts)
+        return d, a
+
+    def labels(self) -> list[str]:
+        return list(dict.fromkeys(label for label, _ in self.asserts if label is not None))
+
+
+class _Ctx:
+    __slots__ = ("t", "params", "guards")
+
+    def __init__(self, t: int, params: dict, guards: list) -> None:
+        self.t = t
+        self.params = params
+        self.guards = guards
+
+
+_SMT_SORT = {SortKind.BOOL: "Bool", SortKind.INT: "Int", SortKind.REAL: "Real", SortKind.SYMBOL: "Int", SortKind.ENUM: "Int"}
+
+
+class Encoder:
+    def __init__(
+        self,
+        inst: ir.Instance,
+        horizon: int,
+        *,
+        sequential: bool = False,
+        track: bool = False,
+        slack: dict[str, str] | None = None,
+        extra_written: frozenset[str] = frozenset(),
+    ):
+        """``slack`` maps labels of relaxable requirements (numeric initial values and
+        order comparisons) to the name of a slack term that weakens them (``catc relax``).
+        ``extra_written`` names resources something besides the morphisms may write (a hole
+        μ, ``catc synthesize``), which then add their effects through ``step_hook``."""
+        self.inst = inst
+        self.slack = slack or {}
+        self.step_hook = None  # called as hook(t, actions, assigns, deltas, adds, removes)
+        self.horizon = horizon
+        self.sequential = sequential
+        self.track = track
+        self.grounding = Grounding(inst, horizon)
+        self.morphisms = list(inst.morphisms.values())
+        self.resources = list(inst.resources.values())
+        self.script = Script()
+        self.states: list[dict[str, Term]] = []
+        self.act: list[dict[str, str]] = []
+        self.theta: list[dict[tuple[str, str], Term]] = []
+        self.fixed: dict[tuple[str, str], Term] = {}
+        self.indicators: dict[str, str] = {}  # effect label → indicator (tracking)
+        #: resources no morphism writes keep one variable for every state
+        self.written = frozenset(e.resource for m in self.morphisms for e in m.effects) | extra_written
+        self._dispatch: dict[type, Callable] = {
+            ir.Const: self._const,
+            ir.ResourceRef: self._resource,
+            ir.ParamRef: self._param,
+            ir.SetLit: self._setlit,
+            ir.Arith: self._arith,
+            ir.Compare: self._compare,
+            ir.BoolOp: self._boolop,
+            ir.Ite: self._ite,
+            ir.Member: self._member,
+            Encoded: lambda e, ctx: e.text,
+        }
+        self._classify()
+        self._fixed_params()
+        self.states.append(self._new_state(0))
+        self._initial_state()
+
+    # ------------------------------------------------------------------ variables
+    def _var(self, name: str, sort: ir.Sort) -> Term:
+        if sort.kind is SortKind.SET:
+            u = self.grounding.universe(sort.element)  # type: ignore[arg-type]
+            out = {}
+            for i, e in enumerate(u.elements):
+                q = quote(f"{name}.{e}")
+                self.script.decls.append((q, "Bool"))
+                out[i] = q
+            return out
+        q = quote(name)
+        self.script.decls.append((q, _SMT_SORT[sort.kind]))
+        return q
+
+    def add(self, label: str | None, text: str) -> None:
+        if text != "true":
+            self.script.asserts.append((label, text))
+
+    def _domain(self, v: str, sort: ir.Sort) -> str:
+        allowed = self.grounding.allowed(sort)
+        if not allowed:
+            return "false"
+        if allowed == list(range(allowed[0], allowed[-1] + 1)):
+            return f"(and (<= {allowed[0]} {v}) (<= {v} {allowed[-1]}))"
+        return _or([f"(= {v} {i})" for i in allowed])
+
+    # ------------------------------------------------------------------ structure
+    def _classify(self) -> None:
+        self.readers: dict[str, list[str]] = defaultdict(list)
+        self.assigners: dict[str, list[str]] = defaultdict(list)
+        self.updaters: dict[str, list[str]] = defaultdict(list)
+        for m in self.morphisms:
+            for r in sorted(m.reads):
+                self.readers[r].append(m.name)
+            for e in m.effects:
+                table = self.assigners if e.kind is ir.EffectKind.ASSIGN else self.updaters
+                if m.name not in table[e.resource]:
+                    table[e.resource].append(m.name)
+
+    def _fixed_params(self) -> None:
+        for m in self.morphisms:
+            for p in m.params:
+                if p.fixed:
+                    v = self._var(f"th.{m.name}.{p.name}", p.sort)
+                    self.fixed[(m.name, p.name)] = v
+                    self._param_constraints(m, p, v)
+
+    def _param_constraints(self, m: ir.Morphism, p: ir.Param, v: Term) -> None:
+        if p.sort.is_symbolic:
+            self.add(None, self._domain(v, p.sort))  # type: ignore[arg-type]
+        lit = real_literal if p.sort.kind is SortKind.REAL else (lambda f: int_literal(int(f)))
+        if p.lower is not None:
+            self.add(f"bound/{m.name}/{p.name}", f"(>= {v} {lit(p.lower)})")
+        if p.upper is not None:
+            self.add(f"bound/{m.name}/{p.name}", f"(<= {v} {lit(p.upper)})")
+
+    def _new_state(self, t: int) -> dict[str, Term]:
+        state: dict[str, Term] = {}
+        for r in self.resources:
+            if t > 0 and r.name not in self.written:
+                state[r.name] = self.states[0][r.name]  # frame: never written, one variable
+                continue
+            v = self._var(f"s.{r.name}.{t}", r.sort)
+            state[r.name] = v
+            lit = real_literal if r.sort.kind is SortKind.REAL else (lambda f: int_literal(int(f)))
+            if r.lower is not None:
+                self.add(f"bounds/{r.name}", f"(>= {v} {lit(r.lower)})")
+            if r.upper is not None:
+                self.add(f"bounds/{r.name}", f"(<= {v} {lit(r.upper)})")
+        return state
+
+    def _initial_state(self) -> None:
+        s0 = self.states[0]
+        for name, init in self.inst.problem.init.items():
+            if name in s0:
+                value = self.term(init.value, _Ctx(0, {}, []))
+                if init.label in self.slack:  # s0 = v + δ (δ may be negative: a pair of slacks)
+                    value = f"(+ {value} {self.slack[init.label]})"
+                self.add(init.label, self._equal(s0[name], value))
+
+    # ------------------------------------------------------------------ steps
+    def add_step(self) -> int:
+        """Add step t (state t → t+1); return t."""
+        t = len(self.act)
+        s, nxt = self.states[t], self._new_state(t + 1)
+        self.states.append(nxt)
+        b = {}
+        for m in self.morphisms:
+            q = quote(f"b.{m.name}.{t}")
+            self.script.decls.append((q, "Bool"))
+            b[m.name] = q
+        self.act.append(b)
+        theta: dict[tuple[str, str], Term] = {}
+        for m in self.morphisms:
+            for p in m.params:
+                if p.fixed:
+                    theta[(m.name, p.name)] = self.fixed[(m.name, p.name)]
+                else:
+                    v = self._var(f"th.{m.name}.{p.name}.{t}", p.sort)
+                    theta[(m.name, p.name)] = v
+                    self._param_constraints(m, p, v)
+        self.theta.append(theta)
+
+        for m in self.morphisms:
+            params = {p.name: theta[(m.name, p.name)] for p in m.params}
+            for lit in m.pre:
+                ctx = _Ctx(t, params, [])
+                body = self._literal(lit, ctx)
+                self.add(lit.label, f"(=> {b[m.name]} {_and([body] + ctx.guards)})")
+
+        assigns: dict[str, list[tuple[str, Term]]] = defaultdict(list)
+        deltas: dict[str, list[str]] = defaultdict(list)
+        adds: dict[str, list[tuple[str, str, Term]]] = defaultdict(list)
+        removes: dict[str, list[tuple[str, str, Term]]] = defaultdict(list)
+        for m in self.morphisms:
+            params = {p.name: theta[(m.name, p.name)] for p in m.params}
+            on = b[m.name]
+            for e in m.effects:
+                res = self.inst.resources[e.resource]
+                ctx = _Ctx(t, params, [])
+                value = self.term(e.value, ctx)
+                if e.kind in (ir.EffectKind.INCREASE, ir.EffectKind.DECREASE, ir.EffectKind.ASSIGN):
+                    value = self._as(value, e.value.sort, res.sort)
+                if ctx.guards:
+                    self.add(e.label, f"(=> {on} {_and(ctx.guards)})")
+                on = self.effect_guard(e, b[m.name])
+                zero = "0.0" if res.sort.kind is SortKind.REAL else "0"
+                if e.kind is ir.EffectKind.ASSIGN:
+                    assigns[e.resource].append((on, value))
+                elif e.kind is ir.EffectKind.INCREASE:
+                    deltas[e.resource].append(f"(ite {on} {value} {zero})")
+                elif e.kind is ir.EffectKind.DECREASE:
+                    deltas[e.resource].append(f"(ite {on} (- {value}) {zero})")
+                elif e.kind is ir.EffectKind.ADD:
+                    adds[e.resource].append((m.name, on, value))
+                else:
+                    removes[e.resource].append((m.name, on, value))
+        if self.step_hook is not None:
+            self.step_hook(t, b, assigns, deltas, adds, removes)
+        for r in self.resources:
+            if r.name in self.written:
+                self._successor(r, s[r.name], nxt[r.name], assigns[r.name], deltas[r.name], adds[r.name], removes[r.name])
+        self._interference(b, adds, removes)
+        if t > 0:  # symmetry breaking: idle steps only at the end (compositions compact)
+            self.add(None, f"(=> (not {_or(list(self.act[t - 1].values()))}) (not {_or(list(b.values()))}))")
+        return t
+
+    def effect_guard(self, e: ir.Effect, on: str) -> str:
+        """When the effect acts.  With tracking, an effect also needs its label's indicator
+        ``|L:eff/m/i|``: a dropped effect (indicator left free) *may or may not* happen, which
+        weakens the formula, so unsat cores and their minimisation stay sound."""
+        if not self.track:
+            return on
+        q = quote(f"L:{e.label}")
+        if e.label not in self.indicators:
+            self.indicators[e.label] = q
+            self.script.decls.append((q, "Bool"))
+        return f"(and {on} {q})"
+
+    def _successor(self, r: ir.Resource, cur: Term, nxt: Term, assigns, deltas, adds, removes) -> None:
+        if r.sort.kind is SortKind.SET:
+            assert isinstance(cur, dict) and isinstance(nxt, dict)
+            for i in cur:
+                added = [_and([on, self._sym_eq(x, i)]) for _, on, x in adds]
+                removed = [_and([on, self._sym_eq(x, i)]) for _, on, x in removes]
+                value = cur[i]
+                if removed and _or(removed) != "false":
+                    value = _and([value, f"(not {_or(removed)})"])
+                if added and _or(added) != "false":
+                    value = _or([_or(added), value])
+                for on, whole in reversed(assigns):
+                    value = f"(ite {on} {whole[i]} {value})"
+                self.add(None, f"(= {nxt[i]} {value})")
+            return
+        value = cur
+        if deltas:
+            value = f"(+ {cur} {' '.join(deltas)})"
+        for on, v in reversed(assigns):
+            value = f"(ite {on} {v} {value})"
+        self.add(None, f"(= {nxt} {value})")
+
+    def _interference(self, b: dict[str, str], adds, removes) -> None:
+        if self.sequential:
+            self.add(None, self._at_most_one(list(b.values())))
+            return
+        for r in self.resources:
+            A = self.assigners.get(r.name, [])
+            U = self.updaters.get(r.name, [])
+            R = self.readers.get(r.name, [])
+            touching = list(dict.fromkeys(A + U + R))
+            if A and len(touching) > 1:
+                self.add(None, f"(=> {_or([b[a] for a in A])} {self._at_most_one([b[x] for x in touching])})")
+            if U and R:
+                group = list(dict.fromkeys(U + R))
+                if len(group) > 1:
+                    self.add(
+                        None,
+                        f"(=> (and {_or([b[u] for u in U])} {_or([b[x] for x in R])}) {self._at_most_one([b[x] for x in group])})",
+                    )
+            for ma, on_a, x in adds.get(r.name, []):
+                for mb, on_b, y in removes.get(r.name, []):
+                    if ma != mb:
+                        eq = self._sym_eq(x, y)
+                        if eq != "false":
+                            self.add(None, f"(not {_and([on_a, on_b, eq])})")
+
+    def _at_most_one(self, bools: list[str]) -> str:
+        """At most one of ``bools``, as a Boolean formula: pairwise for a few, else a ladder
+        (sequential counter) over prefix-disjunction variables — O(n), pure SAT, which every
+        solver handles far better than a sum of if-then-elses over many Booleans."""
+        if len(bools) <= 1:
+            return "true"
+        if len(bools) <= 4:
+            return _and([f"(not (and {x} {y}))" for i, x in enumerate(bools) for y in bools[i + 1 :]])
+        prefix = bools[0]
+        parts = []
+        for x in bools[1:-1]:
+            parts.append(f"(not (and {x} {prefix}))")
+            q = quote(f"amo.{len(self.script.decls)}")
+            self.script.decls.append((q, "Bool"))
+            self.add(None, f"(= {q} (or {x} {prefix}))")
+            prefix = q
+        parts.append(f"(not (and {bools[-1]} {prefix}))")
+        return _and(parts)
+
+    # ------------------------------------------------------------------ goal, uses
+    def goal_constraints(self, t: int) -> list[tuple[str, str]]:
+        out = []
+        for lit in self.inst.problem.goal:
+            ctx = _Ctx(t, {}, [])
+            body = self._literal(lit, ctx)
+            out.append((lit.label, _and([body] + ctx.guards)))
+        return out
+
+    def _literal(self, lit: ir.Literal, ctx: _Ctx) -> Term:
+        """A labelled literal, weakened by its slack when it has one:
+        (>= a b) → (>= (+ a δ) b) and (<= a b) → (<= a (+ b δ)) (likewise > and <)."""
+        delta = self.slack.get(lit.label)
+        e = lit.expr
+        if delta is None or not isinstance(e, ir.Compare) or e.op is ir.CmpOp.EQ:
+            return self.term(e, ctx)
+        both = ir.REAL if ir.REAL in (e.left.sort, e.right.sort) else ir.INT
+        left = self._as(self.term(e.left, ctx), e.left.sort, both)
+        right = self._as(self.term(e.right, ctx), e.right.sort, both)
+        if e.op in (ir.CmpOp.GE, ir.CmpOp.GT):
+            left = f"(+ {left} {delta})"
+        else:
+            right = f"(+ {right} {delta})"
+        return f"({e.op.value} {left} {right})"
+
+    def uses_constraints(self, steps: int) -> list[tuple[str, str]]:
+        out = []
+        for m in self.morphisms:
+            if m.uses is not None and steps > m.uses:
+                out.append((f"uses/{m.name}", at_most([self.act[t][m.name] for t in range(steps)], m.uses)))
+        return out
+
+    # ------------------------------------------------------------------ expressions
+    def term(self, e: ir.Expr, ctx: _Ctx) -> Term:
+        return self._dispatch[type(e)](e, ctx)
+
+    def _const(self, e: ir.Const, ctx: _Ctx) -> Term:
+        v = e.value
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        if isinstance(v, str):
+            return self.grounding.universe(e.sort).index(v)
+        return int_literal(v.numerator) if e.sort.kind is SortKind.INT else real_literal(v)
+
+    def _resource(self, e: ir.ResourceRef, ctx: _Ctx) -> Term:
+        return self.states[ctx.t][e.name]
+
+    def _param(self, e: ir.ParamRef, ctx: _Ctx) -> Term:
+        return ctx.params[e.name]
+
+    def _setlit(self, e: ir.SetLit, ctx: _Ctx) -> Term:
+        u = self.grounding.universe(e.sort.element)  # type: ignore[arg-type]
+        elems = [self.term(x, ctx) for x in e.elements]
+        return {i: _or([self._sym_eq(x, i) for x in elems]) for i in range(len(u))}
+
+    def _as(self, text: Term, have: ir.Sort, want: ir.Sort) -> Term:
+        """Coerce an Int-sorted term where a Real is expected."""
+        if want.kind is SortKind.REAL and have.kind is SortKind.INT:
+            return f"(to_real {text})"
+        return text
+
+    def _arith(self, e: ir.Arith, ctx: _Ctx) -> str:
+        want = e.sort
+        args = [self._as(self.term(a, ctx), a.sort, want if e.op is not ir.ArithOp.DIV else ir.REAL) for a in e.args]
+        op = e.op
+        if op is ir.ArithOp.ADD:
+            return args[0] if len(args) == 1 else f"(+ {' '.join(args)})"  # type: ignore[arg-type]
+        if op is ir.ArithOp.SUB:
+            return f"(- {' '.join(args)})"  # type: ignore[arg-type]
+        if op is ir.ArithOp.MUL:
+            return args[0] if len(args) == 1 else f"(* {' '.join(args)})"  # type: ignore[arg-type]
+        if op is ir.ArithOp.DIV:
+            num, den = args
+            if not isinstance(e.args[1], ir.Const):
+                ctx.guards.append(f"(not (= {den} 0.0))")
+            return f"(/ {num} {den})"
+        cmp = "<=" if op is ir.ArithOp.MIN else ">="
+        out = args[0]
+        for a in args[1:]:
+            out = f"(ite ({cmp} {out} {a}) {out} {a})"
+        return out  # type: ignore[return-value]
+
+    def _compare(self, e: ir.Compare, ctx: _Ctx) -> str:
+        left, right = self.term(e.left, ctx), self.term(e.right, ctx)
+        if e.left.sort.is_numeric:
+            both = ir.REAL if ir.REAL in (e.left.sort, e.right.sort) else ir.INT
+            left, right = self._as(left, e.left.sort, both), self._as(right, e.right.sort, both)
+        if e.op is ir.CmpOp.EQ:
+            return self._equal(left, right)
+        return f"({e.op.value} {left} {right})"
+
+    def _boolop(self, e: ir.BoolOp, ctx: _Ctx) -> str:
+        args = [self.term(a, ctx) for a in e.args]
+        op = e.op
+        if op is ir.BoolOpKind.AND:
+            return _and(args)  # type: ignore[arg-type]
+        if op is ir.BoolOpKind.OR:
+            return _or(args)  # type: ignore[arg-type]
+        if op is ir.BoolOpKind.NOT:
+            return f"(not {args[0]})"
+        return f"(=> {args[0]} {args[1]})"
+
+    def _ite(self, e: ir.Ite, ctx: _Ctx) -> Term:
+        c = self.term(e.cond, ctx)
+        a = self._as(self.term(e.then, ctx), e.then.sort, e.sort)
+        b = self._as(self.term(e.orelse, ctx), e.orelse.sort, e.sort)
+        if isinstance(a, dict):
+            return {i: f"(ite {c} {a[i]} {b[i]})" for i in a}  # type: ignore[index]
+        return f"(ite {c} {a} {b})"
+
+    def _member(self, e: ir.Member, ctx: _Ctx) -> str:
+        x, s = self.term(e.element, ctx), self.term(e.set, ctx)
+        assert isinstance(s, dict)
+        if isinstance(x, int):
+            return s.get(x, "false")
+        return _or([f"(and (= {x} {i}) {v})" for i, v in s.items()])
+
+    # ------------------------------------------------------------------ helpers
+    @staticmethod
+    def _sym_eq(a: Term, b: Term) -> str:
+        if isinstance(a, int) and isinstance(b, int):
+            return "true" if a == b else "false"
+        return f"(= {a} {b})"
+
+    def _equal(self, a: Term, b: Term) -> str:
+        if isinstance(a, dict):
+            return _and([f"(= {a[i]} {b[i]})" for i in a])  # type: ignore[index]
+        if isinstance(a, int) or isinstance(b, int):
+            return self._sym_eq(a, b)
+        return f"(= {a} {b})"
+
+    # ------------------------------------------------------------------ objective terms
+    def objective(self, e: ir.Expr, steps: int) -> str:
+        """An objective term over a composition of ``steps`` steps, as Real-sorted text."""
+        return self._as(self._objective(e, steps), e.sort, ir.REAL)  # type: ignore[return-value]
+
+    def _objective(self, e: ir.Expr, steps: int) -> Term:
+        acts = [(t, m) for t in range(steps) for m in self.morphisms]
+        if isinstance(e, ir.TotalCost):
+            terms = [f"(ite {self.act[t][m.name]} {self._cost(m, t)} 0.0)" for t, m in acts]
+            return f"(+ 0.0 {' '.join(terms)})" if terms else "0.0"
+        if isinstance(e, ir.TotalChurn):
+            deployed = set(self.inst.problem.deployed)
+            terms = []
+            for m in self.morphisms:
+                used = _or([self.act[t][m.name] for t in range(steps)])
+                changed = f"(not {used})" if m.name in deployed else used
+                if changed != "false":
+                    terms.append(f"(ite {changed} {real_literal(m.churn)} 0.0)")
+            return f"(+ 0.0 {' '.join(terms)})" if terms else "0.0"
+        if isinstance(e, ir.Uses):
+            terms = [f"(ite {self.act[t][e.morphism]} 1 0)" for t in range(steps)]
+            return f"(+ 0 {' '.join(terms)})" if terms else "0"
+        if isinstance(e, ir.ParamValue):
+            if (e.morphism, e.param) in self.fixed:
+                return self.fixed[(e.morphism, e.param)]
+            out = "0.0" if e.sort.kind is SortKind.REAL else "0"
+            for t in range(steps):
+                out = f"(ite {self.act[t][e.morphism]} {self.theta[t][(e.morphism, e.param)]} {out})"
+            return out
+        if isinstance(e, ir.Arith):
+            args = tuple(Encoded(self._objective(a, steps), a.sort) for a in e.args)
+            return self._arith(ir.Arith(e.op, args, e.sort), _Ctx(steps, {}, []))  # type: ignore[arg-type]
+        if isinstance(e, ir.Ite):
+            parts = [Encoded(self._objective(x, steps), x.sort) for x in (e.cond, e.then, e.orelse)]
+            return self._ite(ir.Ite(parts[0], parts[1], parts[2], e.sort), _Ctx(steps, {}, []))  # type: ignore[arg-type]
+        return self.term(e, _Ctx(steps, {}, []))
+
+    def _cost(self, m: ir.Morphism, t: int) -> str:
+        if m.cost is None:
+            return "1.0"
+        params = {p.name: self.theta[t][(m.name, p.name)] for p in m.params}
+        return self._as(self.term(m.cost, _Ctx(t, params, [])), m.cost.sort, ir.REAL)  # type: ignore[return-value]
+
+
+class Encoded(Record):
+    """An already-encoded term placed inside an IR node (objective arithmetic)."""
+
+    __slots__ = ("text", "sort")
+    text: Term
+    sort: ir.Sort
+
+    def __init__(self, text: Term, sort: ir.Sort) -> None:
+        set_field(self, "text", text)
+        set_field(self, "sort", sort)

@@ -1,0 +1,725 @@
+"""Export a checked instance (:mod:`catc.ir`) to PDDL 2.1 numeric planning (DESIGN §6).
+
+The translation grounds everything the PDDL side cannot express symbolically:
+
+* numeric resources → 0-ary functions; bool resources → 0-ary predicates; a set resource
+  ``r`` → one 0-ary predicate ``(r-c)`` per constant ``c`` of its element sort; a symbolic
+  resource ``r`` → one predicate ``(r-is-v)`` per value ``v``;
+* every morphism → one ground action per assignment of its parameters θ: int/bool/symbolic
+  θ over their finite/known values, real θ on a grid (``--grid PARAM=STEP``) within bounds;
+* ``:uses`` limits → a counter function ``(used-m)``; ``:fixed`` θ → ``(fixed-m-p-v)``
+  predicates; resource bounds → preconditions on the successor values;
+* the metric → ``(:metric minimize ...)`` only for a single minimisation of
+  ``(total-cost)`` with non-negative costs, or of a numeric expression over resources, or for
+  ``maximize R`` of a resource R that only decreases by non-negative θ-only amounts (then
+  each action costs what it takes from R, and ``minimize (total-cost)`` has the same optimal
+  plans).
+
+Everything not expressed is listed in the :class:`ExportReport` (never dropped silently).
+Action names are ``a-`` + the sanitized morphism name + a θ suffix; :attr:`Export.actions`
+maps each back to an :class:`catc.semantics.plan.Activation` so that a PDDL plan can be replayed by
+:func:`catc.semantics.validate.validate`.
+"""
+
+from __future__ import annotations
+
+import itertools
+import re
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Mapping
+
+from catc import ir
+from catc.ir import ArithOp, BoolOpKind, CmpOp, EffectKind, SortKind
+from catc.semantics.plan import Activation, Plan, decimal_text
+
+#: Words some PDDL planners (ENHSP, the PyPI parser) reject as names.
+RESERVED = frozenset(
+    "start end over all at number minimize maximize when forall exists increase decrease assign "
+    "scale-up scale-down and or not imply either object total-cost total-time define domain problem "
+    "requirements types constants predicates functions action parameters precondition effect "
+    "objects init goal metric".split()
+)
+
+MAX_GROUND_ACTIONS = 200_000
+
+
+class ExportError(Exception):
+    """The instance cannot be exported (e.g. a real θ without bounds or grid step)."""
+
+
+class Unsupported(Exception):
+    """One construct has no PDDL counterpart (the enclosing item is reported)."""
+
+
+@dataclass
+class ExportReport:
+    items: list[tuple[str, str]] = field(default_factory=list)  # (category, text)
+
+    def add(self, category: str, text: str) -> None:
+        if (category, text) not in self.items:
+            self.items.append((category, text))
+
+    def markdown(self, title: str) -> str:
+        lines = [f"# catc export pddl: {title}", ""]
+        if not self.items:
+            lines.append("Everything in the model is expressed in the PDDL files.")
+            return "\n".join(lines) + "\n"
+        lines.append("Not expressed (or expressed only approximately) in the PDDL files:")
+        lines.append("")
+        cats: dict[str, list[str]] = {}
+        for c, t in self.items:
+            cats.setdefault(c, []).append(t)
+        for c, ts in cats.items():
+            lines.append(f"## {c}")
+            lines.append("")
+            lines.extend(f"- {t}" for t in ts)
+            lines.append("")
+        return "\n".join(lines)
+
+
+@dataclass
+class Export:
+    domain: str
+    problem: str
+    report: ExportReport
+    actions: dict[str, Activation]  # ground action name → activation
+    grid: dict[str, Fraction]  # "morphism.param" → step used
+    flavor: str = "enhsp"
+    #: smtplan flavour: real θ expressed as PDDL+ dials (:mod:`catc.targets.pddlplus`), by key
+    #: "morphism.param"; their values come from a timed plan, not from the action names.
+    dials: dict = field(default_factory=dict)
+
+    def activation(self, name: str) -> Activation:
+        return self.actions[name.lower()]
+
+    def plan_from_actions(self, names: list[str]) -> Plan:
+        """A sequential catc plan (one activation per step) from ground action names."""
+        if self.dials:
+            raise ExportError("this export has continuous θ (dials): read the timed plan with "
+                              "catc.targets.pddlplus.parse_timed_plan instead of action names")
+        return Plan(tuple((self.activation(n),) for n in names))
+
+
+# ---------------------------------------------------------------- names
+
+
+def sanitize(text: str) -> str:
+    s = re.sub(r"[^a-z0-9-]+", "-", text.lower()).strip("-")
+    s = re.sub(r"-+", "-", s)
+    if not s or not s[0].isalpha():
+        s = "x" + s
+    return s
+
+
+def value_suffix(v: object) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, Fraction):
+        if v.denominator == 1:
+            t = str(v.numerator)
+        else:
+            d = decimal_text(v)
+            t = d if not d.startswith("≈") else f"{v.numerator}over{v.denominator}"
+        return t.replace("-", "m").replace(".", "p").replace("/", "over")
+    return sanitize(str(v))
+
+
+def number(v: Fraction | int) -> str:
+    v = Fraction(v)
+    if v.denominator == 1:
+        return str(v.numerator)
+    d = decimal_text(v, 12)
+    if d.startswith("≈"):
+        return f"(/ {v.numerator} {v.denominator})"
+    return d
+
+
+class _Names:
+    def __init__(self) -> None:
+        self.used: set[str] = set()
+
+    def fresh(self, base: str) -> str:
+        name = sanitize(base)
+        if name in RESERVED:
+            name = "r-" + name
+        out, i = name, 2
+        while out in self.used:
+            out, i = f"{name}-{i}", i + 1
+        self.used.add(out)
+        return out
+
+
+# ---------------------------------------------------------------- the exporter
+
+
+def _grid_values(lower: Fraction, upper: Fraction, step: Fraction) -> list[Fraction]:
+    out, v = [], lower
+    while v <= upper:
+        out.append(v)
+        v += step
+    if out[-1] != upper:
+        out.append(upper)
+    return out
+
+
+def _lower_bound(e: ir.Expr, params: Mapping[str, ir.Param]) -> Fraction | None:
+    """A lower bound of a θ-only amount over θ's bounds (interval arithmetic), or None."""
+    if isinstance(e, ir.Const) and isinstance(e.value, Fraction) and not isinstance(e.value, bool):
+        return e.value
+    if isinstance(e, ir.ParamRef):
+        p = params.get(e.name)
+        return None if p is None or p.lower is None else Fraction(p.lower)
+    if isinstance(e, ir.Arith) and e.op is ArithOp.ADD:
+        lows = [_lower_bound(a, params) for a in e.args]
+        return None if any(x is None for x in lows) else sum(lows, Fraction(0))  # type: ignore[arg-type]
+    if isinstance(e, ir.Arith) and e.op is ArithOp.MUL and len(e.args) == 2:
+        lows = [_lower_bound(a, params) for a in e.args]
+        if all(x is not None and x >= 0 for x in lows):
+            return lows[0] * lows[1]  # type: ignore[operator]
+    return None
+
+
+class _Exporter:
+    def __init__(self, inst: ir.Instance, grid: Mapping[str, Fraction], horizon: int | None, flavor: str) -> None:
+        self.inst = inst
+        self.grid_in = dict(grid)
+        self.horizon = horizon
+        self.flavor = flavor
+        self.report = ExportReport()
+        self.names = _Names()
+        self.requirements: set[str] = {":strips"}
+        self.pred: dict[tuple, str] = {}  # key → predicate name
+        self.func: dict[str, str] = {}  # resource / counter key → function name
+        self.actions: dict[str, Activation] = {}
+        self.grid_used: dict[str, Fraction] = {}
+        self._drained: str | None = None  # maximize R exported as minimize the total taken from R
+        self.universe: dict[str, list[str]] = {}  # resource → values (set elements / symbols)
+
+    # ---- vocabulary
+    def _values_of(self, sort: ir.Sort) -> list[str]:
+        return self.inst.constants_of(sort)
+
+    def declare(self) -> None:
+        for r in self.inst.resources.values():
+            k = r.sort.kind
+            if k in (SortKind.INT, SortKind.REAL):
+                self.func[r.name] = self.names.fresh(r.name)
+                self.requirements.add(":numeric-fluents")
+            elif k is SortKind.BOOL:
+                self.pred[("bool", r.name)] = self.names.fresh(r.name)
+            elif k is SortKind.SET:
+                vals = self._values_of(r.sort.element)
+                self.universe[r.name] = vals
+                for c in vals:
+                    self.pred[("mem", r.name, c)] = self.names.fresh(f"{r.name}-{c}")
+                if r.sort.element.kind is SortKind.SYMBOL:
+                    self.report.add("reserve values", f"set resource '{r.name}': only the {len(vals)} known constant(s) of sort '{r.sort.element}' are grounded; PDDL has no fresh (reserve) values")
+            else:
+                vals = self._values_of(r.sort)
+                self.universe[r.name] = vals
+                for c in vals:
+                    self.pred[("is", r.name, c)] = self.names.fresh(f"{r.name}-is-{c}")
+
+    # ---- expressions: fold θ, then print
+    def _fold(self, e: ir.Expr, theta: Mapping[str, object]) -> ir.Expr:
+        if isinstance(e, ir.ParamRef):
+            if e.name not in theta:  # a θ the action does not fix (a PDDL+ dial)
+                return e
+            return ir.Const(theta[e.name], e.sort)
+        if isinstance(e, ir.Arith):
+            args = tuple(self._fold(a, theta) for a in e.args)
+            if all(isinstance(a, ir.Const) for a in args):
+                vals = [a.value for a in args]
+                try:
+                    if e.op is ArithOp.ADD:
+                        v = sum(vals, Fraction(0))
+                    elif e.op is ArithOp.SUB:
+                        v = -vals[0] if len(vals) == 1 else vals[0] - sum(vals[1:], Fraction(0))
+                    elif e.op is ArithOp.MUL:
+                        v = Fraction(1)
+                        for x in vals:
+                            v *= x
+                    elif e.op is ArithOp.DIV:
+                        v = vals[0]
+                        for x in vals[1:]:
+                            v /= x
+                    elif e.op is ArithOp.MIN:
+                        v = min(vals)
+                    else:
+                        v = max(vals)
+                except ZeroDivisionError:
+                    raise Unsupported("division by zero") from None
+                return ir.Const(Fraction(v), e.sort)
+            return ir.Arith(e.op, args, e.sort)
+        if isinstance(e, ir.Compare):
+            l, r = self._fold(e.left, theta), self._fold(e.right, theta)
+            if isinstance(l, ir.Const) and isinstance(r, ir.Const):
+                a, b = l.value, r.value
+                if e.op is CmpOp.EQ:
+                    return ir.Const(a == b, ir.BOOL)
+                return ir.Const({CmpOp.LT: a < b, CmpOp.LE: a <= b, CmpOp.GT: a > b, CmpOp.GE: a >= b}[e.op], ir.BOOL)
+            return ir.Compare(e.op, l, r)
+        if isinstance(e, ir.BoolOp):
+            args = tuple(self._fold(a, theta) for a in e.args)
+            if e.op is BoolOpKind.NOT:
+                if isinstance(args[0], ir.Const):
+                    return ir.Const(not args[0].value, ir.BOOL)
+            elif e.op is BoolOpKind.AND:
+                if any(isinstance(a, ir.Const) and a.value is False for a in args):
+                    return ir.Const(False, ir.BOOL)
+                args = tuple(a for a in args if not isinstance(a, ir.Const))
+                if not args:
+                    return ir.Const(True, ir.BOOL)
+            elif e.op is BoolOpKind.OR:
+                if any(isinstance(a, ir.Const) and a.value is True for a in args):
+                    return ir.Const(True, ir.BOOL)
+                args = tuple(a for a in args if not isinstance(a, ir.Const))
+                if not args:
+                    return ir.Const(False, ir.BOOL)
+            elif e.op is BoolOpKind.IMPLY:
+                a, b = args
+                if isinstance(a, ir.Const):
+                    return b if a.value else ir.Const(True, ir.BOOL)
+            return ir.BoolOp(e.op, args)
+        if isinstance(e, ir.Ite):
+            c = self._fold(e.cond, theta)
+            if isinstance(c, ir.Const):
+                return self._fold(e.then if c.value else e.orelse, theta)
+            return ir.Ite(c, self._fold(e.then, theta), self._fold(e.orelse, theta), e.sort)
+        if isinstance(e, ir.Member):
+            return ir.Member(self._fold(e.element, theta), self._fold(e.set, theta))
+        if isinstance(e, ir.SetLit):
+            return ir.SetLit(tuple(self._fold(a, theta) for a in e.elements), e.sort)
+        return e
+
+    def num(self, e: ir.Expr) -> str:
+        if isinstance(e, ir.Const) and isinstance(e.value, Fraction):
+            return number(e.value)
+        if isinstance(e, ir.ResourceRef) and e.name in self.func:
+            return f"({self.func[e.name]})"
+        if isinstance(e, (ir.ParamRef, ir.ParamValue)):
+            return self.param_term(e)
+        if isinstance(e, ir.Arith) and e.op in (ArithOp.ADD, ArithOp.SUB, ArithOp.MUL, ArithOp.DIV):
+            args = [self.num(a) for a in e.args]
+            if e.op is ArithOp.SUB and len(args) == 1:
+                return f"(- 0 {args[0]})"
+            out = args[0]
+            for a in args[1:]:  # binary operators only (PDDL 2.1)
+                out = f"({e.op.value} {out} {a})"
+            return out
+        raise Unsupported(f"numeric term {type(e).__name__}{'/' + e.op.value if isinstance(e, ir.Arith) else ''}")
+
+    def is_dial(self, m: ir.Morphism, p: ir.Param) -> bool:
+        """Whether θ ``p`` of ``m`` stays symbolic (a PDDL+ dial); never in PDDL 2.1."""
+        return False
+
+    def param_term(self, e: ir.ParamRef | ir.ParamValue) -> str:
+        """A θ left symbolic by :meth:`_fold` (only the PDDL+ flavour has such θ)."""
+        raise Unsupported(f"parameter {getattr(e, 'name', getattr(e, 'param', '?'))} as a numeric term")
+
+    def _sym_atom(self, res: str, value: str) -> str:
+        key = ("is", res, value)
+        if key not in self.pred:
+            return self.false()  # a value the resource can never take (e.g. a fresh one)
+        return f"({self.pred[key]})"
+
+    def false(self) -> str:
+        if ("false",) not in self.pred:
+            self.pred[("false",)] = self.names.fresh("catc-false")
+        return f"({self.pred[('false',)]})"
+
+    def cond(self, e: ir.Expr) -> str:
+        if isinstance(e, ir.Const) and isinstance(e.value, bool):
+            return "(and)" if e.value else self.false()
+        if isinstance(e, ir.ResourceRef) and ("bool", e.name) in self.pred:
+            return f"({self.pred[('bool', e.name)]})"
+        if isinstance(e, ir.BoolOp):
+            args = [self.cond(a) for a in e.args]
+            if e.op is BoolOpKind.NOT:
+                self.requirements.add(":negative-preconditions")
+                return f"(not {args[0]})"
+            if e.op is BoolOpKind.IMPLY:
+                self.requirements.add(":disjunctive-preconditions")
+                return f"(imply {args[0]} {args[1]})"
+            if e.op is BoolOpKind.OR:
+                self.requirements.add(":disjunctive-preconditions")
+            return f"({e.op.value} {' '.join(args)})"
+        if isinstance(e, ir.Member):
+            if not isinstance(e.set, ir.ResourceRef) or not isinstance(e.element, ir.Const):
+                raise Unsupported("membership in a set expression or of a state-dependent element")
+            key = ("mem", e.set.name, e.element.value)
+            return f"({self.pred[key]})" if key in self.pred else self.false()
+        if isinstance(e, ir.Compare):
+            l, r = e.left, e.right
+            if l.sort.is_numeric or r.sort.is_numeric:
+                return f"({e.op.value} {self.num(l)} {self.num(r)})"
+            if e.op is not CmpOp.EQ:
+                raise Unsupported(f"comparison {e.op.value} of non-numbers")
+            if l.sort.kind is SortKind.BOOL:
+                a, b = (l, r) if isinstance(r, ir.Const) else (r, l)
+                if isinstance(b, ir.Const):
+                    c = self.cond(a)
+                    if b.value:
+                        return c
+                    self.requirements.add(":negative-preconditions")
+                    return f"(not {c})"
+                self.requirements.add(":disjunctive-preconditions")
+                self.requirements.add(":negative-preconditions")
+                ca, cb = self.cond(a), self.cond(b)
+                return f"(or (and {ca} {cb}) (and (not {ca}) (not {cb})))"
+            if l.sort.is_symbolic:
+                if isinstance(l, ir.Const):
+                    l, r = r, l
+                if isinstance(l, ir.ResourceRef) and isinstance(r, ir.Const):
+                    return self._sym_atom(l.name, r.value)
+                if isinstance(l, ir.ResourceRef) and isinstance(r, ir.ResourceRef):
+                    self.requirements.add(":disjunctive-preconditions")
+                    common = [v for v in self.universe.get(l.name, []) if v in self.universe.get(r.name, [])]
+                    if not common:
+                        return self.false()
+                    return "(or " + " ".join(f"(and {self._sym_atom(l.name, v)} {self._sym_atom(r.name, v)})" for v in common) + ")"
+            raise Unsupported(f"equality of {l.sort} values")
+        raise Unsupported(f"condition {type(e).__name__}")
+
+    # ---- actions
+    def _theta_values(self, m: ir.Morphism) -> list[list[object]] | None:
+        out = []
+        for p in m.params:
+            k = p.sort.kind
+            if k is SortKind.BOOL:
+                out.append([False, True])
+            elif k in (SortKind.SYMBOL, SortKind.ENUM):
+                vals = self._values_of(p.sort)
+                if k is SortKind.SYMBOL:
+                    self.report.add("reserve values", f"{m.name}.{p.name} ranges over the {len(vals)} known constant(s) of sort '{p.sort}' only; catc may also use fresh (reserve) values, PDDL has no fresh constants")
+                out.append(vals)
+            elif k is SortKind.INT:
+                if p.lower is None or p.upper is None:
+                    raise ExportError(f"int parameter {m.name}.{p.name} has no bounds (:bounds (lo hi)); PDDL actions need finitely many values")
+                lo, hi = -(-p.lower // 1), p.upper // 1
+                out.append([Fraction(v) for v in range(int(lo), int(hi) + 1)])
+            elif k is SortKind.REAL:
+                key = f"{m.name}.{p.name}"
+                step = self.grid_in.get(key, self.grid_in.get(p.name))
+                if p.lower is None or p.upper is None:
+                    raise ExportError(f"real parameter {key} has no finite bounds; give it :bounds (lo hi) to export it with --grid")
+                if step is None:
+                    raise ExportError(f"real parameter {key} is continuous; give a grid step with --grid {key}=STEP (or --grid {p.name}=STEP)")
+                if step <= 0:
+                    raise ExportError(f"grid step for {key} must be positive, got {step}")
+                vals = _grid_values(p.lower, p.upper, step)
+                self.grid_used[key] = step
+                self.report.add("continuous parameters", f"{key} ∈ [{decimal_text(p.lower)}, {decimal_text(p.upper)}] discretised with step {decimal_text(step)} ({len(vals)} values); solutions off the grid are lost")
+                out.append(vals)
+            else:
+                raise ExportError(f"parameter {m.name}.{p.name} of sort {p.sort} cannot be grounded")
+        return out
+
+    def _bound_checks(self, r: ir.Resource, post: str) -> list[str]:
+        out = []
+        if r.lower is not None:
+            out.append(f"(>= {post} {number(r.lower)})")
+        if r.upper is not None:
+            out.append(f"(<= {post} {number(r.upper)})")
+        return out
+
+    def _effects(self, m: ir.Morphism, theta: Mapping[str, object]) -> tuple[list[str], list[str]]:
+        """(effect atoms, extra preconditions for resource bounds)."""
+        effs: list[str] = []
+        pres: list[str] = []
+        for eff in m.effects:
+            r = self.inst.resources[eff.resource]
+            v = self._fold(eff.value, theta)
+            k = r.sort.kind
+            if k in (SortKind.INT, SortKind.REAL):
+                f = f"({self.func[r.name]})"
+                amount = self.num(v)
+                if eff.kind is EffectKind.ASSIGN:
+                    effs.append(f"(assign {f} {amount})")
+                    post = amount
+                elif eff.kind is EffectKind.INCREASE:
+                    effs.append(f"(increase {f} {amount})")
+                    post = f"(+ {f} {amount})"
+                else:
+                    effs.append(f"(decrease {f} {amount})")
+                    post = f"(- {f} {amount})"
+                pres.extend(self._bound_checks(r, post))
+            elif k is SortKind.BOOL:
+                if not isinstance(v, ir.Const):
+                    raise Unsupported(f"state-dependent assignment to bool resource '{r.name}' (would need conditional effects)")
+                p = f"({self.pred[('bool', r.name)]})"
+                effs.append(p if v.value else f"(not {p})")
+            elif k is SortKind.SET:
+                if eff.kind in (EffectKind.ADD, EffectKind.REMOVE):
+                    if not isinstance(v, ir.Const):
+                        raise Unsupported(f"state-dependent element added to/removed from '{r.name}'")
+                    key = ("mem", r.name, v.value)
+                    if key not in self.pred:
+                        raise Unsupported(f"element '{v.value}' of '{r.name}' is not a known constant")
+                    effs.append(f"({self.pred[key]})" if eff.kind is EffectKind.ADD else f"(not ({self.pred[key]}))")
+                elif isinstance(v, ir.SetLit) and all(isinstance(x, ir.Const) for x in v.elements):
+                    members = {x.value for x in v.elements}
+                    for c in self.universe[r.name]:
+                        a = f"({self.pred[('mem', r.name, c)]})"
+                        effs.append(a if c in members else f"(not {a})")
+                else:
+                    raise Unsupported(f"state-dependent assignment to set resource '{r.name}'")
+            else:
+                if not isinstance(v, ir.Const):
+                    raise Unsupported(f"state-dependent assignment to symbolic resource '{r.name}'")
+                for c in self.universe[r.name]:
+                    a = f"({self.pred[('is', r.name, c)]})"
+                    effs.append(a if c == v.value else f"(not {a})")
+                if v.value not in self.universe[r.name]:
+                    raise Unsupported(f"value '{v.value}' of '{r.name}' is not a known constant")
+        return effs, pres
+
+    def action_text(self, m: ir.Morphism, theta: dict[str, object], objective_cost: bool) -> str | None:
+        name = self.names.fresh("a-" + m.name + "".join("-" + value_suffix(theta[p.name]) for p in m.params if p.name in theta))
+        pre: list[str] = []
+        for lit in m.pre:
+            e = self._fold(lit.expr, theta)
+            if isinstance(e, ir.Const) and e.value is False:
+                self.names.used.discard(name)
+                return None  # this θ never applies
+            pre.append(self.cond(e))
+        effs, bounds = self._effects(m, theta)
+        pre.extend(bounds)
+        if m.uses is not None:
+            f = self.func[("uses", m.name)]
+            pre.append(f"(< ({f}) {m.uses})")
+            effs.append(f"(increase ({f}) 1)")
+        for p in m.params:
+            if p.fixed and p.name in theta:
+                chosen = self.pred[("fixed", m.name, p.name)]
+                mine = self.pred[("fixval", m.name, p.name, value_suffix(theta[p.name]))]
+                self.requirements.update({":negative-preconditions", ":disjunctive-preconditions"})
+                pre.append(f"(or (not ({chosen})) ({mine}))")
+                effs.extend([f"({chosen})", f"({mine})"])
+        if self.horizon is not None:
+            pre.append(f"(< (catc-steps) {self.horizon})")
+            effs.append("(increase (catc-steps) 1)")
+        self.extra_conditions(m, theta, pre, effs)
+        if objective_cost:
+            c = self._action_cost(m, theta)
+            if c is not None:
+                effs.append(f"(increase (total-cost) {self.num(c)})")
+        self.actions[name] = Activation(m.name, theta)
+        pre = [p for p in pre if p != "(and)"]
+        pre_text = "(and " + " ".join(pre) + ")" if pre else "(and)"
+        return (f"  (:action {name}\n    :parameters ()\n    :precondition {pre_text}\n"
+                f"    :effect (and {' '.join(effs)}))\n")
+
+    def extra_conditions(self, m: ir.Morphism, theta: Mapping[str, object], pre: list[str], effs: list[str]) -> None:
+        """Hook for the PDDL+ flavour (dial preconditions and effects); nothing here."""
+
+    def _action_cost(self, m: ir.Morphism, theta: Mapping[str, object]) -> ir.Expr | None:
+        """The action's contribution to (total-cost): its cost, or — for a metric maximising a
+        resource that only decreases — what it takes from that resource."""
+        if self._drained is None:
+            return ir.Const(Fraction(1), ir.REAL) if m.cost is None else self._fold(m.cost, theta)
+        amounts = [self._fold(e.value, theta) for e in m.effects
+                   if e.resource == self._drained and e.kind is ir.EffectKind.DECREASE]
+        if not amounts:
+            return None
+        return amounts[0] if len(amounts) == 1 else ir.Arith(ArithOp.ADD, tuple(amounts), ir.REAL)
+
+    # ---- metric
+    def _drain_metric(self, name: str) -> bool:
+        """Whether ``maximize NAME`` can be exported as ``minimize (total-cost)``: every effect
+        on the resource is a decrease by an amount that depends on θ only and is never
+        negative within θ's bounds.  Then NAME's final value is its initial value minus the
+        total cost, and the two metrics have the same optimal plans."""
+        for m in self.inst.morphisms.values():
+            for e in m.effects:
+                if e.resource != name:
+                    continue
+                if e.kind is not ir.EffectKind.DECREASE or ir.resources_in(e.value):
+                    return False
+                low = _lower_bound(e.value, {p.name: p for p in m.params})
+                if low is None or low < 0:
+                    return False
+        return True
+
+    def metric(self) -> tuple[str | None, bool]:
+        """(metric text, whether actions must increase total-cost)."""
+        met = self.inst.problem.metric
+        if met is None:
+            return None, False
+        if met.mode is not ir.MetricMode.SINGLE or len(met.objectives) != 1:
+            self.report.add("objective", f"{met.mode.value} metric with {len(met.objectives)} objective(s): only one minimisation can be exported; no metric written")
+            return None, False
+        obj = met.objectives[0]
+        if obj.sense is ir.Sense.MAXIMIZE:
+            term = obj.term
+            if isinstance(term, ir.ResourceRef) and term.name in self.func and self._drain_metric(term.name):
+                self._drained = term.name
+                self.requirements.add(":action-costs")
+                self.report.add("objective", f"maximize {term.name} is written as minimize (total-cost): {term.name} only "
+                                "decreases, each action costs what it takes from it, so its final value is its "
+                                "initial value minus the total cost")
+                return "(:metric minimize (total-cost))", True
+            self.report.add("objective", "maximisation is not exported (ENHSP mishandles maximize, and state-dependent "
+                            "action costs); no metric written, the planner finds any plan")
+            return None, False
+        if isinstance(obj.term, ir.TotalCost):
+            for m in self.inst.morphisms.values():
+                if m.cost is None:
+                    continue
+                if not (isinstance(m.cost, ir.Const) and m.cost.value >= 0):
+                    if ir.params_in(m.cost) or ir.resources_in(m.cost) or m.cost.value < 0:
+                        self.report.add("objective", f"cost of '{m.name}' is not a non-negative constant; total-cost metric not exported")
+                        return None, False
+            self.requirements.add(":action-costs")
+            return "(:metric minimize (total-cost))", True
+        try:
+            if any(not isinstance(x, (ir.Const, ir.ResourceRef, ir.Arith)) for x in ir.walk(obj.term)):
+                raise Unsupported("objective term")
+            return f"(:metric minimize {self.num(obj.term)})", False
+        except Unsupported as exc:
+            self.report.add("objective", f"objective not exported ({exc})")
+            return None, False
+
+    # ---- whole export
+    def run(self) -> Export:
+        inst = self.inst
+        d, p = inst.domain, inst.problem
+        self.declare()
+        if inst.view is not None:
+            v = d.views.get(inst.view)
+            dropped = ", ".join(sorted(v.dropped)) if v else "?"
+            self.report.add("views", f"view '{inst.view}' applied before export: resources {dropped} and the literals mentioning them are dropped")
+        for h in d.holes.values():
+            self.report.add("holes", f"hole '{h.name}' (a missing component) is not exported; the PDDL domain has only the known components")
+        for s in p.softs:
+            self.report.add("soft constraints", f"soft constraint {s.label} (weight {decimal_text(s.weight)}) is not exported")
+        if p.deployed:
+            self.report.add("recomposition", f"deployed composition ({', '.join(p.deployed)}) and churn are not exported")
+        if self.horizon is not None:
+            self.requirements.add(":numeric-fluents")
+            self.report.add("horizon", f"bounded to {self.horizon} sequential actions with the counter (catc-steps); catc's horizon counts parallel steps")
+        elif p.horizon is not None:
+            self.report.add("horizon", f"the problem's horizon {p.horizon} (parallel steps) is not exported; PDDL plans are unbounded (use --horizon K to bound the number of actions)")
+        self.report.add("semantics", "PDDL plans are sequential (one action per step): compare with `catc solve --sequential`; catc's parallel steps (⊗ with non-interference) are not expressed")
+        for m in d.morphisms.values():
+            if m.uses is not None:
+                self.func[("uses", m.name)] = self.names.fresh(f"used-{m.name}")
+                self.requirements.add(":numeric-fluents")
+            for prm in m.params:
+                if prm.fixed and not self.is_dial(m, prm):
+                    self.pred[("fixed", m.name, prm.name)] = self.names.fresh(f"fixed-{m.name}-{prm.name}")
+        metric, with_cost = self.metric()
+        actions: list[str] = []
+        count = 0
+        for m in d.morphisms.values():
+            values = self._theta_values(m)
+            for prm, vals in zip(m.params, values):
+                if prm.fixed and not self.is_dial(m, prm):
+                    for v in vals:
+                        self.pred[("fixval", m.name, prm.name, value_suffix(v))] = self.names.fresh(f"fixed-{m.name}-{prm.name}-{value_suffix(v)}")
+            n_before = len(actions)
+            for combo in itertools.product(*values):
+                count += 1
+                if count > MAX_GROUND_ACTIONS:
+                    raise ExportError(f"more than {MAX_GROUND_ACTIONS} ground actions; use a coarser --grid")
+                theta = {prm.name: v for prm, v in zip(m.params, combo)}
+                try:
+                    text = self.action_text(m, theta, with_cost)
+                except Unsupported as exc:
+                    self.report.add("components", f"'{m.name}' not exported: {exc}")
+                    actions = actions[:n_before]
+                    for k in [k for k, a in self.actions.items() if a.morphism == m.name]:
+                        del self.actions[k]
+                    break
+                if text is not None:
+                    actions.append(text)
+            else:
+                if m.params and len(actions) == n_before:
+                    self.report.add("components", f"'{m.name}' has no applicable ground action (no parameter value passes its θ-only preconditions)")
+        # goal
+        goal = []
+        for lit in p.goal:
+            try:
+                goal.append(self.cond(self._fold(lit.expr, {})))
+            except Unsupported as exc:
+                raise ExportError(f"goal literal {lit.label} cannot be exported: {exc}") from None
+        init = self._init()
+        preds = [n for n in self.pred.values()]
+        funcs = [n for n in self.func.values()]
+        if self.horizon is not None:
+            funcs.append("catc-steps")
+        if with_cost:
+            funcs.append("total-cost")
+        reqs = " ".join(sorted(self.requirements))
+        dom = [f";; generated by catc export pddl from domain {d.name}", f"(define (domain {sanitize(d.name)})", f"  (:requirements {reqs})"]
+        if preds:
+            dom.append("  (:predicates " + " ".join(f"({x})" for x in preds) + ")")
+        if funcs:
+            dom.append("  (:functions " + " ".join(f"({x})" for x in funcs) + ")")
+        prob = [f";; generated by catc export pddl from problem {p.name}", f"(define (problem {sanitize(p.name)})",
+                f"  (:domain {sanitize(d.name)})", "  (:init", *("    " + i for i in init), "  )",
+                "  (:goal (and " + " ".join(g for g in goal if g != "(and)") + "))"]
+        if metric:
+            prob.append("  " + metric)
+        prob_text = "\n".join(prob) + "\n)\n"
+        dom_text = "\n".join(dom) + "\n" + "".join(actions) + self.extra_domain_text() + ")\n"
+        return Export(dom_text, prob_text, self.report, self.actions, self.grid_used, self.flavor)
+
+    def extra_domain_text(self) -> str:
+        """Hook for the PDDL+ flavour (dial actions and processes)."""
+        return ""
+
+    def _init(self) -> list[str]:
+        from catc.semantics.validate import initial_state
+
+        s0 = initial_state(self.inst)
+        out = []
+        for r in self.inst.resources.values():
+            if r.name not in s0:
+                if r.sort.is_numeric:
+                    raise ExportError(f"resource '{r.name}' has no initial value")
+                if r.sort.is_symbolic:
+                    self.report.add("initial state", f"symbolic resource '{r.name}' has no initial value (no value predicate holds)")
+                continue
+            v = s0[r.name]
+            k = r.sort.kind
+            if k in (SortKind.INT, SortKind.REAL):
+                out.append(f"(= ({self.func[r.name]}) {number(v)})")
+            elif k is SortKind.BOOL:
+                if v:
+                    out.append(f"({self.pred[('bool', r.name)]})")
+            elif k is SortKind.SET:
+                for c in sorted(v):
+                    key = ("mem", r.name, c)
+                    if key in self.pred:
+                        out.append(f"({self.pred[key]})")
+            else:
+                key = ("is", r.name, v)
+                if key in self.pred:
+                    out.append(f"({self.pred[key]})")
+        for key, f in self.func.items():
+            if isinstance(key, tuple):
+                out.append(f"(= ({f}) 0)")
+        if self.horizon is not None:
+            out.append("(= (catc-steps) 0)")
+        if ":action-costs" in self.requirements:
+            out.append("(= (total-cost) 0)")
+        return out
+
+
+def export_pddl(inst: ir.Instance, *, grid: Mapping[str, Fraction] | None = None, horizon: int | None = None,
+                flavor: str = "enhsp") -> Export:
+    """Translate ``inst`` (view already applied) to PDDL domain and problem text.
+
+    ``flavor="enhsp"``: PDDL 2.1 numeric planning, every real θ on a ``grid``.
+    ``flavor="smtplan"``: PDDL+ for SMTPlan+ — a real θ without a grid step becomes a dial
+    (a fluent raised by a process between two instantaneous actions; :mod:`catc.targets.pddlplus`).
+    """
+    if flavor not in ("enhsp", "smtplan"):
+        raise ExportError(f"unknown flavor {flavor!r}; expected 'enhsp' or 'smtplan'")
+    if flavor == "smtplan":
+        from catc.targets.pddlplus import PlusExporter  # PDDL+ (processes) for SMTPlan+
+
+        return PlusExporter(inst, grid or {}, horizon, flavor).run()
+    return _Exporter(inst, grid or {}, horizon, flavor).run()
