@@ -10,7 +10,6 @@ set membership, bools, θ parameters with bounds, increase/decrease/add/assign e
 from __future__ import annotations
 
 import argparse
-import platform
 import statistics
 import sys
 import tempfile
@@ -20,9 +19,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path[:0] = [str(ROOT), str(ROOT / "compiler")]
 
+from catc.frontend.workspace import Workspace  # noqa: E402
 from catgrammar.diagnostics import Diagnostics  # noqa: E402
 from catgrammar.parser import gc_paused, lark_parser, parse_source, read_source  # noqa: E402
-from catc.frontend.workspace import Workspace  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from solve_bench import machine  # noqa: E402

@@ -38,8 +38,6 @@ def peak_rss(cmd: list[str]) -> tuple[float, float, int]:
     return time.perf_counter() - start, usage.ru_maxrss / 1024, os.waitstatus_to_exitcode(status)
 
 
-
-
 # ---------------------------------------------------------------- 1. examples
 
 
@@ -104,8 +102,10 @@ def bench_reference(runs: int) -> None:
     med = {label: statistics.median(xs) for label, xs in times.items()}
     ratio = med["catc solve"] / med["hand-written Z3 script"]
     floor = med["the script, importing click first"] / med["hand-written Z3 script"]
-    print(f"\ncatc / hand-written: {ratio:.2f}× (target ≤ 1.3×; under 1 s: {med['catc solve'] < 1}); "
-          f"the same script importing click: {floor:.2f}×; catc / that: {med['catc solve'] / med['the script, importing click first']:.2f}×.\n")
+    print(
+        f"\ncatc / hand-written: {ratio:.2f}× (target ≤ 1.3×; under 1 s: {med['catc solve'] < 1}); "
+        f"the same script importing click: {floor:.2f}×; catc / that: {med['catc solve'] / med['the script, importing click first']:.2f}×.\n"
+    )
 
 
 # ---------------------------------------------------------------- 3. scaling
@@ -120,7 +120,8 @@ def synthetic(components: int, horizon: int, depth: int = 4) -> str:
         "  (:sorts topic - symbol)",
         "  (:constants " + " ".join(f"t{i}" for i in range(4)) + " - topic)",
         "  (:resources (ram real :bounds (0 *)) (topics (set topic)) "
-        + " ".join(f"(cap{i} bool)" for i in range(depth + 1)) + ")",
+        + " ".join(f"(cap{i} bool)" for i in range(depth + 1))
+        + ")",
     ]
     for i in range(components):
         level = i % depth
@@ -196,15 +197,25 @@ def bench_queries(runs: int) -> None:
     print("### Optimize against plain solve on the same problem\n")
     print("In-process time (`timings.total` of `--json`: encode + solve + validate) and wall time of the")
     print("process; `optimize` deepens then proves (default), `single` is `--strategy single`.\n")
-    print("| example | solve (s) | optimize (s) | ratio | single (s) | ratio | wall: solve / optimize (s) | wall ratio |")
+    print(
+        "| example | solve (s) | optimize (s) | ratio | single (s) | ratio | wall: solve / optimize (s) | wall ratio |"
+    )
     print("|---|---:|---:|---:|---:|---:|---:|---:|")
-    for path in ("examples/gpu-allocation/max-confidence.cat", "examples/gpu-allocation/retask.cat",
-                 "examples/navigation/farthest.cat", "examples/search-and-rescue/event2-out-of-range.cat",
-                 "examples/semantics/soft.cat"):
+    for path in (
+        "examples/gpu-allocation/max-confidence.cat",
+        "examples/gpu-allocation/retask.cat",
+        "examples/navigation/farthest.cat",
+        "examples/search-and-rescue/event2-out-of-range.cat",
+        "examples/semantics/soft.cat",
+    ):
         problem = ["--problem", "fastest-with-reserve"] if path.endswith("soft.cat") else []
         runs_of: dict[str, tuple[list[float], list[float]]] = {k: ([], []) for k in ("solve", "optimize", "single")}
         for _ in range(runs):
-            for key, cmd in (("solve", ["solve"]), ("optimize", ["optimize"]), ("single", ["optimize", "--strategy", "single"])):
+            for key, cmd in (
+                ("solve", ["solve"]),
+                ("optimize", ["optimize"]),
+                ("single", ["optimize", "--strategy", "single"]),
+            ):
                 start = time.perf_counter()
                 out = subprocess.run(CATC + cmd + [path, "--json"] + problem, capture_output=True, cwd=ROOT).stdout
                 runs_of[key][1].append(time.perf_counter() - start)
@@ -213,8 +224,10 @@ def bench_queries(runs: int) -> None:
         s_in, s_wall = med["solve"]
         o_in, o_wall = med["optimize"]
         g_in = med["single"][0]
-        print(f"| {path.removeprefix('examples/')} | {s_in:.3f} | {o_in:.3f} | {o_in / s_in:.2f}× | {g_in:.3f} | "
-              f"{g_in / s_in:.2f}× | {s_wall:.3f} / {o_wall:.3f} | {o_wall / s_wall:.2f}× |")
+        print(
+            f"| {path.removeprefix('examples/')} | {s_in:.3f} | {o_in:.3f} | {o_in / s_in:.2f}× | {g_in:.3f} | "
+            f"{g_in / s_in:.2f}× | {s_wall:.3f} / {o_wall:.3f} | {o_wall / s_wall:.2f}× |"
+        )
     print()
 
 
@@ -223,10 +236,10 @@ def bench_refutation(runs: int) -> None:
     24 steps better than 10 m?" on search-and-rescue event II, unsat — on Z3's default
     configuration and on Z3 configured for QF_LRA (what catc uses), in this process."""
     import z3
+
     from catc import ir
     from catc.frontend.workspace import load_instance
     from catc.queries.optimize import _encode_whole, _objective_terms
-
     from catgrammar.diagnostics import Diagnostics
 
     _, inst = load_instance(None, str(ROOT / "examples/search-and-rescue/event2-out-of-range.cat"), Diagnostics())
@@ -239,7 +252,10 @@ def bench_refutation(runs: int) -> None:
     print("### The refutation behind `optimize --strategy deepen` (event II, 24 steps, better than 10 m)\n")
     print("| Z3 configuration | answer | median (s) | IQR (s) |")
     print("|---|---|---:|---|")
-    for label, make in (("default (`z3.Solver()`)", z3.Solver), ("QF_LRA (`z3.SolverFor('QF_LRA')`)", lambda ctx: z3.SolverFor("QF_LRA", ctx=ctx))):
+    for label, make in (
+        ("default (`z3.Solver()`)", z3.Solver),
+        ("QF_LRA (`z3.SolverFor('QF_LRA')`)", lambda ctx: z3.SolverFor("QF_LRA", ctx=ctx)),
+    ):
         walls, answer = [], None
         for _ in range(runs):
             solver = make(ctx=session.ctx)
@@ -258,15 +274,24 @@ def main() -> None:
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--quick", action="store_true", help="fewer sizes and runs, for a smoke test")
     ap.add_argument("--only", choices=["examples", "reference", "scaling", "queries"])
-    ap.add_argument("--no-compile", action="store_true",
-                    help="do not byte-compile catc first (by default it is, as `pip install .` does)")
+    ap.add_argument(
+        "--no-compile",
+        action="store_true",
+        help="do not byte-compile catc first (by default it is, as `pip install .` does)",
+    )
     args = ap.parse_args()
     if not args.no_compile:  # timings then match an installed catc, whatever PYTHONDONTWRITEBYTECODE says
-        subprocess.run([sys.executable, "-m", "compileall", "-q", "compiler/catc", "catgrammar", "stdlib_domains"],
-                       cwd=ROOT, check=False)
+        subprocess.run(
+            [sys.executable, "-m", "compileall", "-q", "compiler/catc", "catgrammar", "stdlib_domains"],
+            cwd=ROOT,
+            check=False,
+        )
     sizes, horizons = ([25, 50], [5, 10]) if args.quick else ([25, 50, 100, 200], [5, 10, 20])
-    print(f"command: python benchmarks/solve_bench.py --runs {args.runs}" + (" --quick" if args.quick else "")
-          + (f" --only {args.only}" if args.only else ""))
+    print(
+        f"command: python benchmarks/solve_bench.py --runs {args.runs}"
+        + (" --quick" if args.quick else "")
+        + (f" --only {args.only}" if args.only else "")
+    )
     print(f"machine: {machine()}\n")
     if args.only in (None, "examples"):
         bench_examples(args.runs)

@@ -10,7 +10,6 @@ unknown or misplaced operator.
 from __future__ import annotations
 
 from fractions import Fraction
-from typing import Union
 
 from catgrammar.record import Record, set_field
 from catgrammar.span import Span
@@ -66,10 +65,10 @@ class BoolLit(_Node):
 
 class SetLit(_Node):
     __slots__ = ("elements", "span")
-    elements: tuple["Expr", ...]
+    elements: tuple[Expr, ...]
     span: Span
 
-    def __init__(self, elements: tuple["Expr", ...], span: Span) -> None:
+    def __init__(self, elements: tuple[Expr, ...], span: Span) -> None:
         _set(self, "elements", elements)
         _set(self, "span", span)
 
@@ -77,16 +76,16 @@ class SetLit(_Node):
 class Call(_Node):
     __slots__ = ("head", "args", "span")
     head: Name
-    args: tuple["Expr", ...]
+    args: tuple[Expr, ...]
     span: Span
 
-    def __init__(self, head: Name, args: tuple["Expr", ...], span: Span) -> None:
+    def __init__(self, head: Name, args: tuple[Expr, ...], span: Span) -> None:
         _set(self, "head", head)
         _set(self, "args", args)
         _set(self, "span", span)
 
 
-Expr = Union[Ref, Num, BoolLit, SetLit, Call]
+Expr = Ref | Num | BoolLit | SetLit | Call
 
 
 # ---------------------------------------------------------------- types and options
@@ -114,7 +113,7 @@ class SetType(_Node):
         _set(self, "span", span)
 
 
-TypeExpr = Union[TypeName, SetType]
+TypeExpr = TypeName | SetType
 
 
 class Bounds(_Node):
@@ -294,9 +293,7 @@ class Resources(_Node):
         _set(self, "span", span)
 
 
-DomainSection = Union[
-    Requirements, Imports, Sorts, Constants, Resources, MorphismDecl, HoleDecl, ViewDecl
-]
+DomainSection = Requirements | Imports | Sorts | Constants | Resources | MorphismDecl | HoleDecl | ViewDecl
 
 
 class Domain(_Node):
@@ -420,9 +417,7 @@ class ViewUse(_Node):
         _set(self, "span", span)
 
 
-ProblemSection = Union[
-    DomainRef, Requirements, Objects, Init, Goal, Horizon, Soft, Metric, Deployed, ViewUse
-]
+ProblemSection = DomainRef | Requirements | Objects | Init | Goal | Horizon | Soft | Metric | Deployed | ViewUse
 
 
 class Problem(_Node):
@@ -437,7 +432,7 @@ class Problem(_Node):
         _set(self, "span", span)
 
 
-Definition = Union[Domain, Problem]
+Definition = Domain | Problem
 
 
 class SourceFile(_Node):

@@ -8,8 +8,8 @@ error[CODE]: message`` with the source line and a caret), JSON or GitHub annotat
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Iterator
 from enum import Enum
-from typing import Iterable, Iterator
 
 from catgrammar.record import Record, set_field
 from catgrammar.span import Source, Span
@@ -135,7 +135,9 @@ class Diagnostic(Record):
     severity: Severity
     notes: tuple[Note, ...]
 
-    def __init__(self, code: str, message: str, span: Span | None, severity: Severity, notes: tuple[Note, ...] = ()) -> None:
+    def __init__(
+        self, code: str, message: str, span: Span | None, severity: Severity, notes: tuple[Note, ...] = ()
+    ) -> None:
         set_field(self, "code", code)
         set_field(self, "message", message)
         set_field(self, "span", span)
@@ -194,7 +196,7 @@ class Diagnostics:
             self._items.append(diag)
         return diag
 
-    def extend(self, other: "Diagnostics") -> None:
+    def extend(self, other: Diagnostics) -> None:
         self.sources.update(other.sources)
         for d in other:
             self.report(d.code, d.message, d.span, *d.notes, severity=d.severity)
@@ -227,9 +229,7 @@ class Diagnostics:
     def promote_warnings(self) -> None:
         """``--strict``: every warning becomes an error."""
         self._items = [
-            Diagnostic(d.code, d.message, d.span, Severity.ERROR, d.notes)
-            if d.severity is Severity.WARNING
-            else d
+            Diagnostic(d.code, d.message, d.span, Severity.ERROR, d.notes) if d.severity is Severity.WARNING else d
             for d in self._items
         ]
 
@@ -268,7 +268,9 @@ def format_text(diags: Diagnostics, *, excerpts: bool = True, highlight=None) ->
             nwhere = f"{n.span}: " if n.span else ""
             out.append(f"  = note: {nwhere}{n.message}")
             if excerpts and n.span and n.span != d.span:
-                out.extend("  " + line for line in _excerpt(diags.sources.get(n.span.file), n.span, highlight=highlight))
+                out.extend(
+                    "  " + line for line in _excerpt(diags.sources.get(n.span.file), n.span, highlight=highlight)
+                )
     return "\n".join(out)
 
 

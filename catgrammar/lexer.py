@@ -53,7 +53,7 @@ from pygments.token import (
 
 from catgrammar.symbols import all_keywords
 
-__all__ = ["CatLexer", "TOKEN_FOR_CATEGORY"]
+__all__ = ["TOKEN_FOR_CATEGORY", "CatLexer"]
 
 TokenType = type(Keyword)
 
@@ -150,4 +150,3 @@ class CatLexer(RegexLexer):
         if re.search(r"\(\s*define\s*\(\s*(?:domain|problem)\s+[a-zA-Z_]", text[:4096]):
             return 0.8
         return 0.0
-

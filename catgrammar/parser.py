@@ -50,6 +50,8 @@ def gc_paused():
     finally:
         if was_enabled:
             gc.enable()
+
+
 MAX_LITERAL_DIGITS = 4000
 
 
@@ -110,9 +112,7 @@ def scan_parentheses(src: Source, diags: Diagnostics) -> bool:
     for m in _SCAN.finditer(src.text):
         tok = m.group()
         if tok[0] == '"' and m.group("close") is None:
-            diags.report(
-                "E0107", "unterminated string: a string must close on the line it opens", src.span(m.start())
-            )
+            diags.report("E0107", "unterminated string: a string must close on the line it opens", src.span(m.start()))
             return False
         if tok == "(":
             stack.append(m.start())
@@ -201,7 +201,7 @@ def _report_syntax(exc: UnexpectedInput, src: Source, parser: Parser, diags: Dia
         if text in _KEYWORDS and keywords:
             msg = f"'{text}' is not allowed here; expected {_expected_text(parser, expected)}"
         elif keywords:
-            msg = f"unknown keyword '{text}'{did_you_mean(text, keywords)}" or ""
+            msg = f"unknown keyword '{text}'{did_you_mean(text, keywords)}"
             if not did_you_mean(text, keywords):
                 msg += f"; expected {_expected_text(parser, expected)}"
         else:
@@ -259,12 +259,11 @@ class _Builder:
 
     def _split(self, children: list) -> tuple[Span, list]:
         """(span of all children, children without punctuation and keyword tokens)."""
-        spans = [s for s in (self._span_of(c) for c in (children[0], children[-1])) if s is not None] if children else []
+        spans = (
+            [s for s in (self._span_of(c) for c in (children[0], children[-1])) if s is not None] if children else []
+        )
         span = spans[0].cover(spans[-1]) if spans else self.src.span(0, 0)
-        payload = [
-            c for c in children
-            if not (isinstance(c, Token) and (c.type in _PUNCT or c.type.endswith("_KW")))
-        ]
+        payload = [c for c in children if not (isinstance(c, Token) and (c.type in _PUNCT or c.type.endswith("_KW")))]
         return span, payload
 
     def _name(self, tok: Token) -> ast.Name:
@@ -342,9 +341,7 @@ class _Builder:
         return ast.TypedGroup(names, self._name(sort), span)
 
     def typed_names(self, children):
-        return tuple(
-            ast.TypedGroup(c, None, self._span_of(c)) if isinstance(c, tuple) else c for c in children
-        )
+        return tuple(ast.TypedGroup(c, None, self._span_of(c)) if isinstance(c, tuple) else c for c in children)
 
     def constants(self, children):
         span, items = self._split(children)
@@ -382,7 +379,7 @@ class _Builder:
         span, (lower, upper) = self._split(children)
         return ast.Bounds(lower, upper, span)
 
-    def _opt(key: str, kind: str):  # noqa: N805 - a factory for option callbacks
+    def _opt(key: str, kind: str):
         def callback(self, children):
             span, payload = self._split(children)
             if kind == "flag":

@@ -24,13 +24,11 @@ class Span(NamedTuple):
     def __str__(self) -> str:
         return f"{self.file}:{self.line}:{self.column}"
 
-    def cover(self, other: "Span") -> "Span":
+    def cover(self, other: Span) -> Span:
         """The smallest span containing both (same file)."""
         first, last = (self, other) if self.start <= other.start else (other, self)
         tail = last if last.end >= first.end else first
-        return Span(
-            self.file, first.line, first.column, tail.end_line, tail.end_column, first.start, tail.end
-        )
+        return Span(self.file, first.line, first.column, tail.end_line, tail.end_column, first.start, tail.end)
 
 
 class Source:

@@ -14,7 +14,7 @@ and errors are those of :mod:`catgrammar._lalr`: nothing here imports Lark.
 from __future__ import annotations
 
 import re
-from typing import Iterator
+from collections.abc import Iterator
 
 from catgrammar._lalr import Token, UnexpectedCharacters
 from catgrammar.symbols import MetricMode, MetricSense, Option, Section
@@ -27,8 +27,7 @@ def keyword_terminal(keyword: str) -> str:
 
 #: ``:keyword`` → terminal (sections and options; other ``:words`` are requirement FLAGs).
 COLON_KEYWORDS: dict[str, str] = {
-    k: keyword_terminal(k)
-    for k in dict.fromkeys([s.value for s in Section] + [o.value for o in Option])
+    k: keyword_terminal(k) for k in dict.fromkeys([s.value for s in Section] + [o.value for o in Option])
 }
 
 #: Bare words with a fixed role in the grammar.  Terminals starting with ``_`` are dropped
@@ -106,4 +105,3 @@ def tokenize(text: str) -> Iterator[Token]:
         column = pos - line_start + 1
         yield Token(kind, value, pos, line, column, line, column + (end - pos), end)
         pos = end
-

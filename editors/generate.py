@@ -101,7 +101,7 @@ def keywords() -> dict[str, tuple[str, ...]]:
         raise GenerationError(f"catgrammar.symbols.all_keywords() lacks categories {missing}")
     for category, items in words.items():
         for word in items:
-            if not word or any(c.isspace() or c in "();\"{}" for c in word):
+            if not word or any(c.isspace() or c in '();"{}' for c in word):
                 raise GenerationError(f"keyword {word!r} ({category}) cannot be highlighted as one token")
     return words
 
@@ -215,7 +215,9 @@ def render_vim_syntax_block(words: dict[str, tuple[str, ...]]) -> list[str]:
     # Before catNumber (defined after this block), so ``-1`` stays a number.  The
     # lookbehind looks one byte back only (\@1<!): unbounded ones are slow in Vim.
     not_after = f"\\%([{_VIM_NAME_OR_COLON}]\\)\\@1<!"
-    out.append(f"syntax match {_vim_group('symbol-operator')} /{not_after}{_vim_alternation(words['symbol-operator'])}/")
+    out.append(
+        f"syntax match {_vim_group('symbol-operator')} /{not_after}{_vim_alternation(words['symbol-operator'])}/"
+    )
     out.append('" END GENERATED')
     return out
 
@@ -282,15 +284,21 @@ def targets() -> list[tuple[Path, Renderer]]:
         (TM_GRAMMAR, render_tm_grammar),
         (
             VIM_SYNTAX,
-            lambda text, w: _replace_block(VIM_SYNTAX, text, render_vim_syntax_block(w), '" BEGIN GENERATED', '" END GENERATED'),
+            lambda text, w: _replace_block(
+                VIM_SYNTAX, text, render_vim_syntax_block(w), '" BEGIN GENERATED', '" END GENERATED'
+            ),
         ),
         (
             VIM_INDENT,
-            lambda text, w: _replace_block(VIM_INDENT, text, render_vim_indent_block(w), '" BEGIN GENERATED', '" END GENERATED'),
+            lambda text, w: _replace_block(
+                VIM_INDENT, text, render_vim_indent_block(w), '" BEGIN GENERATED', '" END GENERATED'
+            ),
         ),
         (
             EMACS_MODE,
-            lambda text, w: _replace_block(EMACS_MODE, text, render_emacs_block(w), ";; BEGIN GENERATED", ";; END GENERATED"),
+            lambda text, w: _replace_block(
+                EMACS_MODE, text, render_emacs_block(w), ";; BEGIN GENERATED", ";; END GENERATED"
+            ),
         ),
     ]
 

@@ -8,12 +8,12 @@ import json
 from fractions import Fraction
 
 import pytest
+from conftest import ROOT, run_catc
 
 import catc.interfaces.api
 from catc.api import CatError, Model, load
 from catc.queries.optimize import OptStatus
 from catc.queries.solve import Status
-from conftest import ROOT, run_catc
 
 EX = ROOT / "examples"
 
@@ -39,7 +39,11 @@ QUERIES = [
     ("diagnose", ["lifelong/budget-cut.cat"], lambda m: m.diagnose()),
     ("relax", ["lifelong/budget-cut.cat"], lambda m: m.relax()),
     ("relax", ["lifelong/budget-cut.cat", "--discrete"], lambda m: m.relax(discrete=True)),
-    ("recompose", ["lifelong/cheaper-camera.cat", "--priority", "objective"], lambda m: m.recompose(priority="objective")),
+    (
+        "recompose",
+        ["lifelong/cheaper-camera.cat", "--priority", "objective"],
+        lambda m: m.recompose(priority="objective"),
+    ),
     ("synthesize", ["holes/talk.cat"], lambda m: m.synthesize()),
 ]
 
@@ -111,7 +115,7 @@ def test_the_examples_in_docs_api_run(monkeypatch, capsys):
     assert len(blocks) == 2
     scope: dict = {}
     for block in blocks:
-        exec(compile(block, "docs/api.md", "exec"), scope)  # noqa: S102 - the documentation's own examples
+        exec(compile(block, "docs/api.md", "exec"), scope)
     assert scope["answer"].states[-1]["ram"] == Fraction(23, 2)  # 16 - 0.5 - 4 GB, as the comment says
     assert scope["best"].values[0].value == Fraction(57, 4)
     assert scope["doc"]["schema"] == "catc.solve/1"
@@ -131,9 +135,11 @@ def test_the_api_does_not_import_click():
     import subprocess
     import sys
 
-    probe = ("import sys\nfrom catc.api import load\nm = load('examples/detection/person.cat')\n"
-             "m.to_json(m.solve()); m.to_json(m.optimize([m.minimize('ram')]))\n"
-             "print(sorted(x for x in sys.modules if x.split('.')[0] == 'click'))")
+    probe = (
+        "import sys\nfrom catc.api import load\nm = load('examples/detection/person.cat')\n"
+        "m.to_json(m.solve()); m.to_json(m.optimize([m.minimize('ram')]))\n"
+        "print(sorted(x for x in sys.modules if x.split('.')[0] == 'click'))"
+    )
     proc = subprocess.run([sys.executable, "-c", probe], cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip() == "[]"

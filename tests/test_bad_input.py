@@ -6,7 +6,6 @@ import re
 from pathlib import Path
 
 import pytest
-
 from conftest import run_catc, run_catc_process
 
 LOCATED = re.compile(r"^(?P<file>[^:\n]+):(?P<line>\d+):(?P<col>\d+): error\[(?P<code>E\d{4})\]: ", re.M)
@@ -25,7 +24,7 @@ def first_error(output: str) -> re.Match:
 
 
 def test_empty_file(tmp_path):
-    path, res = check(tmp_path, "")
+    _path, res = check(tmp_path, "")
     assert res.exit_code == 1
     m = first_error(res.stdout)
     assert (m["code"], m["line"], m["col"]) == ("E0004", "1", "1")
@@ -88,7 +87,9 @@ def test_nesting_ten_thousand_deep(tmp_path):
 def test_nesting_ten_thousand_deep_in_a_fresh_process(tmp_path):
     body = "(not " * 10_000 + "b" + ")" * 10_000
     path = tmp_path / "deep.cat"
-    path.write_text(f"(define (domain d) (:resources (b bool)) (:morphism m :precondition {body} :effect (assign b true)))")
+    path.write_text(
+        f"(define (domain d) (:resources (b bool)) (:morphism m :precondition {body} :effect (assign b true)))"
+    )
     res = run_catc_process("check", str(path), timeout=60)
     assert res.exit_code == 1, res.output
     assert "Traceback" not in res.output and "E0104" in res.stdout
@@ -168,7 +169,9 @@ def test_problem_naming_a_missing_domain(tmp_path):
 
 
 def test_problem_finds_its_domain_in_its_folder(tmp_path):
-    (tmp_path / "dom.cat").write_text("(define (domain far) (:resources (b bool)) (:morphism m :effect (assign b true)))")
+    (tmp_path / "dom.cat").write_text(
+        "(define (domain far) (:resources (b bool)) (:morphism m :effect (assign b true)))"
+    )
     sub = tmp_path / "p.cat"
     sub.write_text("(define (problem p) (:domain far) (:goal b))")
     res = run_catc("check", str(sub))
@@ -208,7 +211,10 @@ def test_all_errors_of_a_run_are_reported(tmp_path):
 
 
 def test_error_excerpt_has_a_caret_under_the_culprit(tmp_path):
-    _, res = check(tmp_path, "(define (domain d) (:requirements :numeric)\n (:resources (ram real))\n (:morphism m :precondition (>= rma 1)))")
+    _, res = check(
+        tmp_path,
+        "(define (domain d) (:requirements :numeric)\n (:resources (ram real))\n (:morphism m :precondition (>= rma 1)))",
+    )
     lines = res.stdout.splitlines()
     i = next(i for i, l in enumerate(lines) if "error[E0202]" in l)
     assert lines[i + 2].endswith("(:morphism m :precondition (>= rma 1)))")
@@ -219,7 +225,10 @@ def test_error_excerpt_has_a_caret_under_the_culprit(tmp_path):
 
 
 def test_bom_is_accepted(tmp_path):
-    _, res = check(tmp_path, "\ufeff(define (domain d) (:resources (b bool)) (:morphism m :effect (assign b true)))".encode("utf-8"))
+    _, res = check(
+        tmp_path,
+        "\ufeff(define (domain d) (:resources (b bool)) (:morphism m :effect (assign b true)))".encode("utf-8"),
+    )
     assert res.exit_code == 0, res.output
 
 
@@ -238,8 +247,12 @@ def test_syntax_error_names_what_was_expected(tmp_path):
 
 
 def test_same_domain_defined_in_two_files_of_one_folder(tmp_path):
-    (tmp_path / "a.cat").write_text("(define (domain twin) (:resources (b bool)) (:morphism m :effect (assign b true)))")
-    (tmp_path / "b.cat").write_text("(define (domain twin) (:resources (b bool)) (:morphism m :effect (assign b true)))")
+    (tmp_path / "a.cat").write_text(
+        "(define (domain twin) (:resources (b bool)) (:morphism m :effect (assign b true)))"
+    )
+    (tmp_path / "b.cat").write_text(
+        "(define (domain twin) (:resources (b bool)) (:morphism m :effect (assign b true)))"
+    )
     res = run_catc("check", str(tmp_path))
     assert res.exit_code == 1
     assert first_error(res.stdout)["code"] == "E0210" and "also defined here" in res.stdout
@@ -249,7 +262,8 @@ def test_same_domain_name_in_two_folders_resolves_by_folder(tmp_path):
     for sub, res_name in (("one", "alpha"), ("two", "beta")):
         (tmp_path / sub).mkdir()
         (tmp_path / sub / "d.cat").write_text(
-            f"(define (domain twin) (:resources ({res_name} bool)) (:morphism m :effect (assign {res_name} true)))")
+            f"(define (domain twin) (:resources ({res_name} bool)) (:morphism m :effect (assign {res_name} true)))"
+        )
         (tmp_path / sub / "p.cat").write_text(f"(define (problem p) (:domain twin) (:goal {res_name}))")
     res = run_catc("check", str(tmp_path))
     assert res.exit_code == 0, res.output

@@ -15,9 +15,18 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
+from catc.bench.harness import (
+    LineDiff,
+    expected_for,
+    judge,
+    line_diff,
+    model_lines,
+    quartiles,
+    strip_comment,
+    text_diff,
+)
 from catc.interfaces.cli import main
 from catc.semantics.plan import decimal_text
-from catc.bench.harness import LineDiff, expected_for, judge, line_diff, model_lines, quartiles, strip_comment, text_diff
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"
@@ -119,8 +128,19 @@ def test_pddl_declarations_count_one_a_line():
     # as written, one line changes; one declaration a line: (b) → (x) and (d) added
     assert text_diff(a, b) == LineDiff(1, 1, 1)
     assert text_diff(a, b, pddl=True) == LineDiff(added=2, removed=1, changed=2)
-    assert model_lines(a, pddl=True) == ["(define (domain d)", "(:predicates", "(a)", "(b)", "(c)", ")",
-                                         "(:functions", "(f)", "(g)", ")", ")"]
+    assert model_lines(a, pddl=True) == [
+        "(define (domain d)",
+        "(:predicates",
+        "(a)",
+        "(b)",
+        "(c)",
+        ")",
+        "(:functions",
+        "(f)",
+        "(g)",
+        ")",
+        ")",
+    ]
 
 
 # ---------------------------------------------------------------- command line

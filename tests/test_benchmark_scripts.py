@@ -9,7 +9,6 @@ import sys
 import tomllib
 
 import pytest
-
 from conftest import ROOT
 
 pytestmark = pytest.mark.slow
@@ -23,9 +22,14 @@ def run(*args: str) -> str:
 
 def test_solve_bench_runs_every_section():
     out = run("benchmarks/solve_bench.py", "--quick", "--runs", "1")
-    for heading in ("Every example end to end", "Detection against a hand-written Z3 script",
-                    "Lifelong queries end to end", "Optimize against plain solve",
-                    "The refutation behind", "Scaling: synthetic catalogs"):
+    for heading in (
+        "Every example end to end",
+        "Detection against a hand-written Z3 script",
+        "Lifelong queries end to end",
+        "Optimize against plain solve",
+        "The refutation behind",
+        "Scaling: synthetic catalogs",
+    ):
         assert f"### {heading}" in out
     assert "catc / hand-written:" in out and "Largest encoding share:" in out
     # every example and query answered as its expectation says: no ERR, and the refutation is a proof

@@ -12,13 +12,12 @@ from collections import Counter
 from pathlib import Path
 
 import pytest
-
-from catgrammar.diagnostics import Diagnostics
-from catc.frontend.session import check_files
-
 from conftest import FIXTURES, repo_cat_files, run_catc
 
-_EXPECT = re.compile(r';!\s*(.*)$')
+from catc.frontend.session import check_files
+from catgrammar.diagnostics import Diagnostics
+
+_EXPECT = re.compile(r";!\s*(.*)$")
 _ITEM = re.compile(r'([EW]\d{4})(?:\s+"([^"]*)")?')
 
 
@@ -41,14 +40,15 @@ def test_invalid_fixture_reports_exactly_the_expected_diagnostics(path: Path):
     assert expected, f"{path.name} states no expectations"
     diags = Diagnostics()
     check_files([str(path)], diags)
-    got = [(d.span.line if d.span else 0, d.code, d.message) for d in diags if d.span is None or d.span.file == str(path)]
+    got = [
+        (d.span.line if d.span else 0, d.code, d.message) for d in diags if d.span is None or d.span.file == str(path)
+    ]
     got_keys = Counter((line, code) for line, code, _ in got)
     want_keys = Counter((line, code) for line, code, _ in expected)
     missing = want_keys - got_keys
     extra = got_keys - want_keys
-    assert not missing and not extra, (
-        f"\nmissing: {sorted(missing.elements())}\nunexpected: "
-        + "\n".join(f"{l}: {c} {m}" for l, c, m in got if (l, c) in extra)
+    assert not missing and not extra, f"\nmissing: {sorted(missing.elements())}\nunexpected: " + "\n".join(
+        f"{l}: {c} {m}" for l, c, m in got if (l, c) in extra
     )
     for line, code, text in expected:
         if text is not None:

@@ -2,19 +2,19 @@
 
 from __future__ import annotations
 
+import itertools
 import xml.etree.ElementTree as ET
 from fractions import Fraction
 
 import pytest
-from catgrammar.diagnostics import Diagnostics
+from conftest import ROOT
 
 from catc import ir
 from catc.frontend.workspace import load_instance
+from catc.present.diagram import format_value, render_svg
 from catc.semantics.plan import Activation as A
 from catc.semantics.plan import Plan
-from catc.present.diagram import format_value, render_svg
-
-from conftest import ROOT
+from catgrammar.diagnostics import Diagnostics
 
 EX = ROOT / "examples"
 NS = "{http://www.w3.org/2000/svg}"
@@ -42,30 +42,34 @@ def gpu() -> ir.Instance:
     return _load(EX / "gpu-allocation" / "max-confidence.cat")
 
 
-DETECTION_PLAN = Plan([
-    [A("mount-rgb-camera")],
-    [A("camera-driver", {"out": "image-raw", "ram-req": Fraction(1)})],
-    [A("open-vocab-detector", {"in": "image-raw", "target": "person"})],
-])
+DETECTION_PLAN = Plan(
+    [
+        [A("mount-rgb-camera")],
+        [A("camera-driver", {"out": "image-raw", "ram-req": Fraction(1)})],
+        [A("open-vocab-detector", {"in": "image-raw", "target": "person"})],
+    ]
+)
 
 # Event I by hand: every mount and every software component is alone in its step (they all
 # update budget or ram, which the others read); behaviours run beside software.
-SAR_PLAN = Plan([
-    [A("mount-external-battery")],
-    [A("mount-lidar")],
-    [A("mount-rgb-camera")],
-    [A("mount-speaker-mic"), A("vlm")],
-    [A("mount-long-range-radio")],
-    [A("lidar-driver")],
-    [A("rgb-driver", {"ram-req": Fraction(3, 4)})],
-    [A("slam")],
-    [A("open-vocab-detector", {"in": "rgb-image", "target": "person", "mem": Fraction(9, 2)}), A("explore")],
-    [A("tracker")],
-    [A("whisper-stt"), A("approach")],
-    [A("tts")],
-    [A("interact")],
-    [A("report")],
-])
+SAR_PLAN = Plan(
+    [
+        [A("mount-external-battery")],
+        [A("mount-lidar")],
+        [A("mount-rgb-camera")],
+        [A("mount-speaker-mic"), A("vlm")],
+        [A("mount-long-range-radio")],
+        [A("lidar-driver")],
+        [A("rgb-driver", {"ram-req": Fraction(3, 4)})],
+        [A("slam")],
+        [A("open-vocab-detector", {"in": "rgb-image", "target": "person", "mem": Fraction(9, 2)}), A("explore")],
+        [A("tracker")],
+        [A("whisper-stt"), A("approach")],
+        [A("tts")],
+        [A("interact")],
+        [A("report")],
+    ]
+)
 
 GPU_PLAN = Plan([[A("slam")], [A("vlm")], [A("detector", {"m": Fraction(17, 4)})]])
 
@@ -223,7 +227,7 @@ def test_parallel_boxes_side_by_side_and_steps_in_order(sar):
     spans = {}
     for step, bs in by_step.items():
         xs = sorted((rects(b)[0][0], rects(b)[0][2]) for b in bs)
-        for (_, right), (left, _) in zip(xs, xs[1:]):
+        for (_, right), (left, _) in itertools.pairwise(xs):
             assert right < left, f"parallel boxes of step {step} overlap"
         spans[step] = (xs[0][0], xs[-1][1])
     for i in range(1, len(SAR_PLAN.steps)):
@@ -321,25 +325,28 @@ def test_states_annotate_initial_final_and_changes(detection):
 
 
 def test_states_must_be_one_more_than_steps(detection):
-    with pytest.raises(ValueError, match="s_0..s_n"):
+    with pytest.raises(ValueError, match=r"s_0\.\.s_n"):
         render_svg(detection, DETECTION_PLAN, states=[{}])
 
 
-@pytest.mark.parametrize("value, text", [
-    (Fraction(16), "16"),
-    (Fraction(17, 4), "4.25"),
-    (Fraction(-5, 2), "-2.5"),
-    (Fraction(1, 20), "0.05"),
-    (Fraction(-1, 8), "-0.125"),
-    (Fraction(1, 3), "1/3"),
-    (Fraction(-7, 6), "-7/6"),
-    (3, "3"),
-    (True, "true"),
-    (False, "false"),
-    ("image-raw", "image-raw"),
-    (frozenset({"lidar", "battery"}), "{battery, lidar}"),
-    (frozenset(), "∅"),
-])
+@pytest.mark.parametrize(
+    "value, text",
+    [
+        (Fraction(16), "16"),
+        (Fraction(17, 4), "4.25"),
+        (Fraction(-5, 2), "-2.5"),
+        (Fraction(1, 20), "0.05"),
+        (Fraction(-1, 8), "-0.125"),
+        (Fraction(1, 3), "1/3"),
+        (Fraction(-7, 6), "-7/6"),
+        (3, "3"),
+        (True, "true"),
+        (False, "false"),
+        ("image-raw", "image-raw"),
+        (frozenset({"lidar", "battery"}), "{battery, lidar}"),
+        (frozenset(), "∅"),
+    ],
+)
 def test_format_value(value, text):
     assert format_value(value) == text
 

@@ -11,12 +11,12 @@ import tomllib
 
 import click
 import pytest
+from conftest import ROOT, run_catc
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from catc.interfaces import cli, command
 from catc.interfaces.entry import SOLVE_DEFAULTS, SOLVE_OPTIONS, parse_solve
-from conftest import ROOT, run_catc
 
 EXAMPLES = ROOT / "examples"
 
@@ -66,16 +66,32 @@ def test_plain_command_lines_are_read_as_click_reads_them(args):
 LEFT_TO_CLICK = [
     [],
     ["a.cat", "b.cat", "c.cat"],  # click's usage error, from the command
-    ["--help"], ["-h", "p.cat"],
+    ["--help"],
+    ["-h", "p.cat"],
     ["p.cat", "--path", "lib"],
     ["p.cat", "--diagram", "out.svg"],
-    ["--", "p.cat"], ["-", "p.cat"],
-    ["p.cat", "-k", "-1"], ["p.cat", "-k"], ["p.cat", "-k=3"], ["p.cat", "--horizon="],
-    ["p.cat", "--horizon", "3.0"], ["p.cat", "--horizon", "٣"], ["p.cat", "--horizon", " 3"],
-    ["p.cat", "--timeout", "0"], ["p.cat", "--timeout", "nan"], ["p.cat", "--timeout", "1e3"],
-    ["p.cat", "--timeout", "-1"], ["p.cat", "--timeout", ".5"], ["p.cat", "--timeout", "5."],
-    ["p.cat", "--view", "--json"], ["p.cat", "--view", ""], ["p.cat", "--view"],
-    ["p.cat", "--strategy", "Single"], ["p.cat", "--json=1"], ["p.cat", "--jso"], ["p.cat", "-x"],
+    ["--", "p.cat"],
+    ["-", "p.cat"],
+    ["p.cat", "-k", "-1"],
+    ["p.cat", "-k"],
+    ["p.cat", "-k=3"],
+    ["p.cat", "--horizon="],
+    ["p.cat", "--horizon", "3.0"],
+    ["p.cat", "--horizon", "٣"],
+    ["p.cat", "--horizon", " 3"],
+    ["p.cat", "--timeout", "0"],
+    ["p.cat", "--timeout", "nan"],
+    ["p.cat", "--timeout", "1e3"],
+    ["p.cat", "--timeout", "-1"],
+    ["p.cat", "--timeout", ".5"],
+    ["p.cat", "--timeout", "5."],
+    ["p.cat", "--view", "--json"],
+    ["p.cat", "--view", ""],
+    ["p.cat", "--view"],
+    ["p.cat", "--strategy", "Single"],
+    ["p.cat", "--json=1"],
+    ["p.cat", "--jso"],
+    ["p.cat", "-x"],
     ["p.cat", "--version"],
 ]
 
@@ -86,9 +102,36 @@ def test_other_command_lines_are_left_to_click(args):
 
 
 WORDS = sorted({*SOLVE_OPTIONS, "--path", "--diagram", "--help", "-h", "--", "-", "-x", "--jso", "--version"}) + [
-    "p.cat", "d.cat", "", "0", "3", "-1", "07", "2.5", "0.0", "nan", "inf", "1e3", ".5", "x", "sim",
-    "single", "incremental", "Single", "-k3", "-k=3", "--horizon=2", "--horizon=", "--json=1",
-    "--timeout=0.5", "--view=", "--strategy=single", "lib", "out.svg", "٣", " 3",
+    "p.cat",
+    "d.cat",
+    "",
+    "0",
+    "3",
+    "-1",
+    "07",
+    "2.5",
+    "0.0",
+    "nan",
+    "inf",
+    "1e3",
+    ".5",
+    "x",
+    "sim",
+    "single",
+    "incremental",
+    "Single",
+    "-k3",
+    "-k=3",
+    "--horizon=2",
+    "--horizon=",
+    "--json=1",
+    "--timeout=0.5",
+    "--view=",
+    "--strategy=single",
+    "lib",
+    "out.svg",
+    "٣",
+    " 3",
 ]
 
 
@@ -127,18 +170,26 @@ def test_both_routes_answer_every_example_alike(args):
     assert fast.exit_code == slow.exit_code and docs[0] == docs[1]
 
 
-@pytest.mark.parametrize("args", [
-    ["missing.cat"],
-    ["missing.cat", "--json"],
-    [str(ROOT / "tests/fixtures/invalid/names.cat")],
-    [str(EXAMPLES / "detection/person.cat"), "--view", "no-such-view"],
-    [str(EXAMPLES / "detection/person.cat"), "--problem", "no-such-problem", "--json"],
-    [str(EXAMPLES / "navigation/precise.cat"), "--sequential", "-k", "0"],
-], ids=" ".join)
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["missing.cat"],
+        ["missing.cat", "--json"],
+        [str(ROOT / "tests/fixtures/invalid/names.cat")],
+        [str(EXAMPLES / "detection/person.cat"), "--view", "no-such-view"],
+        [str(EXAMPLES / "detection/person.cat"), "--problem", "no-such-problem", "--json"],
+        [str(EXAMPLES / "navigation/precise.cat"), "--sequential", "-k", "0"],
+    ],
+    ids=" ".join,
+)
 def test_both_routes_report_bad_input_alike(args):
     assert parse_solve(args) is not None
     fast, slow = run_catc("solve", *args), run_catc("solve", *args, via_click=True)
-    assert (fast.exit_code, without_timings(fast.stdout), fast.stderr) == (slow.exit_code, without_timings(slow.stdout), slow.stderr)
+    assert (fast.exit_code, without_timings(fast.stdout), fast.stderr) == (
+        slow.exit_code,
+        without_timings(slow.stdout),
+        slow.stderr,
+    )
 
 
 def test_interrupt_and_internal_errors_are_reported_as_click_does(monkeypatch):

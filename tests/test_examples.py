@@ -12,13 +12,12 @@ from fractions import Fraction
 from pathlib import Path
 
 import pytest
-
-from catgrammar.diagnostics import Diagnostics
-from catc.frontend.workspace import load_instance
-from catc.queries.solve import Status, solve
-from catc.ir.views import apply_view
-
 from conftest import ROOT
+
+from catc.frontend.workspace import load_instance
+from catc.ir.views import apply_view
+from catc.queries.solve import Status, solve
+from catgrammar.diagnostics import Diagnostics
 
 EXAMPLES = ROOT / "examples"
 
@@ -37,7 +36,7 @@ def instance(folder: Path, case: dict):
 
 
 def as_value(v):
-    if isinstance(v, bool) or isinstance(v, str):
+    if isinstance(v, (bool, str)):
         return v
     return Fraction(str(v))
 

@@ -28,10 +28,10 @@ from pathlib import Path
 
 import pytest
 
-from catc.targets.pddl import export_pddl
 from catc.frontend.workspace import load_instance
-from catc.semantics.validate import objective_value, validate
 from catc.ir.views import apply_view
+from catc.semantics.validate import objective_value, validate
+from catc.targets.pddl import export_pddl
 from catgrammar.diagnostics import Diagnostics
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -57,8 +57,13 @@ CASES = [
     ("lifelong", "cheaper-camera.cat", None, {}, Fraction(20260)),
     # the robot starts 14 m out with a 10 m range: moving d = 4 m (on the 1 m grid) ends at 10;
     # maximize range-to-base → minimize the total distance moved, 4
-    ("search-and-rescue", "event2-out-of-range.cat", None,
-     {"d": Fraction(1), "mem": Fraction(1, 2), "ram-req": Fraction(1, 4)}, Fraction(4)),
+    (
+        "search-and-rescue",
+        "event2-out-of-range.cat",
+        None,
+        {"d": Fraction(1), "mem": Fraction(1, 2), "ram-req": Fraction(1, 4)},
+        Fraction(4),
+    ),
     # sport for all 20 m (20 = 4 × 5 on the 5 m grid): 20/10 = 2 minutes; metric minimize
     # (minutes), which starts at 0; 100 - 60 = 40 Wh left, so the (unexported) soft
     # constraint battery >= 40 holds and catc's optimum is the same 2
@@ -100,8 +105,9 @@ def _run(ex, tmp_path: Path):
     return res
 
 
-@pytest.mark.parametrize("folder, file, problem, grid, pddl_metric", CASES,
-                         ids=[f"{c[0]}/{c[1]}{':' + c[2] if c[2] else ''}" for c in CASES])
+@pytest.mark.parametrize(
+    "folder, file, problem, grid, pddl_metric", CASES, ids=[f"{c[0]}/{c[1]}{':' + c[2] if c[2] else ''}" for c in CASES]
+)
 def test_enhsp_reaches_the_known_optimum(folder, file, problem, grid, pddl_metric, tmp_path):
     case = _case(folder, file, problem)
     optimum = Fraction(case["optimum"][0])

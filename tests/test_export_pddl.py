@@ -24,13 +24,13 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
+from catc.frontend.workspace import load_instance
 from catc.interfaces.cli import main
-from catc.targets.pddl import RESERVED, ExportError, export_pddl
+from catc.ir.views import apply_view
 from catc.queries.solve import Status, default_horizon, solve
 from catc.semantics.validate import validate
+from catc.targets.pddl import RESERVED, ExportError, export_pddl
 from catgrammar.diagnostics import Diagnostics
-from catc.frontend.workspace import load_instance
-from catc.ir.views import apply_view
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"
@@ -54,7 +54,9 @@ def cases(mark_slow: bool = False):
     for expect in sorted(EXAMPLES.glob("*/expect.toml")):
         for case in tomllib.loads(expect.read_text())["case"]:
             marks = [pytest.mark.slow] if mark_slow and expect.parent.name in SLOW_FOLDERS else []
-            yield pytest.param(expect.parent, case, id=f"{expect.parent.name}/{case['file']}:{case.get('problem', '')}", marks=marks)
+            yield pytest.param(
+                expect.parent, case, id=f"{expect.parent.name}/{case['file']}:{case.get('problem', '')}", marks=marks
+            )
 
 
 def instance(folder: Path, case: dict):
@@ -153,8 +155,19 @@ def test_enhsp_agrees_with_catc_and_its_plans_validate(folder, case, tmp_path, r
 
 
 def test_cli_writes_files_and_report(tmp_path):
-    r = CliRunner().invoke(main, ["export", "pddl", str(EXAMPLES / "detection/person.cat"), "-o", str(tmp_path),
-                                  "--grid", "camera-driver.ram-req=0.5", "--no-check"])
+    r = CliRunner().invoke(
+        main,
+        [
+            "export",
+            "pddl",
+            str(EXAMPLES / "detection/person.cat"),
+            "-o",
+            str(tmp_path),
+            "--grid",
+            "camera-driver.ram-req=0.5",
+            "--no-check",
+        ],
+    )
     assert r.exit_code == 0, r.output
     for f in ("domain.pddl", "problem.pddl", "report.md", "actions.json"):
         assert (tmp_path / f).is_file()
@@ -185,7 +198,9 @@ def test_real_parameter_without_bounds_is_refused(tmp_path):
 
 
 def test_bad_grid_spec_is_a_usage_error(tmp_path):
-    r = CliRunner().invoke(main, ["export", "pddl", str(EXAMPLES / "detection/person.cat"), "-o", str(tmp_path), "--grid", "oops"])
+    r = CliRunner().invoke(
+        main, ["export", "pddl", str(EXAMPLES / "detection/person.cat"), "-o", str(tmp_path), "--grid", "oops"]
+    )
     assert r.exit_code == 2 and "PARAM=STEP" in r.output
 
 
@@ -193,7 +208,9 @@ def test_report_lists_holes_softs_views_and_maximize():
     holes = export_pddl(instance(EXAMPLES / "holes", {"file": "talk.cat"}))
     assert any(c == "holes" for c, _ in holes.report.items)
     soft = export_pddl(instance(EXAMPLES / "semantics", {"file": "soft.cat", "problem": "fastest"}), grid=GRID)
-    assert any(c == "soft constraints" for c, _ in soft.report.items) or any(c == "objective" for c, _ in soft.report.items)
+    assert any(c == "soft constraints" for c, _ in soft.report.items) or any(
+        c == "objective" for c, _ in soft.report.items
+    )
     view = export_pddl(instance(EXAMPLES / "semantics", {"file": "view.cat", "problem": "shop-software"}))
     assert any(c == "views" for c, _ in view.report.items)
     far = export_pddl(instance(EXAMPLES / "navigation", {"file": "farthest.cat"}), grid=GRID)
@@ -208,8 +225,8 @@ def test_horizon_bounds_the_number_of_actions():
 
 
 def test_missing_baselines_name_what_to_install(monkeypatch, tmp_path):
-    from catc.targets import enhsp
     from catc.interfaces.export_cli import check_with_pddl_parser
+    from catc.targets import enhsp
 
     monkeypatch.setattr(enhsp.shutil, "which", lambda _: None)
     with pytest.raises(enhsp.BaselineMissing, match="Java 17"):
@@ -227,7 +244,7 @@ def test_missing_baselines_name_what_to_install(monkeypatch, tmp_path):
 def _action_block(domain: str, name: str) -> str:
     start = domain.index(f"(:action {name}\n")
     end = domain.find("(:action ", start + 1)
-    return domain[start:end if end != -1 else len(domain)]
+    return domain[start : end if end != -1 else len(domain)]
 
 
 def test_maximising_a_resource_that_only_decreases_is_minimising_what_is_taken(tmp_path):
@@ -261,10 +278,15 @@ def test_enhsp_output_of_a_missing_file_is_an_error_not_unsat():
     relative path); that must not be taken for a proof of unsolvability."""
     from catc.targets.enhsp import parse_output
 
-    text = ("Domain parsed\nSEVERE: null\njava.io.FileNotFoundException: p.pddl (No such file or directory)\n"
-            "Problem Detected as Unsolvable by AIBR during preprocessing\nUnsolvable Problem\n")
+    text = (
+        "Domain parsed\nSEVERE: null\njava.io.FileNotFoundException: p.pddl (No such file or directory)\n"
+        "Problem Detected as Unsolvable by AIBR during preprocessing\nUnsolvable Problem\n"
+    )
     assert parse_output(text).status == "error"
-    assert parse_output("Problem Detected as Unsolvable by AIBR during preprocessing\nUnsolvable Problem\n").status == "unsat"
+    assert (
+        parse_output("Problem Detected as Unsolvable by AIBR during preprocessing\nUnsolvable Problem\n").status
+        == "unsat"
+    )
 
 
 @needs_enhsp

@@ -23,12 +23,12 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
+from test_export_pddl import EXAMPLES, cases, instance
 
 from catc.interfaces.cli import main
+from catc.semantics.validate import validate
 from catc.targets.pddl import ExportError, export_pddl
 from catc.targets.pddlplus import PlanReadError, parse_timed_plan, read_timed_actions, timed_plan_text
-from catc.semantics.validate import validate
-from test_export_pddl import EXAMPLES, cases, instance
 
 
 def _missing(module: str, hint: str) -> str | None:
@@ -106,7 +106,7 @@ def test_enhsp_flavour_is_still_pddl21():
     inst = instance(EXAMPLES / "gpu-allocation", {"file": "max-confidence.cat"})
     ex = export_pddl(inst, grid={"m": Fraction(1, 4)})
     assert ":time" not in ex.domain and ":process" not in ex.domain and not ex.dials
-    with pytest.raises(ExportError, match="--grid detector.m=STEP"):
+    with pytest.raises(ExportError, match=r"--grid detector\.m=STEP"):
         export_pddl(inst)
 
 
@@ -149,8 +149,13 @@ def test_gpu_optimum_from_a_timed_plan_is_accepted_by_the_validator():
     assert rep.final_state["gpu"] == 0
 
 
-@pytest.mark.parametrize("stop, kind", [("5.2", "precondition"),  # m = 6 > the 4.25 GB left: (>= gpu m) fails
-                                        ("5.7", "parameter-bounds")])  # m = 6.5 > 6
+@pytest.mark.parametrize(
+    "stop, kind",
+    [
+        ("5.2", "precondition"),  # m = 6 > the 4.25 GB left: (>= gpu m) fails
+        ("5.7", "parameter-bounds"),
+    ],
+)  # m = 6.5 > 6
 def test_gpu_wrong_dial_duration_is_rejected(stop, kind):
     inst, ex = _smtplan("gpu-allocation", "max-confidence.cat")
     plan = parse_timed_plan(ex, GPU_PLAN.replace("3.45:", f"{stop}:").replace("3.55:", "5.8:"))
@@ -226,16 +231,19 @@ def test_a_repeatable_per_activation_theta_is_reset_after_each_activation(tmp_pa
     assert not validate(inst, lazy, horizon=2, sequential=True).ok
 
 
-@pytest.mark.parametrize("text, message", [
-    ("0.0: (start-adjust-move-d) [0.0]\n0.1: (start-adjust-move-d) [0.0]\n", "already turning"),
-    ("0.0: (stop-adjust-move-d) [0.0]\n", "not turning"),
-    ("0.0: (start-adjust-move-d) [0.0]\n0.1: (a-move) [0.0]\n", "still turning"),
-    ("0.0: (a-move) [0.0]\n0.1: (start-adjust-move-d) [0.0]\n", "already set"),
-    ("0.0: (a-fly) [0.0]\n", "unknown action"),
-    ("0.3333333333?: (a-move) [0.0]\n", "truncated decimal"),
-    ("0.0: (a-move x) [0.0]\n", "arguments"),
-    ("no plan found\n", "no timed actions"),
-])
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("0.0: (start-adjust-move-d) [0.0]\n0.1: (start-adjust-move-d) [0.0]\n", "already turning"),
+        ("0.0: (stop-adjust-move-d) [0.0]\n", "not turning"),
+        ("0.0: (start-adjust-move-d) [0.0]\n0.1: (a-move) [0.0]\n", "still turning"),
+        ("0.0: (a-move) [0.0]\n0.1: (start-adjust-move-d) [0.0]\n", "already set"),
+        ("0.0: (a-fly) [0.0]\n", "unknown action"),
+        ("0.3333333333?: (a-move) [0.0]\n", "truncated decimal"),
+        ("0.0: (a-move x) [0.0]\n", "arguments"),
+        ("no plan found\n", "no timed actions"),
+    ],
+)
 def test_misread_plans_are_clear_errors(text, message):
     _, ex = _smtplan("navigation", "precise.cat")
     with pytest.raises(PlanReadError, match=message):
@@ -296,8 +304,11 @@ def test_real_theta_without_lower_bound_is_refused(tmp_path):
 
 
 def test_cli_smtplan_needs_no_grid_and_checks_with_pddlplus_parsers(tmp_path):
-    r = CliRunner().invoke(main, ["export", "pddl", str(EXAMPLES / "navigation/precise.cat"), "-o", str(tmp_path),
-                                  "--flavor", "smtplan"] + ([] if UP_MISSING is None else ["--no-check"]))
+    r = CliRunner().invoke(
+        main,
+        ["export", "pddl", str(EXAMPLES / "navigation/precise.cat"), "-o", str(tmp_path), "--flavor", "smtplan"]
+        + ([] if UP_MISSING is None else ["--no-check"]),
+    )
     assert r.exit_code == 0, r.output
     for f in ("domain.pddl", "problem.pddl", "report.md", "actions.json", "dials.json"):
         assert (tmp_path / f).is_file()
@@ -312,8 +323,20 @@ def test_cli_run_without_smtplan_binary_exits_2(tmp_path, monkeypatch):
     from catc.targets import pddlplus
 
     monkeypatch.setattr(pddlplus.shutil, "which", lambda _: None)
-    r = CliRunner().invoke(main, ["export", "pddl", str(EXAMPLES / "navigation/precise.cat"), "-o", str(tmp_path),
-                                  "--flavor", "smtplan", "--no-check", "--run"])
+    r = CliRunner().invoke(
+        main,
+        [
+            "export",
+            "pddl",
+            str(EXAMPLES / "navigation/precise.cat"),
+            "-o",
+            str(tmp_path),
+            "--flavor",
+            "smtplan",
+            "--no-check",
+            "--run",
+        ],
+    )
     assert r.exit_code == 2
     assert "SMTPlan+ is not on PATH" in r.output and (tmp_path / "domain.pddl").is_file()
 
@@ -325,11 +348,25 @@ def test_cli_run_plumbing_with_a_stand_in_planner(tmp_path, monkeypatch, battery
     bindir = tmp_path / "bin"
     bindir.mkdir()
     fake = bindir / "SMTPlan"
-    fake.write_text("#!/bin/sh\nprintf '0.0:\\t(start-adjust-move-d) [0.0]\\n9.65:\\t(stop-adjust-move-d) [0.0]\\n"
-                    "9.75:\\t(a-move) [0.0]\\n'\n")
+    fake.write_text(
+        "#!/bin/sh\nprintf '0.0:\\t(start-adjust-move-d) [0.0]\\n9.65:\\t(stop-adjust-move-d) [0.0]\\n"
+        "9.75:\\t(a-move) [0.0]\\n'\n"
+    )
     fake.chmod(fake.stat().st_mode | stat.S_IEXEC)
     monkeypatch.setenv("PATH", f"{bindir}{os.pathsep}{os.environ.get('PATH', '')}")
-    r = CliRunner().invoke(main, ["export", "pddl", str(EXAMPLES / "navigation" / battery), "-o", str(tmp_path / "out"),
-                                  "--flavor", "smtplan", "--no-check", "--run"])
+    r = CliRunner().invoke(
+        main,
+        [
+            "export",
+            "pddl",
+            str(EXAMPLES / "navigation" / battery),
+            "-o",
+            str(tmp_path / "out"),
+            "--flavor",
+            "smtplan",
+            "--no-check",
+            "--run",
+        ],
+    )
     assert r.exit_code == code, r.output
     assert words in r.output

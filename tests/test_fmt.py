@@ -11,10 +11,10 @@ from fractions import Fraction
 from pathlib import Path
 
 import pytest
+from conftest import ROOT, repo_cat_files, run_catc
 
 from catc.frontend.formatter import format_text
 from catgrammar.diagnostics import Diagnostics
-from conftest import ROOT, repo_cat_files, run_catc
 
 VALID = repo_cat_files()
 ALL = VALID + repo_cat_files(invalid=True)
@@ -34,11 +34,9 @@ def _plain(obj, seen=None):
     """An IR object as nested tuples, without spans (positions change with the layout)."""
     if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
         return (type(obj).__name__,) + tuple(
-            (f.name, _plain(getattr(obj, f.name)))
-            for f in dataclasses.fields(obj)
-            if "span" not in f.name
+            (f.name, _plain(getattr(obj, f.name))) for f in dataclasses.fields(obj) if "span" not in f.name
         )
-    if isinstance(obj, dict) or hasattr(obj, "items") and hasattr(obj, "keys"):
+    if isinstance(obj, dict) or (hasattr(obj, "items") and hasattr(obj, "keys")):
         return tuple(sorted((k, _plain(v)) for k, v in obj.items()))
     if isinstance(obj, (frozenset, set)):
         return tuple(sorted(map(repr, obj)))
@@ -216,7 +214,7 @@ def _hooks() -> list[dict]:
         for line in text.splitlines():
             if not line.strip() or line.lstrip().startswith("#"):
                 continue
-            m = re.match(r"^(- )?\s*([\w-]+):\s*(.*)$", line.strip() if line.startswith("-") else line.strip())
+            m = re.match(r"^(- )?\s*([\w-]+):\s*(.*)$", line.strip())
             if not m:
                 continue
             if line.startswith("-"):

@@ -12,18 +12,38 @@ from __future__ import annotations
 import os
 
 import pytest
+from conftest import repo_cat_files
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from catgrammar.diagnostics import Diagnostics
 from catc.frontend.session import check_files
-
-from conftest import repo_cat_files
+from catgrammar.diagnostics import Diagnostics
 
 CORPUS = [p.read_text() for p in repo_cat_files() if "editors" not in p.parts]
-ALPHABET = "()(){}\":;-+*/<=>.0123456789 \n\tabcxyz?!é∘⊗\x00\x7f"
-TOKENS = ["(", ")", "(and", ":precondition", ":effect", "(define", "{", "}", "-", "1e99", "0.1", "\"",
-          "(member", ":uses", "(:morphism m", "(assign", "ram", "true", "(= x", ":bounds (1 0)", "symbol"]
+ALPHABET = '()(){}":;-+*/<=>.0123456789 \n\tabcxyz?!é∘⊗\x00\x7f'
+TOKENS = [
+    "(",
+    ")",
+    "(and",
+    ":precondition",
+    ":effect",
+    "(define",
+    "{",
+    "}",
+    "-",
+    "1e99",
+    "0.1",
+    '"',
+    "(member",
+    ":uses",
+    "(:morphism m",
+    "(assign",
+    "ram",
+    "true",
+    "(= x",
+    ":bounds (1 0)",
+    "symbol",
+]
 
 
 @st.composite
@@ -61,16 +81,20 @@ def _check(tmp_path, text: str) -> Diagnostics:
     return diags
 
 
-@settings(max_examples=int(os.environ.get("CATC_FUZZ_EXAMPLES", "150")), deadline=None,
-          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@settings(
+    max_examples=int(os.environ.get("CATC_FUZZ_EXAMPLES", "150")),
+    deadline=None,
+    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow],
+)
 @given(text=mutated())
 def test_mutated_files_never_crash(tmp_path, text):
     _check(tmp_path, text)
 
 
 @pytest.mark.slow
-@settings(max_examples=3000, deadline=None,
-          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@settings(
+    max_examples=3000, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow]
+)
 @given(text=mutated())
 def test_mutated_files_never_crash_at_scale(tmp_path, text):
     _check(tmp_path, text)

@@ -6,15 +6,14 @@ import dataclasses
 from fractions import Fraction
 
 import pytest
+from conftest import ROOT
 
+from catc import ir
+from catc.frontend.workspace import load_instance
+from catc.ir import nodes
+from catc.ir.views import ViewError, apply_view, project_instance
 from catgrammar import record
 from catgrammar.diagnostics import Diagnostics
-from catc import ir
-from catc.ir import nodes
-from catc.frontend.workspace import load_instance
-from catc.ir.views import ViewError, apply_view, project_instance
-
-from conftest import ROOT
 
 EX = ROOT / "examples"
 EVERY = ROOT / "tests" / "fixtures" / "valid" / "every-construct.cat"
@@ -131,13 +130,25 @@ def test_view_keeps_morphism_identity():
 def test_view_rejects_an_objective_over_a_dropped_resource(tmp_path):
     inst = instance(EVERY)
     with pytest.raises(ViewError, match="drops"):
-        apply_view(dataclasses.replace(inst, problem=dataclasses.replace(
-            inst.problem, metric=ir.Metric(ir.MetricMode.SINGLE, (ir.Objective(ir.Sense.MAXIMIZE, ir.ResourceRef("budget", ir.REAL)),)))), "software")
+        apply_view(
+            dataclasses.replace(
+                inst,
+                problem=dataclasses.replace(
+                    inst.problem,
+                    metric=ir.Metric(
+                        ir.MetricMode.SINGLE, (ir.Objective(ir.Sense.MAXIMIZE, ir.ResourceRef("budget", ir.REAL)),)
+                    ),
+                ),
+            ),
+            "software",
+        )
 
 
 # ---------------------------------------------------------------- records = frozen dataclasses
 
-IR_RECORDS = [c for c in vars(nodes).values() if isinstance(c, type) and issubclass(c, nodes.Record) and c is not nodes.Record]
+IR_RECORDS = [
+    c for c in vars(nodes).values() if isinstance(c, type) and issubclass(c, nodes.Record) and c is not nodes.Record
+]
 
 
 def _reference_dataclass(cls):
@@ -159,8 +170,12 @@ def _reference_dataclass(cls):
 
 def test_every_ir_class_is_a_record():
     assert len(IR_RECORDS) >= 29
-    assert not [c for c in vars(nodes).values() if isinstance(c, type) and dataclasses.is_dataclass(c) and c not in IR_RECORDS]
-    assert {"Sort", "Morphism", "Domain", "Problem", "Instance", "Effect", "Literal"} <= {c.__name__ for c in IR_RECORDS}
+    assert not [
+        c for c in vars(nodes).values() if isinstance(c, type) and dataclasses.is_dataclass(c) and c not in IR_RECORDS
+    ]
+    assert {"Sort", "Morphism", "Domain", "Problem", "Instance", "Effect", "Literal"} <= {
+        c.__name__ for c in IR_RECORDS
+    }
 
 
 @pytest.mark.parametrize("cls", IR_RECORDS, ids=lambda c: c.__name__)
@@ -182,13 +197,19 @@ def test_ir_records_behave_like_frozen_slotted_dataclasses(cls):
     expected = ref(*values)
     assert node == twin and hash(node) == hash(twin) == hash(expected)
     assert repr(node) == repr(expected)
-    for i, name in enumerate(names):  # a compared field changes equality; the others do not
+    for _i, name in enumerate(names):  # a compared field changes equality; the others do not
         other = dataclasses.replace(node, **{name: "different"})
-        assert [getattr(record.replace(node, **{name: "different"}), n) for n in names] == [getattr(other, n) for n in names]
+        assert [getattr(record.replace(node, **{name: "different"}), n) for n in names] == [
+            getattr(other, n) for n in names
+        ]
         assert (other == node) == (name not in cls._compared)
         assert (other == node) == (dataclasses.replace(expected, **{name: "different"}) == expected)
     assert not hasattr(node, "__dict__")
-    for act in (lambda: setattr(node, names[0], "x"), lambda: delattr(node, names[0]), lambda: setattr(node, "extra", 1)):
+    for act in (
+        lambda: setattr(node, names[0], "x"),
+        lambda: delattr(node, names[0]),
+        lambda: setattr(node, "extra", 1),
+    ):
         with pytest.raises(dataclasses.FrozenInstanceError):
             act()
     assert pickle.loads(pickle.dumps(node)) == node

@@ -8,15 +8,14 @@ import tomllib
 from fractions import Fraction
 
 import pytest
+from conftest import ROOT, run_catc
 
-from catgrammar.diagnostics import Diagnostics
-from catc.queries.lifelong import diagnose, recompose, relax, relaxed_instance
 from catc.frontend.workspace import load_instance
+from catc.ir.views import apply_view
+from catc.queries.lifelong import diagnose, recompose, relax, relaxed_instance
 from catc.queries.optimize import OptStatus
 from catc.queries.solve import Status, solve
-from catc.ir.views import apply_view
-
-from conftest import ROOT, run_catc
+from catgrammar.diagnostics import Diagnostics
 
 LIFE = ROOT / "examples" / "lifelong"
 
@@ -79,8 +78,9 @@ def test_core_is_irreducible_by_brute_force():
     """Every proper subset of the core, and the core itself, checked by fresh solves."""
     inst = load(LIFE, {"file": "budget-cut.cat"})
     core = diagnose(inst).cores[0]
-    from catc.queries.lifelong import LabelledModel
     import z3
+
+    from catc.queries.lifelong import LabelledModel
 
     model = LabelledModel(inst, 7, components=inst.problem.deployed)
     assert model.check(core)[0] == z3.unsat
@@ -103,8 +103,10 @@ def test_relaxation_matches_a_bisection_over_the_budget():
         trial = _with_budget(inst, b)
         # the deployed composition must be used: forbid every other component
         extra = [m for m in trial.morphisms if m not in inst.problem.deployed]
-        morphisms = {n: (replace(m, pre=m.pre + (ir.Literal(ir.Const(False, ir.BOOL), f"pre/{n}/off"),)) if n in extra else m)
-                     for n, m in trial.morphisms.items()}
+        morphisms = {
+            n: (replace(m, pre=m.pre + (ir.Literal(ir.Const(False, ir.BOOL), f"pre/{n}/off"),)) if n in extra else m)
+            for n, m in trial.morphisms.items()
+        }
         trial = ir.Instance(replace(trial.domain, morphisms=ir.frozen(morphisms)), trial.problem, trial.view)
         return solve(trial).status is Status.SAT
 
@@ -174,8 +176,12 @@ def test_diagnose_all_finds_both_independent_conflicts():
     # by hand: the goal needs `sent`, which starts false and only transmit sets; then either
     # transmit's battery requirement (>= 50) against the 20 Wh battery, or its need for the
     # antenna, which starts false and only buy-antenna sets, which needs 300 > 100 USD.
-    assert cores == sorted([["goal/1", "init/battery", "init/sent", "pre/transmit/2"],
-                            ["goal/1", "init/antenna", "init/budget", "init/sent", "pre/buy-antenna/1", "pre/transmit/1"]])
+    assert cores == sorted(
+        [
+            ["goal/1", "init/battery", "init/sent", "pre/transmit/2"],
+            ["goal/1", "init/antenna", "init/budget", "init/sent", "pre/buy-antenna/1", "pre/transmit/1"],
+        ]
+    )
     res = run_catc("diagnose", str(TWO), "--all")
     assert res.exit_code == 0 and "core 2:" in res.stdout and "2 distinct cores" in res.stdout
 

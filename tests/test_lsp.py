@@ -9,7 +9,6 @@ import sys
 from pathlib import Path
 
 import pytest
-
 from conftest import ROOT
 
 try:
@@ -52,7 +51,9 @@ def _open(client: LanguageClient, path: Path, text: str | None = None) -> str:
     uri = path.resolve().as_uri()
     client.text_document_did_open(
         types.DidOpenTextDocumentParams(
-            types.TextDocumentItem(uri=uri, language_id="cat", version=1, text=path.read_text() if text is None else text)
+            types.TextDocumentItem(
+                uri=uri, language_id="cat", version=1, text=path.read_text() if text is None else text
+            )
         )
     )
     return uri

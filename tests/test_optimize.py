@@ -7,24 +7,24 @@ import tomllib
 from fractions import Fraction
 
 import pytest
+from conftest import ROOT, run_catc, run_catc_process
 from hypothesis import HealthCheck, given, settings
-from hypothesis import strategies as st
+from test_solve_property import domains, successors, to_cat
 
-from catgrammar.diagnostics import Diagnostics
 from catc import ir
 from catc.frontend.workspace import load_instance
-from catc.queries.optimize import OptStatus, optimize
 from catc.ir.views import apply_view
-
-from conftest import ROOT, run_catc, run_catc_process
-from test_solve_property import domains, successors, to_cat
+from catc.queries.optimize import OptStatus, optimize
+from catgrammar.diagnostics import Diagnostics
 
 
 def optimum_cases():
     for expect in sorted((ROOT / "examples").glob("*/expect.toml")):
         for case in tomllib.loads(expect.read_text())["case"]:
             if "optimum" in case:
-                yield pytest.param(expect.parent, case, id=f"{expect.parent.name}/{case['file']}:{case.get('problem', '')}")
+                yield pytest.param(
+                    expect.parent, case, id=f"{expect.parent.name}/{case['file']}:{case.get('problem', '')}"
+                )
 
 
 @pytest.mark.parametrize("strategy", ["deepen", "single"])
@@ -47,21 +47,31 @@ def test_optimize_cli_json_and_exit_codes():
     res = run_catc("optimize", str(ROOT / "examples/gpu-allocation/max-confidence.cat"), "--json")
     doc = json.loads(res.stdout)
     assert res.exit_code == 0 and doc["schema"] == "catc.optimize/1" and doc["status"] == "opt"
-    assert doc["objectives"][0] == {"sense": "maximize", "term": "confidence", "value": "21/25", "decimal": "0.84",
-                                    "attained": True, "bound": None}
+    assert doc["objectives"][0] == {
+        "sense": "maximize",
+        "term": "confidence",
+        "value": "21/25",
+        "decimal": "0.84",
+        "attained": True,
+        "bound": None,
+    }
     res = run_catc("optimize", str(ROOT / "examples/navigation/coarse.cat"), "--maximize", "travelled")
     assert res.exit_code == 1 and "UNSAT" in res.stdout
 
 
 def test_command_line_objective_replaces_the_metric():
-    res = run_catc("optimize", str(ROOT / "examples/gpu-allocation/max-confidence.cat"), "--minimize", "confidence", "--json")
+    res = run_catc(
+        "optimize", str(ROOT / "examples/gpu-allocation/max-confidence.cat"), "--minimize", "confidence", "--json"
+    )
     doc = json.loads(res.stdout)
     # the least confidence gives the detector its least memory, 1 GB: 0.5 + 0.08 = 0.58
     assert doc["objectives"][0]["value"] == "29/50"
 
 
 def test_bad_command_line_objective_is_a_located_input_error():
-    res = run_catc("optimize", str(ROOT / "examples/gpu-allocation/max-confidence.cat"), "--maximize", "(+ confidense 1)")
+    res = run_catc(
+        "optimize", str(ROOT / "examples/gpu-allocation/max-confidence.cat"), "--maximize", "(+ confidense 1)"
+    )
     assert res.exit_code == 2 and "<--maximize>:1:" in res.stderr and "did you mean 'confidence'" in res.stderr
 
 
@@ -90,7 +100,9 @@ def reachable_max_counter(nb, morphs, init_bools, init_c, goal, horizon):
 
 
 @pytest.mark.parametrize("strategy", ["deepen", "single"])
-@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@settings(
+    max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow]
+)
 @given(domain=domains())
 def test_optimum_agrees_with_brute_force(tmp_path, domain, strategy):
     path = tmp_path / "random.cat"
@@ -99,7 +111,9 @@ def test_optimum_agrees_with_brute_force(tmp_path, domain, strategy):
     _, inst = load_instance(None, str(path), diags)
     assert inst is not None, [d.message for d in diags]
     expected = reachable_max_counter(*domain)
-    result = optimize(inst, [ir.Objective(ir.Sense.MAXIMIZE, ir.ResourceRef("c", ir.INT))], strategy=strategy, deepen_from=0)
+    result = optimize(
+        inst, [ir.Objective(ir.Sense.MAXIMIZE, ir.ResourceRef("c", ir.INT))], strategy=strategy, deepen_from=0
+    )
     if expected is None:
         assert result.status is OptStatus.UNSAT
     else:
@@ -216,6 +230,13 @@ def test_objectives_keep_their_command_line_order_across_minimize_and_maximize()
     for res in (run_catc("optimize", retask, *args), run_catc_process("optimize", retask, *args)):
         assert res.exit_code == 0, res.output
         assert [(o["sense"], o["term"]) for o in json.loads(res.stdout)["objectives"]] == expected
-    res = run_catc("pareto", str(ROOT / "examples/gpu-allocation/retask.cat"), "--maximize", "confidence",
-                   "--minimize", "gpu-used", "--json")
+    res = run_catc(
+        "pareto",
+        str(ROOT / "examples/gpu-allocation/retask.cat"),
+        "--maximize",
+        "confidence",
+        "--minimize",
+        "gpu-used",
+        "--json",
+    )
     assert [(o["sense"], o["term"]) for o in json.loads(res.stdout)["objectives"]] == expected[:2]

@@ -5,13 +5,13 @@ from __future__ import annotations
 import itertools
 import json
 
-from catgrammar.diagnostics import Diagnostics
+from conftest import ROOT, run_catc
+
 from catc.frontend.workspace import load_instance
 from catc.queries.pareto import dominates, pareto
 from catc.semantics.plan import Activation, Plan
 from catc.semantics.validate import objective_value, validate
-
-from conftest import ROOT, run_catc
+from catgrammar.diagnostics import Diagnostics
 
 DESIGN = ROOT / "examples" / "pareto-design" / "design.cat"
 
@@ -68,11 +68,13 @@ def test_pareto_cli_table_plot_and_json(tmp_path):
 
 
 def test_two_objectives_from_the_command_line():
-    res = run_catc("pareto", str(DESIGN), "--maximize", "(* mmmu (- 1 wer))", "--minimize", "(+ stt-gpu vlm-gpu)", "--json")
+    res = run_catc(
+        "pareto", str(DESIGN), "--maximize", "(* mmmu (- 1 wer))", "--minimize", "(+ stt-gpu vlm-gpu)", "--json"
+    )
     doc = json.loads(res.stdout)
     pts = [tuple(p["values"]) for p in doc["points"]]
     # the best quality per memory budget: strictly increasing quality with memory
-    assert len(pts) >= 3 and all(a != b for a, b in zip(pts, pts[1:]))
+    assert len(pts) >= 3 and all(a != b for a, b in itertools.pairwise(pts))
 
 
 def test_max_points_marks_the_front_incomplete():

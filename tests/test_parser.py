@@ -5,12 +5,11 @@ from __future__ import annotations
 from fractions import Fraction
 
 import pytest
+from conftest import ROOT
 
 from catgrammar import ast
 from catgrammar.diagnostics import Diagnostics
 from catgrammar.parser import MAX_DEPTH, parse_text
-
-from conftest import ROOT
 
 
 def parse_ok(text: str) -> ast.SourceFile:
@@ -38,8 +37,10 @@ def number(text: str) -> ast.Num:
         ("1e3", Fraction(1000)),
         ("2.5e-3", Fraction(1, 400)),
         ("72.875", Fraction(583, 8)),
-        ("123456789012345678901234567890.000000000000000000001",
-         Fraction(123456789012345678901234567890000000000000000000001, 10**21)),
+        (
+            "123456789012345678901234567890.000000000000000000001",
+            Fraction(123456789012345678901234567890000000000000000000001, 10**21),
+        ),
     ],
 )
 def test_numbers_are_exact_rationals(text, value):
@@ -69,14 +70,37 @@ def test_every_construct_parses():
     sf = parse_ok((ROOT / "tests" / "fixtures" / "valid" / "every-construct.cat").read_text())
     dom, prob = sf.definitions
     kinds = {type(s).__name__ for s in dom.sections}
-    assert kinds == {"Requirements", "Imports", "Sorts", "Constants", "Resources", "MorphismDecl", "HoleDecl", "ViewDecl"}
+    assert kinds == {
+        "Requirements",
+        "Imports",
+        "Sorts",
+        "Constants",
+        "Resources",
+        "MorphismDecl",
+        "HoleDecl",
+        "ViewDecl",
+    }
     pkinds = {type(s).__name__ for s in prob.sections}
-    assert pkinds == {"DomainRef", "Requirements", "Objects", "Init", "Goal", "Horizon", "Soft", "Metric", "Deployed", "ViewUse"}
+    assert pkinds == {
+        "DomainRef",
+        "Requirements",
+        "Objects",
+        "Init",
+        "Goal",
+        "Horizon",
+        "Soft",
+        "Metric",
+        "Deployed",
+        "ViewUse",
+    }
 
 
 def test_metric_modes():
-    for mode, body in [("single", "minimize (total-cost)"), ("lex", "lex (minimize (total-churn)) (maximize x)"),
-                       ("pareto", "pareto (maximize a) (minimize b)")]:
+    for mode, body in [
+        ("single", "minimize (total-cost)"),
+        ("lex", "lex (minimize (total-churn)) (maximize x)"),
+        ("pareto", "pareto (maximize a) (minimize b)"),
+    ]:
         sf = parse_ok(f"(define (problem p) (:domain d) (:metric {body}))")
         metric = next(s for s in sf.definitions[0].sections if isinstance(s, ast.Metric))
         assert metric.mode == mode
@@ -95,7 +119,13 @@ def test_keywords_need_a_word_boundary():
 
 
 def test_depth_limit_is_exact():
-    ok = "(define (domain d) (:morphism m :precondition " + "(not " * (MAX_DEPTH - 4) + "b" + ")" * (MAX_DEPTH - 4) + "))"
+    ok = (
+        "(define (domain d) (:morphism m :precondition "
+        + "(not " * (MAX_DEPTH - 4)
+        + "b"
+        + ")" * (MAX_DEPTH - 4)
+        + "))"
+    )
     parse_ok(ok)
     diags = Diagnostics()
     deep = "(define (domain d) (:morphism m :precondition " + "(not " * MAX_DEPTH + "b" + ")" * MAX_DEPTH + "))"

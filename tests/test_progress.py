@@ -8,14 +8,14 @@ import io
 import re
 from fractions import Fraction
 
-from catgrammar.diagnostics import Diagnostics
-from catc.interfaces import command
-from catc.queries.lifelong import diagnose, recompose, relax
-from catc.frontend.workspace import load_instance
-from catc.queries.optimize import OptStatus, optimize
-from catc.ir.views import apply_view
-
 from conftest import ROOT
+
+from catc.frontend.workspace import load_instance
+from catc.interfaces import command
+from catc.ir.views import apply_view
+from catc.queries.lifelong import diagnose, recompose, relax
+from catc.queries.optimize import OptStatus, optimize
+from catgrammar.diagnostics import Diagnostics
 
 
 def load(path: str):
@@ -28,7 +28,11 @@ def test_optimize_says_each_phase_of_deepen():
     # event II: the shortest composition has 10 steps (search-and-rescue/expect.toml) of a 24-step horizon
     result = optimize(load("search-and-rescue/event2-out-of-range.cat"), progress=seen.append)
     assert result.status is OptStatus.OPT
-    horizons = [int(m.group(1)) for m in map(re.compile(r"looking for a first composition: horizon (\d+) of 24$").match, seen) if m]
+    horizons = [
+        int(m.group(1))
+        for m in map(re.compile(r"looking for a first composition: horizon (\d+) of 24$").match, seen)
+        if m
+    ]
     assert horizons == list(range(11))
     assert "first composition: 10 steps; is there a better one within 24 steps?" in seen
     assert seen.index("first composition: 10 steps; is there a better one within 24 steps?") == len(horizons)
@@ -45,7 +49,11 @@ def test_relax_shows_the_best_restoration_found_so_far():
     result = relax(load("lifelong/budget-cut.cat"), progress=seen.append)
     assert result.status == "relaxed" and result.proven
     assert seen[0] == "looking for a restoration"
-    costs = [Fraction(m.group(1)) for m in map(re.compile(r"best restoration so far: weighted total (\S+);").match, seen) if m]
+    costs = [
+        Fraction(m.group(1))
+        for m in map(re.compile(r"best restoration so far: weighted total (\S+);").match, seen)
+        if m
+    ]
     # improving, and the last one shown is the answer: +19,860 USD (lifelong/expect.toml)
     assert costs and costs == sorted(costs, reverse=True) and costs[-1] == result.cost == 19860
     seen.clear()
@@ -64,8 +72,10 @@ def test_diagnose_says_what_it_checks_and_shrinks():
 def test_recompose_passes_progress_to_optimize():
     seen: list[str] = []
     recompose(load("lifelong/cheaper-camera.cat"), progress=seen.append)
-    assert seen and all(m.startswith(("optimising over", "looking for a first composition", "first composition",
-                                      "optimum over")) for m in seen)
+    assert seen and all(
+        m.startswith(("optimising over", "looking for a first composition", "first composition", "optimum over"))
+        for m in seen
+    )
 
 
 def test_the_status_line_shows_the_message_and_the_time_so_far():

@@ -11,14 +11,13 @@ import textwrap
 import tomllib
 
 import pytest
-
-from catgrammar.diagnostics import Diagnostics
-from catc.smt.smtlib import emit_smt2
-from catc.frontend.workspace import load_instance
-from catc.queries.solve import default_horizon, solve
-from catc.ir.views import apply_view
-
 from conftest import ROOT, run_catc
+
+from catc.frontend.workspace import load_instance
+from catc.ir.views import apply_view
+from catc.queries.solve import default_horizon, solve
+from catc.smt.smtlib import emit_smt2
+from catgrammar.diagnostics import Diagnostics
 
 CVC5_SCRIPT = textwrap.dedent(
     """
@@ -42,7 +41,11 @@ CVC5_SCRIPT = textwrap.dedent(
 def example_problems():
     for expect in sorted((ROOT / "examples").glob("*/expect.toml")):
         for case in tomllib.loads(expect.read_text())["case"]:
-            yield pytest.param(expect.parent / case["file"], case.get("problem"), id=f"{expect.parent.name}/{case['file']}:{case.get('problem', '')}")
+            yield pytest.param(
+                expect.parent / case["file"],
+                case.get("problem"),
+                id=f"{expect.parent.name}/{case['file']}:{case.get('problem', '')}",
+            )
 
 
 def z3_binary() -> str:
@@ -65,7 +68,9 @@ def test_emitted_smt2_agrees_with_the_api_in_z3_and_cvc5(tmp_path, path, problem
     smt.write_text(emit_smt2(inst, k))
     z3_out = subprocess.run([z3_binary(), str(smt)], capture_output=True, text=True, timeout=120)
     assert z3_out.stdout.split()[0] == expected, z3_out.stdout + z3_out.stderr
-    cvc5_out = subprocess.run([sys.executable, "-c", CVC5_SCRIPT, str(smt)], capture_output=True, text=True, timeout=300)
+    cvc5_out = subprocess.run(
+        [sys.executable, "-c", CVC5_SCRIPT, str(smt)], capture_output=True, text=True, timeout=300
+    )
     assert cvc5_out.returncode == 0, cvc5_out.stderr
     assert cvc5_out.stdout.split()[0] == expected, cvc5_out.stdout + cvc5_out.stderr
 
@@ -86,5 +91,12 @@ def test_named_assertions_map_cores_to_source(tmp_path):
 
 def test_compile_names_every_source_label():
     res = run_catc("compile", str(ROOT / "examples/detection/person.cat"), "--horizon", "3")
-    for label in ("pre/camera-driver/1", "pre/camera-driver/2", "init/ram", "goal/1", "bound/camera-driver/ram-req", "bounds/ram"):
+    for label in (
+        "pre/camera-driver/1",
+        "pre/camera-driver/2",
+        "init/ram",
+        "goal/1",
+        "bound/camera-driver/ram-req",
+        "bounds/ram",
+    ):
         assert f":named |{label}|" in res.stdout

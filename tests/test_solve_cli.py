@@ -25,7 +25,9 @@ def test_solve_sat_text():
 def test_solve_unsat_final_and_not_final():
     res = run_catc("solve", str(NAV / "coarse.cat"))
     assert res.exit_code == 1 and "UNSAT" in res.stdout and "this is final" in res.stdout
-    res = run_catc("solve", str(ROOT / "examples/semantics/interference.cat"), "--problem", "power-both", "--horizon", "1")
+    res = run_catc(
+        "solve", str(ROOT / "examples/semantics/interference.cat"), "--problem", "power-both", "--horizon", "1"
+    )
     assert res.exit_code == 1 and "not final: compositions may need up to 4 steps" in res.stdout
 
 
@@ -34,10 +36,16 @@ def test_solve_json_schema_and_nothing_else_on_stdout():
     assert res.exit_code == 0
     doc = json.loads(res.stdout)
     assert doc["schema"] == "catc.solve/1" and doc["status"] == "sat"
-    assert [[a["morphism"] for a in step] for step in doc["steps"]] == [["mount-rgb-camera"], ["camera-driver"], ["open-vocab-detector"]]
+    assert [[a["morphism"] for a in step] for step in doc["steps"]] == [
+        ["mount-rgb-camera"],
+        ["camera-driver"],
+        ["open-vocab-detector"],
+    ]
     assert doc["steps"][2][0]["params"]["target"] == "fire-extinguisher"
     assert doc["final_state"]["detects"] == ["fire-extinguisher"]
-    assert doc["steps"][1][0]["params"]["ram-req"] in ("1/2", 1, 2) or isinstance(doc["steps"][1][0]["params"]["ram-req"], (int, str))
+    assert doc["steps"][1][0]["params"]["ram-req"] in ("1/2", 1, 2) or isinstance(
+        doc["steps"][1][0]["params"]["ram-req"], (int, str)
+    )
     assert res.stderr == ""
 
 
@@ -64,7 +72,9 @@ def test_input_errors_exit_2_with_diagnostics(tmp_path):
     res = run_catc("solve", str(tmp_path / "missing.cat"))
     assert res.exit_code == 2 and "E0001" in res.stderr and "no such file" in res.stderr
     res = run_catc("solve", str(tmp_path))
-    assert res.exit_code == 2 and f"error[E0001]: cannot read '{tmp_path}': it is a folder; give a .cat file" in res.stderr
+    assert (
+        res.exit_code == 2 and f"error[E0001]: cannot read '{tmp_path}': it is a folder; give a .cat file" in res.stderr
+    )
     res = run_catc("solve", "a.cat", "b.cat", "c.cat")
     assert res.exit_code == 2
 

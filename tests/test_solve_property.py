@@ -15,9 +15,9 @@ from dataclasses import dataclass
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from catgrammar.diagnostics import Diagnostics
 from catc.frontend.workspace import load_instance
 from catc.queries.solve import Status, solve
+from catgrammar.diagnostics import Diagnostics
 
 COUNTER_MAX = 3
 
@@ -28,12 +28,20 @@ class Lit:
     target: int  # bool index or bound for the counter
 
     def text(self) -> str:
-        return {"b": f"b{self.target}", "nb": f"(not b{self.target})",
-                "ge": f"(>= c {self.target})", "le": f"(<= c {self.target})"}[self.kind]
+        return {
+            "b": f"b{self.target}",
+            "nb": f"(not b{self.target})",
+            "ge": f"(>= c {self.target})",
+            "le": f"(<= c {self.target})",
+        }[self.kind]
 
     def holds(self, bools, c) -> bool:
-        return {"b": lambda: bools[self.target], "nb": lambda: not bools[self.target],
-                "ge": lambda: c >= self.target, "le": lambda: c <= self.target}[self.kind]()
+        return {
+            "b": lambda: bools[self.target],
+            "nb": lambda: not bools[self.target],
+            "ge": lambda: c >= self.target,
+            "le": lambda: c <= self.target,
+        }[self.kind]()
 
     @property
     def reads(self) -> str:
@@ -46,8 +54,12 @@ class Eff:
     target: int
 
     def text(self) -> str:
-        return {"set": f"(assign b{self.target} true)", "clear": f"(assign b{self.target} false)",
-                "inc": "(increase c 1)", "dec": "(decrease c 1)"}[self.kind]
+        return {
+            "set": f"(assign b{self.target} true)",
+            "clear": f"(assign b{self.target} false)",
+            "inc": "(increase c 1)",
+            "dec": "(decrease c 1)",
+        }[self.kind]
 
     @property
     def resource(self) -> str:
@@ -75,8 +87,9 @@ def domains(draw):
     morphs = []
     for _ in range(draw(st.integers(1, 4))):
         effects = draw(st.lists(eff, min_size=1, max_size=2, unique_by=lambda e: e.resource))
-        morphs.append(Morph(tuple(draw(st.lists(lit, max_size=2))), tuple(effects),
-                            draw(st.one_of(st.none(), st.integers(1, 2)))))
+        morphs.append(
+            Morph(tuple(draw(st.lists(lit, max_size=2))), tuple(effects), draw(st.one_of(st.none(), st.integers(1, 2))))
+        )
     init_bools = tuple(draw(st.lists(st.booleans(), min_size=nb, max_size=nb)))
     init_c = draw(st.integers(0, COUNTER_MAX))
     goal = tuple(draw(st.lists(lit, min_size=1, max_size=2)))
@@ -85,15 +98,20 @@ def domains(draw):
 
 
 def to_cat(nb, morphs, init_bools, init_c, goal, horizon) -> str:
-    lines = ["(define (domain random)", "  (:requirements :numeric)",
-             "  (:resources (c int :bounds (0 %d)) %s)" % (COUNTER_MAX, " ".join(f"(b{i} bool)" for i in range(nb)))]
+    lines = [
+        "(define (domain random)",
+        "  (:requirements :numeric)",
+        f"  (:resources (c int :bounds (0 {COUNTER_MAX})) {' '.join(f'(b{i} bool)' for i in range(nb))})",
+    ]
     for i, m in enumerate(morphs):
         uses = f" :uses {m.uses}" if m.uses is not None else ""
         pre = f" :precondition (and {' '.join(l.text() for l in m.pre)})" if m.pre else ""
         lines.append(f"  (:morphism m{i}{uses}{pre} :effect (and {' '.join(e.text() for e in m.effects)}))")
     lines.append(")")
     init = " ".join([f"(= c {init_c})"] + [f"b{i}" for i, v in enumerate(init_bools) if v])
-    lines.append(f"(define (problem p) (:domain random) (:init {init}) (:goal (and {' '.join(l.text() for l in goal)})) (:horizon {horizon}))")
+    lines.append(
+        f"(define (problem p) (:domain random) (:init {init}) (:goal (and {' '.join(l.text() for l in goal)})) (:horizon {horizon}))"
+    )
     return "\n".join(lines)
 
 
@@ -152,8 +170,11 @@ def shortest_by_bfs(nb, morphs, init_bools, init_c, goal, horizon) -> int | None
     return None
 
 
-@settings(max_examples=int(os.environ.get("CATC_PROPERTY_EXAMPLES", "60")), deadline=None,
-          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@settings(
+    max_examples=int(os.environ.get("CATC_PROPERTY_EXAMPLES", "60")),
+    deadline=None,
+    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow],
+)
 @given(domain=domains())
 def test_solve_agrees_with_breadth_first_search(tmp_path, domain):
     path = tmp_path / "random.cat"

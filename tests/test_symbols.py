@@ -5,10 +5,10 @@ from __future__ import annotations
 import re
 from importlib import resources
 
+from conftest import ROOT, run_catc
+
 from catgrammar import symbols
 from catgrammar.diagnostics import CODES
-
-from conftest import ROOT, run_catc
 
 GRAMMAR = resources.files("catgrammar").joinpath("cat.lark").read_text()
 
@@ -55,7 +55,13 @@ def test_every_operator_is_known_to_the_checker():
 
     heads = {op.value for op in symbols.EXPRESSION_OPERATORS} | {op.value for op in symbols.OBJECTIVE_OPERATORS}
     assert heads == {op.value for op in symbols.Operator} - {"assign", "increase", "decrease", "add", "remove"}
-    handled = set(typecheck._ARITH) | set(typecheck._CMP) | set(typecheck._BOOL) | {"if", "member"} | typecheck._OBJECTIVE_HEADS
+    handled = (
+        set(typecheck._ARITH)
+        | set(typecheck._CMP)
+        | set(typecheck._BOOL)
+        | {"if", "member"}
+        | typecheck._OBJECTIVE_HEADS
+    )
     assert heads == handled
 
 
@@ -74,7 +80,11 @@ def test_every_error_code_is_documented():
 
 
 def test_every_error_code_is_exercised_by_a_test():
-    texts = "\n".join(p.read_text(errors="replace") for p in (ROOT / "tests").rglob("*") if p.is_file() and p.suffix in {".py", ".cat"})
+    texts = "\n".join(
+        p.read_text(errors="replace")
+        for p in (ROOT / "tests").rglob("*")
+        if p.is_file() and p.suffix in {".py", ".cat"}
+    )
     for code in CODES:
         assert code in texts, f"no test mentions {code}"
 
@@ -83,7 +93,9 @@ def test_every_keyword_is_documented_in_the_language_reference():
     doc = (ROOT / "docs" / "language.md").read_text()
     for category, words in symbols.all_keywords().items():
         for w in words:
-            assert f"`{w}" in doc or f"{w}`" in doc or f"({w}" in doc, f"{category} keyword {w!r} not in docs/language.md"
+            assert f"`{w}" in doc or f"{w}`" in doc or f"({w}" in doc, (
+                f"{category} keyword {w!r} not in docs/language.md"
+            )
 
 
 def test_version_flag():

@@ -6,12 +6,12 @@ from __future__ import annotations
 import json
 import re
 
-from catgrammar.diagnostics import Diagnostics
+from conftest import ROOT, run_catc
+
 from catc.frontend.workspace import load_instance
 from catc.queries.solve import Status, solve
 from catc.queries.synthesize import synthesize
-
-from conftest import ROOT, run_catc
+from catgrammar.diagnostics import Diagnostics
 
 HOLES = ROOT / "examples" / "holes"
 

@@ -14,13 +14,14 @@ from fractions import Fraction as F
 from pathlib import Path
 
 import pytest
+from conftest import FIXTURES, ROOT
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from catgrammar.diagnostics import Diagnostics
 from catc import ir
-from catc.semantics import validate as validate_module
 from catc.frontend.workspace import load_instance
+from catc.ir.views import apply_view
+from catc.semantics import validate as validate_module
 from catc.semantics.plan import Activation, Plan, plan_from_json, plan_to_json
 from catc.semantics.validate import (
     KINDS,
@@ -33,9 +34,7 @@ from catc.semantics.validate import (
     objective_value,
     validate,
 )
-from catc.ir.views import apply_view
-
-from conftest import FIXTURES, ROOT
+from catgrammar.diagnostics import Diagnostics
 
 EX = ROOT / "examples"
 VAL = FIXTURES / "validate"
@@ -74,8 +73,8 @@ def assert_ok(report: Report) -> None:
 def with_init(inst: ir.Instance, **values) -> ir.Instance:
     """The instance with some initial values replaced (None removes one)."""
     init = dict(inst.problem.init)
-    for name, v in values.items():
-        name = name.replace("_", "-")
+    for key, v in values.items():
+        name = key.replace("_", "-")
         if v is None:
             init.pop(name)
         else:
@@ -406,7 +405,10 @@ def test_violated_precondition_reports_its_label():
 def test_interference_fixture_valid_parallel_plan():
     r = validate(
         load(INTER),
-        plan([A("set-gauge"), A("put", i="apple"), A("drain-fixed"), A("drain-param", x=1), A("take", i="pear")], A("watch-gauge")),
+        plan(
+            [A("set-gauge"), A("put", i="apple"), A("drain-fixed"), A("drain-param", x=1), A("take", i="pear")],
+            A("watch-gauge"),
+        ),
     )
     assert_ok(r)
     assert r.states[1]["tank"] == 10 - 2 - 1 and r.states[1]["gauge"] == 5

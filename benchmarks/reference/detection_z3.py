@@ -29,11 +29,15 @@ s.add([z3.Not(b) for b in topics[0] + detects[0]])
 for t in range(K + 1):
     s.add(ram[t] >= 0)
 for t in range(K):
-    s.add(0 <= out[t], out[t] < len(TOPICS), 0 <= inp[t], inp[t] < len(TOPICS))
-    s.add(0 <= target[t], target[t] < len(CLASSES), req[t] >= 0.5, req[t] <= 2)
+    s.add(out[t] >= 0, out[t] < len(TOPICS), inp[t] >= 0, inp[t] < len(TOPICS))
+    s.add(target[t] >= 0, target[t] < len(CLASSES), req[t] >= 0.5, req[t] <= 2)
     s.add(z3.Implies(mount[t], z3.Not(mounted[t])))
     s.add(z3.Implies(driver[t], z3.And(mounted[t], ram[t] >= req[t])))
-    s.add(z3.Implies(detector[t], z3.And(ram[t] >= 4, z3.Or([z3.And(inp[t] == i, topics[t][i]) for i in range(len(TOPICS))]))))
+    s.add(
+        z3.Implies(
+            detector[t], z3.And(ram[t] >= 4, z3.Or([z3.And(inp[t] == i, topics[t][i]) for i in range(len(TOPICS))]))
+        )
+    )
     # driver and detector both read and consume RAM: not in the same step
     s.add(z3.Not(z3.And(driver[t], detector[t])))
     s.add(mounted[t + 1] == z3.Or(mounted[t], mount[t]))
@@ -49,8 +53,11 @@ s.add(detects[K][PERSON])
 if s.check() == z3.sat:
     m = s.model()
     for t in range(K):
-        names = [n for n, v in (("mount-rgb-camera", mount), ("camera-driver", driver), ("open-vocab-detector", detector))
-                 if z3.is_true(m.eval(v[t]))]
+        names = [
+            n
+            for n, v in (("mount-rgb-camera", mount), ("camera-driver", driver), ("open-vocab-detector", detector))
+            if z3.is_true(m.eval(v[t]))
+        ]
         print(t + 1, " ".join(names))
 else:
     print("unsat")

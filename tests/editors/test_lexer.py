@@ -32,9 +32,11 @@ def repository_cat_files(*, invalid: bool) -> list[str]:
     """Tracked .cat files (``git ls-files``), valid ones or those under ``/invalid/``,
     plus this folder's samples (valid) even before they are committed."""
     try:
-        listed = subprocess.run(
-            ["git", "ls-files", "-z", "*.cat"], cwd=ROOT, capture_output=True, check=True
-        ).stdout.decode().split("\0")
+        listed = (
+            subprocess.run(["git", "ls-files", "-z", "*.cat"], cwd=ROOT, capture_output=True, check=True)
+            .stdout.decode()
+            .split("\0")
+        )
     except (OSError, subprocess.CalledProcessError):  # not a git checkout: walk the tree
         listed = [str(p.relative_to(ROOT)) for p in ROOT.rglob("*.cat") if "node_modules" not in p.parts]
     files = {f for f in listed if f and ("/invalid/" in f"/{f}") == invalid}
@@ -80,7 +82,7 @@ def test_the_corpus_is_not_empty():
 
 
 def format_tokens(text: str) -> str:
-    return "".join(f"{str(t)}\t{v!r}\n" for t, v in tokens(text))
+    return "".join(f"{t!s}\t{v!r}\n" for t, v in tokens(text))
 
 
 def test_golden_tokens():
@@ -98,9 +100,7 @@ def test_golden_tokens():
     if got != expected:
         import difflib
 
-        diff = "".join(
-            difflib.unified_diff(expected.splitlines(True), got.splitlines(True), "golden", "lexer", n=1)
-        )
+        diff = "".join(difflib.unified_diff(expected.splitlines(True), got.splitlines(True), "golden", "lexer", n=1))
         pytest.fail(f"token stream differs from the golden file (CATC_UPDATE_GOLDEN=1 updates it):\n{diff[:4000]}")
 
 

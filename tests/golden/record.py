@@ -18,11 +18,18 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 ANSWERS = Path(__file__).resolve().parent / "answers.json"
-SLOW = {("search-and-rescue", "budget-cut.cat", "relax"), ("search-and-rescue", "cheaper-camera.cat", "recompose-objective")}
+SLOW = {
+    ("search-and-rescue", "budget-cut.cat", "relax"),
+    ("search-and-rescue", "cheaper-camera.cat", "recompose-objective"),
+}
 
 
-GRIDS = {"detection": ["ram-req=1/2"], "gpu-allocation": ["m=1/4"], "navigation": ["d=1"],
-         "search-and-rescue": ["ram-req=1/4", "d=1", "mem=1/2"]}
+GRIDS = {
+    "detection": ["ram-req=1/2"],
+    "gpu-allocation": ["m=1/4"],
+    "navigation": ["d=1"],
+    "search-and-rescue": ["ram-req=1/4", "d=1", "mem=1/2"],
+}
 
 
 def strip(doc):

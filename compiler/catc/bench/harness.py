@@ -42,10 +42,10 @@ import sys
 import tempfile
 import time
 import tomllib
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
-from typing import Callable, Iterable, Sequence
 
 import click
 
@@ -66,8 +66,13 @@ def quartiles(xs: Sequence[float]) -> tuple[float, float, float]:
     return statistics.median(xs), q[0], q[2]
 
 
-def judge(status: str, expected_status: str | None, value: Fraction | None = None,
-          optimum: Fraction | None = None, sense: str | None = None) -> str:
+def judge(
+    status: str,
+    expected_status: str | None,
+    value: Fraction | None = None,
+    optimum: Fraction | None = None,
+    sense: str | None = None,
+) -> str:
     """The outcome marker of one answer.
 
     ``status`` is the tool's answer: ``sat``/``opt``/``subopt`` (a composition was found),
@@ -134,7 +139,7 @@ def _split_declarations(line: str) -> list[str]:
                 cur = []
         elif depth == 0:
             items.append(")")
-            tail = rest[i + 1:].strip()
+            tail = rest[i + 1 :].strip()
             if tail:
                 items.append(tail)
             return items
@@ -164,7 +169,7 @@ class LineDiff:
     removed: int
     changed: int  # edited lines: a replaced block of a old and b new lines counts max(a, b)
 
-    def __add__(self, other: "LineDiff") -> "LineDiff":
+    def __add__(self, other: LineDiff) -> LineDiff:
         return LineDiff(self.added + other.added, self.removed + other.removed, self.changed + other.changed)
 
     def text(self) -> str:
@@ -217,7 +222,7 @@ class Problem:
     quick: bool = False
 
     @property
-    def value_of(self) -> "Callable | None":
+    def value_of(self) -> Callable | None:
         """How an ENHSP plan's value is judged: its churn for recompose, else the objective."""
         return churn_of if self.query == "recompose" else None
 
@@ -226,39 +231,57 @@ def _p(file, query, planner, grid=None, catc_args=(), quick=False) -> Problem:
     return Problem(file, query, planner, dict(grid or {}), tuple(catc_args), quick)
 
 
-PROBLEMS: dict[str, Problem] = {p.file: p for p in [
-    _p("detection/person.cat", "solve", "sat-hadd", GRID_DETECTION, quick=True),
-    _p("detection/unmodeled-class.cat", "solve", "sat-hadd", GRID_DETECTION, quick=True),
-    _p("navigation/farthest.cat", "optimize", "opt-hrmax", GRID_NAV),
-    _p("navigation/precise.cat", "solve", "sat-hadd", GRID_NAV),
-    _p("navigation/coarse.cat", "solve", "sat-hadd", GRID_NAV),
-    _p("gpu-allocation/max-confidence.cat", "optimize", "opt-hrmax", GRID_GPU, quick=True),
-    _p("gpu-allocation/upgrade.cat", "optimize", "opt-hrmax", GRID_GPU, quick=True),
-    _p("gpu-allocation/retask.cat", "optimize", "opt-hrmax", GRID_GPU),
-    _p("lifelong/budget-cut.cat", "solve", "sat-hadd", quick=True),
-    _p("lifelong/cheaper-camera.cat", "recompose", "opt-hrmax"),
-    _p("search-and-rescue/event1-fresh.cat", "solve", "sat-hadd", GRID_SAR),
-    _p("search-and-rescue/event2-out-of-range.cat", "optimize", "opt-hrmax", GRID_SAR),
-    _p("search-and-rescue/event4-dark.cat", "solve", "sat-hadd", GRID_SAR),
-    _p("search-and-rescue/budget-cut.cat", "solve", "sat-hadd", GRID_SAR),
-    _p("search-and-rescue/cheaper-camera.cat", "recompose", "opt-hrmax", GRID_SAR),
-]}
+PROBLEMS: dict[str, Problem] = {
+    p.file: p
+    for p in [
+        _p("detection/person.cat", "solve", "sat-hadd", GRID_DETECTION, quick=True),
+        _p("detection/unmodeled-class.cat", "solve", "sat-hadd", GRID_DETECTION, quick=True),
+        _p("navigation/farthest.cat", "optimize", "opt-hrmax", GRID_NAV),
+        _p("navigation/precise.cat", "solve", "sat-hadd", GRID_NAV),
+        _p("navigation/coarse.cat", "solve", "sat-hadd", GRID_NAV),
+        _p("gpu-allocation/max-confidence.cat", "optimize", "opt-hrmax", GRID_GPU, quick=True),
+        _p("gpu-allocation/upgrade.cat", "optimize", "opt-hrmax", GRID_GPU, quick=True),
+        _p("gpu-allocation/retask.cat", "optimize", "opt-hrmax", GRID_GPU),
+        _p("lifelong/budget-cut.cat", "solve", "sat-hadd", quick=True),
+        _p("lifelong/cheaper-camera.cat", "recompose", "opt-hrmax"),
+        _p("search-and-rescue/event1-fresh.cat", "solve", "sat-hadd", GRID_SAR),
+        _p("search-and-rescue/event2-out-of-range.cat", "optimize", "opt-hrmax", GRID_SAR),
+        _p("search-and-rescue/event4-dark.cat", "solve", "sat-hadd", GRID_SAR),
+        _p("search-and-rescue/budget-cut.cat", "solve", "sat-hadd", GRID_SAR),
+        _p("search-and-rescue/cheaper-camera.cat", "recompose", "opt-hrmax", GRID_SAR),
+    ]
+}
 
 RUNTIME_ROWS = [
-    "detection/person.cat", "navigation/farthest.cat", "navigation/precise.cat", "navigation/coarse.cat",
-    "gpu-allocation/max-confidence.cat", "lifelong/budget-cut.cat", "search-and-rescue/event1-fresh.cat",
-    "search-and-rescue/event2-out-of-range.cat", "search-and-rescue/event4-dark.cat", "search-and-rescue/budget-cut.cat",
+    "detection/person.cat",
+    "navigation/farthest.cat",
+    "navigation/precise.cat",
+    "navigation/coarse.cat",
+    "gpu-allocation/max-confidence.cat",
+    "lifelong/budget-cut.cat",
+    "search-and-rescue/event1-fresh.cat",
+    "search-and-rescue/event2-out-of-range.cat",
+    "search-and-rescue/event4-dark.cat",
+    "search-and-rescue/budget-cut.cat",
 ]
 
 #: (name, base, perturbed): the perturbed problem is judged with the base's grid.
 PERTURBATIONS = [
     ("GPU upgrade (+1 GB)", "gpu-allocation/max-confidence.cat", "gpu-allocation/upgrade.cat"),
-    ("re-tasking (least footprint, confidence ≥ 0.7)", "gpu-allocation/max-confidence.cat", "gpu-allocation/retask.cat"),
+    (
+        "re-tasking (least footprint, confidence ≥ 0.7)",
+        "gpu-allocation/max-confidence.cat",
+        "gpu-allocation/retask.cat",
+    ),
     ("increased precision (22.73 Wh, 9.65 m)", "navigation/farthest.cat", "navigation/precise.cat"),
     ("one-decimal reading (22.7 Wh)", "navigation/farthest.cat", "navigation/coarse.cat"),
     ("unmodeled class", "detection/person.cat", "detection/unmodeled-class.cat"),
     ("dark room (SAR event IV)", "search-and-rescue/event1-fresh.cat", "search-and-rescue/event4-dark.cat"),
-    ("cheaper camera in the catalog (SAR, recompose)", "search-and-rescue/event1-fresh.cat", "search-and-rescue/cheaper-camera.cat"),
+    (
+        "cheaper camera in the catalog (SAR, recompose)",
+        "search-and-rescue/event1-fresh.cat",
+        "search-and-rescue/cheaper-camera.cat",
+    ),
 ]
 
 QUICK_RUNTIME_ROWS = ["detection/person.cat", "gpu-allocation/max-confidence.cat", "lifelong/budget-cut.cat"]
@@ -282,8 +305,9 @@ class Expected:
     case: dict = field(default_factory=dict)
 
 
-def expected_for(examples: Path, file: str, query: str = "solve", priority: str = "stability",
-                 sense: str | None = None) -> Expected:
+def expected_for(
+    examples: Path, file: str, query: str = "solve", priority: str = "stability", sense: str | None = None
+) -> Expected:
     """The expectation of ``file`` (relative to ``examples``) for a catc ``query``: its status,
     and the known optimum with its ``sense`` (the churn for ``recompose``, stability first)."""
     folder, name = file.split("/", 1)
@@ -369,9 +393,9 @@ class BenchInputError(Exception):
 
 
 def load(path: Path):
-    from catgrammar.diagnostics import Diagnostics
     from catc.frontend.workspace import load_instance
     from catc.ir.views import apply_view
+    from catgrammar.diagnostics import Diagnostics
 
     diags = Diagnostics()
     _, inst = load_instance(None, str(path), diags)
@@ -413,12 +437,13 @@ def run_catc(path: Path, query: str, extra: Sequence[str], timeout: float) -> To
 def enhsp_run(loaded: Loaded, planner: str, timeout: float, value_of: Callable | None = None) -> ToolRun:
     """ENHSP on the exported files; a plan is replayed by catc's validator and its objective
     value computed exactly from the validated final state."""
-    from catc.targets.enhsp import run_enhsp
     from catc.semantics.validate import objective_value, validate
+    from catc.targets.enhsp import run_enhsp
 
     res = run_enhsp(loaded.domain_file, loaded.problem_file, planner=planner, timeout=timeout)
-    run = ToolRun(res.status, res.wall, planning_ms=res.planning_ms,
-                  detail={"metric": res.metric, "actions": list(res.actions)})
+    run = ToolRun(
+        res.status, res.wall, planning_ms=res.planning_ms, detail={"metric": res.metric, "actions": list(res.actions)}
+    )
     if res.status != "sat":
         if res.status == "error":
             run.detail["output"] = res.output[-1500:]
@@ -459,8 +484,9 @@ def smtplan_run(loaded: Loaded, exe: str, timeout: float) -> ToolRun:
     by ``time: (action)`` lines; anything else is reported as ERR with its output."""
     start = time.perf_counter()
     try:
-        proc = subprocess.run([exe, str(loaded.domain_file), str(loaded.problem_file)], capture_output=True,
-                              text=True, timeout=timeout)
+        proc = subprocess.run(
+            [exe, str(loaded.domain_file), str(loaded.problem_file)], capture_output=True, text=True, timeout=timeout
+        )
     except subprocess.TimeoutExpired:
         return ToolRun("timeout", time.perf_counter() - start)
     wall = time.perf_counter() - start
@@ -479,12 +505,21 @@ def _diagnose_row(problem: str, catc_runs: Sequence[ToolRun], enhsp_runs: Sequen
     got = catc_runs[0].detail.get("cores") or []
     labels = sorted(x["label"] for x in got[0]) if got else []
     first = enhsp_runs[0]
-    return {"query": "diagnose", "problem": problem,
-            "catc": {"answer": ("core " + ", ".join(labels)) if labels else catc_runs[0].status,
-                     "agrees": labels == sorted(exp.case.get("diagnose", [])), "wall": [r.wall for r in catc_runs]},
-            "enhsp": {"answer": first.status.upper() + ("; no cause given" if first.status == "unsat" else ""),
-                      "calls": 1, "wall": [r.wall for r in enhsp_runs],
-                      "planning_ms": [r.planning_ms for r in enhsp_runs if r.planning_ms is not None]}}
+    return {
+        "query": "diagnose",
+        "problem": problem,
+        "catc": {
+            "answer": ("core " + ", ".join(labels)) if labels else catc_runs[0].status,
+            "agrees": labels == sorted(exp.case.get("diagnose", [])),
+            "wall": [r.wall for r in catc_runs],
+        },
+        "enhsp": {
+            "answer": first.status.upper() + ("; no cause given" if first.status == "unsat" else ""),
+            "calls": 1,
+            "wall": [r.wall for r in enhsp_runs],
+            "planning_ms": [r.planning_ms for r in enhsp_runs if r.planning_ms is not None],
+        },
+    }
 
 
 def summary(runs: Sequence[ToolRun]) -> str:
@@ -544,7 +579,7 @@ def machine() -> str:
         from importlib.metadata import version
 
         enhsp = f"up-enhsp {version('up-enhsp')}"
-    except Exception:  # noqa: BLE001 - only a label
+    except Exception:
         enhsp = "up-enhsp ?"
     return f"{cpu_text()}, {java}, {enhsp}"
 
@@ -577,8 +612,13 @@ class Bench:
         for f in files:
             p = PROBLEMS[f]
             ld = self.load(f)
-            self.measured[f] = Measured(p, expected_for(self.examples, f, p.query, sense=ld.sense), actions=len(ld.export.actions),
-                                        export_s=ld.export_s, metric_exported=ld.metric_exported)
+            self.measured[f] = Measured(
+                p,
+                expected_for(self.examples, f, p.query, sense=ld.sense),
+                actions=len(ld.export.actions),
+                export_s=ld.export_s,
+                metric_exported=ld.metric_exported,
+            )
         for trial in range(self.runs):
             for f in files:
                 p, m = PROBLEMS[f], self.measured[f]
@@ -607,18 +647,34 @@ class Bench:
             m = self.measured[f]
             c, e = consensus(m.catc), consensus(m.enhsp)
             ms = [r.planning_ms for r in m.enhsp if r.planning_ms is not None]
-            rows.append({
-                "problem": f, "query": m.problem.query, "grid": {k: str(v) for k, v in m.problem.grid.items()},
-                "ground_actions": m.actions, "export_s": round(m.export_s, 4), "metric_exported": m.metric_exported,
-                "expected": {"status": m.expected.status, "optimum": None if m.expected.optimum is None else str(m.expected.optimum)},
-                "catc": {"marker": marker(c, m.expected), "value": None if c is None or c.value is None else str(c.value),
-                         "wall": [round(r.wall, 4) for r in m.catc]},
-                "enhsp": {"planner": m.problem.planner, "marker": marker(e, m.expected),
-                          "value": None if e is None or e.value is None else str(e.value),
-                          "wall": [round(r.wall, 4) for r in m.enhsp], "planning_ms": ms,
-                          "error": None if e is None else e.detail.get("output") or e.detail.get("violations")},
-                "smtplan": m.smtplan,
-            })
+            rows.append(
+                {
+                    "problem": f,
+                    "query": m.problem.query,
+                    "grid": {k: str(v) for k, v in m.problem.grid.items()},
+                    "ground_actions": m.actions,
+                    "export_s": round(m.export_s, 4),
+                    "metric_exported": m.metric_exported,
+                    "expected": {
+                        "status": m.expected.status,
+                        "optimum": None if m.expected.optimum is None else str(m.expected.optimum),
+                    },
+                    "catc": {
+                        "marker": marker(c, m.expected),
+                        "value": None if c is None or c.value is None else str(c.value),
+                        "wall": [round(r.wall, 4) for r in m.catc],
+                    },
+                    "enhsp": {
+                        "planner": m.problem.planner,
+                        "marker": marker(e, m.expected),
+                        "value": None if e is None or e.value is None else str(e.value),
+                        "wall": [round(r.wall, 4) for r in m.enhsp],
+                        "planning_ms": ms,
+                        "error": None if e is None else e.detail.get("output") or e.detail.get("violations"),
+                    },
+                    "smtplan": m.smtplan,
+                }
+            )
         return rows
 
     # ---- perturbations
@@ -627,7 +683,11 @@ class Bench:
         for name, base, target in chosen:
             pb, pt = PROBLEMS[base], PROBLEMS[target]
             base_files, target_files = self.cat_files(base), self.cat_files(target)
-            cat_dom = text_diff(base_files[0].read_text(), target_files[0].read_text()) if base_files[0] != target_files[0] else LineDiff(0, 0, 0)
+            cat_dom = (
+                text_diff(base_files[0].read_text(), target_files[0].read_text())
+                if base_files[0] != target_files[0]
+                else LineDiff(0, 0, 0)
+            )
             cat_prob = text_diff(base_files[1].read_text(), target_files[1].read_text())
             lb = self.load(base)
             lt = self.load(target, pb.grid)  # the base's grid
@@ -641,10 +701,17 @@ class Bench:
                 c = run_catc(self.examples / target, pt.query, pt.catc_args, self.timeout)
                 e = enhsp_run(lt, pt.planner, self.timeout, value_of=pt.value_of)
             cm, em = marker(c, exp), marker(e, exp)
-            row = {"perturbation": name, "base": base, "perturbed": target, "grid": {k: str(v) for k, v in pb.grid.items()},
-                   "catc": cm, "enhsp": em, "cat_lines": {"domain": dataclasses.asdict(cat_dom), "problem": dataclasses.asdict(cat_prob)},
-                   "pddl_lines": {"domain": dataclasses.asdict(pddl_dom), "problem": dataclasses.asdict(pddl_prob)},
-                   "recovery": None}
+            row = {
+                "perturbation": name,
+                "base": base,
+                "perturbed": target,
+                "grid": {k: str(v) for k, v in pb.grid.items()},
+                "catc": cm,
+                "enhsp": em,
+                "cat_lines": {"domain": dataclasses.asdict(cat_dom), "problem": dataclasses.asdict(cat_prob)},
+                "pddl_lines": {"domain": dataclasses.asdict(pddl_dom), "problem": dataclasses.asdict(pddl_prob)},
+                "recovery": None,
+            }
             if not (em.startswith("OPT") or em in ("SAT", "UNSAT")):
                 row["recovery"] = self.recover(base, target, lb, exp)
             rows.append(row)
@@ -666,13 +733,16 @@ class Bench:
         if not pt.grid:
             return {"found": False, "why": "no real θ to refine"}
         if pt.query == "recompose":  # judged on churn, which no grid changes
-            return {"found": False, "why": "no grid helps: churn against the deployed composition is not expressible in PDDL"}
+            return {
+                "found": False,
+                "why": "no grid helps: churn against the deployed composition is not expressible in PDDL",
+            }
         tried = []
         for k in REFINE_FACTORS:
             grid = {name: step / k for name, step in pt.grid.items()}
             try:
                 cand = self.load(target, grid)
-            except Exception as exc:  # noqa: BLE001 - e.g. too many ground actions
+            except Exception as exc:
                 tried.append(f"{grid_text(grid)}: {exc}")
                 continue
             if len(cand.export.actions) > REFINE_MAX_ACTIONS:
@@ -683,11 +753,23 @@ class Bench:
             mk = marker(r, exp)
             tried.append(f"{grid_text(grid)}: {mk}")
             if mk.startswith("OPT") or mk in ("SAT", "UNSAT"):
-                d = text_diff(lb.export.domain, cand.export.domain, pddl=True) + text_diff(lb.export.problem, cand.export.problem, pddl=True)
-                return {"found": True, "grid": {n: str(v) for n, v in grid.items()}, "enhsp": mk, "actions": len(cand.export.actions),
-                        "pddl_lines": dataclasses.asdict(d), "tried": tried}
-        return {"found": False, "why": f"no finer grid among step/{', /'.join(map(str, REFINE_FACTORS))} reaches it within "
-                f"{self.timeout:g} s", "tried": tried}
+                d = text_diff(lb.export.domain, cand.export.domain, pddl=True) + text_diff(
+                    lb.export.problem, cand.export.problem, pddl=True
+                )
+                return {
+                    "found": True,
+                    "grid": {n: str(v) for n, v in grid.items()},
+                    "enhsp": mk,
+                    "actions": len(cand.export.actions),
+                    "pddl_lines": dataclasses.asdict(d),
+                    "tried": tried,
+                }
+        return {
+            "found": False,
+            "why": f"no finer grid among step/{', /'.join(map(str, REFINE_FACTORS))} reaches it within "
+            f"{self.timeout:g} s",
+            "tried": tried,
+        }
 
     # ---- lifelong queries
     def queries(self, include_sar: bool) -> list[dict]:
@@ -715,23 +797,42 @@ class Bench:
         want_relax = {k: Fraction(v) for k, v in exp_bc.case.get("relax", {}).items()}
         b0 = e_bis[0]
         found = None if b0.get("found") is None else Fraction(b0["found"])
-        for variant, runs_ in (("relax (relative to the deployed composition)", relax),
-                               ("relax (whole problem, --relative-to none)", relax_none)):
+        for variant, runs_ in (
+            ("relax (relative to the deployed composition)", relax),
+            ("relax (whole problem, --relative-to none)", relax_none),
+        ):
             d0 = runs_[0].detail
             got_relax = {x["label"]: Fraction(str(x["delta"])) for x in d0.get("relaxations", [])}
             if runs_ is relax:
                 agrees = got_relax == want_relax
-                enhsp = {"answer": "cannot express the deployed composition (not exported); see the next row",
-                         "calls": 0, "wall": []}
+                enhsp = {
+                    "answer": "cannot express the deployed composition (not exported); see the next row",
+                    "calls": 0,
+                    "wall": [],
+                }
             else:
                 # no expect.toml entry: the tools are compared with each other
                 agrees = found is not None and got_relax.get("init/budget") == found
-                enhsp = {"answer": b0["answer"], "calls": b0["calls"], "wall": [b["total"] for b in e_bis],
-                         "found": b0.get("found"), "tolerance": b0.get("tolerance")}
-            rows.append({"query": variant, "problem": lf,
-                         "catc": {"answer": ", ".join(f"{k} +{fraction_text(v)}" for k, v in got_relax.items()) or runs_[0].status,
-                                  "agrees": agrees, "wall": [r.wall for r in runs_]},
-                         "enhsp": enhsp})
+                enhsp = {
+                    "answer": b0["answer"],
+                    "calls": b0["calls"],
+                    "wall": [b["total"] for b in e_bis],
+                    "found": b0.get("found"),
+                    "tolerance": b0.get("tolerance"),
+                }
+            rows.append(
+                {
+                    "query": variant,
+                    "problem": lf,
+                    "catc": {
+                        "answer": ", ".join(f"{k} +{fraction_text(v)}" for k, v in got_relax.items())
+                        or runs_[0].status,
+                        "agrees": agrees,
+                        "wall": [r.wall for r in runs_],
+                    },
+                    "enhsp": enhsp,
+                }
+            )
         # recompose: ENHSP's plan judged on the churn (stability first) and on the budget left
         # (objective first) against expect.toml
         er = consensus(e_rec)
@@ -744,22 +845,47 @@ class Bench:
             d = runs_[0].detail
             churn = d.get("churn")
             obj = (d.get("objectives") or [{}])[0].get("value")
-            agrees = (churn is not None and Fraction(str(churn)) == Fraction(want.get("churn", "-1"))
-                      and obj is not None and Fraction(str(obj)) == Fraction(want.get("objective", "-1")))
+            agrees = (
+                churn is not None
+                and Fraction(str(churn)) == Fraction(want.get("churn", "-1"))
+                and obj is not None
+                and Fraction(str(obj)) == Fraction(want.get("objective", "-1"))
+            )
             if er is not None and er.status == "sat":
                 if prio == "stability":
-                    mk = judge("sat", "sat", er.value, Fraction(want["churn"]), "minimize") if "churn" in want else "SAT"
+                    mk = (
+                        judge("sat", "sat", er.value, Fraction(want["churn"]), "minimize") if "churn" in want else "SAT"
+                    )
                 else:
-                    mk = judge("sat", "sat", budget_left, Fraction(want["objective"]), lc.sense) if "objective" in want else "SAT"
-                answer = (f"{mk}: plan with churn {fraction_text(er.value)} (computed by catc against the deployed "
-                          f"composition; ENHSP has no notion of churn), budget left {fraction_text(budget_left)}"
-                          + ("" if lc.metric_exported else "; no metric exported (maximize)"))
+                    mk = (
+                        judge("sat", "sat", budget_left, Fraction(want["objective"]), lc.sense)
+                        if "objective" in want
+                        else "SAT"
+                    )
+                answer = (
+                    f"{mk}: plan with churn {fraction_text(er.value)} (computed by catc against the deployed "
+                    f"composition; ENHSP has no notion of churn), budget left {fraction_text(budget_left)}"
+                    + ("" if lc.metric_exported else "; no metric exported (maximize)")
+                )
             else:
                 answer = marker(er, exp_cc)
-            rows.append({"query": f"recompose ({prio} first)", "problem": cc,
-                         "catc": {"answer": f"churn {churn}, budget left {obj}", "agrees": agrees, "wall": [r.wall for r in runs_]},
-                         "enhsp": {"answer": answer, "calls": 1, "wall": [r.wall for r in e_rec],
-                                   "planning_ms": [r.planning_ms for r in e_rec if r.planning_ms is not None]}})
+            rows.append(
+                {
+                    "query": f"recompose ({prio} first)",
+                    "problem": cc,
+                    "catc": {
+                        "answer": f"churn {churn}, budget left {obj}",
+                        "agrees": agrees,
+                        "wall": [r.wall for r in runs_],
+                    },
+                    "enhsp": {
+                        "answer": answer,
+                        "calls": 1,
+                        "wall": [r.wall for r in e_rec],
+                        "planning_ms": [r.planning_ms for r in e_rec if r.planning_ms is not None],
+                    },
+                }
+            )
         if include_sar:
             sf = "search-and-rescue/budget-cut.cat"
             ls = self.load(sf)
@@ -828,9 +954,14 @@ class Bench:
                 return {"answer": "ENHSP gave up", "calls": calls, "total": total}
             lo, hi = (lo, mid) if ok else (mid, hi)
         found = hi - initial
-        return {"answer": f"{resource} +{fraction_text(found)} (least solvable within {fraction_text(tolerance)}: "
-                          f"{fraction_text(lo)} unsolvable, {fraction_text(hi)} solvable)",
-                "calls": calls, "total": total, "found": str(found), "tolerance": str(tolerance)}
+        return {
+            "answer": f"{resource} +{fraction_text(found)} (least solvable within {fraction_text(tolerance)}: "
+            f"{fraction_text(lo)} unsolvable, {fraction_text(hi)} solvable)",
+            "calls": calls,
+            "total": total,
+            "found": str(found),
+            "tolerance": str(tolerance),
+        }
 
 
 # ====================================================================== Markdown
@@ -852,28 +983,38 @@ def markdown(doc: dict) -> str:
     n = doc["runs"]
     if doc.get("runtimes") is not None:
         sm = doc["smtplan"]
-        out += ["### Runtimes", "",
-                f"Wall seconds including process start, median (interquartile range) of {n} interleaved trial(s); "
-                "ENHSP's own Planning Time (msec) is the median it printed.", "",
-                "| problem | catc query | catc answer | catc wall (s) | grid | ground actions | ENHSP planner | ENHSP answer | ENHSP wall (s) | ENHSP planning (ms) | SMTPlan+ |",
-                "|---|---|---|---:|---|---:|---|---|---:|---:|---|"]
+        out += [
+            "### Runtimes",
+            "",
+            f"Wall seconds including process start, median (interquartile range) of {n} interleaved trial(s); "
+            "ENHSP's own Planning Time (msec) is the median it printed.",
+            "",
+            "| problem | catc query | catc answer | catc wall (s) | grid | ground actions | ENHSP planner | ENHSP answer | ENHSP wall (s) | ENHSP planning (ms) | SMTPlan+ |",
+            "|---|---|---|---:|---|---:|---|---|---:|---:|---|",
+        ]
         for r in doc["runtimes"]:
             metric = "" if r["metric_exported"] or r["expected"]["optimum"] is None else " (no metric exported)"
-            out.append(f"| {r['problem']} | {r['query']} | {r['catc']['marker']} | {_wall(r['catc']['wall'])} | "
-                       f"{grid_text({k: Fraction(v) for k, v in r['grid'].items()})} | {r['ground_actions']} | {r['enhsp']['planner']} | "
-                       f"{r['enhsp']['marker']}{metric} | {_wall(r['enhsp']['wall'])} | {_ms(r['enhsp']['planning_ms'])} | "
-                       f"{r['smtplan'] if sm != 'not installed' else 'not installed'} |")
+            out.append(
+                f"| {r['problem']} | {r['query']} | {r['catc']['marker']} | {_wall(r['catc']['wall'])} | "
+                f"{grid_text({k: Fraction(v) for k, v in r['grid'].items()})} | {r['ground_actions']} | {r['enhsp']['planner']} | "
+                f"{r['enhsp']['marker']}{metric} | {_wall(r['enhsp']['wall'])} | {_ms(r['enhsp']['planning_ms'])} | "
+                f"{r['smtplan'] if sm != 'not installed' else 'not installed'} |"
+            )
         out += [""]
     if doc.get("perturbations") is not None:
-        out += ["### One-edit perturbations", "",
-                "Model-edit lines: changed non-comment, non-blank lines between the base and the perturbed model "
-                "(difflib on whitespace-normalised lines; a block of a old and b new lines counts max(a, b); "
-                "+added −removed in brackets). `.cat`: domain + problem files as written. PDDL: the exported "
-                "domain.pddl + problem.pddl (generated by `catc export pddl`, one predicate/function declaration "
-                "a line), base vs perturbed with the base's grid — the edits a maintainer of a hand-written PDDL "
-                "encoding would have to make.", "",
-                "| perturbation | base → perturbed | grid | catc | ENHSP | `.cat` lines (domain + problem) | PDDL lines (domain + problem) | ENHSP with a finer grid |",
-                "|---|---|---|---|---|---|---|---|"]
+        out += [
+            "### One-edit perturbations",
+            "",
+            "Model-edit lines: changed non-comment, non-blank lines between the base and the perturbed model "
+            "(difflib on whitespace-normalised lines; a block of a old and b new lines counts max(a, b); "
+            "+added −removed in brackets). `.cat`: domain + problem files as written. PDDL: the exported "
+            "domain.pddl + problem.pddl (generated by `catc export pddl`, one predicate/function declaration "
+            "a line), base vs perturbed with the base's grid — the edits a maintainer of a hand-written PDDL "
+            "encoding would have to make.",
+            "",
+            "| perturbation | base → perturbed | grid | catc | ENHSP | `.cat` lines (domain + problem) | PDDL lines (domain + problem) | ENHSP with a finer grid |",
+            "|---|---|---|---|---|---|---|---|",
+        ]
         for r in doc["perturbations"]:
             cd, cp = LineDiff(**r["cat_lines"]["domain"]), LineDiff(**r["cat_lines"]["problem"])
             pd, pp = LineDiff(**r["pddl_lines"]["domain"]), LineDiff(**r["pddl_lines"]["problem"])
@@ -881,26 +1022,40 @@ def markdown(doc: dict) -> str:
             if rec is None:
                 rtext = "not needed"
             elif rec["found"]:
-                rtext = (f"{grid_text({k: Fraction(v) for k, v in rec['grid'].items()})}: {rec['enhsp']}, "
-                         f"{rec['actions']} actions, PDDL lines {LineDiff(**rec['pddl_lines']).text()}")
+                rtext = (
+                    f"{grid_text({k: Fraction(v) for k, v in rec['grid'].items()})}: {rec['enhsp']}, "
+                    f"{rec['actions']} actions, PDDL lines {LineDiff(**rec['pddl_lines']).text()}"
+                )
             else:
                 rtext = rec["why"] + (f" (tried {'; '.join(rec['tried'])})" if rec.get("tried") else "")
-            out.append(f"| {r['perturbation']} | {r['base']} → {Path(r['perturbed']).name} | "
-                       f"{grid_text({k: Fraction(v) for k, v in r['grid'].items()})} | {r['catc']} | {r['enhsp']} | "
-                       f"{cd.changed} + {cp.changed} = {(cd + cp).text()} | {pd.changed} + {pp.changed} = {(pd + pp).text()} | {rtext} |")
+            out.append(
+                f"| {r['perturbation']} | {r['base']} → {Path(r['perturbed']).name} | "
+                f"{grid_text({k: Fraction(v) for k, v in r['grid'].items()})} | {r['catc']} | {r['enhsp']} | "
+                f"{cd.changed} + {cp.changed} = {(cd + cp).text()} | {pd.changed} + {pp.changed} = {(pd + pp).text()} | {rtext} |"
+            )
         out += [""]
     if doc.get("queries") is not None:
-        out += ["### Lifelong queries", "",
-                "ENHSP has no diagnose, relax or churn: diagnose is one unsolvable run; relax is a bisection over "
-                "the initial budget (the exported problem's init value rewritten, ENHSP sat-hadd at each "
-                "candidate: doubling until solvable, then bisection to 1 USD); recompose is opt-hrmax on the "
-                "cheaper-camera problem, its plan's churn computed by catc against the deployed composition.", "",
-                "| query | problem | catc answer | catc agrees¹ | catc wall (s) | ENHSP workaround | ENHSP calls | ENHSP wall (s, total) |",
-                "|---|---|---|---|---:|---|---:|---:|"]
+        out += [
+            "### Lifelong queries",
+            "",
+            "ENHSP has no diagnose, relax or churn: diagnose is one unsolvable run; relax is a bisection over "
+            "the initial budget (the exported problem's init value rewritten, ENHSP sat-hadd at each "
+            "candidate: doubling until solvable, then bisection to 1 USD); recompose is opt-hrmax on the "
+            "cheaper-camera problem, its plan's churn computed by catc against the deployed composition.",
+            "",
+            "| query | problem | catc answer | catc agrees¹ | catc wall (s) | ENHSP workaround | ENHSP calls | ENHSP wall (s, total) |",
+            "|---|---|---|---|---:|---|---:|---:|",
+        ]
         for r in doc["queries"]:
-            out.append(f"| {r['query']} | {r['problem']} | {r['catc']['answer']} | {'yes' if r['catc']['agrees'] else 'NO'} | "
-                       f"{_wall(r['catc']['wall'])} | {r['enhsp']['answer']} | {r['enhsp']['calls']} | {_wall(r['enhsp']['wall'])} |")
-        out += ["", "¹ with expect.toml; for the whole-problem relaxation (no expect.toml entry), with ENHSP's bisection.", ""]
+            out.append(
+                f"| {r['query']} | {r['problem']} | {r['catc']['answer']} | {'yes' if r['catc']['agrees'] else 'NO'} | "
+                f"{_wall(r['catc']['wall'])} | {r['enhsp']['answer']} | {r['enhsp']['calls']} | {_wall(r['enhsp']['wall'])} |"
+            )
+        out += [
+            "",
+            "¹ with expect.toml; for the whole-problem relaxation (no expect.toml entry), with ENHSP's bisection.",
+            "",
+        ]
     out += [f"SMTPlan+: {doc['smtplan']}.", ""]
     return "\n".join(out)
 
@@ -942,19 +1097,51 @@ def default_examples() -> Path:
 
 
 @click.command(name="bench")
-@click.option("--runs", "-n", type=click.IntRange(min=1), default=5, show_default=True, help="Trials per problem (interleaved).")
-@click.option("--quick", is_flag=True, help="A small subset: detection, GPU max-confidence, lifelong budget cut; two perturbations.")
-@click.option("--only", "only", multiple=True, metavar="TEXT",
-              help="Keep the problems whose path contains TEXT (repeatable), e.g. --only gpu --only detection.")
-@click.option("--table", "tables", multiple=True, type=click.Choice(TABLES),
-              help="Print only these tables (repeatable; default all).")
-@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=120.0, show_default=True,
-              help="Seconds per tool run.")
-@click.option("--examples", "examples_dir", type=click.Path(file_okay=False), help="The examples folder (default: the checkout's).")
+@click.option(
+    "--runs", "-n", type=click.IntRange(min=1), default=5, show_default=True, help="Trials per problem (interleaved)."
+)
+@click.option(
+    "--quick",
+    is_flag=True,
+    help="A small subset: detection, GPU max-confidence, lifelong budget cut; two perturbations.",
+)
+@click.option(
+    "--only",
+    "only",
+    multiple=True,
+    metavar="TEXT",
+    help="Keep the problems whose path contains TEXT (repeatable), e.g. --only gpu --only detection.",
+)
+@click.option(
+    "--table",
+    "tables",
+    multiple=True,
+    type=click.Choice(TABLES),
+    help="Print only these tables (repeatable; default all).",
+)
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0, min_open=True),
+    default=120.0,
+    show_default=True,
+    help="Seconds per tool run.",
+)
+@click.option(
+    "--examples",
+    "examples_dir",
+    type=click.Path(file_okay=False),
+    help="The examples folder (default: the checkout's).",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print a catc.bench/1 JSON document instead of Markdown.")
-@click.option("--no-compile", is_flag=True, help="Do not byte-compile catc first (by default it is, as `pip install .` does).")
-@click.option("--save-json", "save_json", type=click.Path(dir_okay=False), help="Also write the JSON document to this file.")
-@click.option("--keep", "keep_dir", type=click.Path(file_okay=False), help="Keep the exported PDDL files in this folder.")
+@click.option(
+    "--no-compile", is_flag=True, help="Do not byte-compile catc first (by default it is, as `pip install .` does)."
+)
+@click.option(
+    "--save-json", "save_json", type=click.Path(dir_okay=False), help="Also write the JSON document to this file."
+)
+@click.option(
+    "--keep", "keep_dir", type=click.Path(file_okay=False), help="Keep the exported PDDL files in this folder."
+)
 def bench_command(runs, quick, only, tables, timeout, examples_dir, as_json, no_compile, save_json, keep_dir) -> None:
     """Run catc and ENHSP on the same example problems and print the comparison tables.
 
@@ -987,7 +1174,11 @@ def bench_command(runs, quick, only, tables, timeout, examples_dir, as_json, no_
     measure = list(rt_files) if "runtimes" in tables else []
     if "perturbations" in tables:
         measure += [t for _, b, t in perts for t in (b, t) if t not in measure]
-    argv = ["catc", "bench"] + sys.argv[2:] if len(sys.argv) > 1 and sys.argv[1] == "bench" else ["catc", "bench", f"--runs {runs}"]
+    argv = (
+        ["catc", "bench"] + sys.argv[2:]
+        if len(sys.argv) > 1 and sys.argv[1] == "bench"
+        else ["catc", "bench", f"--runs {runs}"]
+    )
     command = " ".join(shlex.quote(a) if " " not in a else a for a in argv)
 
     def log(msg: str) -> None:
@@ -1004,12 +1195,19 @@ def bench_command(runs, quick, only, tables, timeout, examples_dir, as_json, no_
         bench = Bench(examples, runs, timeout, work, log)
         try:
             bench.measure(measure)
-            doc = {"schema": "catc.bench/1", "command": command, "machine": machine(),
-                   "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), "runs": runs,
-                   "smtplan": bench.smtplan or "not installed",
-                   "runtimes": bench.runtime_rows(rt_files) if "runtimes" in tables else None,
-                   "perturbations": bench.perturbation_rows(perts) if "perturbations" in tables else None,
-                   "queries": bench.queries(include_sar=not quick and keep("search-and-rescue/budget-cut.cat")) if want_q else None}
+            doc = {
+                "schema": "catc.bench/1",
+                "command": command,
+                "machine": machine(),
+                "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
+                "runs": runs,
+                "smtplan": bench.smtplan or "not installed",
+                "runtimes": bench.runtime_rows(rt_files) if "runtimes" in tables else None,
+                "perturbations": bench.perturbation_rows(perts) if "perturbations" in tables else None,
+                "queries": bench.queries(include_sar=not quick and keep("search-and-rescue/budget-cut.cat"))
+                if want_q
+                else None,
+            }
         except (BenchInputError, ExportError, OSError) as exc:
             click.echo(f"error: {exc}", err=True)
             sys.exit(EXIT_INPUT)

@@ -8,9 +8,13 @@ return ``None`` when anything was wrong.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from fractions import Fraction
-from typing import TYPE_CHECKING, Iterable
+from typing import TYPE_CHECKING
 
+from catc import ir
+from catc.frontend.typecheck import Context, ExprChecker, Scope, assignable, describe, fold_constant
+from catc.ir import BOOL, INT, REAL, Sort, SortKind
 from catgrammar import ast
 from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
 from catgrammar.span import Span
@@ -26,9 +30,6 @@ from catgrammar.symbols import (
     Requirement,
     expand_requirements,
 )
-from catc import ir
-from catc.ir import BOOL, INT, REAL, Sort, SortKind
-from catc.frontend.typecheck import Context, ExprChecker, Scope, assignable, describe, fold_constant
 
 if TYPE_CHECKING:  # pragma: no cover
     from catc.frontend.workspace import Workspace
@@ -76,9 +77,7 @@ class _Requirements:
         )
 
 
-def _options(
-    opts: Iterable[ast.Opt], allowed: Iterable[Option], owner: str, diags: Diagnostics
-) -> dict[str, ast.Opt]:
+def _options(opts: Iterable[ast.Opt], allowed: Iterable[Option], owner: str, diags: Diagnostics) -> dict[str, ast.Opt]:
     """Options by key; duplicates reported (the grammar already rejects unknown keys)."""
     allowed_keys = {o.value for o in allowed}
     out: dict[str, ast.Opt] = {}
@@ -125,7 +124,7 @@ def _bounds(b: ast.Bounds, sort: Sort, diags: Diagnostics, what: str) -> tuple[F
 
 
 class DomainChecker:
-    def __init__(self, workspace: "Workspace", node: ast.Domain, path: str, diags: Diagnostics):
+    def __init__(self, workspace: Workspace, node: ast.Domain, path: str, diags: Diagnostics):
         self.ws = workspace
         self.node = node
         self.path = path
@@ -160,9 +159,7 @@ class DomainChecker:
             if name.text in table:
                 prev = table[name.text]
                 notes = [Note(f"the {kind} is declared here", prev.span)] if prev.span else []
-                self.diags.report(
-                    "E0201", f"{what} '{name.text}' has the name of a {kind}", name.span, *notes
-                )
+                self.diags.report("E0201", f"{what} '{name.text}' has the name of a {kind}", name.span, *notes)
                 return True
         return False
 
@@ -291,7 +288,9 @@ class DomainChecker:
             if v.text in values:
                 self.diags.report("E0201", f"enumeration value '{v.text}' is listed twice", v.span)
                 continue
-            if not self._declare(self.constants, v, "enumeration value") or self._value_name_taken(v, "enumeration value"):
+            if not self._declare(self.constants, v, "enumeration value") or self._value_name_taken(
+                v, "enumeration value"
+            ):
                 continue
             values.append(v.text)
         if not values:
@@ -424,9 +423,7 @@ class DomainChecker:
         opts = _options(v.options, VIEW_OPTIONS, f"view '{v.name.text}'", self.diags)
         keep, drop = opts.get(Option.KEEP.value), opts.get(Option.DROP.value)
         if keep and drop:
-            self.diags.report(
-                "E0506", f"view '{v.name.text}' gives both :keep and :drop; give one", drop.span
-            )
+            self.diags.report("E0506", f"view '{v.name.text}' gives both :keep and :drop; give one", drop.span)
             return
         listed: set[str] = set()
         chosen = keep or drop
@@ -580,9 +577,13 @@ class DomainChecker:
             if isinstance(node, ast.Call):
                 head = node.head.text
                 hint = did_you_mean(head, heads + ("and",))
-                msg = f"'{head}' is not an effect{hint}" if hint else (
-                    f"'{head}' is not an effect; effects are (and ...), (assign r v), (increase r v), "
-                    f"(decrease r v), (add s x) and (remove s x)"
+                msg = (
+                    f"'{head}' is not an effect{hint}"
+                    if hint
+                    else (
+                        f"'{head}' is not an effect; effects are (and ...), (assign r v), (increase r v), "
+                        f"(decrease r v), (add s x) and (remove s x)"
+                    )
                 )
             else:
                 msg = "an effect must be (assign r v), (increase r v), (decrease r v), (add s x) or (remove s x)"
@@ -613,7 +614,9 @@ class DomainChecker:
         if kind in (ir.EffectKind.ADD, ir.EffectKind.REMOVE):
             if res.sort.kind is not SortKind.SET:
                 self.diags.report(
-                    "E0303", f"'{head}' needs a set resource, but '{res.name}' is {describe(res.sort)}", target_node.span
+                    "E0303",
+                    f"'{head}' needs a set resource, but '{res.name}' is {describe(res.sort)}",
+                    target_node.span,
                 )
                 return None
             value = checker.term(value_node, Context.TERM)
@@ -630,7 +633,9 @@ class DomainChecker:
         elif kind in (ir.EffectKind.INCREASE, ir.EffectKind.DECREASE):
             if not res.sort.is_numeric:
                 self.diags.report(
-                    "E0301", f"'{head}' needs a numeric resource, but '{res.name}' is {describe(res.sort)}", target_node.span
+                    "E0301",
+                    f"'{head}' needs a numeric resource, but '{res.name}' is {describe(res.sort)}",
+                    target_node.span,
                 )
                 return None
             value = checker.term(value_node, Context.TERM)
@@ -678,7 +683,10 @@ class DomainChecker:
             max_eff = _positive_int(opts[Option.MAX_EFFECTS.value].value, ":max-effects", self.diags)  # type: ignore[arg-type]
         if Option.MAX_PRECONDITIONS.value in opts:
             max_pre = _positive_int(
-                opts[Option.MAX_PRECONDITIONS.value].value, ":max-preconditions", self.diags, allow_zero=True  # type: ignore[arg-type]
+                opts[Option.MAX_PRECONDITIONS.value].value,
+                ":max-preconditions",
+                self.diags,
+                allow_zero=True,  # type: ignore[arg-type]
             )
         self.holes[h.name.text] = ir.Hole(h.name.text, view, max_eff, max_pre, h.name.span)
 
@@ -739,7 +747,7 @@ def _elem_key(expr: ir.Expr) -> tuple:
 
 
 class ProblemChecker:
-    def __init__(self, workspace: "Workspace", node: ast.Problem, path: str, diags: Diagnostics):
+    def __init__(self, workspace: Workspace, node: ast.Problem, path: str, diags: Diagnostics):
         self.ws = workspace
         self.node = node
         self.path = path
@@ -748,9 +756,7 @@ class ProblemChecker:
     def _single(self, cls, what: str):
         found = [s for s in self.node.sections if isinstance(s, cls)]
         for extra in found[1:]:
-            self.diags.report(
-                "E0205", f"{what} is given twice", extra.span, Note("first given here", found[0].span)
-            )
+            self.diags.report("E0205", f"{what} is given twice", extra.span, Note("first given here", found[0].span))
         return found[0] if found else None
 
     def run(self) -> ir.Instance | None:
@@ -927,9 +933,7 @@ class ProblemChecker:
         if not isinstance(target, ast.Ref) or target.name not in res:
             label = target.name if isinstance(target, ast.Ref) else None
             if label is not None:
-                self.diags.report(
-                    "E0202", f"unknown resource '{label}'{did_you_mean(label, res)}", target.span
-                )
+                self.diags.report("E0202", f"unknown resource '{label}'{did_you_mean(label, res)}", target.span)
             else:
                 self.diags.report("E0502", "the left side of an initial-state literal must be a resource", target.span)
             return None
@@ -1048,8 +1052,13 @@ def check_objective_text(text: str, inst: ir.Instance, diags: Diagnostics, origi
             term = ExprChecker(scope, local, lambda *args: None).numeric(metric.objectives[0].term, Context.OBJECTIVE)
     diags.add_source(Source(origin, text))
     for d in local:
-        diags.report(d.code, d.message, _unwrapped(d.span, len(prefix), text),
-                     *[Note(n.message, _unwrapped(n.span, len(prefix), text)) for n in d.notes], severity=d.severity)
+        diags.report(
+            d.code,
+            d.message,
+            _unwrapped(d.span, len(prefix), text),
+            *[Note(n.message, _unwrapped(n.span, len(prefix), text)) for n in d.notes],
+            severity=d.severity,
+        )
     return None if local.has_errors else term
 
 

@@ -400,8 +400,12 @@ def _broken(node: Group, out: Out, head: str | None) -> None:
         # (define (domain x) ...) / (:section [name] ...): the rest in a block, one per line
         n_head = 1
         if head == "define" or (
-            len(children) > 1 and isinstance(children[1], Atom) and not _is_key(children[1])
-            and children[1].tok.kind != "MINUS" and head not in _TYPED and head not in _FILL
+            len(children) > 1
+            and isinstance(children[1], Atom)
+            and not _is_key(children[1])
+            and children[1].tok.kind != "MINUS"
+            and head not in _TYPED
+            and head not in _FILL
         ):
             n_head = 2
         emit_unit(children[:n_head], out) if not first_tok(children[0]).leading else place(
@@ -558,7 +562,8 @@ def fmt_command(paths: tuple[str, ...], check: bool) -> None:
     catc check are printed).
     """
     from catc.interfaces.cli import _collect
-    from catgrammar.diagnostics import Diagnostics, format_text as diag_text
+    from catgrammar.diagnostics import Diagnostics
+    from catgrammar.diagnostics import format_text as diag_text
 
     diags = Diagnostics()
     files = _collect(paths, diags)

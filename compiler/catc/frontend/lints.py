@@ -7,12 +7,12 @@ resources; numbers are assumed reachable) to find morphisms that can never apply
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
-from catgrammar.diagnostics import Diagnostics, Note
-from catgrammar.span import Span
 from catc import ir
 from catc.ir import SortKind
+from catgrammar.diagnostics import Diagnostics, Note
+from catgrammar.span import Span
 
 
 def _user(span: Span | None, is_user: Callable[[str], bool]) -> bool:
@@ -34,8 +34,10 @@ def lint_domain(
         for p in m.params:
             used_sorts.add(_base(p.sort))
             if p.sort.kind is SortKind.REAL and (p.lower is None or p.upper is None) and _user(p.span, is_user):
-                missing = "no bounds" if p.lower is None and p.upper is None else (
-                    "no lower bound" if p.lower is None else "no upper bound"
+                missing = (
+                    "no bounds"
+                    if p.lower is None and p.upper is None
+                    else ("no lower bound" if p.lower is None else "no upper bound")
                 )
                 diags.report(
                     "W0105",
@@ -156,7 +158,11 @@ def unreachable_morphisms(inst: ir.Instance):
                         members.add((eff.resource, eff.value.value))
                     else:
                         any_member.add(eff.resource)
-                elif eff.kind is ir.EffectKind.ASSIGN and isinstance(eff.value, ir.Const) and isinstance(eff.value.value, bool):
+                elif (
+                    eff.kind is ir.EffectKind.ASSIGN
+                    and isinstance(eff.value, ir.Const)
+                    and isinstance(eff.value.value, bool)
+                ):
                     bools.add((eff.resource, eff.value.value))
                 elif eff.kind is ir.EffectKind.ASSIGN and eff.value.sort.kind is SortKind.BOOL:
                     bools |= {(eff.resource, True), (eff.resource, False)}

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from catgrammar import ast
-from catgrammar.diagnostics import Diagnostics
-from catgrammar.parser import gc_paused
 from catc import ir
 from catc.frontend.lints import lint_domain, lint_instance
 from catc.frontend.workspace import Workspace, stdlib_dir
 from catc.ir.views import ViewError, apply_view
+from catgrammar import ast
+from catgrammar.diagnostics import Diagnostics
+from catgrammar.parser import gc_paused
 
 
 def is_user_file(path: str) -> bool:

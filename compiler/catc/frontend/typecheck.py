@@ -7,10 +7,12 @@ run reports all errors.  The sort rules are in ``docs/semantics.md`` §Sorts.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
 from enum import Enum
 from fractions import Fraction
-from typing import Callable, Mapping
 
+from catc import ir
+from catc.ir import BOOL, INT, REAL, Sort, SortKind
 from catgrammar import ast
 from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
 from catgrammar.span import Span
@@ -21,8 +23,6 @@ from catgrammar.symbols import (
     Operator,
     Requirement,
 )
-from catc import ir
-from catc.ir import BOOL, INT, REAL, Sort, SortKind
 
 
 class Context(str, Enum):
@@ -158,9 +158,7 @@ class ExprChecker:
     def condition(self, node: ast.Expr, ctx: Context = Context.CONDITION) -> ir.Expr | None:
         expr = self.term(node, ctx)
         if expr is not None and expr.sort.kind is not SortKind.BOOL:
-            self.diags.report(
-                "E0301", f"expected a condition (bool), found {describe(expr.sort)}", node.span
-            )
+            self.diags.report("E0301", f"expected a condition (bool), found {describe(expr.sort)}", node.span)
             return None
         return expr
 
@@ -219,9 +217,7 @@ class ExprChecker:
                 ok = False
                 continue
             if not e.sort.is_symbolic:
-                self.diags.report(
-                    "E0301", f"set elements must be symbols, found {describe(e.sort)}", el.span
-                )
+                self.diags.report("E0301", f"set elements must be symbols, found {describe(e.sort)}", el.span)
                 ok = False
                 continue
             elems.append(e)
@@ -243,9 +239,7 @@ class ExprChecker:
         first = elems[0].sort
         for e, el in zip(elems[1:], node.elements[1:]):
             if not compatible(first, e.sort, self.scope.sorts):
-                self.diags.report(
-                    "E0301", f"set literal mixes {describe(first)} and {describe(e.sort)}", el.span
-                )
+                self.diags.report("E0301", f"set literal mixes {describe(first)} and {describe(e.sort)}", el.span)
                 return None
         elem_sort = self.scope.sorts.get(root_of(first, self.scope.sorts), first)
         return ir.SetLit(tuple(elems), ir.set_of(elem_sort), node.span)
@@ -307,9 +301,7 @@ class ExprChecker:
                 node.head.span,
             )
         else:
-            self.diags.report(
-                "E0211", f"unknown operator '{head}'{did_you_mean(head, allowed)}", node.head.span
-            )
+            self.diags.report("E0211", f"unknown operator '{head}'{did_you_mean(head, allowed)}", node.head.span)
         return None
 
     def _arity(self, node: ast.Call, lo: int, hi: int | None) -> bool:
@@ -386,7 +378,9 @@ class ExprChecker:
         for a, n in zip(args, node.args):
             if not a.sort.is_numeric:  # type: ignore[union-attr]
                 self.diags.report(
-                    "E0301", f"'{node.head.text}' needs numbers, but this is {describe(a.sort)}", n.span  # type: ignore[union-attr]
+                    "E0301",
+                    f"'{node.head.text}' needs numbers, but this is {describe(a.sort)}",
+                    n.span,  # type: ignore[union-attr]
                 )
                 return None
         if op is ir.ArithOp.DIV:
@@ -460,7 +454,7 @@ class ExprChecker:
                 f"parameter '{p.name}' of '{m.name}' takes one value per activation; "
                 f"declare it :fixed or limit '{m.name}' to :uses 1 to use it in an objective",
                 node.span,
-                *( [Note("the parameter is declared here", p.span)] if p.span else [] ),
+                *([Note("the parameter is declared here", p.span)] if p.span else []),
             )
             return None
         return ir.ParamValue(m.name, p.name, p.sort, node.span)
@@ -469,9 +463,7 @@ class ExprChecker:
         if isinstance(node, ast.Ref) and node.name in morphisms:
             return morphisms[node.name]
         label = node.name if isinstance(node, ast.Ref) else "this"
-        self.diags.report(
-            "E0202", f"unknown morphism '{label}'{did_you_mean(label, list(morphisms))}", node.span
-        )
+        self.diags.report("E0202", f"unknown morphism '{label}'{did_you_mean(label, list(morphisms))}", node.span)
         return None
 
 

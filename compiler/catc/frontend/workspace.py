@@ -12,12 +12,12 @@ import os
 import re
 from pathlib import Path
 
+from catc import ir
+from catc.frontend.check import DomainChecker, ProblemChecker
 from catgrammar import ast
 from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
 from catgrammar.parser import gc_paused, parse_source, read_source
 from catgrammar.span import Span
-from catc import ir
-from catc.frontend.check import DomainChecker, ProblemChecker
 
 STDLIB_DIR = Path(__file__).resolve().parents[3] / "stdlib_domains"
 
@@ -183,7 +183,7 @@ class Workspace:
         key = id(node)
         if any(k == key for _, k in self._stack):
             names = [n for n, _ in self._stack]
-            cycle = " -> ".join(names[names.index(name):] + [name])
+            cycle = " -> ".join(names[names.index(name) :] + [name])
             self.diags.report("E0209", f"circular import: {cycle}", ref)
             return None
         if key in self._checked:
@@ -201,7 +201,6 @@ class Workspace:
 
     def check_problem(self, node: ast.Problem, path: str) -> ir.Instance | None:
         return ProblemChecker(self, node, path, self.diags).run()
-
 
 
 def load_instance(

@@ -25,14 +25,14 @@ import os
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from fractions import Fraction
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Union
+from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover
-    from catgrammar.diagnostics import Diagnostic, Diagnostics
     from catc import ir
     from catc.semantics.plan import Plan
+    from catgrammar.diagnostics import Diagnostic, Diagnostics
 
-PathLike = Union[str, os.PathLike]
+PathLike = str | os.PathLike[str]
 
 
 class CatError(Exception):
@@ -50,8 +50,15 @@ class CatError(Exception):
         return [d.code for d in self.diagnostics if d.severity.value == "error"]
 
 
-def load_checked(problem: PathLike, domain: PathLike | None, diags: Diagnostics, *, view: str | None = None,
-                 problem_name: str | None = None, search_paths: Iterable[PathLike] = ()) -> ir.Instance | None:
+def load_checked(
+    problem: PathLike,
+    domain: PathLike | None,
+    diags: Diagnostics,
+    *,
+    view: str | None = None,
+    problem_name: str | None = None,
+    search_paths: Iterable[PathLike] = (),
+) -> ir.Instance | None:
     """Files → the checked instance with its view applied, or None with errors in ``diags``
     (the front end of every query, here and on the command line)."""
     from catc.frontend.workspace import load_instance
@@ -65,8 +72,9 @@ def load_checked(problem: PathLike, domain: PathLike | None, diags: Diagnostics,
             diags.report("E0001", f"cannot read '{p}': no such file", None)
     if diags.has_errors:
         return None
-    _, inst = load_instance(None if domain is None else str(domain), str(problem), diags,
-                            tuple(str(p) for p in search_paths), problem_name)
+    _, inst = load_instance(
+        None if domain is None else str(domain), str(problem), diags, tuple(str(p) for p in search_paths), problem_name
+    )
     if inst is None or diags.has_errors:
         return None
     try:
@@ -76,8 +84,14 @@ def load_checked(problem: PathLike, domain: PathLike | None, diags: Diagnostics,
         return None
 
 
-def load(problem: PathLike, domain: PathLike | None = None, *, view: str | None = None,
-         problem_name: str | None = None, search_paths: Iterable[PathLike] = ()) -> Model:
+def load(
+    problem: PathLike,
+    domain: PathLike | None = None,
+    *,
+    view: str | None = None,
+    problem_name: str | None = None,
+    search_paths: Iterable[PathLike] = (),
+) -> Model:
     """Load and check PROBLEM (or DOMAIN and PROBLEM), as ``catc solve [DOMAIN] PROBLEM``:
     the domain is found by name next to the problem, in ``search_paths``, ``CATC_PATH`` and
     the standard library.  ``view`` overrides the problem's ``(:view ...)``; ``problem_name``
@@ -110,9 +124,9 @@ class Model:
         return self._objective(term, "maximize")
 
     def _objective(self, text: str, sense: str) -> ir.Objective:
-        from catgrammar.diagnostics import Diagnostics
         from catc import ir
         from catc.frontend.check import check_objective_text
+        from catgrammar.diagnostics import Diagnostics
 
         diags = Diagnostics()
         term = check_objective_text(text, self.instance, diags, f"<{sense}>")
@@ -121,68 +135,158 @@ class Model:
         return ir.Objective(ir.Sense(sense), term)
 
     # ------------------------------------------------------------ queries
-    def solve(self, *, horizon: int | None = None, sequential: bool = False, timeout: float | None = None,
-              strategy: str = "incremental", prune: bool = True):
+    def solve(
+        self,
+        *,
+        horizon: int | None = None,
+        sequential: bool = False,
+        timeout: float | None = None,
+        strategy: str = "incremental",
+        prune: bool = True,
+    ):
         """The shortest composition (``catc solve``): a :class:`catc.queries.solve.SolveResult`."""
         from catc.queries.solve import solve
 
-        return solve(self.instance, horizon=horizon, sequential=sequential, timeout=timeout, strategy=strategy,
-                     prune=prune)
+        return solve(
+            self.instance, horizon=horizon, sequential=sequential, timeout=timeout, strategy=strategy, prune=prune
+        )
 
-    def optimize(self, objectives: Sequence[ir.Objective] | None = None, *, horizon: int | None = None,
-                 sequential: bool = False, timeout: float | None = None, strategy: str = "deepen",
-                 progress: Callable[[str], None] | None = None):
+    def optimize(
+        self,
+        objectives: Sequence[ir.Objective] | None = None,
+        *,
+        horizon: int | None = None,
+        sequential: bool = False,
+        timeout: float | None = None,
+        strategy: str = "deepen",
+        progress: Callable[[str], None] | None = None,
+    ):
         """The best composition (``catc optimize``), lexicographic over ``objectives``
         (default: the problem's metric and soft constraints): a :class:`catc.queries.optimize.OptResult`."""
         from catc.queries.optimize import optimize
 
-        return optimize(self.instance, None if objectives is None else list(objectives), horizon=horizon,
-                        sequential=sequential, timeout=timeout, strategy=strategy, progress=progress)
+        return optimize(
+            self.instance,
+            None if objectives is None else list(objectives),
+            horizon=horizon,
+            sequential=sequential,
+            timeout=timeout,
+            strategy=strategy,
+            progress=progress,
+        )
 
-    def pareto(self, objectives: Sequence[ir.Objective] | None = None, *, horizon: int | None = None,
-               sequential: bool = False, max_points: int = 100, timeout: float | None = None):
+    def pareto(
+        self,
+        objectives: Sequence[ir.Objective] | None = None,
+        *,
+        horizon: int | None = None,
+        sequential: bool = False,
+        max_points: int = 100,
+        timeout: float | None = None,
+    ):
         """Every non-dominated composition (``catc pareto``): a :class:`catc.queries.pareto.ParetoResult`."""
         from catc.queries.pareto import pareto
 
-        return pareto(self.instance, None if objectives is None else list(objectives), horizon=horizon,
-                      sequential=sequential, max_points=max_points, timeout=timeout)
+        return pareto(
+            self.instance,
+            None if objectives is None else list(objectives),
+            horizon=horizon,
+            sequential=sequential,
+            max_points=max_points,
+            timeout=timeout,
+        )
 
-    def diagnose(self, *, relative_to: Iterable[str] | None = None, all_cores: bool = False, max_cores: int = 5,
-                 horizon: int | None = None, sequential: bool = False, timeout: float | None = None,
-                 progress: Callable[[str], None] | None = None):
+    def diagnose(
+        self,
+        *,
+        relative_to: Iterable[str] | None = None,
+        all_cores: bool = False,
+        max_cores: int = 5,
+        horizon: int | None = None,
+        sequential: bool = False,
+        timeout: float | None = None,
+        progress: Callable[[str], None] | None = None,
+    ):
         """Why there is no composition (``catc diagnose``): irreducible cores of labelled
         requirements, a :class:`catc.queries.lifelong.Diagnosis`.  ``relative_to``: the composition
         to keep (default the problem's ``(:deployed ...)``; ``()`` for none)."""
         from catc.queries.lifelong import diagnose
 
-        return diagnose(self.instance, horizon=horizon, sequential=sequential, relative_to=relative_to,
-                        all_cores=all_cores, max_cores=max_cores, timeout=timeout, progress=progress)
+        return diagnose(
+            self.instance,
+            horizon=horizon,
+            sequential=sequential,
+            relative_to=relative_to,
+            all_cores=all_cores,
+            max_cores=max_cores,
+            timeout=timeout,
+            progress=progress,
+        )
 
-    def relax(self, *, only: Iterable[str] = (), weights: Mapping[str, Fraction | int | str] | None = None,
-              discrete: bool = False, relative_to: Iterable[str] | None = None, horizon: int | None = None,
-              sequential: bool = False, timeout: float | None = None, progress: Callable[[str], None] | None = None):
+    def relax(
+        self,
+        *,
+        only: Iterable[str] = (),
+        weights: Mapping[str, Fraction | int | str] | None = None,
+        discrete: bool = False,
+        relative_to: Iterable[str] | None = None,
+        horizon: int | None = None,
+        sequential: bool = False,
+        timeout: float | None = None,
+        progress: Callable[[str], None] | None = None,
+    ):
         """The least weighted weakening that restores feasibility (``catc relax``): a
         :class:`catc.queries.lifelong.RelaxResult`.  ``weights`` map labels, label prefixes or
         resources to exact weights."""
         from catc.queries.lifelong import relax
 
         exact = None if weights is None else {k: Fraction(v) for k, v in weights.items()}
-        return relax(self.instance, horizon=horizon, sequential=sequential, only=only, weights=exact,
-                     discrete=discrete, relative_to=relative_to, timeout=timeout, progress=progress)
+        return relax(
+            self.instance,
+            horizon=horizon,
+            sequential=sequential,
+            only=only,
+            weights=exact,
+            discrete=discrete,
+            relative_to=relative_to,
+            timeout=timeout,
+            progress=progress,
+        )
 
-    def recompose(self, *, deployed: Iterable[str] | None = None, priority: str = "stability",
-                  objectives: Sequence[ir.Objective] | None = None, horizon: int | None = None,
-                  sequential: bool = False, timeout: float | None = None, progress: Callable[[str], None] | None = None):
+    def recompose(
+        self,
+        *,
+        deployed: Iterable[str] | None = None,
+        priority: str = "stability",
+        objectives: Sequence[ir.Objective] | None = None,
+        horizon: int | None = None,
+        sequential: bool = False,
+        timeout: float | None = None,
+        progress: Callable[[str], None] | None = None,
+    ):
         """A new composition with the least churn against the deployed one (``catc
         recompose``): a :class:`catc.queries.lifelong.Recomposition`."""
         from catc.queries.lifelong import recompose
 
-        return recompose(self.instance, deployed=deployed, priority=priority,
-                         objectives=None if objectives is None else list(objectives), horizon=horizon,
-                         sequential=sequential, timeout=timeout, progress=progress)
+        return recompose(
+            self.instance,
+            deployed=deployed,
+            priority=priority,
+            objectives=None if objectives is None else list(objectives),
+            horizon=horizon,
+            sequential=sequential,
+            timeout=timeout,
+            progress=progress,
+        )
 
-    def synthesize(self, hole: str | None = None, *, horizon: int | None = None, sequential: bool = False,
-                   timeout: float | None = None):
+    def synthesize(
+        self,
+        hole: str | None = None,
+        *,
+        horizon: int | None = None,
+        sequential: bool = False,
+        timeout: float | None = None,
+    ):
         """The weakest specification of a missing component (``catc synthesize``): a
         :class:`catc.queries.synthesize.Synthesis`."""
         from catc.queries.synthesize import synthesize
@@ -199,16 +303,18 @@ class Model:
         from catc.semantics.validate import validate
 
         if not isinstance(plan, Plan):
-            sorts = {m.name: {p.name: (p.sort.kind.value if not p.sort.is_symbolic else "symbol") for p in m.params}
-                     for m in self.instance.morphisms.values()}
+            sorts = {
+                m.name: {p.name: (p.sort.kind.value if not p.sort.is_symbolic else "symbol") for p in m.params}
+                for m in self.instance.morphisms.values()
+            }
             plan = plan_from_json(plan, sorts)
         return validate(self.instance, plan, horizon=horizon, sequential=sequential)
 
     # ------------------------------------------------------------ output
     def to_json(self, result: Any) -> dict:
         """The ``--json`` document of the command that gives ``result`` (docs/cli.md)."""
-        from catc.present import report
         from catc.ir.labels import label_index
+        from catc.present import report
         from catc.queries.lifelong import Diagnosis, Recomposition, RelaxResult
         from catc.queries.optimize import OptResult
         from catc.queries.pareto import ParetoResult

@@ -59,7 +59,9 @@ class _Group(click.Group):
             return None
 
     def invoke(self, ctx: click.Context):
-        return command.guarded(super().invoke, ctx, passthrough=(click.exceptions.Exit, click.exceptions.Abort, click.ClickException))
+        return command.guarded(
+            super().invoke, ctx, passthrough=(click.exceptions.Exit, click.exceptions.Abort, click.ClickException)
+        )
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
@@ -123,11 +125,22 @@ def _colour(text: str) -> str:
 
 @main.command()
 @click.argument("paths", nargs=-1, required=True, type=click.Path())
-@click.option("--format", "fmt", type=click.Choice(["text", "json", "github"]), default="text", show_default=True,
-              help="Diagnostic format: compiler-style text, JSON (schema catc.check/1), or GitHub annotations.")
+@click.option(
+    "--format",
+    "fmt",
+    type=click.Choice(["text", "json", "github"]),
+    default="text",
+    show_default=True,
+    help="Diagnostic format: compiler-style text, JSON (schema catc.check/1), or GitHub annotations.",
+)
 @click.option("--strict", is_flag=True, help="Treat warnings as errors.")
-@click.option("--path", "search_paths", multiple=True, type=click.Path(file_okay=False),
-              help="Extra folder to search for domains (repeatable; also CATC_PATH).")
+@click.option(
+    "--path",
+    "search_paths",
+    multiple=True,
+    type=click.Path(file_okay=False),
+    help="Extra folder to search for domains (repeatable; also CATC_PATH).",
+)
 @click.option("-q", "--quiet", is_flag=True, help="Do not print the summary line.")
 def check(paths: tuple[str, ...], fmt: str, strict: bool, search_paths: tuple[str, ...], quiet: bool) -> None:
     """Type-check .cat files and folders (for CI).
@@ -195,10 +208,23 @@ class _InOrder(click.Command):
 
 _common_query_options = [
     click.argument("paths", nargs=-1, required=True, type=click.Path()),
-    click.option("--horizon", "-k", type=click.IntRange(min=0), help="Most steps a composition may take (default: the problem's (:horizon), else the sum of use limits, else 10)."),
+    click.option(
+        "--horizon",
+        "-k",
+        type=click.IntRange(min=0),
+        help="Most steps a composition may take (default: the problem's (:horizon), else the sum of use limits, else 10).",
+    ),
     click.option("--view", help="Solve in this view (overrides the problem's (:view ...))."),
-    click.option("--sequential", is_flag=True, help="One morphism per step (default: parallel steps with non-interference)."),
-    click.option("--path", "search_paths", multiple=True, type=click.Path(file_okay=False), help="Extra folder to search for domains."),
+    click.option(
+        "--sequential", is_flag=True, help="One morphism per step (default: parallel steps with non-interference)."
+    ),
+    click.option(
+        "--path",
+        "search_paths",
+        multiple=True,
+        type=click.Path(file_okay=False),
+        help="Extra folder to search for domains.",
+    ),
     click.option("--problem", "problem_name", help="The problem to use when the file defines several."),
 ]
 
@@ -211,34 +237,77 @@ def _query_options(f):
 
 @main.command()
 @_query_options
-@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), help="Give up after this many seconds (exit 3).")
-@click.option("--strategy", type=click.Choice(["incremental", "single"]), default="incremental", show_default=True,
-              help="incremental: deepen the horizon one step at a time (shortest composition); single: one check of the whole horizon.")
+@click.option(
+    "--timeout", type=click.FloatRange(min=0, min_open=True), help="Give up after this many seconds (exit 3)."
+)
+@click.option(
+    "--strategy",
+    type=click.Choice(["incremental", "single"]),
+    default="incremental",
+    show_default=True,
+    help="incremental: deepen the horizon one step at a time (shortest composition); single: one check of the whole horizon.",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print a catc.solve/1 JSON document.")
-@click.option("--diagram", type=click.Path(dir_okay=False, writable=True), help="Write the composition as an SVG string diagram.")
-@click.option("--no-prune", is_flag=True, help="Keep activations the composition does not need (as the solver found them).")
+@click.option(
+    "--diagram", type=click.Path(dir_okay=False, writable=True), help="Write the composition as an SVG string diagram."
+)
+@click.option(
+    "--no-prune", is_flag=True, help="Keep activations the composition does not need (as the solver found them)."
+)
 def solve(paths, horizon, view, sequential, search_paths, problem_name, timeout, strategy, as_json, diagram, no_prune):
     """Find the shortest composition that reaches the goal.
 
     PATHS is PROBLEM, or DOMAIN PROBLEM.  Exit 0 SAT, 1 UNSAT, 2 input error, 3 unknown/timeout.
     """
     _check_paths(paths)
-    command.solve(paths, horizon, view, sequential, search_paths, problem_name, timeout, strategy, as_json, diagram, no_prune)
+    command.solve(
+        paths, horizon, view, sequential, search_paths, problem_name, timeout, strategy, as_json, diagram, no_prune
+    )
 
 
 @main.command(cls=_InOrder)
 @_query_options
-@click.option("--minimize", "minimize_terms", multiple=True, metavar="EXPR", help="Minimise this term (repeatable; with --maximize, in the order given: lexicographic).")
+@click.option(
+    "--minimize",
+    "minimize_terms",
+    multiple=True,
+    metavar="EXPR",
+    help="Minimise this term (repeatable; with --maximize, in the order given: lexicographic).",
+)
 @click.option("--maximize", "maximize_terms", multiple=True, metavar="EXPR", help="Maximise this term (repeatable).")
-@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), help="Stop after this many seconds; the best composition so far is reported (exit 3).")
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0, min_open=True),
+    help="Stop after this many seconds; the best composition so far is reported (exit 3).",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print a catc.optimize/1 JSON document.")
-@click.option("--diagram", type=click.Path(dir_okay=False, writable=True), help="Write the composition as an SVG string diagram.")
-@click.option("--strategy", type=click.Choice(["deepen", "single"]), default="deepen", show_default=True,
-              help="deepen: optimise over the shortest feasible horizon, then prove nothing longer is better; "
-                   "single: one encoding of the whole horizon.")
+@click.option(
+    "--diagram", type=click.Path(dir_okay=False, writable=True), help="Write the composition as an SVG string diagram."
+)
+@click.option(
+    "--strategy",
+    type=click.Choice(["deepen", "single"]),
+    default="deepen",
+    show_default=True,
+    help="deepen: optimise over the shortest feasible horizon, then prove nothing longer is better; "
+    "single: one encoding of the whole horizon.",
+)
 @click.pass_context
-def optimize(ctx, paths, horizon, view, sequential, search_paths, problem_name, minimize_terms, maximize_terms,
-             timeout, as_json, diagram, strategy):
+def optimize(
+    ctx,
+    paths,
+    horizon,
+    view,
+    sequential,
+    search_paths,
+    problem_name,
+    minimize_terms,
+    maximize_terms,
+    timeout,
+    as_json,
+    diagram,
+    strategy,
+):
     """Find the best composition for the problem's (:metric ...) and soft constraints.
 
     PATHS is PROBLEM, or DOMAIN PROBLEM.  --minimize/--maximize replace the metric.  Exit 0
@@ -254,10 +323,21 @@ def optimize(ctx, paths, horizon, view, sequential, search_paths, problem_name, 
     inst = _instance(paths, view, search_paths, problem_name, as_json)
     objectives = _cli_objectives(ctx, inst, as_json)
     if objectives is None and not objectives_of(inst) and not inst.problem.softs:
-        _input_error("nothing to optimise: the problem has no (:metric ...) or (:soft ...); give --minimize or --maximize", as_json)
+        _input_error(
+            "nothing to optimise: the problem has no (:metric ...) or (:soft ...); give --minimize or --maximize",
+            as_json,
+        )
     try:
-        result = _with_progress(as_json, run_optimize, inst, objectives, horizon=horizon, sequential=sequential,
-                                timeout=timeout, strategy=strategy)
+        result = _with_progress(
+            as_json,
+            run_optimize,
+            inst,
+            objectives,
+            horizon=horizon,
+            sequential=sequential,
+            timeout=timeout,
+            strategy=strategy,
+        )
     except ValidationFailure as exc:
         click.echo(f"catc: internal error: {exc}", err=True)
         sys.exit(70)
@@ -268,19 +348,29 @@ def optimize(ctx, paths, horizon, view, sequential, search_paths, problem_name, 
     else:
         print_optimize(_console(False), inst, result)
     _write_diagram(diagram, inst, result.plan, result.states, as_json)
-    sys.exit({OptStatus.OPT: EXIT_OK, OptStatus.SUBOPT: EXIT_UNKNOWN, OptStatus.UNKNOWN: EXIT_UNKNOWN,
-              OptStatus.UNSAT: EXIT_FAIL, OptStatus.UNBOUNDED: EXIT_FAIL}[result.status])
+    sys.exit(
+        {
+            OptStatus.OPT: EXIT_OK,
+            OptStatus.SUBOPT: EXIT_UNKNOWN,
+            OptStatus.UNKNOWN: EXIT_UNKNOWN,
+            OptStatus.UNSAT: EXIT_FAIL,
+            OptStatus.UNBOUNDED: EXIT_FAIL,
+        }[result.status]
+    )
 
 
 def _cli_objectives(ctx, inst, as_json):
     """--minimize/--maximize terms in command-line order, checked; None when none given."""
-    from catgrammar.diagnostics import Diagnostics
     from catc import ir
     from catc.frontend.check import check_objective_text
+    from catgrammar.diagnostics import Diagnostics
 
     # the terms in command-line order: each option's values in order, interleaved as the
     # options occurred (recorded by _InOrder while parsing)
-    values = {"minimize_terms": iter(ctx.params["minimize_terms"]), "maximize_terms": iter(ctx.params["maximize_terms"])}
+    values = {
+        "minimize_terms": iter(ctx.params["minimize_terms"]),
+        "maximize_terms": iter(ctx.params["maximize_terms"]),
+    }
     raw = [(name.removesuffix("_terms"), next(values[name])) for name in ctx.meta.get(_ORDER, ()) if name in values]
     if not raw:
         return None
@@ -329,13 +419,21 @@ def _check_components(inst, names, as_json):
 
 @main.command()
 @_query_options
-@click.option("--relative-to", "relative_to", metavar="COMPONENTS",
-              help="Diagnose relative to this composition (comma-separated morphisms; default: the problem's (:deployed ...); 'none' for none).")
-@click.option("--all", "all_cores", is_flag=True, help="Enumerate several distinct cores (bounded by --max and --timeout).")
+@click.option(
+    "--relative-to",
+    "relative_to",
+    metavar="COMPONENTS",
+    help="Diagnose relative to this composition (comma-separated morphisms; default: the problem's (:deployed ...); 'none' for none).",
+)
+@click.option(
+    "--all", "all_cores", is_flag=True, help="Enumerate several distinct cores (bounded by --max and --timeout)."
+)
 @click.option("--max", "max_cores", type=click.IntRange(min=1), default=5, show_default=True)
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True))
 @click.option("--json", "as_json", is_flag=True, help="Print a catc.diagnose/1 JSON document.")
-def diagnose(paths, horizon, view, sequential, search_paths, problem_name, relative_to, all_cores, max_cores, timeout, as_json):
+def diagnose(
+    paths, horizon, view, sequential, search_paths, problem_name, relative_to, all_cores, max_cores, timeout, as_json
+):
     """Explain infeasibility: an irreducible set of conflicting source constructs.
 
     Exit 0 when a core is found, 1 when the problem is feasible (nothing to diagnose),
@@ -344,16 +442,25 @@ def diagnose(paths, horizon, view, sequential, search_paths, problem_name, relat
     import json
 
     from catc.ir.labels import label_index
-    from catc.queries.lifelong import diagnose as run_diagnose
     from catc.present.report import diagnosis_json, print_diagnosis
+    from catc.queries.lifelong import diagnose as run_diagnose
 
     inst = _instance(paths, view, search_paths, problem_name, as_json)
     rel = None
     if relative_to is not None:
         rel = [] if relative_to.strip().lower() == "none" else _parse_components(relative_to)
         _check_components(inst, rel, as_json)
-    result = _with_progress(as_json, run_diagnose, inst, horizon=horizon, sequential=sequential, relative_to=rel,
-                            all_cores=all_cores, max_cores=max_cores, timeout=timeout)
+    result = _with_progress(
+        as_json,
+        run_diagnose,
+        inst,
+        horizon=horizon,
+        sequential=sequential,
+        relative_to=rel,
+        all_cores=all_cores,
+        max_cores=max_cores,
+        timeout=timeout,
+    )
     index = label_index(inst)
     if as_json:
         click.echo(json.dumps(diagnosis_json(inst, result, index), indent=2))
@@ -364,13 +471,42 @@ def diagnose(paths, horizon, view, sequential, search_paths, problem_name, relat
 
 @main.command()
 @_query_options
-@click.option("--only", multiple=True, metavar="LABEL|RESOURCE", help="Relax only these requirements (a label, a label prefix such as init/, or a resource name; repeatable).")
-@click.option("--weights", "weight_specs", multiple=True, metavar="KEY=W", help="Weight of the slack on matching requirements (default 1; repeatable).")
+@click.option(
+    "--only",
+    multiple=True,
+    metavar="LABEL|RESOURCE",
+    help="Relax only these requirements (a label, a label prefix such as init/, or a resource name; repeatable).",
+)
+@click.option(
+    "--weights",
+    "weight_specs",
+    multiple=True,
+    metavar="KEY=W",
+    help="Weight of the slack on matching requirements (default 1; repeatable).",
+)
 @click.option("--discrete", is_flag=True, help="Return a minimum set of requirements to drop instead of numeric slack.")
-@click.option("--relative-to", "relative_to", metavar="COMPONENTS", help="Keep this composition (default: the problem's (:deployed ...); 'none' for any).")
+@click.option(
+    "--relative-to",
+    "relative_to",
+    metavar="COMPONENTS",
+    help="Keep this composition (default: the problem's (:deployed ...); 'none' for any).",
+)
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True))
 @click.option("--json", "as_json", is_flag=True, help="Print a catc.relax/1 JSON document.")
-def relax(paths, horizon, view, sequential, search_paths, problem_name, only, weight_specs, discrete, relative_to, timeout, as_json):
+def relax(
+    paths,
+    horizon,
+    view,
+    sequential,
+    search_paths,
+    problem_name,
+    only,
+    weight_specs,
+    discrete,
+    relative_to,
+    timeout,
+    as_json,
+):
     """The least weakening of the requirements that makes the problem feasible.
 
     Exit 0 when a relaxation is found, 1 when none helps or the problem is already
@@ -380,8 +516,8 @@ def relax(paths, horizon, view, sequential, search_paths, problem_name, only, we
     from fractions import Fraction
 
     from catc.ir.labels import label_index
-    from catc.queries.lifelong import relax as run_relax
     from catc.present.report import print_relax, relax_json
+    from catc.queries.lifelong import relax as run_relax
 
     inst = _instance(paths, view, search_paths, problem_name, as_json)
     weights = {}
@@ -395,8 +531,18 @@ def relax(paths, horizon, view, sequential, search_paths, problem_name, only, we
     if relative_to is not None:
         rel = [] if relative_to.strip().lower() == "none" else _parse_components(relative_to)
         _check_components(inst, rel, as_json)
-    result = _with_progress(as_json, run_relax, inst, horizon=horizon, sequential=sequential, only=only, weights=weights,
-                       discrete=discrete, relative_to=rel, timeout=timeout)
+    result = _with_progress(
+        as_json,
+        run_relax,
+        inst,
+        horizon=horizon,
+        sequential=sequential,
+        only=only,
+        weights=weights,
+        discrete=discrete,
+        relative_to=rel,
+        timeout=timeout,
+    )
     index = label_index(inst)
     if as_json:
         click.echo(json.dumps(relax_json(inst, result, index), indent=2))
@@ -409,22 +555,35 @@ def relax(paths, horizon, view, sequential, search_paths, problem_name, only, we
 
 @main.command()
 @_query_options
-@click.option("--deployed", metavar="COMPONENTS", help="The deployed composition (comma-separated morphisms; default: the problem's (:deployed ...)).")
-@click.option("--priority", type=click.Choice(["stability", "objective"]), default="stability", show_default=True,
-              help="stability: least churn first, then the mission objective; objective: the reverse.")
+@click.option(
+    "--deployed",
+    metavar="COMPONENTS",
+    help="The deployed composition (comma-separated morphisms; default: the problem's (:deployed ...)).",
+)
+@click.option(
+    "--priority",
+    type=click.Choice(["stability", "objective"]),
+    default="stability",
+    show_default=True,
+    help="stability: least churn first, then the mission objective; objective: the reverse.",
+)
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True))
 @click.option("--json", "as_json", is_flag=True, help="Print a catc.recompose/1 JSON document.")
-@click.option("--diagram", type=click.Path(dir_okay=False, writable=True), help="Write the composition as an SVG string diagram.")
-def recompose(paths, horizon, view, sequential, search_paths, problem_name, deployed, priority, timeout, as_json, diagram):
+@click.option(
+    "--diagram", type=click.Path(dir_okay=False, writable=True), help="Write the composition as an SVG string diagram."
+)
+def recompose(
+    paths, horizon, view, sequential, search_paths, problem_name, deployed, priority, timeout, as_json, diagram
+):
     """A new composition with the least weighted churn against the deployed one.
 
     Exit 0 optimum, 1 infeasible, 2 input error, 3 stopped early.
     """
     import json
 
+    from catc.present.report import print_recompose, recompose_json
     from catc.queries.lifelong import recompose as run_recompose
     from catc.queries.optimize import OptStatus
-    from catc.present.report import print_recompose, recompose_json
 
     inst = _instance(paths, view, search_paths, problem_name, as_json)
     components = _parse_components(deployed)
@@ -432,29 +591,66 @@ def recompose(paths, horizon, view, sequential, search_paths, problem_name, depl
         _check_components(inst, components, as_json)
     elif not inst.problem.deployed:
         _input_error("no deployed composition: add (:deployed ...) to the problem or pass --deployed", as_json)
-    rec = _with_progress(as_json, run_recompose, inst, deployed=components, priority=priority, horizon=horizon,
-                         sequential=sequential, timeout=timeout)
+    rec = _with_progress(
+        as_json,
+        run_recompose,
+        inst,
+        deployed=components,
+        priority=priority,
+        horizon=horizon,
+        sequential=sequential,
+        timeout=timeout,
+    )
     if as_json:
         click.echo(json.dumps(recompose_json(inst, rec), indent=2))
     else:
         print_recompose(_console(False), inst, rec)
     _write_diagram(diagram, inst, rec.result.plan, rec.result.states, as_json)
     status = rec.result.status
-    sys.exit({OptStatus.OPT: EXIT_OK, OptStatus.UNSAT: EXIT_FAIL, OptStatus.UNBOUNDED: EXIT_FAIL}.get(status, EXIT_UNKNOWN))
+    sys.exit(
+        {OptStatus.OPT: EXIT_OK, OptStatus.UNSAT: EXIT_FAIL, OptStatus.UNBOUNDED: EXIT_FAIL}.get(status, EXIT_UNKNOWN)
+    )
 
 
 @main.command(cls=_InOrder)
 @_query_options
-@click.option("--minimize", "minimize_terms", multiple=True, metavar="EXPR", help="An objective to minimise (repeatable; replaces the metric).")
-@click.option("--maximize", "maximize_terms", multiple=True, metavar="EXPR", help="An objective to maximise (repeatable).")
-@click.option("--max-points", type=click.IntRange(min=1), default=100, show_default=True, help="Stop after this many points.")
+@click.option(
+    "--minimize",
+    "minimize_terms",
+    multiple=True,
+    metavar="EXPR",
+    help="An objective to minimise (repeatable; replaces the metric).",
+)
+@click.option(
+    "--maximize", "maximize_terms", multiple=True, metavar="EXPR", help="An objective to maximise (repeatable)."
+)
+@click.option(
+    "--max-points", type=click.IntRange(min=1), default=100, show_default=True, help="Stop after this many points."
+)
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True))
-@click.option("--plot", "plot_path", type=click.Path(dir_okay=False, writable=True),
-              help="Draw the front (first two objectives; a third as colour) to FILE.png or FILE.svg (needs the 'plots' extra).")
+@click.option(
+    "--plot",
+    "plot_path",
+    type=click.Path(dir_okay=False, writable=True),
+    help="Draw the front (first two objectives; a third as colour) to FILE.png or FILE.svg (needs the 'plots' extra).",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print a catc.pareto/1 JSON document.")
 @click.pass_context
-def pareto(ctx, paths, horizon, view, sequential, search_paths, problem_name, minimize_terms, maximize_terms,
-           max_points, timeout, plot_path, as_json):
+def pareto(
+    ctx,
+    paths,
+    horizon,
+    view,
+    sequential,
+    search_paths,
+    problem_name,
+    minimize_terms,
+    maximize_terms,
+    max_points,
+    timeout,
+    plot_path,
+    as_json,
+):
     """Every non-dominated composition for two or more objectives.
 
     Objectives come from the problem's (:metric pareto ...) or from --minimize/--maximize.
@@ -462,10 +658,10 @@ def pareto(ctx, paths, horizon, view, sequential, search_paths, problem_name, mi
     """
     import json
 
+    from catc.ir.text import to_text
     from catc.queries.pareto import ascii_plot
     from catc.queries.pareto import pareto as run_pareto
     from catc.queries.pareto import plot as draw
-    from catc.ir.text import to_text
 
     inst = _instance(paths, view, search_paths, problem_name, as_json)
     objectives = _cli_objectives(ctx, inst, as_json)
@@ -473,8 +669,12 @@ def pareto(ctx, paths, horizon, view, sequential, search_paths, problem_name, mi
         metric = inst.problem.metric
         objectives = list(metric.objectives) if metric is not None else []
     if len(objectives) < 2:
-        _input_error("a Pareto front needs at least two objectives: use (:metric pareto ...) or --minimize/--maximize", as_json)
-    result = run_pareto(inst, objectives, horizon=horizon, sequential=sequential, max_points=max_points, timeout=timeout)
+        _input_error(
+            "a Pareto front needs at least two objectives: use (:metric pareto ...) or --minimize/--maximize", as_json
+        )
+    result = run_pareto(
+        inst, objectives, horizon=horizon, sequential=sequential, max_points=max_points, timeout=timeout
+    )
     labels = [f"{o.sense.value} {to_text(o.term)}" for o in objectives]
     if plot_path and result.points:
         try:
@@ -494,8 +694,10 @@ def pareto(ctx, paths, horizon, view, sequential, search_paths, problem_name, mi
             console.print(f"UNSAT  no composition within {result.horizon} steps")
         else:
             done = "complete" if result.complete else "incomplete: stopped by --max-points or --timeout"
-            console.print(f"FRONT  {len(result.points)} non-dominated compositions ({done}) for problem "
-                          f"{inst.problem.name} of domain {inst.domain.name}")
+            console.print(
+                f"FRONT  {len(result.points)} non-dominated compositions ({done}) for problem "
+                f"{inst.problem.name} of domain {inst.domain.name}"
+            )
             table = Table("#", *labels, "components", right=tuple(range(len(labels) + 1)))
             for n, p in enumerate(result.points, 1):
                 table.add_row(str(n), *[show_value(v) for v in p.values], " ".join(sorted(p.plan.components)))
@@ -505,14 +707,25 @@ def pareto(ctx, paths, horizon, view, sequential, search_paths, problem_name, mi
                 console.print(ascii_plot(result, labels))
         if plot_path and result.points:
             click.echo(f"plot written to {plot_path}", err=True)
-    sys.exit(EXIT_OK if result.status == "front" and result.complete else EXIT_FAIL if result.status == "unsat" else EXIT_UNKNOWN)
+    sys.exit(
+        EXIT_OK
+        if result.status == "front" and result.complete
+        else EXIT_FAIL
+        if result.status == "unsat"
+        else EXIT_UNKNOWN
+    )
 
 
 @main.command()
 @_query_options
 @click.option("--hole", "hole_name", help="The hole to fill (default: the domain's only one).")
-@click.option("--emit", type=click.Choice(["text", "cat"]), default="text", show_default=True,
-              help="cat: print only the (:morphism ...) skeleton, ready to paste into the domain.")
+@click.option(
+    "--emit",
+    type=click.Choice(["text", "cat"]),
+    default="text",
+    show_default=True,
+    help="cat: print only the (:morphism ...) skeleton, ready to paste into the domain.",
+)
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True))
 @click.option("--json", "as_json", is_flag=True, help="Print a catc.synthesize/1 JSON document.")
 def synthesize(paths, horizon, view, sequential, search_paths, problem_name, hole_name, emit, timeout, as_json):
@@ -546,21 +759,32 @@ def synthesize(paths, horizon, view, sequential, search_paths, problem_name, hol
         if result.status == "not-needed":
             console.print(f"SAT  no hole needed: a composition exists without '{result.hole.name}'")
         elif result.status == "synthesised":
-            console.print(f"SYNTHESISED  hole '{result.hole.name}'" + (f" in view '{result.hole.view}'" if result.hole.view else "")
-                          + f": {len(result.morphism.effects)} effect(s) it must provide, "
-                          f"{len(result.morphism.pre)} precondition(s) it may assume; applied at step {result.step}")
+            console.print(
+                f"SYNTHESISED  hole '{result.hole.name}'"
+                + (f" in view '{result.hole.view}'" if result.hole.view else "")
+                + f": {len(result.morphism.effects)} effect(s) it must provide, "
+                f"{len(result.morphism.pre)} precondition(s) it may assume; applied at step {result.step}"
+            )
             console.print(skeleton.rstrip())
             from types import SimpleNamespace
 
             from catc.present.report import print_solve
 
             console.print("\nthe composition it completes:")
-            shim = SimpleNamespace(status=SimpleNamespace(value="sat"), plan=result.plan, states=result.states,
-                                   timings={}, horizons_tried=1)
+            shim = SimpleNamespace(
+                status=SimpleNamespace(value="sat"),
+                plan=result.plan,
+                states=result.states,
+                timings={},
+                horizons_tried=1,
+            )
             print_solve(console, result.instance, shim, timings=False, header=False)
         else:
-            console.print(f"UNSAT  even a component in hole '{result.hole.name}' cannot make the problem feasible"
-                          if result.status == "unsat" else "UNKNOWN  the solver gave up")
+            console.print(
+                f"UNSAT  even a component in hole '{result.hole.name}' cannot make the problem feasible"
+                if result.status == "unsat"
+                else "UNKNOWN  the solver gave up"
+            )
     sys.exit({"synthesised": EXIT_OK, "not-needed": EXIT_OK, "unsat": EXIT_FAIL}.get(result.status, EXIT_UNKNOWN))
 
 
@@ -581,8 +805,10 @@ def validate(paths, horizon, view, sequential, search_paths, problem_name, plan_
     inst = _instance(paths, view, search_paths, problem_name, as_json)
     try:
         doc = json.loads(Path(plan_file).read_text(encoding="utf-8"))
-        sorts = {m.name: {p.name: (p.sort.kind.value if not p.sort.is_symbolic else "symbol") for p in m.params}
-                 for m in inst.morphisms.values()}
+        sorts = {
+            m.name: {p.name: (p.sort.kind.value if not p.sort.is_symbolic else "symbol") for p in m.params}
+            for m in inst.morphisms.values()
+        }
         plan = plan_from_json(doc, sorts)
     except (OSError, UnicodeDecodeError) as exc:
         click.echo(f"{plan_file}: error[E0001]: cannot read the plan: {exc}", err=True)
@@ -611,14 +837,16 @@ def validate(paths, horizon, view, sequential, search_paths, problem_name, plan_
 @main.command()
 @_query_options
 @click.option("--emit", type=click.Choice(["smt2"]), default="smt2", show_default=True, help="Output language.")
-@click.option("-o", "--output", type=click.Path(dir_okay=False, writable=True), help="Write here instead of standard output.")
-def compile(paths, horizon, view, sequential, search_paths, problem_name, emit, output):  # noqa: A001 - the command's name
+@click.option(
+    "-o", "--output", type=click.Path(dir_okay=False, writable=True), help="Write here instead of standard output."
+)
+def compile(paths, horizon, view, sequential, search_paths, problem_name, emit, output):
     """Compile a problem to SMT-LIB2 (named assertions map cores back to source).
 
     PATHS is PROBLEM, or DOMAIN PROBLEM.
     """
-    from catc.smt.smtlib import emit_smt2
     from catc.queries.solve import default_horizon
+    from catc.smt.smtlib import emit_smt2
 
     inst = _instance(paths, view, search_paths, problem_name, False)
     k = default_horizon(inst) if horizon is None else horizon

@@ -33,7 +33,9 @@ def echo(text: str = "", err: bool = False) -> None:
     stream.flush()
 
 
-def guarded(call: Callable[..., Any], *args: Any, passthrough: tuple[type[BaseException], ...] = (), **kwargs: Any) -> Any:
+def guarded(
+    call: Callable[..., Any], *args: Any, passthrough: tuple[type[BaseException], ...] = (), **kwargs: Any
+) -> Any:
     """Run a command so that no traceback reaches the user: a closed pipe (``catc solve |
     head``) stops quietly, input nesting too deeply is an input error, and anything else
     unexpected is a one-line internal-error report with exit 70 (``CATC_DEBUG=1`` shows
@@ -62,8 +64,8 @@ def guarded(call: Callable[..., Any], *args: Any, passthrough: tuple[type[BaseEx
 def instance(paths: tuple[str, ...], view: str | None, search_paths, problem: str | None, as_json: bool):
     """PROBLEM or DOMAIN PROBLEM (the caller checks there are one or two paths) → the
     checked instance with its view applied, or exit 2 with the diagnostics."""
-    from catgrammar.diagnostics import Diagnostics
     from catc.interfaces.api import load_checked
+    from catgrammar.diagnostics import Diagnostics
 
     domain_path, problem_path = (None, paths[0]) if len(paths) == 1 else paths
     diags = Diagnostics()
@@ -79,8 +81,12 @@ def input_errors(diags, as_json: bool) -> NoReturn:
     if as_json:
         import json
 
-        echo(json.dumps({"schema": "catc.error/1", "status": "error",
-                         "diagnostics": [d.to_json() for d in diags.sorted()]}, indent=2))
+        echo(
+            json.dumps(
+                {"schema": "catc.error/1", "status": "error", "diagnostics": [d.to_json() for d in diags.sorted()]},
+                indent=2,
+            )
+        )
     else:
         from catgrammar.diagnostics import format_text
 
@@ -137,9 +143,25 @@ def input_error(message: str, as_json: bool) -> NoReturn:
     if as_json:
         import json
 
-        echo(json.dumps({"schema": "catc.error/1", "status": "error",
-                         "diagnostics": [{"code": "E0505", "name": "bad-objective", "severity": "error",
-                                          "message": message, "location": None, "notes": []}]}, indent=2))
+        echo(
+            json.dumps(
+                {
+                    "schema": "catc.error/1",
+                    "status": "error",
+                    "diagnostics": [
+                        {
+                            "code": "E0505",
+                            "name": "bad-objective",
+                            "severity": "error",
+                            "message": message,
+                            "location": None,
+                            "notes": [],
+                        }
+                    ],
+                },
+                indent=2,
+            )
+        )
     else:
         echo(f"catc: error[E0505]: {message}", err=True)
     sys.exit(EXIT_INPUT)
@@ -150,8 +172,9 @@ def write_diagram(path, inst, plan, states, as_json: bool) -> None:
         return
     from catc.present.diagram import render_svg
 
-    Path(path).write_text(render_svg(inst, plan, states=list(states), title=f"{inst.problem.name} ({inst.domain.name})"),
-                          encoding="utf-8")
+    Path(path).write_text(
+        render_svg(inst, plan, states=list(states), title=f"{inst.problem.name} ({inst.domain.name})"), encoding="utf-8"
+    )
     if not as_json:
         echo(f"diagram written to {path}", err=True)
 
@@ -159,10 +182,19 @@ def write_diagram(path, inst, plan, states, as_json: bool) -> None:
 # ---------------------------------------------------------------- catc solve
 
 
-def solve(paths: tuple[str, ...], horizon: int | None = None, view: str | None = None, sequential: bool = False,
-          search_paths: tuple[str, ...] = (), problem_name: str | None = None, timeout: float | None = None,
-          strategy: str = "incremental", as_json: bool = False, diagram: str | None = None,
-          no_prune: bool = False) -> NoReturn:
+def solve(
+    paths: tuple[str, ...],
+    horizon: int | None = None,
+    view: str | None = None,
+    sequential: bool = False,
+    search_paths: tuple[str, ...] = (),
+    problem_name: str | None = None,
+    timeout: float | None = None,
+    strategy: str = "incremental",
+    as_json: bool = False,
+    diagram: str | None = None,
+    no_prune: bool = False,
+) -> NoReturn:
     """``catc solve``: print the shortest composition (or why there is none) and exit
     0 SAT, 1 UNSAT, 2 input error, 3 unknown/timeout."""
     from catc.queries.solve import Status, ValidationFailure
@@ -172,9 +204,15 @@ def solve(paths: tuple[str, ...], horizon: int | None = None, view: str | None =
     with progress(not as_json) as status:
         report = reporter(status)
         try:
-            result = run_solve(inst, horizon=horizon, sequential=sequential, timeout=timeout, strategy=strategy,
-                               progress=report and (lambda t, k, elapsed: report(f"solving: horizon {t} of {k}")),
-                               prune=not no_prune)
+            result = run_solve(
+                inst,
+                horizon=horizon,
+                sequential=sequential,
+                timeout=timeout,
+                strategy=strategy,
+                progress=report and (lambda t, k, elapsed: report(f"solving: horizon {t} of {k}")),
+                prune=not no_prune,
+            )
         except ValidationFailure as exc:
             echo(f"catc: internal error: {exc}", err=True)
             sys.exit(EXIT_INTERNAL)

@@ -32,8 +32,16 @@ SOLVE_OPTIONS: dict[str, tuple[str, object]] = {
 
 #: Every parameter of ``catc solve`` with click's default.
 SOLVE_DEFAULTS: dict[str, object] = {
-    "horizon": None, "view": None, "sequential": False, "search_paths": (), "problem_name": None,
-    "timeout": None, "strategy": "incremental", "as_json": False, "diagram": None, "no_prune": False,
+    "horizon": None,
+    "view": None,
+    "sequential": False,
+    "search_paths": (),
+    "problem_name": None,
+    "timeout": None,
+    "strategy": "incremental",
+    "as_json": False,
+    "diagram": None,
+    "no_prune": False,
 }
 
 

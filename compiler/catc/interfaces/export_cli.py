@@ -16,7 +16,6 @@ from pathlib import Path
 
 import click
 
-
 EXIT_OK, EXIT_FAIL, EXIT_INPUT, EXIT_UNKNOWN = 0, 1, 2, 3
 
 
@@ -29,7 +28,9 @@ def _grid(specs: tuple[str, ...]) -> dict[str, Fraction]:
                 raise ValueError
             value = Fraction(step)
         except (ValueError, ZeroDivisionError):
-            raise click.BadParameter(f"expected PARAM=STEP (e.g. camera-driver.ram-req=0.25), got {spec!r}", param_hint="--grid") from None
+            raise click.BadParameter(
+                f"expected PARAM=STEP (e.g. camera-driver.ram-req=0.25), got {spec!r}", param_hint="--grid"
+            ) from None
         if value <= 0:
             raise click.BadParameter(f"grid step must be positive, got {spec!r}", param_hint="--grid")
         out[name] = value
@@ -57,8 +58,10 @@ def check_pddlplus(domain_file: Path, problem_file: Path) -> list[str]:
     try:
         from unified_planning.io import PDDLReader
     except ImportError:
-        raise click.ClickException("unified-planning is missing (it parses the PDDL+ export): "
-                                   "pip install 'catc-lang[baselines]', or pass --no-check") from None
+        raise click.ClickException(
+            "unified-planning is missing (it parses the PDDL+ export): "
+            "pip install 'catc-lang[baselines]', or pass --no-check"
+        ) from None
     problem = PDDLReader().parse_problem(str(domain_file), str(problem_file))
     done = [f"unified-planning's PDDLReader ({len(problem.actions)} actions, {len(problem.processes)} processes)"]
     try:
@@ -79,24 +82,68 @@ def export_command() -> None:
 
 @export_command.command(name="pddl")
 @click.argument("paths", nargs=-1, required=True, type=click.Path())
-@click.option("-o", "--output", "out_dir", required=True, type=click.Path(file_okay=False),
-              help="Folder for domain.pddl, problem.pddl, report.md and actions.json.")
-@click.option("--grid", "grid_specs", multiple=True, metavar="PARAM=STEP",
-              help="Grid step for a real θ (MORPHISM.PARAM or PARAM); repeatable. Required for every real θ "
-                   "in the enhsp flavour; optional in the smtplan flavour (a θ without a step becomes a PDDL+ dial).")
+@click.option(
+    "-o",
+    "--output",
+    "out_dir",
+    required=True,
+    type=click.Path(file_okay=False),
+    help="Folder for domain.pddl, problem.pddl, report.md and actions.json.",
+)
+@click.option(
+    "--grid",
+    "grid_specs",
+    multiple=True,
+    metavar="PARAM=STEP",
+    help="Grid step for a real θ (MORPHISM.PARAM or PARAM); repeatable. Required for every real θ "
+    "in the enhsp flavour; optional in the smtplan flavour (a θ without a step becomes a PDDL+ dial).",
+)
 @click.option("--flavor", type=click.Choice(["enhsp", "smtplan"]), default="enhsp", show_default=True)
-@click.option("--horizon", "-k", type=click.IntRange(min=0), help="Bound the number of (sequential) actions with a counter.")
+@click.option(
+    "--horizon", "-k", type=click.IntRange(min=0), help="Bound the number of (sequential) actions with a counter."
+)
 @click.option("--view", help="Export this view (overrides the problem's (:view ...)).")
-@click.option("--path", "search_paths", multiple=True, type=click.Path(file_okay=False), help="Extra folder to search for domains.")
+@click.option(
+    "--path",
+    "search_paths",
+    multiple=True,
+    type=click.Path(file_okay=False),
+    help="Extra folder to search for domains.",
+)
 @click.option("--problem", "problem_name", help="The problem to use when the file defines several.")
-@click.option("--no-check", is_flag=True, help="Do not parse the written files (PyPI 'pddl' for enhsp; "
-              "unified-planning and pddl-plus-parser for smtplan).")
-@click.option("--run", "run_planner", is_flag=True, help="Run ENHSP (enhsp) or an SMTPlan binary on PATH (smtplan) and "
-              "validate its plan with catc's validator.")
+@click.option(
+    "--no-check",
+    is_flag=True,
+    help="Do not parse the written files (PyPI 'pddl' for enhsp; unified-planning and pddl-plus-parser for smtplan).",
+)
+@click.option(
+    "--run",
+    "run_planner",
+    is_flag=True,
+    help="Run ENHSP (enhsp) or an SMTPlan binary on PATH (smtplan) and validate its plan with catc's validator.",
+)
 @click.option("--planner", default="sat-hadd", show_default=True, help="ENHSP -planner configuration (e.g. opt-blind).")
-@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=60.0, show_default=True, help="Seconds for the planner (--run).")
-def pddl_command(paths, out_dir, grid_specs, flavor, horizon, view, search_paths, problem_name, no_check,
-                 run_planner, planner, timeout) -> None:
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0, min_open=True),
+    default=60.0,
+    show_default=True,
+    help="Seconds for the planner (--run).",
+)
+def pddl_command(
+    paths,
+    out_dir,
+    grid_specs,
+    flavor,
+    horizon,
+    view,
+    search_paths,
+    problem_name,
+    no_check,
+    run_planner,
+    planner,
+    timeout,
+) -> None:
     """Write PROBLEM (or DOMAIN PROBLEM) as PDDL planning files.
 
     --flavor enhsp: PDDL 2.1 numeric planning, real parameters θ discretised on --grid.
@@ -123,17 +170,42 @@ def pddl_command(paths, out_dir, grid_specs, flavor, horizon, view, search_paths
     (out / "report.md").write_text(report)
     from catc.semantics.plan import value_to_json
 
-    (out / "actions.json").write_text(json.dumps(
-        {n: {"morphism": a.morphism, "params": {k: value_to_json(v) for k, v in a.params.items()}} for n, a in ex.actions.items()},
-        indent=1) + "\n")
+    (out / "actions.json").write_text(
+        json.dumps(
+            {
+                n: {"morphism": a.morphism, "params": {k: value_to_json(v) for k, v in a.params.items()}}
+                for n, a in ex.actions.items()
+            },
+            indent=1,
+        )
+        + "\n"
+    )
     if ex.dials:  # smtplan flavour: how to read each real θ off a timed plan
-        (out / "dials.json").write_text(json.dumps(
-            {k: {"morphism": d.morphism, "param": d.param, "lower": value_to_json(d.lower),
-                 "upper": None if d.upper is None else value_to_json(d.upper), "fluent": d.fluent,
-                 "start": d.start, "stop": d.stop, "process": d.process, "lock": d.lock, "reset": d.reset}
-             for k, d in ex.dials.items()}, indent=1) + "\n")
-    click.echo(f"wrote {dom}, {prob} ({len(ex.actions)} ground actions{f', {len(ex.dials)} dials' if ex.dials else ''}), "
-               f"{out / 'report.md'}")
+        (out / "dials.json").write_text(
+            json.dumps(
+                {
+                    k: {
+                        "morphism": d.morphism,
+                        "param": d.param,
+                        "lower": value_to_json(d.lower),
+                        "upper": None if d.upper is None else value_to_json(d.upper),
+                        "fluent": d.fluent,
+                        "start": d.start,
+                        "stop": d.stop,
+                        "process": d.process,
+                        "lock": d.lock,
+                        "reset": d.reset,
+                    }
+                    for k, d in ex.dials.items()
+                },
+                indent=1,
+            )
+            + "\n"
+        )
+    click.echo(
+        f"wrote {dom}, {prob} ({len(ex.actions)} ground actions{f', {len(ex.dials)} dials' if ex.dials else ''}), "
+        f"{out / 'report.md'}"
+    )
     click.echo(report.rstrip())
     if not no_check and flavor == "smtplan":
         try:
@@ -159,23 +231,27 @@ def pddl_command(paths, out_dir, grid_specs, flavor, horizon, view, search_paths
     if run_planner and flavor == "smtplan":
         _run_smtplan(inst, ex, dom, prob, timeout)
     elif run_planner:
-        from catc.targets.enhsp import BaselineMissing, run_enhsp
         from catc.semantics.validate import validate
+        from catc.targets.enhsp import BaselineMissing, run_enhsp
 
         try:
             res = run_enhsp(dom, prob, planner=planner, timeout=timeout)
         except BaselineMissing as exc:
             click.echo(f"error: {exc}", err=True)
             sys.exit(EXIT_INPUT)
-        click.echo(f"ENHSP ({planner}): {res.status.upper()} in {res.wall:.2f} s"
-                   + (f", {len(res.actions)} actions, metric {res.metric}" if res.status == "sat" else ""))
+        click.echo(
+            f"ENHSP ({planner}): {res.status.upper()} in {res.wall:.2f} s"
+            + (f", {len(res.actions)} actions, metric {res.metric}" if res.status == "sat" else "")
+        )
         if res.status == "sat":
             plan = ex.plan_from_actions(res.actions)
             for i, name in enumerate(res.actions, 1):
                 click.echo(f"  {i:3d}  {name}")
             rep = validate(inst, plan, horizon=len(plan), sequential=True)
             if not rep.ok:
-                click.echo("catc's validator REJECTS the plan: " + "; ".join(str(v) for v in rep.violations[:5]), err=True)
+                click.echo(
+                    "catc's validator REJECTS the plan: " + "; ".join(str(v) for v in rep.violations[:5]), err=True
+                )
                 sys.exit(EXIT_FAIL)
             click.echo("catc's validator accepts the plan (sequential semantics)")
         elif res.status == "unsat":
@@ -188,15 +264,17 @@ def pddl_command(paths, out_dir, grid_specs, flavor, horizon, view, search_paths
 def _run_smtplan(inst, ex, dom: Path, prob: Path, timeout: float) -> None:
     """``--run --flavor smtplan``: only with an ``SMTPlan`` executable on PATH (no package
     of SMTPlan+ exists); its timed plan is read back with exact θ and validated."""
-    from catc.targets.pddlplus import SMTPLAN_HINT, PlanReadError, parse_timed_plan, run_smtplan, smtplan_binary
     from catc.semantics.validate import validate
+    from catc.targets.pddlplus import SMTPLAN_HINT, PlanReadError, parse_timed_plan, run_smtplan, smtplan_binary
 
     if smtplan_binary() is None:
         click.echo(f"error: {SMTPLAN_HINT}; the files are written, --run needs the planner", err=True)
         sys.exit(EXIT_INPUT)
     res = run_smtplan(dom, prob, timeout=timeout)
-    click.echo(f"SMTPlan+: {res.status.upper()} in {res.wall:.2f} s"
-               + (f", {len(res.actions)} timed actions" if res.status == "sat" else ""))
+    click.echo(
+        f"SMTPlan+: {res.status.upper()} in {res.wall:.2f} s"
+        + (f", {len(res.actions)} timed actions" if res.status == "sat" else "")
+    )
     if res.status == "nosolution":
         sys.exit(EXIT_FAIL)
     if res.status != "sat":

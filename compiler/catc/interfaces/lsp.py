@@ -31,7 +31,9 @@ _WORD = re.compile(r"[:A-Za-z_][A-Za-z0-9_-]*")
 
 @dataclass
 class Definition:
-    kind: str  # domain | problem | sort | enum value | constant | object | resource | morphism | hole | view | parameter
+    kind: (
+        str  # domain | problem | sort | enum value | constant | object | resource | morphism | hole | view | parameter
+    )
     name: str
     span: Span  # of the name
     whole: Span  # of the declaration
@@ -105,8 +107,8 @@ def definitions_of(tree: ast.SourceFile) -> list[Definition]:
 
 def analyse(path: str, text: str, search_paths: tuple[str, ...] = ()) -> Analysis:
     """``catc check`` on one document's in-memory text (its imports come from disk)."""
-    from catc.frontend.workspace import Workspace, _norm
     from catc.frontend.session import check_parsed
+    from catc.frontend.workspace import Workspace, _norm
     from catgrammar.diagnostics import Diagnostics
     from catgrammar.parser import gc_paused, parse_source
 
@@ -398,9 +400,7 @@ def build_server():
             return None
         return [types.Location(path_to_uri(d.span.file), rng(d.span)) for d in defs]
 
-    @server.feature(
-        types.TEXT_DOCUMENT_COMPLETION, types.CompletionOptions(trigger_characters=[":", "("])
-    )
+    @server.feature(types.TEXT_DOCUMENT_COMPLETION, types.CompletionOptions(trigger_characters=[":", "("]))
     def completion(ls, params: types.CompletionParams):
         a = current(ls, params.text_document.uri)
         kinds = {
@@ -460,7 +460,11 @@ def build_server():
             elif d.kind in kind_of and d.owner in by_owner:
                 by_owner[d.owner].append(
                     types.DocumentSymbol(
-                        name=d.name, detail=d.kind, kind=kind_of[d.kind], range=rng(d.whole), selection_range=rng(d.span)
+                        name=d.name,
+                        detail=d.kind,
+                        kind=kind_of[d.kind],
+                        range=rng(d.whole),
+                        selection_range=rng(d.span),
                     )
                 )
         return top

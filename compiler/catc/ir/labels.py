@@ -9,9 +9,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from catgrammar.span import Span
 from catc import ir
 from catc.ir.text import effect_text, number_text, to_text
+from catgrammar.span import Span
 
 
 @dataclass(frozen=True)
@@ -35,7 +35,9 @@ def label_index(inst: ir.Instance) -> dict[str, LabelInfo]:
                 lo = number_text(p.lower) if p.lower is not None else "*"
                 hi = number_text(p.upper) if p.upper is not None else "*"
                 label = f"bound/{m.name}/{p.name}"
-                out[label] = LabelInfo(label, "parameter bounds", f"{p.name} in [{lo}, {hi}]", p.bounds_span or p.span, m.name)
+                out[label] = LabelInfo(
+                    label, "parameter bounds", f"{p.name} in [{lo}, {hi}]", p.bounds_span or p.span, m.name
+                )
         if m.uses is not None:
             label = f"uses/{m.name}"
             out[label] = LabelInfo(label, "use limit", f":uses {m.uses}", m.span, m.name)
@@ -47,11 +49,15 @@ def label_index(inst: ir.Instance) -> dict[str, LabelInfo]:
             out[label] = LabelInfo(label, "resource bounds", f"{r.name} in [{lo}, {hi}]", r.span, r.name)
     for name, init in inst.problem.init.items():
         if name in inst.resources:
-            out[init.label] = LabelInfo(init.label, "initial value", f"(= {name} {to_text(init.value)})", init.span, name)
+            out[init.label] = LabelInfo(
+                init.label, "initial value", f"(= {name} {to_text(init.value)})", init.span, name
+            )
     for lit in inst.problem.goal:
         out[lit.label] = LabelInfo(lit.label, "goal", to_text(lit.expr), lit.span)
     if inst.problem.horizon_span is not None or inst.problem.horizon is not None:
-        out["horizon"] = LabelInfo("horizon", "horizon", f"(:horizon {inst.problem.horizon})", inst.problem.horizon_span)
+        out["horizon"] = LabelInfo(
+            "horizon", "horizon", f"(:horizon {inst.problem.horizon})", inst.problem.horizon_span
+        )
     else:
         out["horizon"] = LabelInfo("horizon", "horizon", "the horizon", None)
     return out

@@ -11,63 +11,64 @@ Numbers are :class:`fractions.Fraction` everywhere.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from enum import Enum
 from fractions import Fraction
 from types import MappingProxyType
-from typing import Mapping, Union
 
-from catgrammar.record import Record, set_field as _set
+from catgrammar.record import Record
+from catgrammar.record import set_field as _set
 from catgrammar.span import Span
 
 __all__ = [
-    "SortKind",
-    "Sort",
     "BOOL",
+    "EMPTY",
     "INT",
     "REAL",
-    "set_of",
-    "Const",
-    "ResourceRef",
-    "ParamRef",
-    "SetLit",
-    "ArithOp",
     "Arith",
+    "ArithOp",
+    "BoolOp",
+    "BoolOpKind",
     "CmpOp",
     "Compare",
-    "BoolOpKind",
-    "BoolOp",
+    "Const",
+    "Constant",
+    "Domain",
+    "Effect",
+    "EffectKind",
+    "Expr",
+    "Hole",
+    "InitValue",
+    "Instance",
     "Ite",
+    "Literal",
     "Member",
+    "Metric",
+    "MetricMode",
+    "Morphism",
+    "MorphismKind",
+    "Objective",
+    "Param",
+    "ParamRef",
+    "ParamValue",
+    "Problem",
+    "Resource",
+    "ResourceRef",
+    "Sense",
+    "SetLit",
+    "Soft",
+    "Sort",
+    "SortKind",
     "TotalChurn",
     "TotalCost",
     "Uses",
-    "ParamValue",
-    "Expr",
-    "children",
-    "walk",
-    "resources_in",
-    "params_in",
-    "Constant",
-    "Resource",
-    "Param",
-    "Literal",
-    "EffectKind",
-    "Effect",
-    "MorphismKind",
-    "Morphism",
-    "Hole",
     "View",
+    "children",
     "frozen",
-    "EMPTY",
-    "Domain",
-    "InitValue",
-    "Soft",
-    "Sense",
-    "Objective",
-    "MetricMode",
-    "Metric",
-    "Problem",
-    "Instance",
+    "params_in",
+    "resources_in",
+    "set_of",
+    "walk",
 ]
 
 # ---------------------------------------------------------------- sorts
@@ -89,7 +90,7 @@ class Sort(Record):
     name: str
     parent: str | None  # symbolic sorts: the declared super-sort
     values: tuple[str, ...]  # enumerations: the values, in order
-    element: "Sort | None"  # sets: the element sort
+    element: Sort | None  # sets: the element sort
     span: Span | None
 
     def __init__(
@@ -98,7 +99,7 @@ class Sort(Record):
         name: str,
         parent: str | None = None,
         values: tuple[str, ...] = (),
-        element: "Sort | None" = None,
+        element: Sort | None = None,
         span: Span | None = None,
     ) -> None:
         _set(self, "kind", kind)
@@ -174,11 +175,11 @@ class ParamRef(Record):
 
 class SetLit(Record):
     __slots__ = ("elements", "sort", "span")
-    elements: tuple["Expr", ...]
+    elements: tuple[Expr, ...]
     sort: Sort
     span: Span | None
 
-    def __init__(self, elements: tuple["Expr", ...], sort: Sort, span: Span | None = None) -> None:
+    def __init__(self, elements: tuple[Expr, ...], sort: Sort, span: Span | None = None) -> None:
         _set(self, "elements", elements)
         _set(self, "sort", sort)
         _set(self, "span", span)
@@ -198,11 +199,11 @@ class Arith(Record):
 
     __slots__ = ("op", "args", "sort", "span")
     op: ArithOp
-    args: tuple["Expr", ...]
+    args: tuple[Expr, ...]
     sort: Sort
     span: Span | None
 
-    def __init__(self, op: ArithOp, args: tuple["Expr", ...], sort: Sort, span: Span | None = None) -> None:
+    def __init__(self, op: ArithOp, args: tuple[Expr, ...], sort: Sort, span: Span | None = None) -> None:
         _set(self, "op", op)
         _set(self, "args", args)
         _set(self, "sort", sort)
@@ -220,16 +221,16 @@ class CmpOp(str, Enum):
 class Compare(Record):
     __slots__ = ("op", "left", "right", "span", "sort")
     op: CmpOp
-    left: "Expr"
-    right: "Expr"
+    left: Expr
+    right: Expr
     span: Span | None
     sort: Sort
 
     def __init__(
         self,
         op: CmpOp,
-        left: "Expr",
-        right: "Expr",
+        left: Expr,
+        right: Expr,
         span: Span | None = None,
         sort: Sort = BOOL,
     ) -> None:
@@ -250,14 +251,14 @@ class BoolOpKind(str, Enum):
 class BoolOp(Record):
     __slots__ = ("op", "args", "span", "sort")
     op: BoolOpKind
-    args: tuple["Expr", ...]
+    args: tuple[Expr, ...]
     span: Span | None
     sort: Sort
 
     def __init__(
         self,
         op: BoolOpKind,
-        args: tuple["Expr", ...],
+        args: tuple[Expr, ...],
         span: Span | None = None,
         sort: Sort = BOOL,
     ) -> None:
@@ -269,17 +270,17 @@ class BoolOp(Record):
 
 class Ite(Record):
     __slots__ = ("cond", "then", "orelse", "sort", "span")
-    cond: "Expr"
-    then: "Expr"
-    orelse: "Expr"
+    cond: Expr
+    then: Expr
+    orelse: Expr
     sort: Sort
     span: Span | None
 
     def __init__(
         self,
-        cond: "Expr",
-        then: "Expr",
-        orelse: "Expr",
+        cond: Expr,
+        then: Expr,
+        orelse: Expr,
         sort: Sort,
         span: Span | None = None,
     ) -> None:
@@ -292,12 +293,12 @@ class Ite(Record):
 
 class Member(Record):
     __slots__ = ("element", "set", "span", "sort")
-    element: "Expr"
-    set: "Expr"
+    element: Expr
+    set: Expr
     span: Span | None
     sort: Sort
 
-    def __init__(self, element: "Expr", set: "Expr", span: Span | None = None, sort: Sort = BOOL) -> None:
+    def __init__(self, element: Expr, set: Expr, span: Span | None = None, sort: Sort = BOOL) -> None:
         _set(self, "element", element)
         _set(self, "set", set)
         _set(self, "span", span)
@@ -361,10 +362,21 @@ class ParamValue(Record):
         _set(self, "span", span)
 
 
-Expr = Union[
-    Const, ResourceRef, ParamRef, SetLit, Arith, Compare, BoolOp, Ite, Member,
-    TotalChurn, TotalCost, Uses, ParamValue,
-]
+Expr = (
+    Const
+    | ResourceRef
+    | ParamRef
+    | SetLit
+    | Arith
+    | Compare
+    | BoolOp
+    | Ite
+    | Member
+    | TotalChurn
+    | TotalCost
+    | Uses
+    | ParamValue
+)
 
 
 def children(expr: Expr) -> tuple[Expr, ...]:
@@ -653,8 +665,16 @@ EMPTY: Mapping = frozen()  # the default of a record's mapping fields (read-only
 
 class Domain(Record):
     __slots__ = (
-        "name", "requirements", "sorts", "constants", "resources", "morphisms", "holes", "views",
-        "imports", "span",
+        "name",
+        "requirements",
+        "sorts",
+        "constants",
+        "resources",
+        "morphisms",
+        "holes",
+        "views",
+        "imports",
+        "span",
     )
     name: str
     requirements: frozenset[str]
@@ -757,8 +777,19 @@ class Metric(Record):
 
 class Problem(Record):
     __slots__ = (
-        "name", "domain", "requirements", "objects", "init", "goal", "horizon", "softs", "metric",
-        "deployed", "view", "span", "horizon_span",
+        "name",
+        "domain",
+        "requirements",
+        "objects",
+        "init",
+        "goal",
+        "horizon",
+        "softs",
+        "metric",
+        "deployed",
+        "view",
+        "span",
+        "horizon_span",
     )
     name: str
     domain: str
@@ -852,4 +883,3 @@ class Instance(Record):
             return list(sort.values)
         names = self.subsorts(sort)
         return [c.name for c in self.constants().values() if c.sort.name in names]
-

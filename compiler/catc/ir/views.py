@@ -13,9 +13,8 @@ the view is a composition of the same components.
 
 from __future__ import annotations
 
-from catgrammar.record import replace
-
 from catc import ir
+from catgrammar.record import replace
 
 
 class ViewError(Exception):
@@ -54,9 +53,7 @@ def project_instance(inst: ir.Instance, kept: frozenset[str], view_name: str | N
             lost = ir.resources_in(obj.term) - kept
             if lost:
                 names = ", ".join(sorted(lost))
-                raise ViewError(
-                    f"the objective reads {names}, which view '{view_name}' drops", obj.span
-                )
+                raise ViewError(f"the objective reads {names}, which view '{view_name}' drops", obj.span)
     problem = replace(
         p,
         init=ir.frozen({n: v for n, v in p.init.items() if n in kept}),

@@ -34,14 +34,15 @@ from __future__ import annotations
 
 import unicodedata
 import xml.etree.ElementTree as ET
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Any, Iterable, Mapping, Sequence
+from typing import Any
 
 from catc import ir
 from catc.semantics.plan import Activation, Plan
 
-__all__ = ["render_svg", "format_value", "GROUP_ORDER", "KIND_STYLE"]
+__all__ = ["GROUP_ORDER", "KIND_STYLE", "format_value", "render_svg"]
 
 # ---------------------------------------------------------------- style
 
@@ -351,24 +352,49 @@ class _Svg:
             node.text = _clean(text)
         return node
 
-    def text(self, parent: ET.Element, x: float, y: float, s: str, *, size: float, anchor: str = "start",
-             fill: str = INK, weight: str | None = None, style: str | None = None, cls: str | None = None) -> ET.Element:
-        return self.el(parent, "text", {
-            "class": cls, "x": x, "y": y, "font-size": size, "text-anchor": anchor, "fill": fill,
-            "font-weight": weight, "font-style": style,
-        }, s)
+    def text(
+        self,
+        parent: ET.Element,
+        x: float,
+        y: float,
+        s: str,
+        *,
+        size: float,
+        anchor: str = "start",
+        fill: str = INK,
+        weight: str | None = None,
+        style: str | None = None,
+        cls: str | None = None,
+    ) -> ET.Element:
+        return self.el(
+            parent,
+            "text",
+            {
+                "class": cls,
+                "x": x,
+                "y": y,
+                "font-size": size,
+                "text-anchor": anchor,
+                "fill": fill,
+                "font-weight": weight,
+                "font-style": style,
+            },
+            s,
+        )
 
 
-def render_svg(instance: ir.Instance, plan: Plan, *, states: Sequence[Mapping[str, Any]] | None = None,
-               title: str | None = None) -> str:
+def render_svg(
+    instance: ir.Instance, plan: Plan, *, states: Sequence[Mapping[str, Any]] | None = None, title: str | None = None
+) -> str:
     """Draw ``plan`` over ``instance`` as a string diagram; return the SVG document.
 
     ``states``, when given, is the list s₀..sₙ of states (resource → value), one more
     than the plan has steps; it annotates the wires with their initial and final values
     and with every value a step changes."""
     if states is not None and len(states) != len(plan.steps) + 1:
-        raise ValueError(f"states must be s_0..s_n: {len(plan.steps) + 1} states for {len(plan.steps)} steps, "
-                         f"got {len(states)}")
+        raise ValueError(
+            f"states must be s_0..s_n: {len(plan.steps) + 1} states for {len(plan.steps)} steps, got {len(states)}"
+        )
     wires, omitted = _wires(instance, plan)
     wire_at = {w.name: w for w in wires}
     rank = {w.name: i for i, w in enumerate(wires)}
@@ -403,8 +429,9 @@ def render_svg(instance: ir.Instance, plan: Plan, *, states: Sequence[Mapping[st
             touched = sorted(set(reads) | set(writes), key=rank.__getitem__)
             lines = _box_lines(act, m)
             box = _Box(i, act, kind, m, lines, reads, writes, touched, _box_width(lines))
-            box.pieces, box.label_piece = _pieces([wire_at[t].y for t in touched],
-                                                  [rank[t] for t in touched], _label_height(lines), mid_y)
+            box.pieces, box.label_piece = _pieces(
+                [wire_at[t].y for t in touched], [rank[t] for t in touched], _label_height(lines), mid_y
+            )
             st.boxes.append(box)
         steps.append(st)
 
@@ -427,8 +454,9 @@ def render_svg(instance: ir.Instance, plan: Plan, *, states: Sequence[Mapping[st
             between.append(changed)
 
     # ---- horizontal layout
-    label_w = max([text_width(w.label, FS_WIRE) for w in wires]
-                  + [text_width(g.name, FS_SMALL) for g in groups] + [0.0])
+    label_w = max(
+        [text_width(w.label, FS_WIRE) for w in wires] + [text_width(g.name, FS_SMALL) for g in groups] + [0.0]
+    )
     tag_w = lambda s: text_width(s, FS_SMALL) + 10  # noqa: E731
     init_w = max([tag_w(s) for s, _ in initial.values()] + [0.0])
     final_w = max([tag_w(s) for s, _ in final.values()] + [0.0])
@@ -487,9 +515,12 @@ def render_svg(instance: ir.Instance, plan: Plan, *, states: Sequence[Mapping[st
         foot_lines.insert(0, "The empty composition: the identity on every resource.")
     bottom = legend_top + 20 * len(legend_rows) + 14 * len(foot_lines) + 6
 
-    right = max(diagram_right, MARGIN + max(sum(w + 18 for _, w in row) - 18 for row in legend_rows),
-                MARGIN + max([text_width(t, FS_SMALL) for t in foot_lines] + [0.0]),
-                MARGIN + (text_width(title, FS_TITLE) if title else 0.0))
+    right = max(
+        diagram_right,
+        MARGIN + max(sum(w + 18 for _, w in row) - 18 for row in legend_rows),
+        MARGIN + max([text_width(t, FS_SMALL) for t in foot_lines] + [0.0]),
+        MARGIN + (text_width(title, FS_TITLE) if title else 0.0),
+    )
     vb_x, vb_y = 0.0, top - MARGIN
     vb_w, vb_h = right + MARGIN, bottom + MARGIN - vb_y
 
@@ -502,11 +533,16 @@ def render_svg(instance: ir.Instance, plan: Plan, *, states: Sequence[Mapping[st
     root.set("class", "catc-diagram")
     name = instance.problem.name
     svg.el(root, "title", None, title or f"composition for {name}")
-    svg.el(root, "desc", None,
-           f"String diagram of a {len(steps)}-step composition over {len(wires)} resource wires "
-           f"(domain {instance.domain.name}, problem {name}).")
-    svg.el(root, "rect", {"class": "background", "x": vb_x, "y": vb_y, "width": vb_w, "height": vb_h,
-                          "fill": "#FFFFFF"})
+    svg.el(
+        root,
+        "desc",
+        None,
+        f"String diagram of a {len(steps)}-step composition over {len(wires)} resource wires "
+        f"(domain {instance.domain.name}, problem {name}).",
+    )
+    svg.el(
+        root, "rect", {"class": "background", "x": vb_x, "y": vb_y, "width": vb_w, "height": vb_h, "fill": "#FFFFFF"}
+    )
     if title:
         svg.text(root, MARGIN, title_y, title, size=FS_TITLE, weight="bold", cls="title")
 
@@ -514,23 +550,44 @@ def render_svg(instance: ir.Instance, plan: Plan, *, states: Sequence[Mapping[st
     bands = svg.el(root, "g", {"class": "groups"})
     for k, g in enumerate(groups):
         if k % 2 == 0:
-            svg.el(bands, "rect", {"class": "group-band", "x": MARGIN - 6, "y": g.top, "width": diagram_right - MARGIN + 12,
-                                   "height": g.bottom - g.top, "fill": BAND, "rx": 4})
+            svg.el(
+                bands,
+                "rect",
+                {
+                    "class": "group-band",
+                    "x": MARGIN - 6,
+                    "y": g.top,
+                    "width": diagram_right - MARGIN + 12,
+                    "height": g.bottom - g.top,
+                    "fill": BAND,
+                    "rx": 4,
+                },
+            )
         svg.text(bands, MARGIN, g.top + 12, g.name, size=FS_SMALL, fill=MUTED, style="italic", cls="group-name")
 
     # ---- step headers
     cols = svg.el(root, "g", {"class": "steps"})
     for st in steps:
         cx = st.x + st.w / 2
-        svg.text(cols, cx, header_y, st.header, size=FS_SMALL + 1, anchor="middle", fill=INK, weight="bold",
-                 cls="step-header")
+        svg.text(
+            cols,
+            cx,
+            header_y,
+            st.header,
+            size=FS_SMALL + 1,
+            anchor="middle",
+            fill=INK,
+            weight="bold",
+            cls="step-header",
+        )
 
     # ---- wires (drawn first: boxes cover them where they touch or pass over)
     wire_g = svg.el(root, "g", {"class": "wires"})
     for w in wires:
         g = svg.el(wire_g, "g", {"class": "wire", "data-resource": w.name})
-        svg.el(g, "line", {"x1": x_wire_start, "y1": w.y, "x2": x_wire_end, "y2": w.y, "stroke": WIRE,
-                           "stroke-width": 1.4})
+        svg.el(
+            g, "line", {"x1": x_wire_start, "y1": w.y, "x2": x_wire_end, "y2": w.y, "stroke": WIRE, "stroke-width": 1.4}
+        )
         svg.text(g, x_label_end, w.y + 4, w.label, size=FS_WIRE, anchor="end", cls="wire-label")
         svg.text(g, x_right_label, w.y + 3.5, w.name, size=FS_SMALL, fill=MUTED, cls="wire-label-right")
         if w.name in initial:
@@ -548,8 +605,9 @@ def render_svg(instance: ir.Instance, plan: Plan, *, states: Sequence[Mapping[st
                 if short != full:  # the full value as a tooltip
                     holder = svg.el(bg, "g")
                     svg.el(holder, "title", None, full)
-                t = svg.text(holder, xs, wire_at[wname].y - 4, short, size=FS_SMALL - 1, fill="#5A3E85",
-                             cls="state between")
+                t = svg.text(
+                    holder, xs, wire_at[wname].y - 4, short, size=FS_SMALL - 1, fill="#5A3E85", cls="state between"
+                )
                 t.set("data-resource", wname)
 
     # ---- boxes
@@ -584,15 +642,26 @@ def _tag(svg: _Svg, parent: ET.Element, x: float, y: float, text: str, full: str
     g = svg.el(parent, "g", {"class": cls})
     if full != text:
         svg.el(g, "title", None, full)
-    svg.el(g, "rect", {"x": x, "y": y - 7.5, "width": w, "height": 15, "rx": 3, "fill": "#FFFFFF",
-                       "stroke": "#8E7CC3", "stroke-width": 0.9})
+    svg.el(
+        g,
+        "rect",
+        {
+            "x": x,
+            "y": y - 7.5,
+            "width": w,
+            "height": 15,
+            "rx": 3,
+            "fill": "#FFFFFF",
+            "stroke": "#8E7CC3",
+            "stroke-width": 0.9,
+        },
+    )
     svg.text(g, x + 4, y + 3.5, text, size=FS_SMALL, fill="#3F2A6B")
 
 
 def _draw_box(svg: _Svg, parent: ET.Element, b: _Box, wires: list[_Wire], wire_at: dict[str, _Wire]) -> None:
     style = KIND_STYLE.get(b.kind, KIND_STYLE["unknown"])
-    g = svg.el(parent, "g", {"class": f"activation {b.kind}", "data-step": b.step + 1,
-                             "data-morphism": b.act.morphism})
+    g = svg.el(parent, "g", {"class": f"activation {b.kind}", "data-step": b.step + 1, "data-morphism": b.act.morphism})
     tip = [f"{b.act.morphism} ({style['label']}), step t={b.step + 1}"]
     if b.act.params:
         tip.append("θ: " + ", ".join(f"{k}={format_value(v)}" for k, v in b.act.params.items()))
@@ -611,22 +680,51 @@ def _draw_box(svg: _Svg, parent: ET.Element, b: _Box, wires: list[_Wire], wire_a
                 y0 = w.y + STEM_GAP
         _stem(svg, g, cx, y0, lower, style)
     for top, bottom in b.pieces:
-        svg.el(g, "rect", {"class": "morphism", "x": b.x, "y": top, "width": b.w, "height": bottom - top,
-                           "rx": 6, "fill": style["fill"], "stroke": style["stroke"], "stroke-width": 1.6,
-                           "stroke-dasharray": "4 3" if b.kind == "unknown" else None})
+        svg.el(
+            g,
+            "rect",
+            {
+                "class": "morphism",
+                "x": b.x,
+                "y": top,
+                "width": b.w,
+                "height": bottom - top,
+                "rx": 6,
+                "fill": style["fill"],
+                "stroke": style["stroke"],
+                "stroke-width": 1.6,
+                "stroke-dasharray": "4 3" if b.kind == "unknown" else None,
+            },
+        )
         # wires the box merely passes over: drawn over it, light and dashed
         for w in wires:
             if top < w.y < bottom and w.name not in touched:
-                svg.el(g, "line", {"class": "passover", "data-resource": w.name, "x1": b.x + 1, "y1": w.y,
-                                   "x2": b.x + b.w - 1, "y2": w.y, "stroke": "#7A7A7A", "stroke-width": 1,
-                                   "stroke-dasharray": "3 3", "stroke-opacity": 0.8})
+                svg.el(
+                    g,
+                    "line",
+                    {
+                        "class": "passover",
+                        "data-resource": w.name,
+                        "x1": b.x + 1,
+                        "y1": w.y,
+                        "x2": b.x + b.w - 1,
+                        "y2": w.y,
+                        "stroke": "#7A7A7A",
+                        "stroke-width": 1,
+                        "stroke-dasharray": "3 3",
+                        "stroke-opacity": 0.8,
+                    },
+                )
     # the label, centred in its part, on a patch of the box colour so dashed wires do not cross the text
     top, bottom = b.pieces[b.label_piece]
     lh = _label_height(b.lines)
     ly = (top + bottom) / 2 - lh / 2
-    lw = max(text_width(b.lines[0], FS_NAME), max([text_width(t, FS_THETA) for t in b.lines[1:]] + [0.0])) + 8
-    svg.el(g, "rect", {"class": "label-patch", "x": cx - lw / 2, "y": ly + 1, "width": lw, "height": lh - 2,
-                       "fill": style["fill"]})
+    lw = max(text_width(b.lines[0], FS_NAME), *([text_width(t, FS_THETA) for t in b.lines[1:]] + [0.0])) + 8
+    svg.el(
+        g,
+        "rect",
+        {"class": "label-patch", "x": cx - lw / 2, "y": ly + 1, "width": lw, "height": lh - 2, "fill": style["fill"]},
+    )
     ty = ly + LABEL_PAD_Y + 11
     svg.text(g, cx, ty, b.lines[0], size=FS_NAME, anchor="middle", weight="bold", cls="morphism-name")
     ty += LINE_NAME - 2
@@ -635,18 +733,54 @@ def _draw_box(svg: _Svg, parent: ET.Element, b: _Box, wires: list[_Wire], wire_a
         ty += LINE_THETA
     # ports: hollow = read (left edge), filled = write (right edge)
     for r in b.reads:
-        svg.el(g, "circle", {"class": "port read", "data-resource": r, "cx": b.x, "cy": wire_at[r].y, "r": PORT_R,
-                             "fill": "#FFFFFF", "stroke": INK, "stroke-width": 1.4})
+        svg.el(
+            g,
+            "circle",
+            {
+                "class": "port read",
+                "data-resource": r,
+                "cx": b.x,
+                "cy": wire_at[r].y,
+                "r": PORT_R,
+                "fill": "#FFFFFF",
+                "stroke": INK,
+                "stroke-width": 1.4,
+            },
+        )
     for r in b.writes:
-        svg.el(g, "circle", {"class": "port write", "data-resource": r, "cx": b.x + b.w, "cy": wire_at[r].y,
-                             "r": PORT_R, "fill": INK, "stroke": INK, "stroke-width": 1.4})
+        svg.el(
+            g,
+            "circle",
+            {
+                "class": "port write",
+                "data-resource": r,
+                "cx": b.x + b.w,
+                "cy": wire_at[r].y,
+                "r": PORT_R,
+                "fill": INK,
+                "stroke": INK,
+                "stroke-width": 1.4,
+            },
+        )
 
 
 def _stem(svg: _Svg, parent: ET.Element, cx: float, y0: float, y1: float, style: Mapping[str, str]) -> None:
     if y1 - y0 < 1:
         return
-    svg.el(parent, "rect", {"class": "stem", "x": cx - STEM_W / 2, "y": y0 - 1, "width": STEM_W, "height": y1 - y0 + 2,
-                            "fill": style["fill"], "stroke": style["stroke"], "stroke-width": 1.2})
+    svg.el(
+        parent,
+        "rect",
+        {
+            "class": "stem",
+            "x": cx - STEM_W / 2,
+            "y": y0 - 1,
+            "width": STEM_W,
+            "height": y1 - y0 + 2,
+            "fill": style["fill"],
+            "stroke": style["stroke"],
+            "stroke-width": 1.2,
+        },
+    )
 
 
 def _legend_items(with_states: bool) -> list[tuple[str, float]]:
@@ -677,33 +811,113 @@ def _legend_item(svg: _Svg, parent: ET.Element, item: str, x: float, y: float) -
     g = svg.el(parent, "g", {"class": f"legend-item {item}"})
     if item in KIND_STYLE:
         st = KIND_STYLE[item]
-        svg.el(g, "rect", {"class": "legend-symbol", "x": x, "y": y - 6, "width": 20, "height": 13, "rx": 3,
-                           "fill": st["fill"], "stroke": st["stroke"], "stroke-width": 1.4})
+        svg.el(
+            g,
+            "rect",
+            {
+                "class": "legend-symbol",
+                "x": x,
+                "y": y - 6,
+                "width": 20,
+                "height": 13,
+                "rx": 3,
+                "fill": st["fill"],
+                "stroke": st["stroke"],
+                "stroke-width": 1.4,
+            },
+        )
         svg.text(g, x + 26, y + 4, st["label"], size=FS_SMALL)
     elif item in ("read", "write"):
-        svg.el(g, "line", {"class": "legend-symbol", "x1": x, "y1": y, "x2": x + 20, "y2": y, "stroke": WIRE,
-                           "stroke-width": 1.4})
+        svg.el(
+            g,
+            "line",
+            {"class": "legend-symbol", "x1": x, "y1": y, "x2": x + 20, "y2": y, "stroke": WIRE, "stroke-width": 1.4},
+        )
         filled = item == "write"
-        svg.el(g, "circle", {"class": "legend-symbol", "cx": x + 10, "cy": y, "r": PORT_R,
-                             "fill": INK if filled else "#FFFFFF", "stroke": INK, "stroke-width": 1.4})
+        svg.el(
+            g,
+            "circle",
+            {
+                "class": "legend-symbol",
+                "cx": x + 10,
+                "cy": y,
+                "r": PORT_R,
+                "fill": INK if filled else "#FFFFFF",
+                "stroke": INK,
+                "stroke-width": 1.4,
+            },
+        )
         svg.text(g, x + 30, y + 4, _LEGEND_TEXT[item], size=FS_SMALL)
     elif item == "passover":
-        svg.el(g, "rect", {"class": "legend-symbol", "x": x, "y": y - 7, "width": 28, "height": 14, "rx": 3,
-                           "fill": "#E6E6E6", "stroke": "#999999", "stroke-width": 1})
-        svg.el(g, "line", {"class": "legend-symbol", "x1": x + 1, "y1": y, "x2": x + 27, "y2": y,
-                           "stroke": "#7A7A7A", "stroke-width": 1, "stroke-dasharray": "3 3"})
+        svg.el(
+            g,
+            "rect",
+            {
+                "class": "legend-symbol",
+                "x": x,
+                "y": y - 7,
+                "width": 28,
+                "height": 14,
+                "rx": 3,
+                "fill": "#E6E6E6",
+                "stroke": "#999999",
+                "stroke-width": 1,
+            },
+        )
+        svg.el(
+            g,
+            "line",
+            {
+                "class": "legend-symbol",
+                "x1": x + 1,
+                "y1": y,
+                "x2": x + 27,
+                "y2": y,
+                "stroke": "#7A7A7A",
+                "stroke-width": 1,
+                "stroke-dasharray": "3 3",
+            },
+        )
         svg.text(g, x + 38, y + 4, _LEGEND_TEXT[item], size=FS_SMALL)
     elif item == "stem":
         st = KIND_STYLE["unknown"]
         for y0, y1 in ((y - 9, y - 3), (y + 3, y + 9)):
-            svg.el(g, "rect", {"class": "legend-symbol", "x": x + 8, "y": y0, "width": STEM_W, "height": y1 - y0,
-                               "fill": "#E6E6E6", "stroke": "#999999", "stroke-width": 1})
-        svg.el(g, "line", {"class": "legend-symbol", "x1": x, "y1": y, "x2": x + 24, "y2": y, "stroke": WIRE,
-                           "stroke-width": 1.4})
+            svg.el(
+                g,
+                "rect",
+                {
+                    "class": "legend-symbol",
+                    "x": x + 8,
+                    "y": y0,
+                    "width": STEM_W,
+                    "height": y1 - y0,
+                    "fill": "#E6E6E6",
+                    "stroke": "#999999",
+                    "stroke-width": 1,
+                },
+            )
+        svg.el(
+            g,
+            "line",
+            {"class": "legend-symbol", "x1": x, "y1": y, "x2": x + 24, "y2": y, "stroke": WIRE, "stroke-width": 1.4},
+        )
         svg.text(g, x + 32, y + 4, _LEGEND_TEXT[item], size=FS_SMALL)
     elif item == "states":
-        svg.el(g, "rect", {"class": "legend-symbol", "x": x, "y": y - 7.5, "width": 24, "height": 15, "rx": 3,
-                           "fill": "#FFFFFF", "stroke": "#8E7CC3", "stroke-width": 0.9})
+        svg.el(
+            g,
+            "rect",
+            {
+                "class": "legend-symbol",
+                "x": x,
+                "y": y - 7.5,
+                "width": 24,
+                "height": 15,
+                "rx": 3,
+                "fill": "#FFFFFF",
+                "stroke": "#8E7CC3",
+                "stroke-width": 0.9,
+            },
+        )
         svg.text(g, x + 4, y + 3.5, "v", size=FS_SMALL, fill="#3F2A6B")
         svg.text(g, x + 34, y + 4, _LEGEND_TEXT[item], size=FS_SMALL)
     else:

@@ -7,8 +7,9 @@ the finite grounding are marked ``(fresh)``.  The JSON schemas are in docs/cli.m
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from fractions import Fraction
-from typing import Any, Mapping
+from typing import Any
 
 from catc import ir
 from catc.semantics.plan import Plan, decimal_text, value_to_json
@@ -89,7 +90,9 @@ def unsat_sentence(inst: ir.Instance, result) -> str:
         return f"{head} (not final: compositions may need up to {result.length_bound} steps; raise --horizon)"
     unlimited = [m.name for m in inst.morphisms.values() if m.uses is None]
     names = ", ".join(unlimited[:3]) + (", ..." if len(unlimited) > 3 else "")
-    return f"{head} (not final: {names} {'has' if len(unlimited) == 1 else 'have'} no use limit; try a larger --horizon)"
+    return (
+        f"{head} (not final: {names} {'has' if len(unlimited) == 1 else 'have'} no use limit; try a larger --horizon)"
+    )
 
 
 class PlainConsole:
@@ -162,7 +165,11 @@ def print_solve(console, inst: ir.Instance, result, *, timings: bool = True, hea
             if changed:
                 st = Table("resource", "initial", "final")
                 for r in changed:
-                    st.add_row(r.name, show_value(first[r.name], plan.fresh, r.unit), show_value(last[r.name], plan.fresh, r.unit))
+                    st.add_row(
+                        r.name,
+                        show_value(first[r.name], plan.fresh, r.unit),
+                        show_value(last[r.name], plan.fresh, r.unit),
+                    )
                 console.print()
                 console.print("[bold]final state[/] (resources that changed)")
                 console.print(st)
@@ -218,8 +225,11 @@ def print_optimize(console, inst: ir.Instance, result) -> None:
     if result.plan is None:
         console.print(f"[bold {colour}]{status}[/]  the solver gave up ({result.reason}) for {where}")
         return
-    what = {"OPT": "proven optimal", "SUBOPT": f"best found before the solver stopped ({result.reason})",
-            "UNBOUNDED": "the objective is unbounded"}[status]
+    what = {
+        "OPT": "proven optimal",
+        "SUBOPT": f"best found before the solver stopped ({result.reason})",
+        "UNBOUNDED": "the objective is unbounded",
+    }[status]
     console.print(f"[bold {colour}]{status}[/]  {what} for {where}")
     table = Table("#", "sense", "objective", "value", right=(0,))
     for row in _objective_rows(inst, result):
@@ -234,8 +244,13 @@ def print_optimize(console, inst: ir.Instance, result) -> None:
             st.add_row(to_text(o.soft.expr), show_value(o.soft.weight), "violated" if o.violated else "satisfied")
         console.print(st)
     console.print()
-    shim = SimpleNamespace(status=SimpleNamespace(value="sat"), plan=result.plan, states=result.states,
-                           timings=result.timings, horizons_tried=1)
+    shim = SimpleNamespace(
+        status=SimpleNamespace(value="sat"),
+        plan=result.plan,
+        states=result.states,
+        timings=result.timings,
+        horizons_tried=1,
+    )
     print_solve(console, inst, shim, timings=False, header=False)
     t = result.timings
     console.print(
@@ -266,8 +281,12 @@ def optimize_json(inst: ir.Instance, result) -> dict:
             for ov in result.values
         ],
         "soft": [
-            {"label": o.soft.label, "constraint": to_text(o.soft.expr), "weight": value_to_json(o.soft.weight),
-             "violated": o.violated}
+            {
+                "label": o.soft.label,
+                "constraint": to_text(o.soft.expr),
+                "weight": value_to_json(o.soft.weight),
+                "violated": o.violated,
+            }
             for o in result.softs
         ],
         "steps": None,
@@ -278,8 +297,14 @@ def optimize_json(inst: ir.Instance, result) -> dict:
     }
     if result.plan is not None:
         doc["steps"] = [
-            [{"morphism": a.morphism, "kind": inst.morphisms[a.morphism].kind.value,
-              "params": {k: value_to_json(v) for k, v in a.params.items()}} for a in step]
+            [
+                {
+                    "morphism": a.morphism,
+                    "kind": inst.morphisms[a.morphism].kind.value,
+                    "params": {k: value_to_json(v) for k, v in a.params.items()},
+                }
+                for a in step
+            ]
             for step in result.plan.steps
         ]
         doc["fresh"] = dict(result.plan.fresh)
@@ -297,7 +322,11 @@ def _where(info, sources=None) -> str:
 
 
 def _describe_label(info) -> str:
-    owner = f" of {info.owner}" if info.owner and info.kind in ("precondition", "effect", "parameter bounds", "use limit") else ""
+    owner = (
+        f" of {info.owner}"
+        if info.owner and info.kind in ("precondition", "effect", "parameter bounds", "use limit")
+        else ""
+    )
     return f"{info.kind}{owner}  {info.text}"
 
 
@@ -308,8 +337,15 @@ def label_json(info) -> dict:
         "kind": info.kind,
         "text": info.text,
         "owner": info.owner,
-        "location": None if span is None else {"file": span.file, "line": span.line, "column": span.column,
-                                               "end_line": span.end_line, "end_column": span.end_column},
+        "location": None
+        if span is None
+        else {
+            "file": span.file,
+            "line": span.line,
+            "column": span.column,
+            "end_line": span.end_line,
+            "end_column": span.end_column,
+        },
     }
 
 
@@ -360,8 +396,10 @@ def relaxation_text(inst: ir.Instance, rel, info) -> str:
         unit = inst.resources[name].unit if name in inst.resources else None
         sign = "+" if rel.delta > 0 else "-"
         old = inst.problem.init[name].value.value
-        return (f"{name}: {sign}{show_value(abs(rel.delta))}{' ' + unit if unit else ''}"
-                f"   (initial value {show_value(old)} → {show_value(old + rel.delta)})")
+        return (
+            f"{name}: {sign}{show_value(abs(rel.delta))}{' ' + unit if unit else ''}"
+            f"   (initial value {show_value(old)} → {show_value(old + rel.delta)})"
+        )
     return f"{info.label}: weaken {info.text} by {show_value(rel.delta)}"
 
 
@@ -378,22 +416,35 @@ def print_relax(console, inst: ir.Instance, result, index) -> None:
         console.print("[bold yellow]UNKNOWN[/]  the solver gave up")
         return
     if result.dropped:
-        console.print(f"[bold yellow]RELAXED[/]  drop {len(result.dropped)} requirement"
-                      f"{'s' if len(result.dropped) != 1 else ''} (a minimum set whose removal restores feasibility):")
+        console.print(
+            f"[bold yellow]RELAXED[/]  drop {len(result.dropped)} requirement"
+            f"{'s' if len(result.dropped) != 1 else ''} (a minimum set whose removal restores feasibility):"
+        )
         for label in result.dropped:
             info = index[label]
             console.print(f"  - {_describe_label(info)}   {_where(info)}")
         return
-    what = "the least restoration" if result.proven else "the best restoration found before the time limit (not proven least)"
-    console.print(f"[bold yellow]RELAXED[/]  {what} (weighted total {show_value(result.cost)}) "
-                  f"over {len(result.eligible)} eligible requirements:")
+    what = (
+        "the least restoration"
+        if result.proven
+        else "the best restoration found before the time limit (not proven least)"
+    )
+    console.print(
+        f"[bold yellow]RELAXED[/]  {what} (weighted total {show_value(result.cost)}) "
+        f"over {len(result.eligible)} eligible requirements:"
+    )
     for rel in result.relaxations:
         info = index[rel.label]
         console.print(f"  {relaxation_text(inst, rel, info)}   {_where(info)}")
     if result.plan is not None:
         console.print("\nthe composition this makes possible:")
-        shim = SimpleNamespace(status=SimpleNamespace(value="sat"), plan=result.plan, states=result.states,
-                               timings=result.timings, horizons_tried=1)
+        shim = SimpleNamespace(
+            status=SimpleNamespace(value="sat"),
+            plan=result.plan,
+            states=result.states,
+            timings=result.timings,
+            horizons_tried=1,
+        )
         print_solve(console, result.relaxed_instance or inst, shim, timings=False, header=False)
 
 
@@ -409,7 +460,9 @@ def relax_json(inst: ir.Instance, result, index) -> dict:
             for r in result.relaxations
         ],
         "dropped": [label_json(index[l]) for l in result.dropped],
-        "steps": None if result.plan is None else [
+        "steps": None
+        if result.plan is None
+        else [
             [{"morphism": a.morphism, "params": {k: value_to_json(v) for k, v in a.params.items()}} for a in step]
             for step in result.plan.steps
         ],
@@ -422,11 +475,16 @@ def print_recompose(console, inst: ir.Instance, rec) -> None:
     if res.plan is None:
         print_optimize(console, inst, res)
         return
-    first = "stability first (least churn, then the mission objective)" if rec.priority == "stability" else \
-        "objective first (the mission objective, then least churn)"
+    first = (
+        "stability first (least churn, then the mission objective)"
+        if rec.priority == "stability"
+        else "objective first (the mission objective, then least churn)"
+    )
     status = res.status.value.upper()
-    console.print(f"[bold green]{status}[/]  {first}: churn {show_value(rec.churn)} against the deployed "
-                  f"composition of {len(rec.deployed)} components")
+    console.print(
+        f"[bold green]{status}[/]  {first}: churn {show_value(rec.churn)} against the deployed "
+        f"composition of {len(rec.deployed)} components"
+    )
     if rec.items:
         table = Table("change", "component", "churn weight")
         for item in rec.items:
@@ -444,7 +502,9 @@ def recompose_json(inst: ir.Instance, rec) -> dict:
     doc["priority"] = rec.priority
     doc["deployed"] = list(rec.deployed)
     doc["churn"] = value_to_json(rec.churn) if rec.churn is not None else None
-    doc["changes"] = [{"morphism": i.morphism, "change": i.change, "weight": value_to_json(i.weight)} for i in rec.items]
+    doc["changes"] = [
+        {"morphism": i.morphism, "change": i.change, "weight": value_to_json(i.weight)} for i in rec.items
+    ]
     return doc
 
 
@@ -456,11 +516,21 @@ def pareto_json(inst: ir.Instance, result) -> dict:
         "status": result.status,
         "complete": result.complete,
         "objectives": [{"sense": o.sense.value, "term": to_text(o.term)} for o in result.objectives],
-        "points": [{"values": [value_to_json(v) for v in p.values],
-                    "decimals": [decimal_text(v) for v in p.values],
-                    "components": sorted(p.plan.components),
-                    "steps": [[{"morphism": a.morphism, "params": {k: value_to_json(v) for k, v in a.params.items()}}
-                               for a in step] for step in p.plan.steps]} for p in result.points],
+        "points": [
+            {
+                "values": [value_to_json(v) for v in p.values],
+                "decimals": [decimal_text(v) for v in p.values],
+                "components": sorted(p.plan.components),
+                "steps": [
+                    [
+                        {"morphism": a.morphism, "params": {k: value_to_json(v) for k, v in a.params.items()}}
+                        for a in step
+                    ]
+                    for step in p.plan.steps
+                ],
+            }
+            for p in result.points
+        ],
         "timings": {k: round(v, 6) for k, v in result.timings.items()},
     }
 
@@ -486,7 +556,9 @@ def validate_json(report) -> dict:
     return {
         "schema": "catc.validate/1",
         "valid": report.ok,
-        "violations": [{"kind": v.kind, "message": v.message, "step": v.step, "morphism": v.morphism, "label": v.label}
-                       for v in report.violations],
+        "violations": [
+            {"kind": v.kind, "message": v.message, "step": v.step, "morphism": v.morphism, "label": v.label}
+            for v in report.violations
+        ],
         "final_state": state_json(report.states[-1]) if report.ok and report.states else None,
     }

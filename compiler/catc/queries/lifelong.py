@@ -21,17 +21,17 @@ names what stops that composition rather than the whole causal chain.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from collections.abc import Callable, Iterable
 
 import z3
 
 from catc import ir
+from catc.queries.solve import ValidationFailure, canonical_fresh, default_horizon, use_bound
+from catc.semantics.plan import Plan
 from catc.smt.encoder import Encoder, _and, _or, quote, real_literal
 from catc.smt.z3backend import Z3Session, to_fraction
-from catc.semantics.plan import Plan
-from catc.queries.solve import ValidationFailure, canonical_fresh, default_horizon, use_bound
 
 HORIZON = "horizon"
 
@@ -65,7 +65,9 @@ class LabelledModel:
         bound = use_bound(inst)
         extended = horizon
         if horizon_label:
-            extended = (bound if bound is not None and bound > horizon else horizon) if bound is not None else 2 * horizon
+            extended = (
+                (bound if bound is not None and bound > horizon else horizon) if bound is not None else 2 * horizon
+            )
             extended = max(extended, horizon)
         self.extended = extended
         self.enc = enc = Encoder(inst, extended, sequential=sequential, track=True, slack=slack)
@@ -88,9 +90,11 @@ class LabelledModel:
             (structural if label is None else groups.setdefault(label, [])).append(text)
         self.labels = list(dict.fromkeys(list(groups) + list(enc.indicators)))
         self.indicator = {label: quote(f"L:{label}") for label in self.labels}
-        decls = list(slack_decls) + enc.script.decls + [
-            (q, "Bool") for label, q in self.indicator.items() if label not in enc.indicators
-        ]
+        decls = (
+            list(slack_decls)
+            + enc.script.decls
+            + [(q, "Bool") for label, q in self.indicator.items() if label not in enc.indicators]
+        )
         self.session = Z3Session(enc, optimize=optimize, ctx=ctx)
         enc.script.asserts = [(None, t) for t in structural] + [
             (label, f"(=> {self.indicator[label]} {_and(parts)})") for label, parts in groups.items()
@@ -250,7 +254,9 @@ class RelaxResult:
     timings: dict[str, float] = field(default_factory=dict)
 
 
-def eligible_requirements(inst: ir.Instance, only: Iterable[str] = (), weights: dict[str, Fraction] | None = None) -> list[Requirement]:
+def eligible_requirements(
+    inst: ir.Instance, only: Iterable[str] = (), weights: dict[str, Fraction] | None = None
+) -> list[Requirement]:
     """Numeric initial values, and order comparisons among preconditions and goals.
 
     ``only`` keeps those whose label equals or starts with an entry, or that mention a
@@ -338,8 +344,17 @@ def relax(
     models = []
     ctx = z3.Context()  # one for both: a skeleton found by one is asserted in the other
     for optimize in (False, True):
-        lm = LabelledModel(inst, k, sequential=sequential, components=components, horizon_label=False,
-                           slack=slack, slack_decls=slack_decls, optimize=optimize, ctx=ctx)
+        lm = LabelledModel(
+            inst,
+            k,
+            sequential=sequential,
+            components=components,
+            horizon_label=False,
+            slack=slack,
+            slack_decls=slack_decls,
+            optimize=optimize,
+            ctx=ctx,
+        )
         lm.session.solver.add(lm.session.parse_term(_and([f"(>= {v} 0)" for _, vs in slack_vars for v in vs])))
         for l in lm.labels:
             lm.session.solver.add(lm._ind_expr[l])
@@ -382,7 +397,14 @@ def relax(
         lm_model = lp.session.solver.model()
         values: dict[str, Fraction] = {}
         for req, vs in slack_vars:
-            amounts = [to_fraction(lm_model.eval(z3.Int(v[1:-1], ctx) if req.integral else z3.Real(v[1:-1], ctx), model_completion=True)) for v in vs]
+            amounts = [
+                to_fraction(
+                    lm_model.eval(
+                        z3.Int(v[1:-1], ctx) if req.integral else z3.Real(v[1:-1], ctx), model_completion=True
+                    )
+                )
+                for v in vs
+            ]
             values[req.label] = amounts[0] - amounts[1] if req.kind == "initial value" else amounts[0]
         cost_value = to_fraction(h_cost.value())
         best = (cost_value, values, lp.session.extract(lp.extended))
@@ -396,14 +418,19 @@ def relax(
         result.status = "unsat" if r == z3.unsat else "unknown"
         return _finish(result, start)
     result.cost, values, plan = best
-    result.relaxations = [Relaxation(req.label, req.kind, values[req.label], req.weight)
-                          for req, _ in slack_vars if values[req.label] != 0]
+    result.relaxations = [
+        Relaxation(req.label, req.kind, values[req.label], req.weight)
+        for req, _ in slack_vars
+        if values[req.label] != 0
+    ]
     result.status = "relaxed" if result.relaxations else "sat"
     relaxed = relaxed_instance(inst, {r_.label: r_.delta for r_ in result.relaxations})
     report = validate(relaxed, plan, horizon=k, sequential=sequential)
     if not report.ok:
-        raise ValidationFailure("the independent validator rejected the relaxed composition: "
-                                + "; ".join(v.message for v in report.violations[:5]))
+        raise ValidationFailure(
+            "the independent validator rejected the relaxed composition: "
+            + "; ".join(v.message for v in report.violations[:5])
+        )
     plan = canonical_fresh(plan)
     result.plan, result.states = plan, validate(relaxed, plan, horizon=k, sequential=sequential).states
     result.relaxed_instance = relaxed
@@ -509,7 +536,11 @@ def recompose(
     if result.plan is not None:
         used = result.plan.components
         old = set(inst.problem.deployed)
-        rec.items = [ChurnItem(m, "added", inst.morphisms[m].churn) for m in inst.morphisms if m in used and m not in old]
-        rec.items += [ChurnItem(m, "removed", inst.morphisms[m].churn) for m in inst.morphisms if m in old and m not in used]
+        rec.items = [
+            ChurnItem(m, "added", inst.morphisms[m].churn) for m in inst.morphisms if m in used and m not in old
+        ]
+        rec.items += [
+            ChurnItem(m, "removed", inst.morphisms[m].churn) for m in inst.morphisms if m in old and m not in used
+        ]
         rec.churn = sum((i.weight for i in rec.items), Fraction(0))
     return rec

@@ -19,10 +19,10 @@ from fractions import Fraction
 import z3
 
 from catc import ir
+from catc.queries.solve import ValidationFailure, canonical_fresh, default_horizon, prune_plan
+from catc.semantics.plan import Plan
 from catc.smt.encoder import Encoder, real_literal
 from catc.smt.z3backend import Z3Session, to_fraction
-from catc.semantics.plan import Plan
-from catc.queries.solve import ValidationFailure, canonical_fresh, default_horizon, prune_plan
 
 
 class OptStatus(str, Enum):
@@ -114,8 +114,15 @@ def optimize(
 
     from catc.queries.solve import Status, solve
 
-    first = solve(inst, horizon=k, sequential=sequential, timeout=timeout, validate_answer=False, prune=False,
-                  progress=lambda t, k, elapsed: say(f"looking for a first composition: horizon {t} of {k}"))
+    first = solve(
+        inst,
+        horizon=k,
+        sequential=sequential,
+        timeout=timeout,
+        validate_answer=False,
+        prune=False,
+        progress=lambda t, k, elapsed: say(f"looking for a first composition: horizon {t} of {k}"),
+    )
     timings = {"encode": first.timings["encode"], "solve": first.timings["solve"], "validate": 0.0}
     if first.status is Status.UNSAT:
         return _done(OptResult(OptStatus.UNSAT, k, timings=timings), start)
@@ -152,8 +159,11 @@ def optimize(
         return first_plan(OptStatus.SUBOPT, "timeout")  # out of time: the first composition is the best known
     _add_timings(timings, short.timings)
     short.horizon = k
-    exact = short.status is OptStatus.OPT and short.plan is not None and all(
-        v.attained and v.value is not None for v in short.values)
+    exact = (
+        short.status is OptStatus.OPT
+        and short.plan is not None
+        and all(v.attained and v.value is not None for v in short.values)
+    )
     if not exact:  # unattained or unbounded over k₀ steps, or out of time: optimise over everything
         if short.status is OptStatus.SUBOPT and _expired(deadline):
             short.timings = timings
@@ -225,8 +235,9 @@ def _add_timings(total: dict[str, float], part: dict[str, float]) -> None:
         total[key] = total.get(key, 0.0) + part.get(key, 0.0)
 
 
-def _encode_whole(inst: ir.Instance, k: int, sequential: bool, optimize: bool,
-                  logic: str | None = None) -> tuple[Encoder, Z3Session]:
+def _encode_whole(
+    inst: ir.Instance, k: int, sequential: bool, optimize: bool, logic: str | None = None
+) -> tuple[Encoder, Z3Session]:
     enc = Encoder(inst, k, sequential=sequential)
     for _ in range(k):
         enc.add_step()
@@ -237,8 +248,9 @@ def _encode_whole(inst: ir.Instance, k: int, sequential: bool, optimize: bool,
     return enc, session
 
 
-def _objective_terms(enc: Encoder, session: Z3Session, objectives: list[ir.Objective], softs: list[ir.Soft],
-                     k: int) -> list[z3.ArithRef]:
+def _objective_terms(
+    enc: Encoder, session: Z3Session, objectives: list[ir.Objective], softs: list[ir.Soft], k: int
+) -> list[z3.ArithRef]:
     """The objectives as Z3 terms; the first carries the soft penalties ``Σ wᵢ·zᵢ``."""
     soft_terms = [enc.term(s.expr, _final_ctx(k)) for s in softs]
     penalty = " ".join(f"(ite {t} 0.0 {real_literal(s.weight)})" for s, t in zip(softs, soft_terms))
@@ -252,8 +264,16 @@ def _objective_terms(enc: Encoder, session: Z3Session, objectives: list[ir.Objec
     return out
 
 
-def _better_exists(inst, objectives, softs, values: list[Fraction], k: int, sequential: bool,
-                   deadline: float | None, timings: dict[str, float]) -> z3.CheckSatResult:
+def _better_exists(
+    inst,
+    objectives,
+    softs,
+    values: list[Fraction],
+    k: int,
+    sequential: bool,
+    deadline: float | None,
+    timings: dict[str, float],
+) -> z3.CheckSatResult:
     """Is there a composition of at most ``k`` steps lexicographically better than ``values``?
 
     Only an ``unsat`` answer is used (as a proof); anything else leads to optimising over the
@@ -282,8 +302,15 @@ def _better_exists(inst, objectives, softs, values: list[Fraction], k: int, sequ
     return r
 
 
-def _optimize_at(inst: ir.Instance, objectives: list[ir.Objective], softs: list[ir.Soft], k: int,
-                 sequential: bool, deadline: float | None, prune: bool) -> OptResult:
+def _optimize_at(
+    inst: ir.Instance,
+    objectives: list[ir.Objective],
+    softs: list[ir.Soft],
+    k: int,
+    sequential: bool,
+    deadline: float | None,
+    prune: bool,
+) -> OptResult:
     """``z3.Optimize`` over one encoding of ``k`` steps (idle steps allowed)."""
     from catc.semantics.validate import validate
 
@@ -292,7 +319,9 @@ def _optimize_at(inst: ir.Instance, objectives: list[ir.Objective], softs: list[
     enc, session = _encode_whole(inst, k, sequential, optimize=True)
     handles = []
     for obj, expr in zip(objectives, _objective_terms(enc, session, objectives, softs, k)):
-        handles.append(session.solver.minimize(expr) if obj.sense is ir.Sense.MINIMIZE else session.solver.maximize(expr))
+        handles.append(
+            session.solver.minimize(expr) if obj.sense is ir.Sense.MINIMIZE else session.solver.maximize(expr)
+        )
     timings["encode"] = time.perf_counter() - start
 
     if deadline is not None:
@@ -340,16 +369,25 @@ def _optimize_at(inst: ir.Instance, objectives: list[ir.Objective], softs: list[
         result.status = OptStatus.UNKNOWN
         return result
     if not report.ok:
-        raise ValidationFailure("the independent validator rejected the optimum's composition: "
-                                + "; ".join(v.message for v in report.violations[:5]))
+        raise ValidationFailure(
+            "the independent validator rejected the optimum's composition: "
+            + "; ".join(v.message for v in report.violations[:5])
+        )
 
     _finish(inst, result, plan, objectives, softs, bounds, k, sequential, prune)
     timings["validate"] = time.perf_counter() - t2
     return result
 
 
-def _scores(inst: ir.Instance, p: Plan, objectives: list[ir.Objective], softs: list[ir.Soft], k: int,
-            sequential: bool, report=None) -> list[Fraction | None]:
+def _scores(
+    inst: ir.Instance,
+    p: Plan,
+    objectives: list[ir.Objective],
+    softs: list[ir.Soft],
+    k: int,
+    sequential: bool,
+    report=None,
+) -> list[Fraction | None]:
     """A composition's objective values, exact, from the validator's replay (the first with
     the soft penalties); ``report`` is the replay when the caller already has it."""
     from catc.semantics.validate import evaluate, objective_value, validate
@@ -366,16 +404,30 @@ def _scores(inst: ir.Instance, p: Plan, objectives: list[ir.Objective], softs: l
     return out
 
 
-def _finish(inst: ir.Instance, result: OptResult, plan: Plan, objectives: list[ir.Objective], softs: list[ir.Soft],
-            bounds: list[tuple[str, object]], k: int, sequential: bool, prune: bool) -> None:
+def _finish(
+    inst: ir.Instance,
+    result: OptResult,
+    plan: Plan,
+    objectives: list[ir.Objective],
+    softs: list[ir.Soft],
+    bounds: list[tuple[str, object]],
+    k: int,
+    sequential: bool,
+    prune: bool,
+) -> None:
     """Prune (keeping the values), rename fresh values, and fill in ``result`` from the
     validator's replay; an OPT value must equal the solver's bound where it gave one."""
     from catc.semantics.validate import evaluate, objective_value, validate
 
     if prune:
         target = _scores(inst, plan, objectives, softs, k, sequential)
-        plan = prune_plan(inst, plan, k, sequential,
-                          accept=lambda p: _not_worse(_scores(inst, p, objectives, softs, k, sequential), target, objectives))
+        plan = prune_plan(
+            inst,
+            plan,
+            k,
+            sequential,
+            accept=lambda p: _not_worse(_scores(inst, p, objectives, softs, k, sequential), target, objectives),
+        )
     plan = canonical_fresh(plan)
     report = validate(inst, plan, horizon=k, sequential=sequential)
     final = report.states[-1]

@@ -23,10 +23,10 @@ from fractions import Fraction
 import z3
 
 from catc import ir
+from catc.queries.solve import ValidationFailure, canonical_fresh, default_horizon
+from catc.semantics.plan import Plan
 from catc.smt.encoder import Encoder
 from catc.smt.z3backend import Z3Session, to_fraction
-from catc.semantics.plan import Plan
-from catc.queries.solve import ValidationFailure, canonical_fresh, default_horizon
 
 
 @dataclass
@@ -124,8 +124,10 @@ def pareto(
             break
         report = validate(inst, plan, horizon=k, sequential=sequential)
         if not report.ok:
-            raise ValidationFailure("the independent validator rejected a Pareto point: "
-                                    + "; ".join(v.message for v in report.violations[:5]))
+            raise ValidationFailure(
+                "the independent validator rejected a Pareto point: "
+                + "; ".join(v.message for v in report.violations[:5])
+            )
         recomputed = tuple(objective_value(inst, plan, o.term, report.states[-1]) for o in objectives)
         if recomputed != values:
             raise ValidationFailure(f"Pareto point values {values} differ from the composition's {recomputed}")

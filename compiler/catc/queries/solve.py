@@ -14,15 +14,15 @@ is returned; a rejected answer is an internal error, never shown as a compositio
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from enum import Enum
-from typing import Callable
 
 import z3
 
 from catc import ir
+from catc.semantics.plan import Activation, Plan
 from catc.smt.encoder import Encoder
 from catc.smt.z3backend import Z3Session
-from catc.semantics.plan import Activation, Plan
 
 DEFAULT_HORIZON = 10
 
@@ -40,8 +40,19 @@ class ValidationFailure(RuntimeError):
 class SolveResult:
     """The answer of :func:`solve`; filled in as the search goes."""
 
-    __slots__ = ("status", "horizon", "plan", "states", "final", "length_bound", "reason", "timings", "horizons_tried",
-                 "sequential", "strategy")
+    __slots__ = (
+        "status",
+        "horizon",
+        "plan",
+        "states",
+        "final",
+        "length_bound",
+        "reason",
+        "timings",
+        "horizons_tried",
+        "sequential",
+        "strategy",
+    )
 
     def __init__(
         self,
@@ -129,8 +140,10 @@ def canonical_fresh(plan: Plan) -> Plan:
                 counters[sort] = counters.get(sort, 0) + 1
                 rename[v] = fresh_name(sort, counters[sort])
     steps = tuple(
-        tuple(Activation(a.morphism, {k: rename.get(v, v) if isinstance(v, str) else v for k, v in a.params.items()})
-              for a in step)
+        tuple(
+            Activation(a.morphism, {k: rename.get(v, v) if isinstance(v, str) else v for k, v in a.params.items()})
+            for a in step
+        )
         for step in plan.steps
     )
     return Plan(steps, {rename[v]: plan.fresh[v] for v in rename})

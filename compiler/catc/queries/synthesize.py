@@ -24,13 +24,13 @@ from dataclasses import dataclass, field, replace
 import z3
 
 from catc import ir
+from catc.ir import SortKind
+from catc.ir.text import effect_text, to_text
+from catc.ir.views import project_instance
+from catc.queries.solve import ValidationFailure, default_horizon
+from catc.semantics.plan import Activation, Plan
 from catc.smt.encoder import Encoder, _or, quote
 from catc.smt.z3backend import Z3Session, to_fraction
-from catc.ir import SortKind
-from catc.semantics.plan import Activation, Plan
-from catc.ir.text import effect_text, to_text
-from catc.queries.solve import ValidationFailure, default_horizon
-from catc.ir.views import project_instance
 
 
 @dataclass
@@ -81,7 +81,9 @@ class _Hole:
             if r.sort.kind is SortKind.BOOL:
                 enc.add(None, f"(not (and |mu.set.{r.name}| |mu.clear.{r.name}|))")
         if hole.max_effects is not None:
-            enc.add(None, f"(<= (+ 0 {' '.join(f'(ite {s} 1 0)' for _, s, _, _ in self.selectors)}) {hole.max_effects})")
+            enc.add(
+                None, f"(<= (+ 0 {' '.join(f'(ite {s} 1 0)' for _, s, _, _ in self.selectors)}) {hole.max_effects})"
+            )
 
     def hook(self, t: int, b: dict, assigns, deltas, adds, removes) -> None:
         q = quote(f"b.mu.{t}")
@@ -173,17 +175,28 @@ def synthesize(
         result.status = "unsat" if r == z3.unsat else "unknown"
         return _finish(result, start)
     model = opt.model()
-    step = next(t for t, q in enumerate(mu.acts) if z3.is_true(model.eval(z3.Bool(q[1:-1], model.ctx), model_completion=True)))
+    step = next(
+        t for t, q in enumerate(mu.acts) if z3.is_true(model.eval(z3.Bool(q[1:-1], model.ctx), model_completion=True))
+    )
     effects = _effects(model, mu, inst)
-    skeleton = ir.Morphism(hole.name, ir.MorphismKind.SOFTWARE, (), (), tuple(effects), uses=1,
-                           doc="synthesised by catc for hole " + hole.name)
+    skeleton = ir.Morphism(
+        hole.name,
+        ir.MorphismKind.SOFTWARE,
+        (),
+        (),
+        tuple(effects),
+        uses=1,
+        doc="synthesised by catc for hole " + hole.name,
+    )
     # Replay with μ as an ordinary morphism to learn the state where it applies.
     plan = _plan_with_mu(session.extract(k), model, mu, step, hole.name, k)
     with_mu = _with_morphism(inst, skeleton)
     report = validate(with_mu, plan, horizon=k, sequential=sequential)
     if not report.ok:
-        raise ValidationFailure("the synthesised component does not complete the composition: "
-                                + "; ".join(v.message for v in report.violations[:5]))
+        raise ValidationFailure(
+            "the synthesised component does not complete the composition: "
+            + "; ".join(v.message for v in report.violations[:5])
+        )
     mu_step = next(i for i, s in enumerate(plan.steps) if any(a.morphism == hole.name for a in s))
     pre = _assumptions(inst, report.states[mu_step], effects, hole.max_preconditions)
     final = replace(skeleton, pre=tuple(pre))
@@ -208,10 +221,15 @@ def _effects(model: z3.ModelRef, mu: _Hole, inst: ir.Instance) -> list[ir.Effect
         if kind in ("set", "clear"):
             out.append(ir.Effect(ir.EffectKind.ASSIGN, r.name, ir.Const(kind == "set", ir.BOOL), label))
         elif kind == "change":
-            raw = model.eval(z3.Int(value[1:-1], model.ctx) if r.sort.kind is SortKind.INT else z3.Real(value[1:-1], model.ctx), model_completion=True)
+            raw = model.eval(
+                z3.Int(value[1:-1], model.ctx) if r.sort.kind is SortKind.INT else z3.Real(value[1:-1], model.ctx),
+                model_completion=True,
+            )
             amount = to_fraction(raw)
             k = ir.EffectKind.INCREASE if amount >= 0 else ir.EffectKind.DECREASE
-            out.append(ir.Effect(k, r.name, ir.Const(abs(amount), r.sort if r.sort.kind is SortKind.INT else ir.REAL), label))
+            out.append(
+                ir.Effect(k, r.name, ir.Const(abs(amount), r.sort if r.sort.kind is SortKind.INT else ir.REAL), label)
+            )
         else:
             sort = r.sort.element if kind != "assign" else r.sort
             index = model.eval(z3.Int(value[1:-1], model.ctx), model_completion=True).as_long()
@@ -227,8 +245,11 @@ def _plan_with_mu(plan_without: Plan, model, mu: _Hole, step: int, name: str, k:
     enc = mu.enc
     steps = []
     for t in range(k):
-        acts = [Activation(m.name, _params(model, enc, t, m)) for m in enc.morphisms
-                if z3.is_true(model.eval(z3.Bool(enc.act[t][m.name][1:-1], model.ctx), model_completion=True))]
+        acts = [
+            Activation(m.name, _params(model, enc, t, m))
+            for m in enc.morphisms
+            if z3.is_true(model.eval(z3.Bool(enc.act[t][m.name][1:-1], model.ctx), model_completion=True))
+        ]
         if t == step:
             acts.append(Activation(name))
         if acts:

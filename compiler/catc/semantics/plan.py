@@ -11,15 +11,16 @@ rationals (``"17/4"``) or integers, so nothing is ever a float.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from fractions import Fraction
 from types import MappingProxyType
-from typing import Any, Mapping, Union
+from typing import Any
 
 from catgrammar.record import Record, set_field
 
-Value = Union[Fraction, bool, str]
+Value = Fraction | bool | str
 SetValue = frozenset  # of symbol names
-StateValue = Union[Value, SetValue]
+StateValue = Value | SetValue
 State = Mapping[str, StateValue]
 
 PLAN_SCHEMA = "catc.plan/1"
@@ -106,9 +107,9 @@ def _number_from_json(x: Any, where: str) -> Fraction:
         try:
             return Fraction(x)
         except (ValueError, ZeroDivisionError):
-            raise PlanFormatError(f"{where}: {x!r} is not an exact number such as \"17/4\" or \"0.1\"") from None
+            raise PlanFormatError(f'{where}: {x!r} is not an exact number such as "17/4" or "0.1"') from None
     if isinstance(x, float):
-        raise PlanFormatError(f"{where}: floats are not exact; write {x!r} as a string such as \"{x}\"")
+        raise PlanFormatError(f'{where}: floats are not exact; write {x!r} as a string such as "{x}"')
     raise PlanFormatError(f"{where}: expected a number, got {x!r}")
 
 
@@ -128,13 +129,13 @@ def plan_from_json(doc: Any, param_sorts: Mapping[str, Mapping[str, str]]) -> Pl
     (decides how each JSON value is read).  Unknown morphisms/params are kept as given so
     the validator can report them."""
     if not isinstance(doc, dict):
-        raise PlanFormatError("a plan is a JSON object with a \"steps\" list")
+        raise PlanFormatError('a plan is a JSON object with a "steps" list')
     schema = doc.get("schema", PLAN_SCHEMA)
     if schema != PLAN_SCHEMA:
         raise PlanFormatError(f"unsupported plan schema {schema!r}; expected {PLAN_SCHEMA!r}")
     steps_doc = doc.get("steps")
     if not isinstance(steps_doc, list):
-        raise PlanFormatError("\"steps\" must be a list of steps, each a list of activations")
+        raise PlanFormatError('"steps" must be a list of steps, each a list of activations')
     steps = []
     for i, step in enumerate(steps_doc):
         if not isinstance(step, list):
@@ -143,10 +144,10 @@ def plan_from_json(doc: Any, param_sorts: Mapping[str, Mapping[str, str]]) -> Pl
         for j, act in enumerate(step):
             where = f"step {i}, activation {j}"
             if not isinstance(act, dict) or not isinstance(act.get("morphism"), str):
-                raise PlanFormatError(f"{where}: expected {{\"morphism\": NAME, \"params\": {{...}}}}")
+                raise PlanFormatError(f'{where}: expected {{"morphism": NAME, "params": {{...}}}}')
             params_doc = act.get("params", {})
             if not isinstance(params_doc, dict):
-                raise PlanFormatError(f"{where}: \"params\" must be an object")
+                raise PlanFormatError(f'{where}: "params" must be an object')
             sorts = param_sorts.get(act["morphism"], {})
             params: dict[str, Value] = {}
             for name, raw in params_doc.items():
@@ -165,5 +166,5 @@ def plan_from_json(doc: Any, param_sorts: Mapping[str, Mapping[str, str]]) -> Pl
         steps.append(tuple(acts))
     fresh = doc.get("fresh", {})
     if not isinstance(fresh, dict) or not all(isinstance(k, str) and isinstance(v, str) for k, v in fresh.items()):
-        raise PlanFormatError("\"fresh\" must map fresh symbol values to their sort names")
+        raise PlanFormatError('"fresh" must map fresh symbol values to their sort names')
     return Plan(tuple(steps), fresh)

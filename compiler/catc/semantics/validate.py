@@ -28,15 +28,14 @@ as the encoder asserts every divisor of a literal that must hold to be non-zero.
 from __future__ import annotations
 
 from collections import Counter, defaultdict
+from collections.abc import Callable, Mapping
 from fractions import Fraction
 from types import MappingProxyType
-from typing import Callable, Mapping
-
-from catgrammar.record import Record, set_field
 
 from catc import ir
 from catc.ir import ArithOp, BoolOpKind, CmpOp, EffectKind, SortKind
 from catc.semantics.plan import Activation, Plan
+from catgrammar.record import Record, set_field
 
 #: Every kind of :class:`Violation`, in the order of the checks.
 KINDS = (
@@ -71,7 +70,9 @@ class Violation(Record):
     morphism: str | None
     label: str | None
 
-    def __init__(self, kind: str, message: str, step: int | None, morphism: str | None = None, label: str | None = None) -> None:
+    def __init__(
+        self, kind: str, message: str, step: int | None, morphism: str | None = None, label: str | None = None
+    ) -> None:
         set_field(self, "kind", kind)
         set_field(self, "message", message)
         set_field(self, "step", step)
@@ -354,7 +355,9 @@ def _eval(env: _Env, e: ir.Expr) -> object:
     return handler(env, e)
 
 
-def evaluate(instance: ir.Instance, expr: ir.Expr, state: Mapping[str, object], params: Mapping[str, object] | None = None) -> object:
+def evaluate(
+    instance: ir.Instance, expr: ir.Expr, state: Mapping[str, object], params: Mapping[str, object] | None = None
+) -> object:
     """The value of ``expr`` in ``state`` with parameter values ``params`` (name → value).
 
     Raises :class:`DivisionByZero` when a divisor anywhere in ``expr`` is 0 and
@@ -362,7 +365,9 @@ def evaluate(instance: ir.Instance, expr: ir.Expr, state: Mapping[str, object], 
     return _eval(_Env(instance, state, dict(params or {})), expr)
 
 
-def objective_value(instance: ir.Instance, plan: Plan, term: ir.Expr, final_state: Mapping[str, object]) -> Fraction | None:
+def objective_value(
+    instance: ir.Instance, plan: Plan, term: ir.Expr, final_state: Mapping[str, object]
+) -> Fraction | None:
     """An objective term on the composition: resources on ``final_state``, plus
     ``(total-cost)``, ``(total-churn)`` (against ``(:deployed ...)``), ``(uses m)`` and
     ``(param m p)``.  None when the term is undefined (a parameter of an unused morphism,
@@ -463,12 +468,18 @@ def _initial(instance: ir.Instance) -> tuple[dict[str, object], list[Violation]]
             elif r.sort.kind is SortKind.SET:
                 state[name] = frozenset()
             else:
-                problems.append(Violation("initial-state", f"resource '{name}' has no initial value", None, None, label))
+                problems.append(
+                    Violation("initial-state", f"resource '{name}' has no initial value", None, None, label)
+                )
             continue
         try:
             value = _eval(_Env(instance, {}, {}), iv.value)
         except EvaluationError as exc:
-            problems.append(Violation("initial-state", f"the initial value of '{name}' cannot be evaluated: {exc}", None, None, label))
+            problems.append(
+                Violation(
+                    "initial-state", f"the initial value of '{name}' cannot be evaluated: {exc}", None, None, label
+                )
+            )
             continue
         state[name] = value
         why = _resource_value_problem(instance, r, value)
@@ -476,7 +487,9 @@ def _initial(instance: ir.Instance) -> tuple[dict[str, object], list[Violation]]
             problems.append(Violation("initial-state", f"initial value of '{name}': {why}", None, None, label))
     for name, iv in init.items():
         if name not in instance.resources:
-            problems.append(Violation("initial-state", f"initial value for unknown resource '{name}'", None, None, iv.label))
+            problems.append(
+                Violation("initial-state", f"initial value for unknown resource '{name}'", None, None, iv.label)
+            )
     return state, problems
 
 
@@ -603,7 +616,9 @@ class _Validator:
         self.constants = instance.constants()
         self.out: list[Violation] = []
 
-    def add(self, kind: str, message: str, step: int | None, morphism: str | None = None, label: str | None = None) -> None:
+    def add(
+        self, kind: str, message: str, step: int | None, morphism: str | None = None, label: str | None = None
+    ) -> None:
         self.out.append(Violation(kind, message, step, morphism, label))
 
     # -------------------------------------------------------------- static checks
@@ -616,11 +631,20 @@ class _Validator:
             live: list[_Live] = []
             if self.sequential and len(step) > 1:
                 names = ", ".join(a.morphism for a in step)
-                self.add("sequential", f"step {i} runs {len(step)} activations ({names}) but the composition must be sequential", i)
+                self.add(
+                    "sequential",
+                    f"step {i} runs {len(step)} activations ({names}) but the composition must be sequential",
+                    i,
+                )
             counts = Counter(a.morphism for a in step)
             for name, n in counts.items():
                 if n > 1:
-                    self.add("duplicate-in-step", f"step {i} activates '{name}' {n} times; a morphism occurs at most once in a step", i, name)
+                    self.add(
+                        "duplicate-in-step",
+                        f"step {i} activates '{name}' {n} times; a morphism occurs at most once in a step",
+                        i,
+                        name,
+                    )
             seen: set[str] = set()
             for act in step:
                 usable = self.activation(i, act, fixed_seen)
@@ -639,17 +663,32 @@ class _Validator:
         declared = {p.name for p in m.params}
         for name in act.params:
             if name not in declared:
-                self.add("unknown-parameter", f"step {i}: '{m.name}' has no parameter '{name}' (given {fmt(_norm(act.params[name]))})", i, m.name)
+                self.add(
+                    "unknown-parameter",
+                    f"step {i}: '{m.name}' has no parameter '{name}' (given {fmt(_norm(act.params[name]))})",
+                    i,
+                    m.name,
+                )
         params: dict[str, object] = {}
         for p in m.params:
             if p.name not in act.params:
-                self.add("missing-parameter", f"step {i}: {_activation_text(act)} gives no value for parameter '{p.name}' ({p.sort})", i, m.name)
+                self.add(
+                    "missing-parameter",
+                    f"step {i}: {_activation_text(act)} gives no value for parameter '{p.name}' ({p.sort})",
+                    i,
+                    m.name,
+                )
                 usable = False
                 continue
             v = _norm(act.params[p.name])
             why = _sort_problem(self.inst, p.sort, v, self.plan.fresh, self.constants)
             if why:
-                self.add("parameter-sort", f"step {i}: parameter '{p.name}' of '{m.name}' must be of sort {p.sort}: {why}", i, m.name)
+                self.add(
+                    "parameter-sort",
+                    f"step {i}: parameter '{p.name}' of '{m.name}' must be of sort {p.sort}: {why}",
+                    i,
+                    m.name,
+                )
                 usable = False
             elif p.sort.is_numeric:
                 out = _bounds_problem(p.lower, p.upper, v)  # type: ignore[arg-type]
@@ -681,18 +720,38 @@ class _Validator:
             self.add("horizon", f"the composition has {len(self.plan)} steps but the horizon is {self.horizon}", None)
 
     # -------------------------------------------------------------- replay
-    def literal(self, i: int | None, lit: ir.Literal, state, params, morphism: str | None, kind: str, where: str) -> bool:
+    def literal(
+        self, i: int | None, lit: ir.Literal, state, params, morphism: str | None, kind: str, where: str
+    ) -> bool:
         try:
             ok = _bool(_Env(self.inst, state, params), lit.expr)
         except DivisionByZero as exc:
-            self.add("division-by-zero", f"{where}{lit.label} {show(lit.expr)} is false: {exc} ({_bindings(lit.expr, state, params)})", i, morphism, lit.label)
+            self.add(
+                "division-by-zero",
+                f"{where}{lit.label} {show(lit.expr)} is false: {exc} ({_bindings(lit.expr, state, params)})",
+                i,
+                morphism,
+                lit.label,
+            )
             return False
         except EvaluationError as exc:
-            self.add("initial-state" if isinstance(exc, MissingValue) else kind, f"{where}{lit.label} {show(lit.expr)} cannot be evaluated: {exc}", i, morphism, lit.label)
+            self.add(
+                "initial-state" if isinstance(exc, MissingValue) else kind,
+                f"{where}{lit.label} {show(lit.expr)} cannot be evaluated: {exc}",
+                i,
+                morphism,
+                lit.label,
+            )
             return False
         if not ok:
             bindings = _bindings(lit.expr, state, params)
-            self.add(kind, f"{where}{lit.label} {show(lit.expr)} is false" + (f" with {bindings}" if bindings else ""), i, morphism, lit.label)
+            self.add(
+                kind,
+                f"{where}{lit.label} {show(lit.expr)} is false" + (f" with {bindings}" if bindings else ""),
+                i,
+                morphism,
+                lit.label,
+            )
         return ok
 
     def step(self, i: int, live: list[_Live], state: Mapping[str, object]) -> bool:
@@ -707,11 +766,23 @@ class _Validator:
                 try:
                     a.values.append(_eval(_Env(self.inst, state, a.params), eff.value))
                 except DivisionByZero as exc:
-                    self.add("division-by-zero", f"step {i}: {_activation_text(a.act)}: effect {eff.label} cannot be applied: {exc}", i, a.name, eff.label)
+                    self.add(
+                        "division-by-zero",
+                        f"step {i}: {_activation_text(a.act)}: effect {eff.label} cannot be applied: {exc}",
+                        i,
+                        a.name,
+                        eff.label,
+                    )
                     a.values.append(None)
                     ok = False
                 except EvaluationError as exc:
-                    self.add("initial-state", f"step {i}: {_activation_text(a.act)}: effect {eff.label} cannot be evaluated: {exc}", i, a.name, eff.label)
+                    self.add(
+                        "initial-state",
+                        f"step {i}: {_activation_text(a.act)}: effect {eff.label} cannot be evaluated: {exc}",
+                        i,
+                        a.name,
+                        eff.label,
+                    )
                     a.values.append(None)
                     ok = False
         ok &= self.interference(i, live)
@@ -735,7 +806,9 @@ class _Validator:
                         "interference",
                         f"step {i}: '{a.name}' and '{b.name}' both assign '{r}' "
                         f"({_first_effect(a.m, r, (EffectKind.ASSIGN,))}, {_first_effect(b.m, r, (EffectKind.ASSIGN,))})",
-                        i, a.name, _first_effect(a.m, r, (EffectKind.ASSIGN,)),
+                        i,
+                        a.name,
+                        _first_effect(a.m, r, (EffectKind.ASSIGN,)),
                     )
                 ok = False
             elif r in rb or r in b.updates:
@@ -744,7 +817,9 @@ class _Validator:
                 self.add(
                     "interference",
                     f"step {i}: '{a.name}' assigns '{r}' ({_first_effect(a.m, r, (EffectKind.ASSIGN,))}) while '{b.name}' {how} it ({other})",
-                    i, a.name, _first_effect(a.m, r, (EffectKind.ASSIGN,)),
+                    i,
+                    a.name,
+                    _first_effect(a.m, r, (EffectKind.ASSIGN,)),
                 )
                 ok = False
         for r in sorted(a.updates & rb):
@@ -752,7 +827,9 @@ class _Validator:
             self.add(
                 "interference",
                 f"step {i}: '{a.name}' updates '{r}' ({label}) while '{b.name}' reads it ({_first_reader(b.m, r)})",
-                i, a.name, label,
+                i,
+                a.name,
+                label,
             )
             ok = False
         for eff, v in zip(a.m.effects, a.values):
@@ -763,7 +840,9 @@ class _Validator:
                     self.add(
                         "interference",
                         f"step {i}: '{a.name}' adds {fmt(v)} to '{eff.resource}' ({eff.label}) while '{b.name}' removes it ({eff2.label})",
-                        i, a.name, eff.label,
+                        i,
+                        a.name,
+                        eff.label,
                     )
                     ok = False
         return ok
@@ -809,7 +888,13 @@ class _Validator:
             why = _resource_value_problem(self.inst, res, new[r])  # bounds, and integral for int
             if why:
                 name, label = writer[r]
-                self.add("resource-bounds", f"step {i}: after the step '{r}' = {why} (written by '{name}', {label})", i, name, label)
+                self.add(
+                    "resource-bounds",
+                    f"step {i}: after the step '{r}' = {why} (written by '{name}', {label})",
+                    i,
+                    name,
+                    label,
+                )
         return new
 
     # -------------------------------------------------------------- driver
@@ -836,6 +921,7 @@ class _Validator:
         if complete:
             for lit in self.inst.problem.goal:
                 self.literal(None, lit, state, {}, None, "goal", "goal ")
+
         def rank(iv: tuple[int, Violation]):
             n, v = iv
             if v.step is not None:

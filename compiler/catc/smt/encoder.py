@@ -30,18 +30,17 @@ core removes exactly that effect.
 from __future__ import annotations
 
 from collections import defaultdict
+from collections.abc import Callable
 from fractions import Fraction
-from typing import Callable, Union
-
-from catgrammar.record import Record, set_field
 
 from catc import ir
-from catc.smt.grounding import Grounding
 from catc.ir import SortKind
+from catc.smt.grounding import Grounding
+from catgrammar.record import Record, set_field
 
 # A term is SMT-LIB text; a symbol may also be a known universe index (int); a set is a
 # mapping universe index → Bool text.
-Term = Union[str, int, dict]
+Term = str | int | dict
 
 
 def real_literal(v: Fraction) -> str:
@@ -113,7 +112,13 @@ class _Ctx:
         self.guards = guards
 
 
-_SMT_SORT = {SortKind.BOOL: "Bool", SortKind.INT: "Int", SortKind.REAL: "Real", SortKind.SYMBOL: "Int", SortKind.ENUM: "Int"}
+_SMT_SORT = {
+    SortKind.BOOL: "Bool",
+    SortKind.INT: "Int",
+    SortKind.REAL: "Real",
+    SortKind.SYMBOL: "Int",
+    SortKind.ENUM: "Int",
+}
 
 
 class Encoder:
@@ -306,7 +311,9 @@ class Encoder:
             self.step_hook(t, b, assigns, deltas, adds, removes)
         for r in self.resources:
             if r.name in self.written:
-                self._successor(r, s[r.name], nxt[r.name], assigns[r.name], deltas[r.name], adds[r.name], removes[r.name])
+                self._successor(
+                    r, s[r.name], nxt[r.name], assigns[r.name], deltas[r.name], adds[r.name], removes[r.name]
+                )
         self._interference(b, adds, removes)
         if t > 0:  # symmetry breaking: idle steps only at the end (compositions compact)
             self.add(None, f"(=> (not {_or(list(self.act[t - 1].values()))}) (not {_or(list(b.values()))}))")

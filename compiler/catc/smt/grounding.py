@@ -13,10 +13,9 @@ closed and get none.
 
 from __future__ import annotations
 
-from catgrammar.record import Record, set_field
-
 from catc import ir
 from catc.ir import SortKind
+from catgrammar.record import Record, set_field
 
 
 class Universe(Record):
@@ -29,8 +28,13 @@ class Universe(Record):
     fresh: frozenset[str]  # the reserve values
     sort_of: dict[str, str]  # element → its declared sort
 
-    def __init__(self, root: str, elements: tuple[str, ...], fresh: frozenset[str] = frozenset(),
-                 sort_of: dict[str, str] | None = None) -> None:
+    def __init__(
+        self,
+        root: str,
+        elements: tuple[str, ...],
+        fresh: frozenset[str] = frozenset(),
+        sort_of: dict[str, str] | None = None,
+    ) -> None:
         set_field(self, "root", root)
         set_field(self, "elements", elements)
         set_field(self, "fresh", fresh)
@@ -56,7 +60,7 @@ class Grounding:
         self.inst = inst
         sorts = inst.domain.sorts
         self.root: dict[str, str] = {}
-        for name, s in sorts.items():
+        for name in sorts:
             r = name
             seen = set()
             while sorts[r].parent and r not in seen:
@@ -78,7 +82,9 @@ class Grounding:
             if s.kind is SortKind.ENUM:
                 self.universes[name] = Universe(name, s.values, frozenset(), {v: name for v in s.values})
                 continue
-            members = [c for c in constants.values() if c.sort.kind is SortKind.SYMBOL and self.root.get(c.sort.name) == name]
+            members = [
+                c for c in constants.values() if c.sort.kind is SortKind.SYMBOL and self.root.get(c.sort.name) == name
+            ]
             elements = [c.name for c in members]
             sort_of = {c.name: c.sort.name for c in members}
             fresh = []

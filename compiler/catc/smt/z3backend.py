@@ -13,9 +13,9 @@ from fractions import Fraction
 import z3
 
 from catc import ir
-from catc.smt.encoder import Encoder
 from catc.ir import SortKind
 from catc.semantics.plan import Activation, Plan
+from catc.smt.encoder import Encoder
 
 
 def to_fraction(v: z3.ExprRef) -> Fraction:
@@ -44,7 +44,9 @@ class Z3Session:
     previous one has been freed, 7–8 ms while others are alive (measured by hand); the first
     of a process initialises Z3 (the "Z3 start" column of docs/benchmarks.md)."""
 
-    def __init__(self, enc: Encoder, *, optimize: bool = False, logic: str | None = None, ctx: z3.Context | None = None):
+    def __init__(
+        self, enc: Encoder, *, optimize: bool = False, logic: str | None = None, ctx: z3.Context | None = None
+    ):
         self.enc = enc
         self.ctx = ctx = z3.Context() if ctx is None else ctx
         if optimize:

@@ -26,7 +26,7 @@ class BaselineMissing(RuntimeError):
 
 def enhsp_jar() -> Path:
     try:
-        import up_enhsp  # noqa: PLC0415
+        import up_enhsp
     except ImportError:
         raise BaselineMissing(f"ENHSP is not installed (package up-enhsp); {BASELINES_HINT}") from None
     jar = Path(up_enhsp.__file__).parent / "ENHSP" / "enhsp.jar"
@@ -84,17 +84,30 @@ def parse_output(text: str) -> EnhspResult:
     if m:
         metric = float(m.group(1))
     ms = re.search(r"Planning Time \(msec\):\s*(\d+)", text)
-    return EnhspResult(status, actions if status == "sat" else [], metric, int(ms.group(1)) if ms else None, output=text)
+    return EnhspResult(
+        status, actions if status == "sat" else [], metric, int(ms.group(1)) if ms else None, output=text
+    )
 
 
-def run_enhsp(domain: str | Path, problem: str | Path, *, planner: str = "sat-hadd", timeout: float = 60.0,
-              memory: str = "2g") -> EnhspResult:
+def run_enhsp(
+    domain: str | Path, problem: str | Path, *, planner: str = "sat-hadd", timeout: float = 60.0, memory: str = "2g"
+) -> EnhspResult:
     """Run ENHSP in place (its ``libs/`` folder sits beside the jar)."""
     exe = java()  # Java first: it is the prerequisite of the jar
     jar = enhsp_jar()
     # absolute paths: ENHSP runs in the jar's folder
-    cmd = [exe, f"-Xmx{memory}", "-jar", str(jar), "-o", str(Path(domain).resolve()), "-f", str(Path(problem).resolve()),
-           "-planner", planner]
+    cmd = [
+        exe,
+        f"-Xmx{memory}",
+        "-jar",
+        str(jar),
+        "-o",
+        str(Path(domain).resolve()),
+        "-f",
+        str(Path(problem).resolve()),
+        "-planner",
+        planner,
+    ]
     start = time.perf_counter()
     try:
         proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, cwd=jar.parent)

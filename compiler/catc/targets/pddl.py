@@ -25,9 +25,9 @@ from __future__ import annotations
 
 import itertools
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Mapping
 
 from catc import ir
 from catc.ir import ArithOp, BoolOpKind, CmpOp, EffectKind, SortKind
@@ -35,10 +35,48 @@ from catc.semantics.plan import Activation, Plan, decimal_text
 
 #: Words some PDDL planners (ENHSP, the PyPI parser) reject as names.
 RESERVED = frozenset(
-    "start end over all at number minimize maximize when forall exists increase decrease assign "
-    "scale-up scale-down and or not imply either object total-cost total-time define domain problem "
-    "requirements types constants predicates functions action parameters precondition effect "
-    "objects init goal metric".split()
+    [
+        "start",
+        "end",
+        "over",
+        "all",
+        "at",
+        "number",
+        "minimize",
+        "maximize",
+        "when",
+        "forall",
+        "exists",
+        "increase",
+        "decrease",
+        "assign",
+        "scale-up",
+        "scale-down",
+        "and",
+        "or",
+        "not",
+        "imply",
+        "either",
+        "object",
+        "total-cost",
+        "total-time",
+        "define",
+        "domain",
+        "problem",
+        "requirements",
+        "types",
+        "constants",
+        "predicates",
+        "functions",
+        "action",
+        "parameters",
+        "precondition",
+        "effect",
+        "objects",
+        "init",
+        "goal",
+        "metric",
+    ]
 )
 
 MAX_GROUND_ACTIONS = 200_000
@@ -96,8 +134,10 @@ class Export:
     def plan_from_actions(self, names: list[str]) -> Plan:
         """A sequential catc plan (one activation per step) from ground action names."""
         if self.dials:
-            raise ExportError("this export has continuous θ (dials): read the timed plan with "
-                              "catc.targets.pddlplus.parse_timed_plan instead of action names")
+            raise ExportError(
+                "this export has continuous θ (dials): read the timed plan with "
+                "catc.targets.pddlplus.parse_timed_plan instead of action names"
+            )
         return Plan(tuple((self.activation(n),) for n in names))
 
 
@@ -214,7 +254,10 @@ class _Exporter:
                 for c in vals:
                     self.pred[("mem", r.name, c)] = self.names.fresh(f"{r.name}-{c}")
                 if r.sort.element.kind is SortKind.SYMBOL:
-                    self.report.add("reserve values", f"set resource '{r.name}': only the {len(vals)} known constant(s) of sort '{r.sort.element}' are grounded; PDDL has no fresh (reserve) values")
+                    self.report.add(
+                        "reserve values",
+                        f"set resource '{r.name}': only the {len(vals)} known constant(s) of sort '{r.sort.element}' are grounded; PDDL has no fresh (reserve) values",
+                    )
             else:
                 vals = self._values_of(r.sort)
                 self.universe[r.name] = vals
@@ -378,7 +421,11 @@ class _Exporter:
                     common = [v for v in self.universe.get(l.name, []) if v in self.universe.get(r.name, [])]
                     if not common:
                         return self.false()
-                    return "(or " + " ".join(f"(and {self._sym_atom(l.name, v)} {self._sym_atom(r.name, v)})" for v in common) + ")"
+                    return (
+                        "(or "
+                        + " ".join(f"(and {self._sym_atom(l.name, v)} {self._sym_atom(r.name, v)})" for v in common)
+                        + ")"
+                    )
             raise Unsupported(f"equality of {l.sort} values")
         raise Unsupported(f"condition {type(e).__name__}")
 
@@ -392,25 +439,37 @@ class _Exporter:
             elif k in (SortKind.SYMBOL, SortKind.ENUM):
                 vals = self._values_of(p.sort)
                 if k is SortKind.SYMBOL:
-                    self.report.add("reserve values", f"{m.name}.{p.name} ranges over the {len(vals)} known constant(s) of sort '{p.sort}' only; catc may also use fresh (reserve) values, PDDL has no fresh constants")
+                    self.report.add(
+                        "reserve values",
+                        f"{m.name}.{p.name} ranges over the {len(vals)} known constant(s) of sort '{p.sort}' only; catc may also use fresh (reserve) values, PDDL has no fresh constants",
+                    )
                 out.append(vals)
             elif k is SortKind.INT:
                 if p.lower is None or p.upper is None:
-                    raise ExportError(f"int parameter {m.name}.{p.name} has no bounds (:bounds (lo hi)); PDDL actions need finitely many values")
+                    raise ExportError(
+                        f"int parameter {m.name}.{p.name} has no bounds (:bounds (lo hi)); PDDL actions need finitely many values"
+                    )
                 lo, hi = -(-p.lower // 1), p.upper // 1
                 out.append([Fraction(v) for v in range(int(lo), int(hi) + 1)])
             elif k is SortKind.REAL:
                 key = f"{m.name}.{p.name}"
                 step = self.grid_in.get(key, self.grid_in.get(p.name))
                 if p.lower is None or p.upper is None:
-                    raise ExportError(f"real parameter {key} has no finite bounds; give it :bounds (lo hi) to export it with --grid")
+                    raise ExportError(
+                        f"real parameter {key} has no finite bounds; give it :bounds (lo hi) to export it with --grid"
+                    )
                 if step is None:
-                    raise ExportError(f"real parameter {key} is continuous; give a grid step with --grid {key}=STEP (or --grid {p.name}=STEP)")
+                    raise ExportError(
+                        f"real parameter {key} is continuous; give a grid step with --grid {key}=STEP (or --grid {p.name}=STEP)"
+                    )
                 if step <= 0:
                     raise ExportError(f"grid step for {key} must be positive, got {step}")
                 vals = _grid_values(p.lower, p.upper, step)
                 self.grid_used[key] = step
-                self.report.add("continuous parameters", f"{key} ∈ [{decimal_text(p.lower)}, {decimal_text(p.upper)}] discretised with step {decimal_text(step)} ({len(vals)} values); solutions off the grid are lost")
+                self.report.add(
+                    "continuous parameters",
+                    f"{key} ∈ [{decimal_text(p.lower)}, {decimal_text(p.upper)}] discretised with step {decimal_text(step)} ({len(vals)} values); solutions off the grid are lost",
+                )
                 out.append(vals)
             else:
                 raise ExportError(f"parameter {m.name}.{p.name} of sort {p.sort} cannot be grounded")
@@ -447,7 +506,9 @@ class _Exporter:
                 pres.extend(self._bound_checks(r, post))
             elif k is SortKind.BOOL:
                 if not isinstance(v, ir.Const):
-                    raise Unsupported(f"state-dependent assignment to bool resource '{r.name}' (would need conditional effects)")
+                    raise Unsupported(
+                        f"state-dependent assignment to bool resource '{r.name}' (would need conditional effects)"
+                    )
                 p = f"({self.pred[('bool', r.name)]})"
                 effs.append(p if v.value else f"(not {p})")
             elif k is SortKind.SET:
@@ -476,7 +537,9 @@ class _Exporter:
         return effs, pres
 
     def action_text(self, m: ir.Morphism, theta: dict[str, object], objective_cost: bool) -> str | None:
-        name = self.names.fresh("a-" + m.name + "".join("-" + value_suffix(theta[p.name]) for p in m.params if p.name in theta))
+        name = self.names.fresh(
+            "a-" + m.name + "".join("-" + value_suffix(theta[p.name]) for p in m.params if p.name in theta)
+        )
         pre: list[str] = []
         for lit in m.pre:
             e = self._fold(lit.expr, theta)
@@ -508,8 +571,10 @@ class _Exporter:
         self.actions[name] = Activation(m.name, theta)
         pre = [p for p in pre if p != "(and)"]
         pre_text = "(and " + " ".join(pre) + ")" if pre else "(and)"
-        return (f"  (:action {name}\n    :parameters ()\n    :precondition {pre_text}\n"
-                f"    :effect (and {' '.join(effs)}))\n")
+        return (
+            f"  (:action {name}\n    :parameters ()\n    :precondition {pre_text}\n"
+            f"    :effect (and {' '.join(effs)}))\n"
+        )
 
     def extra_conditions(self, m: ir.Morphism, theta: Mapping[str, object], pre: list[str], effs: list[str]) -> None:
         """Hook for the PDDL+ flavour (dial preconditions and effects); nothing here."""
@@ -519,8 +584,11 @@ class _Exporter:
         resource that only decreases — what it takes from that resource."""
         if self._drained is None:
             return ir.Const(Fraction(1), ir.REAL) if m.cost is None else self._fold(m.cost, theta)
-        amounts = [self._fold(e.value, theta) for e in m.effects
-                   if e.resource == self._drained and e.kind is ir.EffectKind.DECREASE]
+        amounts = [
+            self._fold(e.value, theta)
+            for e in m.effects
+            if e.resource == self._drained and e.kind is ir.EffectKind.DECREASE
+        ]
         if not amounts:
             return None
         return amounts[0] if len(amounts) == 1 else ir.Arith(ArithOp.ADD, tuple(amounts), ir.REAL)
@@ -548,7 +616,10 @@ class _Exporter:
         if met is None:
             return None, False
         if met.mode is not ir.MetricMode.SINGLE or len(met.objectives) != 1:
-            self.report.add("objective", f"{met.mode.value} metric with {len(met.objectives)} objective(s): only one minimisation can be exported; no metric written")
+            self.report.add(
+                "objective",
+                f"{met.mode.value} metric with {len(met.objectives)} objective(s): only one minimisation can be exported; no metric written",
+            )
             return None, False
         obj = met.objectives[0]
         if obj.sense is ir.Sense.MAXIMIZE:
@@ -556,21 +627,31 @@ class _Exporter:
             if isinstance(term, ir.ResourceRef) and term.name in self.func and self._drain_metric(term.name):
                 self._drained = term.name
                 self.requirements.add(":action-costs")
-                self.report.add("objective", f"maximize {term.name} is written as minimize (total-cost): {term.name} only "
-                                "decreases, each action costs what it takes from it, so its final value is its "
-                                "initial value minus the total cost")
+                self.report.add(
+                    "objective",
+                    f"maximize {term.name} is written as minimize (total-cost): {term.name} only "
+                    "decreases, each action costs what it takes from it, so its final value is its "
+                    "initial value minus the total cost",
+                )
                 return "(:metric minimize (total-cost))", True
-            self.report.add("objective", "maximisation is not exported (ENHSP mishandles maximize, and state-dependent "
-                            "action costs); no metric written, the planner finds any plan")
+            self.report.add(
+                "objective",
+                "maximisation is not exported (ENHSP mishandles maximize, and state-dependent "
+                "action costs); no metric written, the planner finds any plan",
+            )
             return None, False
         if isinstance(obj.term, ir.TotalCost):
             for m in self.inst.morphisms.values():
                 if m.cost is None:
                     continue
-                if not (isinstance(m.cost, ir.Const) and m.cost.value >= 0):
-                    if ir.params_in(m.cost) or ir.resources_in(m.cost) or m.cost.value < 0:
-                        self.report.add("objective", f"cost of '{m.name}' is not a non-negative constant; total-cost metric not exported")
-                        return None, False
+                if not (isinstance(m.cost, ir.Const) and m.cost.value >= 0) and (
+                    ir.params_in(m.cost) or ir.resources_in(m.cost) or m.cost.value < 0
+                ):
+                    self.report.add(
+                        "objective",
+                        f"cost of '{m.name}' is not a non-negative constant; total-cost metric not exported",
+                    )
+                    return None, False
             self.requirements.add(":action-costs")
             return "(:metric minimize (total-cost))", True
         try:
@@ -589,19 +670,38 @@ class _Exporter:
         if inst.view is not None:
             v = d.views.get(inst.view)
             dropped = ", ".join(sorted(v.dropped)) if v else "?"
-            self.report.add("views", f"view '{inst.view}' applied before export: resources {dropped} and the literals mentioning them are dropped")
+            self.report.add(
+                "views",
+                f"view '{inst.view}' applied before export: resources {dropped} and the literals mentioning them are dropped",
+            )
         for h in d.holes.values():
-            self.report.add("holes", f"hole '{h.name}' (a missing component) is not exported; the PDDL domain has only the known components")
+            self.report.add(
+                "holes",
+                f"hole '{h.name}' (a missing component) is not exported; the PDDL domain has only the known components",
+            )
         for s in p.softs:
-            self.report.add("soft constraints", f"soft constraint {s.label} (weight {decimal_text(s.weight)}) is not exported")
+            self.report.add(
+                "soft constraints", f"soft constraint {s.label} (weight {decimal_text(s.weight)}) is not exported"
+            )
         if p.deployed:
-            self.report.add("recomposition", f"deployed composition ({', '.join(p.deployed)}) and churn are not exported")
+            self.report.add(
+                "recomposition", f"deployed composition ({', '.join(p.deployed)}) and churn are not exported"
+            )
         if self.horizon is not None:
             self.requirements.add(":numeric-fluents")
-            self.report.add("horizon", f"bounded to {self.horizon} sequential actions with the counter (catc-steps); catc's horizon counts parallel steps")
+            self.report.add(
+                "horizon",
+                f"bounded to {self.horizon} sequential actions with the counter (catc-steps); catc's horizon counts parallel steps",
+            )
         elif p.horizon is not None:
-            self.report.add("horizon", f"the problem's horizon {p.horizon} (parallel steps) is not exported; PDDL plans are unbounded (use --horizon K to bound the number of actions)")
-        self.report.add("semantics", "PDDL plans are sequential (one action per step): compare with `catc solve --sequential`; catc's parallel steps (⊗ with non-interference) are not expressed")
+            self.report.add(
+                "horizon",
+                f"the problem's horizon {p.horizon} (parallel steps) is not exported; PDDL plans are unbounded (use --horizon K to bound the number of actions)",
+            )
+        self.report.add(
+            "semantics",
+            "PDDL plans are sequential (one action per step): compare with `catc solve --sequential`; catc's parallel steps (⊗ with non-interference) are not expressed",
+        )
         for m in d.morphisms.values():
             if m.uses is not None:
                 self.func[("uses", m.name)] = self.names.fresh(f"used-{m.name}")
@@ -617,7 +717,9 @@ class _Exporter:
             for prm, vals in zip(m.params, values):
                 if prm.fixed and not self.is_dial(m, prm):
                     for v in vals:
-                        self.pred[("fixval", m.name, prm.name, value_suffix(v))] = self.names.fresh(f"fixed-{m.name}-{prm.name}-{value_suffix(v)}")
+                        self.pred[("fixval", m.name, prm.name, value_suffix(v))] = self.names.fresh(
+                            f"fixed-{m.name}-{prm.name}-{value_suffix(v)}"
+                        )
             n_before = len(actions)
             for combo in itertools.product(*values):
                 count += 1
@@ -636,7 +738,10 @@ class _Exporter:
                     actions.append(text)
             else:
                 if m.params and len(actions) == n_before:
-                    self.report.add("components", f"'{m.name}' has no applicable ground action (no parameter value passes its θ-only preconditions)")
+                    self.report.add(
+                        "components",
+                        f"'{m.name}' has no applicable ground action (no parameter value passes its θ-only preconditions)",
+                    )
         # goal
         goal = []
         for lit in p.goal:
@@ -652,14 +757,24 @@ class _Exporter:
         if with_cost:
             funcs.append("total-cost")
         reqs = " ".join(sorted(self.requirements))
-        dom = [f";; generated by catc export pddl from domain {d.name}", f"(define (domain {sanitize(d.name)})", f"  (:requirements {reqs})"]
+        dom = [
+            f";; generated by catc export pddl from domain {d.name}",
+            f"(define (domain {sanitize(d.name)})",
+            f"  (:requirements {reqs})",
+        ]
         if preds:
             dom.append("  (:predicates " + " ".join(f"({x})" for x in preds) + ")")
         if funcs:
             dom.append("  (:functions " + " ".join(f"({x})" for x in funcs) + ")")
-        prob = [f";; generated by catc export pddl from problem {p.name}", f"(define (problem {sanitize(p.name)})",
-                f"  (:domain {sanitize(d.name)})", "  (:init", *("    " + i for i in init), "  )",
-                "  (:goal (and " + " ".join(g for g in goal if g != "(and)") + "))"]
+        prob = [
+            f";; generated by catc export pddl from problem {p.name}",
+            f"(define (problem {sanitize(p.name)})",
+            f"  (:domain {sanitize(d.name)})",
+            "  (:init",
+            *("    " + i for i in init),
+            "  )",
+            "  (:goal (and " + " ".join(g for g in goal if g != "(and)") + "))",
+        ]
         if metric:
             prob.append("  " + metric)
         prob_text = "\n".join(prob) + "\n)\n"
@@ -680,7 +795,9 @@ class _Exporter:
                 if r.sort.is_numeric:
                     raise ExportError(f"resource '{r.name}' has no initial value")
                 if r.sort.is_symbolic:
-                    self.report.add("initial state", f"symbolic resource '{r.name}' has no initial value (no value predicate holds)")
+                    self.report.add(
+                        "initial state", f"symbolic resource '{r.name}' has no initial value (no value predicate holds)"
+                    )
                 continue
             v = s0[r.name]
             k = r.sort.kind
@@ -708,8 +825,9 @@ class _Exporter:
         return out
 
 
-def export_pddl(inst: ir.Instance, *, grid: Mapping[str, Fraction] | None = None, horizon: int | None = None,
-                flavor: str = "enhsp") -> Export:
+def export_pddl(
+    inst: ir.Instance, *, grid: Mapping[str, Fraction] | None = None, horizon: int | None = None, flavor: str = "enhsp"
+) -> Export:
     """Translate ``inst`` (view already applied) to PDDL domain and problem text.
 
     ``flavor="enhsp"``: PDDL 2.1 numeric planning, every real θ on a ``grid``.

@@ -31,21 +31,23 @@ import re
 import shutil
 import subprocess
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Mapping
 
 from catc import ir
-from catc.targets.pddl import Export, ExportError, Unsupported, _Exporter, number
 from catc.ir import SortKind
 from catc.semantics.plan import Activation, Plan, decimal_text
+from catc.targets.pddl import Export, ExportError, Unsupported, _Exporter, number
 
 #: SMTPlan+'s encoder separates consecutive happenings by at least this much time
 #: (``duration_vars[h] >= 1/10`` in its EncoderHappening.cpp).
 SMTPLAN_EPSILON = Fraction(1, 10)
 
-SMTPLAN_HINT = ("SMTPlan+ is not on PATH (no 'SMTPlan' executable); build it from "
-                "https://github.com/KCL-Planning/SMTPlan (needs Z3) and put it on PATH")
+SMTPLAN_HINT = (
+    "SMTPlan+ is not on PATH (no 'SMTPlan' executable); build it from "
+    "https://github.com/KCL-Planning/SMTPlan (needs Z3) and put it on PATH"
+)
 
 
 @dataclass(frozen=True)
@@ -92,10 +94,14 @@ class PlusExporter(_Exporter):
                     continue
                 key = f"{m.name}.{p.name}"
                 if p.lower is None:
-                    raise ExportError(f"real parameter {key} has no finite lower bound; the PDDL+ dial starts at the "
-                                      f"lower bound and only rises: give it :bounds (lo hi) or (lo *)")
+                    raise ExportError(
+                        f"real parameter {key} has no finite lower bound; the PDDL+ dial starts at the "
+                        f"lower bound and only rises: give it :bounds (lo hi) or (lo *)"
+                    )
                 if p.upper is not None and p.upper < p.lower:
-                    raise ExportError(f"real parameter {key} has empty bounds ({decimal_text(p.lower)} {decimal_text(p.upper)})")
+                    raise ExportError(
+                        f"real parameter {key} has empty bounds ({decimal_text(p.lower)} {decimal_text(p.upper)})"
+                    )
                 repeat = m.uses is None or m.uses > 1
                 reset = repeat and not p.fixed
                 if p.fixed:
@@ -110,23 +116,41 @@ class PlusExporter(_Exporter):
                 self.func[("dial", key)] = fluent
                 running = self.names.fresh(f"adjusting-{m.name}-{p.name}")
                 self.pred[("dial", key)] = running
-                d = Dial(m.name, p.name, p.lower, p.upper, fluent, running,
-                         self.names.fresh(f"start-adjust-{m.name}-{p.name}"), self.names.fresh(f"stop-adjust-{m.name}-{p.name}"),
-                         self.names.fresh(f"adjust-{m.name}-{p.name}"), lock, reset)
+                d = Dial(
+                    m.name,
+                    p.name,
+                    p.lower,
+                    p.upper,
+                    fluent,
+                    running,
+                    self.names.fresh(f"start-adjust-{m.name}-{p.name}"),
+                    self.names.fresh(f"stop-adjust-{m.name}-{p.name}"),
+                    self.names.fresh(f"adjust-{m.name}-{p.name}"),
+                    lock,
+                    reset,
+                )
                 self.dials[key] = d
                 self.requirements.update({":time", ":numeric-fluents", ":negative-preconditions"})
                 hi = "*" if p.upper is None else decimal_text(p.upper)
-                how = ("fixed: one value for the whole plan, the dial is locked by the first activation" if p.fixed
-                       else "per activation, and the morphism is used at most once: the dial is locked by the activation"
-                       if not reset else
-                       "per activation, and the morphism may fire again: each activation resets the dial to the lower "
-                       "bound, so every activation gets its own value from its own dial run")
-                self.report.add("continuous parameters (exact, as PDDL+ dials)",
-                                f"{key} ∈ [{decimal_text(p.lower)}, {hi}] is exact, no grid: fluent ({fluent}) starts at "
-                                f"{decimal_text(p.lower)} and rises at rate 1 while process ({d.process}) runs, between "
-                                f"actions ({d.start}) and ({d.stop}); θ = lower bound + time the dial ran ({how})")
+                how = (
+                    "fixed: one value for the whole plan, the dial is locked by the first activation"
+                    if p.fixed
+                    else "per activation, and the morphism is used at most once: the dial is locked by the activation"
+                    if not reset
+                    else "per activation, and the morphism may fire again: each activation resets the dial to the lower "
+                    "bound, so every activation gets its own value from its own dial run"
+                )
+                self.report.add(
+                    "continuous parameters (exact, as PDDL+ dials)",
+                    f"{key} ∈ [{decimal_text(p.lower)}, {hi}] is exact, no grid: fluent ({fluent}) starts at "
+                    f"{decimal_text(p.lower)} and rises at rate 1 while process ({d.process}) runs, between "
+                    f"actions ({d.start}) and ({d.stop}); θ = lower bound + time the dial ran ({how})",
+                )
                 if p.upper is None:
-                    self.report.add("continuous parameters (exact, as PDDL+ dials)", f"{key} has no upper bound: the dial is unbounded above")
+                    self.report.add(
+                        "continuous parameters (exact, as PDDL+ dials)",
+                        f"{key} has no upper bound: the dial is unbounded above",
+                    )
 
     def _theta_values(self, m: ir.Morphism) -> list[list[object]] | None:
         # dial θ stay symbolic: a single placeholder value, stripped in action_text
@@ -175,12 +199,18 @@ class PlusExporter(_Exporter):
         for d in self.dials.values():
             start_pre = [f"(not ({d.running}))"] + ([f"(not ({d.lock}))"] if d.lock else [])
             stop_pre = [f"({d.running})"] + ([f"(<= ({d.fluent}) {number(d.upper)})"] if d.upper is not None else [])
-            out.append(f"  (:action {d.start}\n    :parameters ()\n    :precondition (and {' '.join(start_pre)})\n"
-                       f"    :effect (and ({d.running})))\n")
-            out.append(f"  (:action {d.stop}\n    :parameters ()\n    :precondition (and {' '.join(stop_pre)})\n"
-                       f"    :effect (and (not ({d.running}))))\n")
-            procs.append(f"  (:process {d.process}\n    :parameters ()\n    :precondition (and ({d.running}))\n"
-                       f"    :effect (and (increase ({d.fluent}) (* #t 1))))\n")
+            out.append(
+                f"  (:action {d.start}\n    :parameters ()\n    :precondition (and {' '.join(start_pre)})\n"
+                f"    :effect (and ({d.running})))\n"
+            )
+            out.append(
+                f"  (:action {d.stop}\n    :parameters ()\n    :precondition (and {' '.join(stop_pre)})\n"
+                f"    :effect (and (not ({d.running}))))\n"
+            )
+            procs.append(
+                f"  (:process {d.process}\n    :parameters ()\n    :precondition (and ({d.running}))\n"
+                f"    :effect (and (increase ({d.fluent}) (* #t 1))))\n"
+            )
         return "".join(out + procs)
 
     def _init(self) -> list[str]:
@@ -193,8 +223,10 @@ class PlusExporter(_Exporter):
         met = self.inst.problem.metric
         if met is None:
             return None, False
-        ignored = ("the metric is written, but SMTPlan+ ignores optimisation metrics (it is satisficing): "
-                   "its plan need not be optimal — compare with `catc optimize`")
+        ignored = (
+            "the metric is written, but SMTPlan+ ignores optimisation metrics (it is satisficing): "
+            "its plan need not be optimal — compare with `catc optimize`"
+        )
         if met.mode is not ir.MetricMode.SINGLE or len(met.objectives) != 1:
             return super().metric()
         obj = met.objectives[0]
@@ -218,12 +250,18 @@ class PlusExporter(_Exporter):
         out = super().run()
         out.dials = dict(self.dials)
         if self.dials:
-            self.report.add("SMTPlan+", f"SMTPlan+ separates consecutive happenings by at least {decimal_text(SMTPLAN_EPSILON)} time "
-                            f"units, so a dial that runs at all moves θ by at least {decimal_text(SMTPLAN_EPSILON)}: values strictly "
-                            f"between a lower bound and lower + {decimal_text(SMTPLAN_EPSILON)} are out of SMTPlan+'s reach (the PDDL+ "
-                            "semantics itself allows them)")
-        self.report.add("semantics", "PDDL+ plans are timed: SMTPlan+ may put several actions in one happening; "
-                        "catc replays the morphism actions in time order, one per step (sequential)")
+            self.report.add(
+                "SMTPlan+",
+                f"SMTPlan+ separates consecutive happenings by at least {decimal_text(SMTPLAN_EPSILON)} time "
+                f"units, so a dial that runs at all moves θ by at least {decimal_text(SMTPLAN_EPSILON)}: values strictly "
+                f"between a lower bound and lower + {decimal_text(SMTPLAN_EPSILON)} are out of SMTPlan+'s reach (the PDDL+ "
+                "semantics itself allows them)",
+            )
+        self.report.add(
+            "semantics",
+            "PDDL+ plans are timed: SMTPlan+ may put several actions in one happening; "
+            "catc replays the morphism actions in time order, one per step (sequential)",
+        )
         return out
 
 
@@ -256,14 +294,18 @@ class TimedAction:
     duration: Fraction | None = None
 
 
-_TIMED = re.compile(r"^\s*(?P<t>[-+]?[0-9]+(?:\.[0-9]*)?(?:/[0-9]+)?\??)\s*:\s*\(\s*(?P<name>[^()\s]+)(?P<args>[^()]*)\)"
-                    r"\s*(?:\[\s*(?P<d>[^\]]*?)\s*\])?")
+_TIMED = re.compile(
+    r"^\s*(?P<t>[-+]?[0-9]+(?:\.[0-9]*)?(?:/[0-9]+)?\??)\s*:\s*\(\s*(?P<name>[^()\s]+)(?P<args>[^()]*)\)"
+    r"\s*(?:\[\s*(?P<d>[^\]]*?)\s*\])?"
+)
 
 
 def _exact(text: str, what: str, line: str) -> Fraction:
     if text.endswith("?"):
-        raise PlanReadError(f"{what} {text!r} is a truncated decimal (Z3's pp.decimal marks it with '?'); "
-                            f"catc needs exact values: {line.strip()!r}")
+        raise PlanReadError(
+            f"{what} {text!r} is a truncated decimal (Z3's pp.decimal marks it with '?'); "
+            f"catc needs exact values: {line.strip()!r}"
+        )
     try:
         return Fraction(text)
     except (ValueError, ZeroDivisionError):
@@ -338,8 +380,9 @@ def parse_timed_plan(export: Export, text: str) -> Plan:
     return Plan(tuple(steps))
 
 
-def timed_plan_text(export: Export, activations: list[tuple[str, Mapping[str, Fraction]]], *,
-                    gap: Fraction = SMTPLAN_EPSILON) -> str:
+def timed_plan_text(
+    export: Export, activations: list[tuple[str, Mapping[str, Fraction]]], *, gap: Fraction = SMTPLAN_EPSILON
+) -> str:
     """The timed plan SMTPlan+ would print for ground action names and dial values:
     for each activation, start each dial that must move, wait value − current, stop it, then
     the action; happenings ``gap`` apart.  (Used by tests; values exact.)"""
@@ -357,8 +400,9 @@ def timed_plan_text(export: Export, activations: list[tuple[str, Mapping[str, Fr
                 continue
             delta = Fraction(values[d.param]) - cur[d.key]
             if delta < 0:
-                raise ValueError(f"{d.key} = {values[d.param]} is below the dial's current value {cur[d.key]}: "
-                                 "a dial only rises")
+                raise ValueError(
+                    f"{d.key} = {values[d.param]} is below the dial's current value {cur[d.key]}: a dial only rises"
+                )
             if delta:
                 emit(d.start)
                 t += delta  # the dial runs for exactly value − current value
@@ -397,7 +441,9 @@ def run_smtplan(domain, problem, *, timeout: float = 60.0) -> SmtplanResult:
         raise FileNotFoundError(SMTPLAN_HINT)
     start = time.perf_counter()
     try:
-        proc = subprocess.run([exe, str(domain), str(problem)], capture_output=True, text=True, timeout=timeout, check=False)
+        proc = subprocess.run(
+            [exe, str(domain), str(problem)], capture_output=True, text=True, timeout=timeout, check=False
+        )
     except subprocess.TimeoutExpired as exc:
         out = exc.stdout.decode() if isinstance(exc.stdout, bytes) else (exc.stdout or "")
         return SmtplanResult("timeout", wall=time.perf_counter() - start, output=out)
