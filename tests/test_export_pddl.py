@@ -27,7 +27,8 @@ from click.testing import CliRunner
 from catc.frontend.workspace import load_instance
 from catc.interfaces.cli import main
 from catc.ir.views import apply_view
-from catc.queries.solve import Status, default_horizon, solve
+from catc.queries.solve import Status, solve
+from catc.semantics.horizon import default_horizon
 from catc.semantics.validate import validate
 from catc.targets.pddl import RESERVED, ExportError, export_pddl
 from catgrammar.diagnostics import Diagnostics

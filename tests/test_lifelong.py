@@ -12,9 +12,12 @@ from conftest import ROOT, run_catc
 
 from catc.frontend.workspace import load_instance
 from catc.ir.views import apply_view
-from catc.queries.lifelong import diagnose, recompose, relax, relaxed_instance
+from catc.queries.diagnose import diagnose
 from catc.queries.optimize import OptStatus
+from catc.queries.recompose import recompose
+from catc.queries.relax import relax, relaxed_instance
 from catc.queries.solve import Status, solve
+from catc.smt.backend import Check
 from catgrammar.diagnostics import Diagnostics
 
 LIFE = ROOT / "examples" / "lifelong"
@@ -78,14 +81,12 @@ def test_core_is_irreducible_by_brute_force():
     """Every proper subset of the core, and the core itself, checked by fresh solves."""
     inst = load(LIFE, {"file": "budget-cut.cat"})
     core = diagnose(inst).cores[0]
-    import z3
-
-    from catc.queries.lifelong import LabelledModel
+    from catc.smt.labelled import LabelledModel
 
     model = LabelledModel(inst, 7, components=inst.problem.deployed)
-    assert model.check(core)[0] == z3.unsat
+    assert model.check(core)[0] == Check.UNSAT
     for drop in core:
-        assert model.check([l for l in core if l != drop])[0] == z3.sat
+        assert model.check([l for l in core if l != drop])[0] == Check.SAT
 
 
 def _with_budget(inst, budget: Fraction):

@@ -15,6 +15,7 @@ from catc import ir
 from catc.frontend.workspace import load_instance
 from catc.ir.views import apply_view
 from catc.queries.optimize import OptStatus, optimize
+from catc.smt.backend import Check
 from catgrammar.diagnostics import Diagnostics
 
 
@@ -167,8 +168,6 @@ def test_deepen_falls_back_to_the_whole_horizon_when_no_refutation_comes(tmp_pat
     above) is still found and proven."""
     import time as _time
 
-    import z3
-
     import catc.queries.optimize as opt
 
     calls = []
@@ -177,7 +176,7 @@ def test_deepen_falls_back_to_the_whole_horizon_when_no_refutation_comes(tmp_pat
         calls.append(values)
         if behaviour == "runs out of its budget" and deadline is not None:
             _time.sleep(max(0.0, deadline - _time.perf_counter()))
-        return z3.unknown
+        return Check.UNKNOWN
 
     monkeypatch.setattr(opt, "_better_exists", no_refutation)
     result = opt.optimize(_counter_instance(tmp_path), strategy="deepen", deepen_from=0)
@@ -190,13 +189,11 @@ def test_deepen_falls_back_to_the_whole_horizon_when_no_refutation_comes(tmp_pat
 def test_deepen_at_the_deadline_reports_the_short_optimum_as_best_found(tmp_path, monkeypatch):
     import time as _time
 
-    import z3
-
     import catc.queries.optimize as opt
 
     def slow(inst, objectives, softs, values, k, sequential, deadline, timings):
         _time.sleep(max(0.0, deadline - _time.perf_counter()))
-        return z3.unknown
+        return Check.UNKNOWN
 
     monkeypatch.setattr(opt, "_better_exists", slow)
     result = opt.optimize(_counter_instance(tmp_path), strategy="deepen", timeout=0.2, deepen_from=0)

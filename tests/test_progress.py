@@ -13,8 +13,10 @@ from conftest import ROOT
 from catc.frontend.workspace import load_instance
 from catc.interfaces import command
 from catc.ir.views import apply_view
-from catc.queries.lifelong import diagnose, recompose, relax
+from catc.queries.diagnose import diagnose
 from catc.queries.optimize import OptStatus, optimize
+from catc.queries.recompose import recompose
+from catc.queries.relax import relax
 from catgrammar.diagnostics import Diagnostics
 
 

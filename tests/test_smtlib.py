@@ -15,7 +15,8 @@ from conftest import ROOT, run_catc
 
 from catc.frontend.workspace import load_instance
 from catc.ir.views import apply_view
-from catc.queries.solve import default_horizon, solve
+from catc.queries.solve import solve
+from catc.semantics.horizon import default_horizon
 from catc.smt.smtlib import emit_smt2
 from catgrammar.diagnostics import Diagnostics
 

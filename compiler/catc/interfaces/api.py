@@ -208,9 +208,9 @@ class Model:
         progress: Callable[[str], None] | None = None,
     ):
         """Why there is no composition (``catc diagnose``): irreducible cores of labelled
-        requirements, a :class:`catc.queries.lifelong.Diagnosis`.  ``relative_to``: the composition
+        requirements, a :class:`catc.queries.diagnose.Diagnosis`.  ``relative_to``: the composition
         to keep (default the problem's ``(:deployed ...)``; ``()`` for none)."""
-        from catc.queries.lifelong import diagnose
+        from catc.queries.diagnose import diagnose
 
         return diagnose(
             self.instance,
@@ -236,9 +236,9 @@ class Model:
         progress: Callable[[str], None] | None = None,
     ):
         """The least weighted weakening that restores feasibility (``catc relax``): a
-        :class:`catc.queries.lifelong.RelaxResult`.  ``weights`` map labels, label prefixes or
+        :class:`catc.queries.relax.RelaxResult`.  ``weights`` map labels, label prefixes or
         resources to exact weights."""
-        from catc.queries.lifelong import relax
+        from catc.queries.relax import relax
 
         exact = None if weights is None else {k: Fraction(v) for k, v in weights.items()}
         return relax(
@@ -265,8 +265,8 @@ class Model:
         progress: Callable[[str], None] | None = None,
     ):
         """A new composition with the least churn against the deployed one (``catc
-        recompose``): a :class:`catc.queries.lifelong.Recomposition`."""
-        from catc.queries.lifelong import recompose
+        recompose``): a :class:`catc.queries.recompose.Recomposition`."""
+        from catc.queries.recompose import recompose
 
         return recompose(
             self.instance,
@@ -315,9 +315,11 @@ class Model:
         """The ``--json`` document of the command that gives ``result`` (docs/cli.md)."""
         from catc.ir.labels import label_index
         from catc.present import report
-        from catc.queries.lifelong import Diagnosis, Recomposition, RelaxResult
+        from catc.queries.diagnose import Diagnosis
         from catc.queries.optimize import OptResult
         from catc.queries.pareto import ParetoResult
+        from catc.queries.recompose import Recomposition
+        from catc.queries.relax import RelaxResult
         from catc.queries.solve import SolveResult
         from catc.queries.synthesize import Synthesis
         from catc.semantics.validate import Report

@@ -318,7 +318,7 @@ def optimize(
 
     from catc.queries.optimize import OptStatus, objectives_of
     from catc.queries.optimize import optimize as run_optimize
-    from catc.queries.solve import ValidationFailure
+    from catc.semantics.validate import ValidationFailure
 
     inst = _instance(paths, view, search_paths, problem_name, as_json)
     objectives = _cli_objectives(ctx, inst, as_json)
@@ -443,7 +443,7 @@ def diagnose(
 
     from catc.ir.labels import label_index
     from catc.present.report import diagnosis_json, print_diagnosis
-    from catc.queries.lifelong import diagnose as run_diagnose
+    from catc.queries.diagnose import diagnose as run_diagnose
 
     inst = _instance(paths, view, search_paths, problem_name, as_json)
     rel = None
@@ -517,7 +517,7 @@ def relax(
 
     from catc.ir.labels import label_index
     from catc.present.report import print_relax, relax_json
-    from catc.queries.lifelong import relax as run_relax
+    from catc.queries.relax import relax as run_relax
 
     inst = _instance(paths, view, search_paths, problem_name, as_json)
     weights = {}
@@ -582,8 +582,8 @@ def recompose(
     import json
 
     from catc.present.report import print_recompose, recompose_json
-    from catc.queries.lifelong import recompose as run_recompose
     from catc.queries.optimize import OptStatus
+    from catc.queries.recompose import recompose as run_recompose
 
     inst = _instance(paths, view, search_paths, problem_name, as_json)
     components = _parse_components(deployed)
@@ -845,7 +845,7 @@ def compile(paths, horizon, view, sequential, search_paths, problem_name, emit, 
 
     PATHS is PROBLEM, or DOMAIN PROBLEM.
     """
-    from catc.queries.solve import default_horizon
+    from catc.semantics.horizon import default_horizon
     from catc.smt.smtlib import emit_smt2
 
     inst = _instance(paths, view, search_paths, problem_name, False)

@@ -197,8 +197,9 @@ def solve(
 ) -> NoReturn:
     """``catc solve``: print the shortest composition (or why there is none) and exit
     0 SAT, 1 UNSAT, 2 input error, 3 unknown/timeout."""
-    from catc.queries.solve import Status, ValidationFailure
+    from catc.queries.solve import Status
     from catc.queries.solve import solve as run_solve
+    from catc.semantics.validate import ValidationFailure
 
     inst = instance(paths, view, search_paths, problem_name, as_json)
     with progress(not as_json) as status:

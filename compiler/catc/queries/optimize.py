@@ -1,6 +1,7 @@
 """Optimization over compositions (paper eq. optimization), lexicographic by priority.
 
-One encoding of the whole horizon (idle steps allowed) goes to ``z3.Optimize``.  The first
+One encoding of the whole horizon (idle steps allowed) goes to an optimising backend (Z3's
+``Optimize``).  The first
 objective carries the soft-constraint penalties ``Σ wᵢ·zᵢ`` (``zᵢ`` = soft constraint ``i``
 violated in the final state; added when minimising, subtracted when maximising); further
 objectives break ties in order.  The answer's composition is replayed by the independent
@@ -16,13 +17,17 @@ from dataclasses import dataclass, field
 from enum import Enum
 from fractions import Fraction
 
-import z3
-
 from catc import ir
-from catc.queries.solve import ValidationFailure, canonical_fresh, default_horizon, prune_plan
+from catc.ir.text import number_text
+from catc.semantics.compositions import canonical_fresh, prune_plan
+from catc.semantics.horizon import default_horizon
 from catc.semantics.plan import Plan
-from catc.smt.encoder import Encoder, real_literal
-from catc.smt.z3backend import Z3Session, to_fraction
+from catc.semantics.validate import ValidationFailure
+from catc.smt.backend import DEFAULT_BACKEND, Backend, Bound, Check, open_backend
+from catc.smt.encoder import Encoder
+from catc.smt.readback import read_plan
+from catc.smt.script import real_literal
+from catc.smt.terms import Term, and_, better, eq, or_
 
 
 class OptStatus(str, Enum):
@@ -86,7 +91,7 @@ def optimize(
 ) -> OptResult:
     """The optimum over every composition of at most ``horizon`` steps.
 
-    ``strategy="single"`` hands one encoding of the whole horizon to ``z3.Optimize``.
+    ``strategy="single"`` hands one encoding of the whole horizon to the optimiser.
     ``strategy="deepen"`` (default) finds the shortest feasible horizon k₀ by incremental
     deepening (as ``catc solve``), optimises over k₀ steps, and then proves the value optimal
     over the whole horizon with one satisfiability check — "is there a composition of at
@@ -151,7 +156,7 @@ def optimize(
             say(f"first composition: {k0} steps; is there a better one within {k} steps?")
             budget0 = max(0.25, time.perf_counter() - start)
             r = _better_exists(inst, objectives, softs, values0, k, sequential, _sooner(deadline, budget0), timings)
-            if r == z3.unsat:
+            if r is Check.UNSAT:
                 return first_plan(OptStatus.OPT)
     say(f"optimising over {k0} steps")
     short = None if _expired(deadline) else _optimize_at(inst, objectives, softs, k0, sequential, deadline, prune)
@@ -188,10 +193,10 @@ def optimize(
             say(f"optimum over {k0} steps: {_values_text(values)}; is there a better one within {k} steps?")
             limit = _sooner(deadline, budget)
             r = _better_exists(inst, objectives, softs, values, k, sequential, limit, timings)
-            if r == z3.unsat:  # nothing better within the whole horizon: the short optimum is it
+            if r is Check.UNSAT:  # nothing better within the whole horizon: the short optimum is it
                 short.timings = timings
                 return _done(short, start)
-            if r == z3.sat or not _expired(limit):  # something better, or no proof to be had here
+            if r is Check.SAT or not _expired(limit):  # something better, or no proof to be had here
                 refute = False
             budget *= 2
         if _expired(deadline):
@@ -237,22 +242,19 @@ def _add_timings(total: dict[str, float], part: dict[str, float]) -> None:
 
 def _encode_whole(
     inst: ir.Instance, k: int, sequential: bool, optimize: bool, logic: str | None = None
-) -> tuple[Encoder, Z3Session]:
+) -> tuple[Encoder, Backend]:
     enc = Encoder(inst, k, sequential=sequential)
-    for _ in range(k):
-        enc.add_step()
-    for label, c in enc.goal_constraints(k) + enc.uses_constraints(k):
-        enc.add(label, c)
-    session = Z3Session(enc, optimize=optimize, logic=logic)
-    session.flush()
-    return enc, session
+    enc.unroll(k)
+    solver = open_backend(DEFAULT_BACKEND, optimize=optimize, logic=logic)
+    solver.add(*enc.script.take())
+    return enc, solver
 
 
 def _objective_terms(
-    enc: Encoder, session: Z3Session, objectives: list[ir.Objective], softs: list[ir.Soft], k: int
-) -> list[z3.ArithRef]:
-    """The objectives as Z3 terms; the first carries the soft penalties ``Σ wᵢ·zᵢ``."""
-    soft_terms = [enc.term(s.expr, _final_ctx(k)) for s in softs]
+    enc: Encoder, solver: Backend, objectives: list[ir.Objective], softs: list[ir.Soft], k: int
+) -> list[Term]:
+    """The objectives as terms of ``solver``; the first carries the soft penalties ``Σ wᵢ·zᵢ``."""
+    soft_terms = [enc.at_state(s.expr, k) for s in softs]
     penalty = " ".join(f"(ite {t} 0.0 {real_literal(s.weight)})" for s, t in zip(softs, soft_terms))
     out = []
     for i, obj in enumerate(objectives):
@@ -260,44 +262,41 @@ def _objective_terms(
         if i == 0 and penalty:
             sign = "+" if obj.sense is ir.Sense.MINIMIZE else "-"
             term = f"({sign} {term} {penalty})"
-        out.append(session.parse_term(term))
+        out.append(solver.intern(term))
     return out
 
 
 def _better_exists(
-    inst,
-    objectives,
-    softs,
+    inst: ir.Instance,
+    objectives: list[ir.Objective],
+    softs: list[ir.Soft],
     values: list[Fraction],
     k: int,
     sequential: bool,
     deadline: float | None,
     timings: dict[str, float],
-) -> z3.CheckSatResult:
+) -> Check:
     """Is there a composition of at most ``k`` steps lexicographically better than ``values``?
 
     Only an ``unsat`` answer is used (as a proof); anything else leads to optimising over the
-    whole horizon.  The check runs on Z3 configured for QF_LRA, measured ~8–10× faster on
-    these refutations than the default configuration (docs/benchmarks.md); that is sound for
-    ``unsat`` even if the configuration treated integer variables as reals, since the
+    whole horizon.  The check runs on a solver configured for QF_LRA, measured ~8–10× faster
+    on these refutations than the default configuration (docs/benchmarks.md); that is sound
+    for ``unsat`` even if the configuration treated integer variables as reals, since the
     relaxed formula is implied by the exact one: unsat there implies unsat here."""
     t0 = time.perf_counter()
-    enc, session = _encode_whole(inst, k, sequential, optimize=False, logic="QF_LRA")
-    terms = _objective_terms(enc, session, objectives, softs, k)
-    better, ties = [], []
+    enc, solver = _encode_whole(inst, k, sequential, optimize=False, logic="QF_LRA")
+    terms = _objective_terms(enc, solver, objectives, softs, k)
+    improvements: list[Term] = []
+    ties: list[Term] = []
     for term, obj, v in zip(terms, objectives, values):
-        bound = z3.RealVal(f"{v.numerator}/{v.denominator}", session.ctx)
-        better.append(z3.And(*ties, term < bound if obj.sense is ir.Sense.MINIMIZE else term > bound))
-        ties.append(term == bound)
-    session.solver.add(z3.Or(*better))
+        improvements.append(and_(*ties, better(term, v, obj.sense is ir.Sense.MINIMIZE)))
+        ties.append(eq(term, v))
+    solver.assert_term(or_(*improvements))
     timings["encode"] += time.perf_counter() - t0
     if deadline is not None:
-        session.set_timeout(max(0.001, deadline - time.perf_counter()))
+        solver.set_timeout(max(0.001, deadline - time.perf_counter()))
     t1 = time.perf_counter()
-    try:
-        r = session.solver.check()
-    except z3.Z3Exception:  # the configuration refused the formula: no proof from it
-        r = z3.unknown
+    r = solver.check()  # UNKNOWN also when the configuration refuses the formula: no proof from it
     timings["solve"] += time.perf_counter() - t1
     return r
 
@@ -311,35 +310,29 @@ def _optimize_at(
     deadline: float | None,
     prune: bool,
 ) -> OptResult:
-    """``z3.Optimize`` over one encoding of ``k`` steps (idle steps allowed)."""
-    from catc.semantics.validate import validate
-
+    """One optimisation over an encoding of ``k`` steps (idle steps allowed)."""
     start = time.perf_counter()
     timings = {"encode": 0.0, "solve": 0.0, "validate": 0.0}
-    enc, session = _encode_whole(inst, k, sequential, optimize=True)
+    enc, solver = _encode_whole(inst, k, sequential, optimize=True)
     handles = []
-    for obj, expr in zip(objectives, _objective_terms(enc, session, objectives, softs, k)):
-        handles.append(
-            session.solver.minimize(expr) if obj.sense is ir.Sense.MINIMIZE else session.solver.maximize(expr)
-        )
+    for obj, term in zip(objectives, _objective_terms(enc, solver, objectives, softs, k)):
+        handles.append(solver.minimize(term) if obj.sense is ir.Sense.MINIMIZE else solver.maximize(term))
     timings["encode"] = time.perf_counter() - start
 
     if deadline is not None:
-        session.set_timeout(max(0.001, deadline - time.perf_counter()))
+        solver.set_timeout(max(0.001, deadline - time.perf_counter()))
     t1 = time.perf_counter()
-    r = session.solver.check()
+    r = solver.check()
     timings["solve"] = time.perf_counter() - t1
     result = OptResult(OptStatus.UNKNOWN, k, timings=timings)
-    if r == z3.unsat:
+    if r is Check.UNSAT:
         result.status = OptStatus.UNSAT
         return result
-    if r == z3.unknown:
-        result.reason = session.reason_unknown()
+    if r is Check.UNKNOWN:
+        result.reason = solver.reason_unknown()
         if _expired(deadline) or (deadline is not None and result.reason in ("canceled", "timeout")):
             result.reason = "timeout"
-        try:
-            session.solver.model()
-        except z3.Z3Exception:
+        if not solver.has_model():
             return result
         result.status = OptStatus.SUBOPT
     else:
@@ -351,21 +344,22 @@ def _optimize_at(
         if result.status is OptStatus.SUBOPT:  # an interrupted run's bounds mean nothing
             bounds.append(("exact", None))
             continue
-        v = h.value()
-        text = str(v)
-        if "oo" in text:
+        b = solver.bound(h)
+        if b.infinite:
             result.status = OptStatus.UNBOUNDED
-            bounds.append(("unbounded", text))
-        elif z3.is_rational_value(v) or z3.is_int_value(v):
-            bounds.append(("exact", to_fraction(v)))
+            bounds.append(("unbounded", "oo" if b.infinite > 0 else "-oo"))
+        elif b.exact:
+            bounds.append(("exact", b.value))
         else:
-            bounds.append(("epsilon", _limit_text(v, obj.sense)))
+            bounds.append(("epsilon", _limit_text(b, obj.sense)))
 
     t2 = time.perf_counter()
-    plan = session.extract(k)
+    plan = read_plan(solver, enc, k)
+    from catc.semantics.validate import validate
+
     report = validate(inst, plan, horizon=k, sequential=sequential)
     if not report.ok and result.status is OptStatus.SUBOPT:
-        # an interrupted z3.Optimize may hold a model it had not finished: not a composition
+        # an interrupted optimiser may hold a model it had not finished: not a composition
         result.status = OptStatus.UNKNOWN
         return result
     if not report.ok:
@@ -450,28 +444,11 @@ def _finish(
         result.values.append(ov)
 
 
-def _limit_text(v: z3.ExprRef, sense: ir.Sense) -> str:
-    """A bound Z3 reports with an infinitesimal (a supremum/infimum that no composition
-    reaches), as 'sup 4 (not attained)'."""
-    eps = [c for c in _constants(v) if c.decl().name() == "epsilon"]
-    limit = z3.simplify(z3.substitute(v, *[(e, z3.RealVal(0, v.ctx)) for e in eps])) if eps else v
+def _limit_text(b: Bound, sense: ir.Sense) -> str:
+    """A bound with an infinitesimal (a supremum/infimum that no composition reaches), as
+    'supremum 4, not attained'."""
     word = "infimum" if sense is ir.Sense.MINIMIZE else "supremum"
-    try:
-        from catc.ir.text import number_text
-
-        return f"{word} {number_text(to_fraction(limit))}, not attained"
-    except ValueError:
-        return f"{word} {v}"
-
-
-def _constants(e: z3.ExprRef) -> list[z3.ExprRef]:
-    out, stack = [], [e]
-    while stack:
-        x = stack.pop()
-        if z3.is_const(x) and x.decl().kind() == z3.Z3_OP_UNINTERPRETED:
-            out.append(x)
-        stack.extend(x.children())
-    return out
+    return f"{word} {number_text(b.value)}, not attained"
 
 
 def _not_worse(values: list, target: list, objectives: list[ir.Objective]) -> bool:
@@ -482,12 +459,6 @@ def _not_worse(values: list, target: list, objectives: list[ir.Objective]) -> bo
         if v != t:
             return (v < t) if obj.sense is ir.Sense.MINIMIZE else (v > t)
     return True
-
-
-def _final_ctx(k: int):
-    from catc.smt.encoder import _Ctx
-
-    return _Ctx(k, {}, [])
 
 
 def _done(result: OptResult, start: float) -> OptResult:

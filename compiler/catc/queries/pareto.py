@@ -20,13 +20,15 @@ import time
 from dataclasses import dataclass, field
 from fractions import Fraction
 
-import z3
-
 from catc import ir
-from catc.queries.solve import ValidationFailure, canonical_fresh, default_horizon
+from catc.semantics.compositions import canonical_fresh
+from catc.semantics.horizon import default_horizon
 from catc.semantics.plan import Plan
+from catc.semantics.validate import ValidationFailure
+from catc.smt.backend import DEFAULT_BACKEND, Check, open_backend
 from catc.smt.encoder import Encoder
-from catc.smt.z3backend import Z3Session, to_fraction
+from catc.smt.readback import read_plan
+from catc.smt.terms import App, and_, better, or_
 
 
 @dataclass
@@ -67,57 +69,59 @@ def pareto(
     deadline = start + timeout if timeout else None
     k = default_horizon(inst) if horizon is None else horizon
     enc = Encoder(inst, k, sequential=sequential)
-    for _ in range(k):
-        enc.add_step()
-    for label, c in enc.goal_constraints(k) + enc.uses_constraints(k):
-        enc.add(label, c)
-    terms = [enc.objective(o.term, k) for o in objectives]
-    session = Z3Session(enc)
-    session.flush()
-    exprs = [session.parse_term(t) for t in terms]
-    solver = session.solver
+    enc.unroll(k)
+    texts = [enc.objective(o.term, k) for o in objectives]
+    solver = open_backend(DEFAULT_BACKEND)
+    solver.add(*enc.script.take())
+    terms = [solver.intern(t) for t in texts]
     result = ParetoResult("unknown", objectives, horizon=k)
     result.timings["encode"] = time.perf_counter() - start
+    minimizing = [o.sense is ir.Sense.MINIMIZE for o in objectives]
 
-    def better(i: int, v: Fraction, strict: bool) -> z3.BoolRef:
-        e, lit = exprs[i], z3.RealVal(f"{v.numerator}/{v.denominator}", exprs[i].ctx)
-        if objectives[i].sense is ir.Sense.MINIMIZE:
-            return e < lit if strict else e <= lit
-        return e > lit if strict else e >= lit
+    def as_good(values: tuple[Fraction, ...]) -> App:
+        """At least as good as ``values`` in every objective."""
+        return and_(*[better(t, v, m, strict=False) for t, v, m in zip(terms, values, minimizing)])
 
-    def check(extra: list) -> z3.CheckSatResult:
+    def improving(values: tuple[Fraction, ...]) -> App:
+        """Strictly better than ``values`` in some objective."""
+        return or_(*[better(t, v, m) for t, v, m in zip(terms, values, minimizing)])
+
+    def check() -> Check:
         if deadline is not None:
-            session.set_timeout(max(0.001, deadline - time.perf_counter()))
+            solver.set_timeout(max(0.001, deadline - time.perf_counter()))
         result.checks += 1
-        return solver.check(*extra) if extra else solver.check()
+        return solver.check()
 
-    def values_of(model: z3.ModelRef) -> tuple[Fraction, ...]:
-        return tuple(to_fraction(model.eval(e, model_completion=True)) for e in exprs)
+    def values_now() -> tuple[Fraction, ...]:
+        out = []
+        for t in terms:
+            v = solver.value(t)
+            assert not isinstance(v, bool)
+            out.append(v)
+        return tuple(out)
 
     while len(result.points) < max_points:
-        r = check([])
-        if r == z3.unsat:
+        r = check()
+        if r is Check.UNSAT:
             break
-        if r == z3.unknown:
+        if r is Check.UNKNOWN:
             result.complete = False
             break
-        model = solver.model()
-        values = values_of(model)
-        plan = session.extract(k)
+        values = values_now()
+        plan = read_plan(solver, enc, k)
         # Improve until nothing dominates it.
         while True:
             solver.push()
-            solver.add(z3.And(*[better(i, v, False) for i, v in enumerate(values)]))
-            solver.add(z3.Or(*[better(i, v, True) for i, v in enumerate(values)]))
-            r = check([])
-            if r == z3.sat:
-                model = solver.model()
-                values = values_of(model)
-                plan = session.extract(k)
+            solver.assert_term(as_good(values))  # a point that dominates this one
+            solver.assert_term(improving(values))
+            r = check()
+            if r is Check.SAT:
+                values = values_now()
+                plan = read_plan(solver, enc, k)
                 solver.pop()
                 continue
             solver.pop()
-            if r == z3.unknown:
+            if r is Check.UNKNOWN:
                 result.complete = False
             break
         if not result.complete:
@@ -133,7 +137,7 @@ def pareto(
             raise ValidationFailure(f"Pareto point values {values} differ from the composition's {recomputed}")
         result.points.append(ParetoPoint(values, canonical_fresh(plan), report.states))
         # Every later answer must be strictly better than this point in some objective.
-        solver.add(z3.Or(*[better(i, v, True) for i, v in enumerate(values)]))
+        solver.assert_term(improving(values))
     else:
         result.complete = False
     if result.points:

@@ -1,6 +1,6 @@
 """Composition synthesis: find the shortest composition within the horizon.
 
-Strategy (chosen by measurement, docs/benchmarks.md): *incremental deepening* on one Z3
+Strategy (chosen by measurement, docs/benchmarks.md): *incremental deepening* on one
 solver — the encoding grows one step at a time and the goal is checked at each new state
 inside a push/pop scope, so the first SAT answer is a shortest composition and the solver
 keeps what it learnt from the shorter horizons.  ``strategy="single"`` encodes the whole
@@ -17,24 +17,19 @@ import time
 from collections.abc import Callable
 from enum import Enum
 
-import z3
-
 from catc import ir
-from catc.semantics.plan import Activation, Plan
+from catc.semantics.compositions import canonical_fresh, checked, prune_plan
+from catc.semantics.horizon import default_horizon, use_bound
+from catc.semantics.plan import Plan
+from catc.smt.backend import DEFAULT_BACKEND, Check, open_backend
 from catc.smt.encoder import Encoder
-from catc.smt.z3backend import Z3Session
-
-DEFAULT_HORIZON = 10
+from catc.smt.readback import read_plan
 
 
 class Status(str, Enum):
     SAT = "sat"
     UNSAT = "unsat"
     UNKNOWN = "unknown"
-
-
-class ValidationFailure(RuntimeError):
-    """The solver's answer did not survive independent validation (a bug in catc)."""
 
 
 class SolveResult:
@@ -84,78 +79,6 @@ class SolveResult:
         return f"SolveResult({self.status.name}, horizon={self.horizon}, plan={self.plan!r})"
 
 
-def use_bound(inst: ir.Instance) -> int | None:
-    """Σ uses over all morphisms, or None when some morphism is unlimited.  No composition
-    has more non-idle steps than this."""
-    total = 0
-    for m in inst.morphisms.values():
-        if m.uses is None:
-            return None
-        total += m.uses
-    return total
-
-
-def prune_plan(inst: ir.Instance, plan: Plan, horizon: int, sequential: bool, accept=None) -> Plan:
-    """Drop activations the composition does not need.
-
-    The solver's model may switch on harmless extra morphisms (a step of length 0, a spare
-    driver); each activation, last first, is removed when the validator still accepts the
-    composition without it (and ``accept(candidate)`` agrees — optimisation passes a check
-    that no objective gets worse), and emptied steps disappear.  The result is valid, no
-    longer than the input, and irredundant: removing any single activation breaks it."""
-    from catc.semantics.validate import validate
-
-    steps = [list(s) for s in plan.steps]
-    changed = True
-    while changed:
-        changed = False
-        for i in range(len(steps) - 1, -1, -1):
-            for j in range(len(steps[i]) - 1, -1, -1):
-                trial = [list(s) for s in steps]
-                del trial[i][j]
-                candidate = Plan(tuple(tuple(s) for s in trial if s), plan.fresh)
-                if validate(inst, candidate, horizon=horizon, sequential=sequential).ok and (
-                    accept is None or accept(candidate)
-                ):
-                    steps = [s for s in trial if s]
-                    changed = True
-                    break
-            if changed:
-                break
-    return Plan(tuple(tuple(s) for s in steps), plan.fresh)
-
-
-def canonical_fresh(plan: Plan) -> Plan:
-    """Rename fresh values by first appearance (topic#1, topic#2, ...) and forget unused ones.
-    Fresh values are interchangeable (Proposition 1: any injection fixing the constants
-    preserves every atom), so this changes nothing but the names."""
-    from catc.smt.grounding import fresh_name
-
-    rename: dict[str, str] = {}
-    counters: dict[str, int] = {}
-    for _, act in plan.activations:
-        for v in act.params.values():
-            if isinstance(v, str) and v in plan.fresh and v not in rename:
-                sort = plan.fresh[v]
-                counters[sort] = counters.get(sort, 0) + 1
-                rename[v] = fresh_name(sort, counters[sort])
-    steps = tuple(
-        tuple(
-            Activation(a.morphism, {k: rename.get(v, v) if isinstance(v, str) else v for k, v in a.params.items()})
-            for a in step
-        )
-        for step in plan.steps
-    )
-    return Plan(steps, {rename[v]: plan.fresh[v] for v in rename})
-
-
-def default_horizon(inst: ir.Instance) -> int:
-    if inst.problem.horizon is not None:
-        return inst.problem.horizon
-    bound = use_bound(inst)
-    return bound if bound is not None else DEFAULT_HORIZON
-
-
 def solve(
     inst: ir.Instance,
     *,
@@ -166,6 +89,7 @@ def solve(
     strategy: str = "incremental",
     validate_answer: bool = True,
     prune: bool = True,
+    backend: str = DEFAULT_BACKEND,
 ) -> SolveResult:
     """``progress(t, k, elapsed)`` is called before each horizon is tried."""
     k = default_horizon(inst) if horizon is None else horizon
@@ -179,21 +103,24 @@ def solve(
     t0 = time.perf_counter()
     enc = Encoder(inst, k, sequential=sequential)
     t1 = time.perf_counter()
-    session = Z3Session(enc)
+    solver = open_backend(backend)
     t2 = time.perf_counter()
-    session.flush()
+    solver.add(*enc.script.take())
     timings["start"] = t2 - t1
     timings["encode"] += (t1 - t0) + (time.perf_counter() - t2)
 
     tried = 0
     result: SolveResult | None = None
 
-    def timed_check(extra: list[str]) -> z3.CheckSatResult:
+    def timed_check(extra: list[str]) -> Check:
+        """Check the goal (and use limits) at the current horizon, in a scope the caller pops."""
         nonlocal tried
         if deadline is not None:  # an exhausted budget still checks (push/pop stay paired)
-            session.set_timeout(max(0.001, deadline - time.perf_counter()))
+            solver.set_timeout(max(0.001, deadline - time.perf_counter()))
         t2 = time.perf_counter()
-        r = session.check(extra)
+        solver.push()
+        solver.add((), [(None, c) for c in extra])
+        r = solver.check()
         timings["solve"] += time.perf_counter() - t2
         tried += 1
         return r
@@ -202,13 +129,13 @@ def solve(
         t1 = time.perf_counter()
         while len(enc.act) < t:
             enc.add_step()
-        session.flush()
+        solver.add(*enc.script.take())
         extra = [c for _, c in enc.goal_constraints(t)] + [c for _, c in enc.uses_constraints(t)]
         timings["encode"] += time.perf_counter() - t1
         return extra
 
     def unknown() -> SolveResult:
-        reason = session.reason_unknown()
+        reason = solver.reason_unknown()
         if deadline is not None and time.perf_counter() >= deadline:
             reason = "timeout"
         return SolveResult(Status.UNKNOWN, k, reason=reason, length_bound=bound)
@@ -219,11 +146,11 @@ def solve(
             if progress is not None:
                 progress(t, k, time.perf_counter() - start)
             r = timed_check(extra)
-            if r == z3.sat:
-                result = SolveResult(Status.SAT, k, session.extract(t), length_bound=bound)
-            elif r == z3.unknown:
+            if r is Check.SAT:
+                result = SolveResult(Status.SAT, k, read_plan(solver, enc, t), length_bound=bound)
+            elif r is Check.UNKNOWN:
                 result = unknown()
-            session.pop()
+            solver.pop()
             if result is not None:
                 break
     elif strategy == "single":
@@ -231,11 +158,11 @@ def solve(
         if progress is not None:
             progress(k, k, time.perf_counter() - start)
         r = timed_check(extra)
-        if r == z3.sat:
-            result = SolveResult(Status.SAT, k, session.extract(k), length_bound=bound)
-        elif r == z3.unknown:
+        if r is Check.SAT:
+            result = SolveResult(Status.SAT, k, read_plan(solver, enc, k), length_bound=bound)
+        elif r is Check.UNKNOWN:
             result = unknown()
-        session.pop()
+        solver.pop()
     else:
         raise ValueError(f"unknown strategy {strategy!r}; expected 'incremental' or 'single'")
     if result is None:  # UNSAT at every horizon up to k
@@ -244,20 +171,12 @@ def solve(
     result.horizons_tried = tried
     result.sequential, result.strategy = sequential, strategy
     if result.status is Status.SAT and validate_answer:
-        from catc.semantics.validate import validate
-
         t2 = time.perf_counter()
-        report = validate(inst, result.plan, horizon=k, sequential=sequential)
-        if not report.ok:
-            problems = "; ".join(v.message for v in report.violations[:5])
-            raise ValidationFailure(f"the independent validator rejected the solver's composition: {problems}")
+        checked(inst, result.plan, k, sequential, "the solver's composition")
         plan = prune_plan(inst, result.plan, k, sequential) if prune else result.plan
         result.plan = canonical_fresh(plan)
-        report = validate(inst, result.plan, horizon=k, sequential=sequential)
-        if not report.ok:  # pragma: no cover - pruning and renaming keep validity
-            raise ValidationFailure("pruning broke the composition: " + report.violations[0].message)
+        result.states = checked(inst, result.plan, k, sequential, "the pruned composition")
         timings["validate"] = time.perf_counter() - t2
-        result.states = report.states
     timings["total"] = time.perf_counter() - start
     result.timings = timings
     return result

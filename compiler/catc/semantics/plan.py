@@ -26,6 +26,11 @@ State = Mapping[str, StateValue]
 PLAN_SCHEMA = "catc.plan/1"
 
 
+def fresh_name(sort: str, n: int) -> str:
+    """Reserve values are shown as ``topic#1``: '#' cannot occur in a name of the language."""
+    return f"{sort}#{n}"
+
+
 class Activation(Record):
     """One use of a morphism, with the values of its parameters θ."""
 

@@ -62,6 +62,10 @@ KINDS = (
 _NON_BLOCKING = frozenset({"sequential", "resource-bounds"})
 
 
+class ValidationFailure(RuntimeError):
+    """A solver's answer did not survive independent validation (a bug in catc)."""
+
+
 class Violation(Record):
     __slots__ = ("kind", "message", "step", "morphism", "label")
     kind: str

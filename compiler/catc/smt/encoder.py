@@ -1,12 +1,13 @@
 """IR → SMT-LIB2: the bounded composition formula of paper eq. (logic_formula).
 
-The encoder writes SMT-LIB2 commands (a :class:`Script`), and both backends consume the
-same script: Z3 reads it through its Python API (``Solver.from_string``, a step at a time
-for incremental solving, :mod:`catc.smt.z3backend`), and ``catc compile --emit smt2``
-prints it with every assertion named after its source construct.  Building text and letting
-Z3's C++ parser build the terms is about seven times faster than building the same terms
-through the Python API (docs/benchmarks.md), and the printed file is equivalent to what the
-API solves by construction; tests still solve it with the ``z3`` binary and with cvc5.
+The encoder writes SMT-LIB2 commands (a :class:`~catc.smt.script.Script`), and every backend
+(:mod:`catc.smt.backend`) consumes the same script: Z3 and cvc5 read it through their
+Python APIs, a step at a time for incremental solving, and ``catc compile --emit smt2``
+prints it with every assertion named after its source construct (:mod:`catc.smt.smtlib`).
+Building text and letting the solver's C++ parser build the terms is about seven times
+faster than building the same terms through Z3's Python API (docs/benchmarks.md), and the
+printed file is equivalent to what the API solves by construction; tests still solve it
+with the ``z3`` binary and with cvc5.
 
 Variables, for a horizon built one step at a time:
 
@@ -31,76 +32,18 @@ from __future__ import annotations
 
 from collections import defaultdict
 from collections.abc import Callable
-from fractions import Fraction
 
 from catc import ir
 from catc.ir import SortKind
 from catc.smt.grounding import Grounding
+from catc.smt.script import Script, SmtSort, Symbol, at_most, int_literal, real_literal
+from catc.smt.script import and_text as _and
+from catc.smt.script import or_text as _or
 from catgrammar.record import Record, set_field
 
-# A term is SMT-LIB text; a symbol may also be a known universe index (int); a set is a
-# mapping universe index → Bool text.
+# A term is SMT-LIB text (a Symbol is one); a symbol may also be a known universe index
+# (int); a set is a mapping universe index → Bool text.
 Term = str | int | dict
-
-
-def real_literal(v: Fraction) -> str:
-    def pos(n: int) -> str:
-        return f"{n}.0"
-
-    a = abs(v)
-    text = pos(a.numerator) if a.denominator == 1 else f"(/ {pos(a.numerator)} {pos(a.denominator)})"
-    return f"(- {text})" if v < 0 else text
-
-
-def int_literal(n: int) -> str:
-    return f"(- {-n})" if n < 0 else str(n)
-
-
-def quote(name: str) -> str:
-    return f"|{name}|"
-
-
-def _and(parts: list[str]) -> str:
-    parts = [p for p in parts if p != "true"]
-    if not parts:
-        return "true"
-    return parts[0] if len(parts) == 1 else f"(and {' '.join(parts)})"
-
-
-def _or(parts: list[str]) -> str:
-    parts = [p for p in parts if p != "false"]
-    if not parts:
-        return "false"
-    return parts[0] if len(parts) == 1 else f"(or {' '.join(parts)})"
-
-
-def at_most(bools: list[str], n: int) -> str:
-    """Σ ite(b, 1, 0) ≤ n — plain linear arithmetic, understood by every SMT solver."""
-    if len(bools) <= n:
-        return "true"
-    if n == 1 and len(bools) == 2:
-        return f"(not (and {bools[0]} {bools[1]}))"
-    return f"(<= (+ {' '.join(f'(ite {b} 1 0)' for b in bools)}) {n})"
-
-
-class Script:
-    """Declarations and labelled assertions, in order; ``take`` hands out what is new."""
-
-    __slots__ = ("decls", "asserts", "_decl_mark", "_assert_mark")
-
-    def __init__(self) -> None:
-        self.decls: list[tuple[str, str]] = []  # (quoted name, sort)
-        self.asserts: list[tuple[str | None, str]] = []
-        self._decl_mark = 0
-        self._assert_mark = 0
-
-    def take(self) -> tuple[list[tuple[str, str]], list[tuple[str | None, str]]]:
-        d, a = self.decls[self._decl_mark :], self.asserts[self._assert_mark :]
-        self._decl_mark, self._assert_mark = len(self.decls), len(self.asserts)
-        return d, a
-
-    def labels(self) -> list[str]:
-        return list(dict.fromkeys(label for label, _ in self.asserts if label is not None))
 
 
 class _Ctx:
@@ -113,11 +56,11 @@ class _Ctx:
 
 
 _SMT_SORT = {
-    SortKind.BOOL: "Bool",
-    SortKind.INT: "Int",
-    SortKind.REAL: "Real",
-    SortKind.SYMBOL: "Int",
-    SortKind.ENUM: "Int",
+    SortKind.BOOL: SmtSort.BOOL,
+    SortKind.INT: SmtSort.INT,
+    SortKind.REAL: SmtSort.REAL,
+    SortKind.SYMBOL: SmtSort.INT,
+    SortKind.ENUM: SmtSort.INT,
 }
 
 
@@ -147,10 +90,10 @@ class Encoder:
         self.resources = list(inst.resources.values())
         self.script = Script()
         self.states: list[dict[str, Term]] = []
-        self.act: list[dict[str, str]] = []
+        self.act: list[dict[str, Symbol]] = []
         self.theta: list[dict[tuple[str, str], Term]] = []
         self.fixed: dict[tuple[str, str], Term] = {}
-        self.indicators: dict[str, str] = {}  # effect label → indicator (tracking)
+        self.indicators: dict[str, Symbol] = {}  # effect label → indicator (tracking)
         #: resources no morphism writes keep one variable for every state
         self.written = frozenset(e.resource for m in self.morphisms for e in m.effects) | extra_written
         self._dispatch: dict[type, Callable] = {
@@ -174,21 +117,15 @@ class Encoder:
     def _var(self, name: str, sort: ir.Sort) -> Term:
         if sort.kind is SortKind.SET:
             u = self.grounding.universe(sort.element)  # type: ignore[arg-type]
-            out = {}
-            for i, e in enumerate(u.elements):
-                q = quote(f"{name}.{e}")
-                self.script.decls.append((q, "Bool"))
-                out[i] = q
-            return out
-        q = quote(name)
-        self.script.decls.append((q, _SMT_SORT[sort.kind]))
-        return q
+            return {i: self.script.declare(f"{name}.{e}", SmtSort.BOOL) for i, e in enumerate(u.elements)}
+        return self.script.declare(name, _SMT_SORT[sort.kind])
 
     def add(self, label: str | None, text: str) -> None:
         if text != "true":
             self.script.asserts.append((label, text))
 
-    def _domain(self, v: str, sort: ir.Sort) -> str:
+    def domain_constraint(self, v: str, sort: ir.Sort) -> str:
+        """The values a symbolic variable may take: its sort's universe indices."""
         allowed = self.grounding.allowed(sort)
         if not allowed:
             return "false"
@@ -219,7 +156,7 @@ class Encoder:
 
     def _param_constraints(self, m: ir.Morphism, p: ir.Param, v: Term) -> None:
         if p.sort.is_symbolic:
-            self.add(None, self._domain(v, p.sort))  # type: ignore[arg-type]
+            self.add(None, self.domain_constraint(v, p.sort))  # type: ignore[arg-type]
         lit = real_literal if p.sort.kind is SortKind.REAL else (lambda f: int_literal(int(f)))
         if p.lower is not None:
             self.add(f"bound/{m.name}/{p.name}", f"(>= {v} {lit(p.lower)})")
@@ -256,11 +193,7 @@ class Encoder:
         t = len(self.act)
         s, nxt = self.states[t], self._new_state(t + 1)
         self.states.append(nxt)
-        b = {}
-        for m in self.morphisms:
-            q = quote(f"b.{m.name}.{t}")
-            self.script.decls.append((q, "Bool"))
-            b[m.name] = q
+        b = {m.name: self.script.declare(f"b.{m.name}.{t}", SmtSort.BOOL) for m in self.morphisms}
         self.act.append(b)
         theta: dict[tuple[str, str], Term] = {}
         for m in self.morphisms:
@@ -325,10 +258,9 @@ class Encoder:
         weakens the formula, so unsat cores and their minimisation stay sound."""
         if not self.track:
             return on
-        q = quote(f"L:{e.label}")
-        if e.label not in self.indicators:
-            self.indicators[e.label] = q
-            self.script.decls.append((q, "Bool"))
+        q = self.indicators.get(e.label)
+        if q is None:
+            q = self.indicators[e.label] = self.script.declare(f"L:{e.label}", SmtSort.BOOL)
         return f"(and {on} {q})"
 
     def _successor(self, r: ir.Resource, cur: Term, nxt: Term, assigns, deltas, adds, removes) -> None:
@@ -390,8 +322,7 @@ class Encoder:
         parts = []
         for x in bools[1:-1]:
             parts.append(f"(not (and {x} {prefix}))")
-            q = quote(f"amo.{len(self.script.decls)}")
-            self.script.decls.append((q, "Bool"))
+            q = self.script.declare(f"amo.{len(self.script.decls)}", SmtSort.BOOL)
             self.add(None, f"(= {q} (or {x} {prefix}))")
             prefix = q
         parts.append(f"(not (and {bools[-1]} {prefix}))")
@@ -421,6 +352,18 @@ class Encoder:
         else:
             right = f"(+ {right} {delta})"
         return f"({e.op.value} {left} {right})"
+
+    def unroll(self, k: int) -> None:
+        """Encode the whole horizon: steps up to ``k``, then the goal at state ``k`` and the
+        use limits over those steps (idle steps allowed, so shorter compositions count)."""
+        while len(self.act) < k:
+            self.add_step()
+        for label, c in self.goal_constraints(k) + self.uses_constraints(k):
+            self.add(label, c)
+
+    def at_state(self, e: ir.Expr, t: int) -> Term:
+        """An expression over the resources of state ``t`` (e.g. a soft constraint at the end)."""
+        return self.term(e, _Ctx(t, {}, []))
 
     def uses_constraints(self, steps: int) -> list[tuple[str, str]]:
         out = []

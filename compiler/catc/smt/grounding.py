@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from catc import ir
 from catc.ir import SortKind
+from catc.semantics.plan import fresh_name
 from catgrammar.record import Record, set_field
 
 
@@ -46,11 +47,6 @@ class Universe(Record):
 
     def __len__(self) -> int:
         return len(self.elements)
-
-
-def fresh_name(sort: str, n: int) -> str:
-    """Reserve values are shown as ``topic#1``: '#' cannot occur in a name of the language."""
-    return f"{sort}#{n}"
 
 
 class Grounding:

@@ -1,21 +1,49 @@
-"""Feeding an encoding to Z3 through its Python API, and reading compositions back.
+"""The Z3 backend: the only module of catc that imports ``z3``.
 
-:class:`Z3Session` owns one ``z3.Solver``.  ``flush`` hands it the commands the encoder
-added since the last call (``Solver.from_string``: one C++ parse per batch), so the
-incremental driver can grow the horizon step by step; ``check`` asserts extra constraints
-(the goal at the current state, the use limits) inside a push/pop scope.
+The encoder's script reaches Z3 as text (``from_string``: one C++ parse per batch, so the
+incremental driver can grow the horizon step by step); the queries' terms
+(:mod:`catc.smt.terms`) are built with Z3's API, numbers as exact ``RealVal`` s; values come
+back as ``Fraction`` s and ``bool`` s, objective bounds as the three coefficients of
+``a·∞ + b + c·ε`` (``Z3_optimize_get_lower/upper_as_vector``), cores as the assumed symbols.
+
+Each backend works in its own Z3 context unless it shares another's (``share_with``):
+Z3's term ids, and with them its search and the model it returns, depend on every term its
+context has seen, so in the shared default context the same query could get a different
+(equally valid) answer after other queries in one process — in the language server, the
+lifelong loop, tests.  A fresh context costs about 1 ms when the previous one has been freed,
+7–8 ms while others are alive (measured by hand); the first of a process initialises Z3 (the
+"Z3 start" column of docs/benchmarks.md).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from fractions import Fraction
+from typing import Any
 
 import z3
 
-from catc import ir
-from catc.ir import SortKind
-from catc.semantics.plan import Activation, Plan
-from catc.smt.encoder import Encoder
+from catc.smt.backend import Backend, Bound, Capability, Check
+from catc.smt.script import Assertion, SmtSort, Symbol, commands_text
+from catc.smt.terms import App, Interned, Term
+
+_NO_LIMIT_MS = 4294967295  # Z3's largest timeout: none
+
+_OPS: dict[str, Callable[..., Any]] = {
+    "and": z3.And,
+    "or": z3.Or,
+    "not": z3.Not,
+    "=>": z3.Implies,
+    "=": lambda a, b: a == b,
+    "<": lambda a, b: a < b,
+    "<=": lambda a, b: a <= b,
+    ">": lambda a, b: a > b,
+    ">=": lambda a, b: a >= b,
+    "+": z3.Sum,
+    "-": lambda a, *b: -a if not b else a - z3.Sum(*b),
+    "*": z3.Product,
+    "ite": z3.If,
+}
 
 
 def to_fraction(v: z3.ExprRef) -> Fraction:
@@ -28,99 +56,139 @@ def to_fraction(v: z3.ExprRef) -> Fraction:
     raise ValueError(f"not a numeral: {v}")
 
 
-def _commands(decls, asserts) -> str:
-    return "".join(f"(declare-fun {n} () {s})" for n, s in decls) + "".join(f"(assert {a})" for _, a in asserts)
+def _weight_text(w: Fraction) -> str:
+    if w.denominator == 1:
+        return str(w.numerator)
+    return str(w.numerator / w.denominator)  # Z3 reads a decimal weight
 
 
-class Z3Session:
-    """``optimize=True`` drives a ``z3.Optimize`` instead of a ``z3.Solver``; ``logic`` (e.g.
-    ``"QF_LRA"``) configures the solver for that logic (``z3.SolverFor``).
+class Z3Backend(Backend):
+    name = "z3"
+    capabilities = frozenset({Capability.MODELS, Capability.CORES, Capability.OPTIMIZE, Capability.LOGIC})
 
-    A session works in its own Z3 context unless given one (``ctx``, for sessions whose
-    terms meet): Z3's term ids, and with them its search and the model it returns, depend
-    on every term its context has seen, so in the shared default context the same query
-    could get a different (equally valid) answer after other queries in one process — in
-    the language server, the lifelong loop, tests.  A fresh context costs about 1 ms when the
-    previous one has been freed, 7–8 ms while others are alive (measured by hand); the first
-    of a process initialises Z3 (the "Z3 start" column of docs/benchmarks.md)."""
-
-    def __init__(
-        self, enc: Encoder, *, optimize: bool = False, logic: str | None = None, ctx: z3.Context | None = None
-    ):
-        self.enc = enc
-        self.ctx = ctx = z3.Context() if ctx is None else ctx
+    def __init__(self, *, optimize: bool = False, logic: str | None = None, share_with: Backend | None = None):
+        if share_with is not None and not isinstance(share_with, Z3Backend):
+            raise TypeError("a Z3 backend can share its context only with another Z3 backend")
+        self.ctx = z3.Context() if share_with is None else share_with.ctx
+        self.solver: z3.Solver | z3.Optimize
         if optimize:
-            self.solver = z3.Optimize(ctx=ctx)
+            self.solver = z3.Optimize(ctx=self.ctx)
         else:
-            self.solver = z3.SolverFor(logic, ctx=ctx) if logic else z3.Solver(ctx=ctx)
+            self.solver = z3.SolverFor(logic, ctx=self.ctx) if logic else z3.Solver(ctx=self.ctx)
+        self._decls: list[str] = []  # every declaration so far, for parsing terms
+        self._decl_text: str | None = ""
+        self._model: z3.ModelRef | None = None
+        self._failure: str | None = None  # why the last check raised instead of answering
+        self._max: dict[int, bool] = {}  # objective handle id → maximise
 
-    def flush(self) -> None:
-        decls, asserts = self.enc.script.take()
-        text = _commands(decls, asserts)
+    # ------------------------------------------------------------ input
+    def add(self, decls: Sequence[Symbol], asserts: Sequence[Assertion]) -> None:
+        if decls:
+            self._decls.extend(s.declaration() for s in decls)
+            self._decl_text = None
+        text = commands_text(list(decls), list(asserts))
         if text:
             self.solver.from_string(text)
 
-    def set_timeout(self, seconds: float | None) -> None:
-        """A per-check limit; None removes it."""
-        self.solver.set("timeout", 4294967295 if seconds is None else max(1, int(seconds * 1000)))
+    def assert_term(self, term: Term) -> None:
+        self.solver.add(self.expr(term))
 
-    def check(self, extra: list[str], assumptions=()) -> z3.CheckSatResult:
-        """Check with ``extra`` constraints in a scope the caller closes with :meth:`pop`;
-        ``assumptions`` are names of Bool variables assumed true for this check only."""
-        self.flush()
+    def push(self) -> None:
         self.solver.push()
-        if extra:
-            self.solver.from_string("".join(f"(assert {c})" for c in extra))
-        return self.solver.check(*[z3.Bool(a[1:-1] if a.startswith("|") else a, self.ctx) for a in assumptions])
 
     def pop(self) -> None:
         self.solver.pop()
 
+    # ------------------------------------------------------------ terms
+    def intern(self, term: Term) -> Term:
+        return Interned(term, self.expr(term), self)
+
+    def expr(self, term: Term) -> Any:
+        """A query term as a Z3 expression."""
+        if isinstance(term, Interned):
+            return term.native if term.owner is self else self.expr(term.term)
+        if isinstance(term, bool):
+            return z3.BoolVal(term, self.ctx)
+        if isinstance(term, Symbol):
+            return self._const(term)
+        if isinstance(term, str):
+            return self._parse(term)
+        if isinstance(term, Fraction):
+            return z3.RealVal(f"{term.numerator}/{term.denominator}", self.ctx)
+        if isinstance(term, App):
+            return _OPS[term.op](*(self.expr(a) for a in term.args))
+        raise TypeError(f"not a term: {term!r}")
+
+    def _const(self, s: Symbol) -> Any:
+        if s.sort is SmtSort.BOOL:
+            return z3.Bool(s.name, self.ctx)
+        return z3.Int(s.name, self.ctx) if s.sort is SmtSort.INT else z3.Real(s.name, self.ctx)
+
+    def _parse(self, text: str) -> Any:
+        if self._decl_text is None:
+            self._decl_text = "".join(self._decls)
+        return z3.parse_smt2_string(f"{self._decl_text}(assert (= {text} {text}))", ctx=self.ctx)[0].arg(0)
+
+    # ------------------------------------------------------------ checking
+    def set_timeout(self, seconds: float | None) -> None:
+        ms = _NO_LIMIT_MS if seconds is None else min(_NO_LIMIT_MS, max(1, int(seconds * 1000)))
+        self.solver.set("timeout", ms)
+
+    def check(self, assumptions: Sequence[Symbol] = ()) -> Check:
+        self._model = None
+        self._failure = None
+        try:
+            r = self.solver.check(*[self._const(a) for a in assumptions])
+        except z3.Z3Exception as exc:  # e.g. a logic's configuration refusing the formula
+            self._failure = str(exc)
+            return Check.UNKNOWN
+        return Check.SAT if r == z3.sat else Check.UNSAT if r == z3.unsat else Check.UNKNOWN
+
     def reason_unknown(self) -> str:
-        return self.solver.reason_unknown()
+        return self._failure if self._failure is not None else self.solver.reason_unknown()
 
-    # ------------------------------------------------------------------ models
-    def extract(self, steps: int) -> Plan:
-        model = self.solver.model()
-        enc = self.enc
-        out = []
-        fresh: dict[str, str] = {}
-        for t in range(steps):
-            step = []
-            for m in enc.morphisms:
-                if not z3.is_true(model.eval(z3.Bool(enc.act[t][m.name][1:-1], model.ctx), model_completion=True)):
-                    continue
-                params = {}
-                for p in m.params:
-                    name = enc.theta[t][(m.name, p.name)][1:-1]  # type: ignore[index]
-                    params[p.name] = self._value(model, name, p.sort, fresh)
-                step.append(Activation(m.name, params))
-            if step:
-                out.append(tuple(step))
-        return Plan(tuple(out), fresh)
+    def core(self) -> list[Symbol]:
+        names = {c.decl().name() for c in self.solver.unsat_core()}  # type: ignore[union-attr]
+        return [Symbol(n, SmtSort.BOOL) for n in sorted(names)]
 
-    def _value(self, model: z3.ModelRef, name: str, sort: ir.Sort, fresh: dict[str, str]):
-        return value_in_model(model, name, sort, self.enc, fresh)
+    def has_model(self) -> bool:
+        try:
+            self._current_model()
+        except z3.Z3Exception:
+            return False
+        return True
 
-    def parse_term(self, text: str) -> z3.ExprRef:
-        """An encoded term as a Z3 expression (for objectives and cores)."""
-        self.flush()
-        decls = "".join(f"(declare-fun {n} () {s})" for n, s in self.enc.script.decls)
-        return z3.parse_smt2_string(f"{decls}(assert (= {text} {text}))", ctx=self.ctx)[0].arg(0)
+    def _current_model(self) -> z3.ModelRef:
+        if self._model is None:
+            self._model = self.solver.model()
+        return self._model
 
+    def value(self, term: Term) -> Fraction | bool:
+        v = self._current_model().eval(self.expr(term), model_completion=True)
+        if z3.is_bool(v):
+            return z3.is_true(v)
+        return to_fraction(v)
 
-def value_in_model(model: z3.ModelRef, name: str, sort: ir.Sort, enc: Encoder, fresh: dict[str, str]):
-    """The value of variable ``name`` of IR sort ``sort`` (symbols decoded through the
-    grounding; fresh values recorded in ``fresh``)."""
-    if sort.kind is SortKind.BOOL:
-        return z3.is_true(model.eval(z3.Bool(name, model.ctx), model_completion=True))
-    if sort.kind is SortKind.REAL:
-        return to_fraction(model.eval(z3.Real(name, model.ctx), model_completion=True))
-    raw = model.eval(z3.Int(name, model.ctx), model_completion=True).as_long()
-    if sort.kind is SortKind.INT:
-        return Fraction(raw)
-    u = enc.grounding.universe(sort)
-    value = u.elements[raw]
-    if value in u.fresh:
-        fresh[value] = u.sort_of[value]
-    return value
+    # ------------------------------------------------------------ optimisation
+    def minimize(self, term: Term) -> Any:
+        return self._objective(term, maximize=False)
+
+    def maximize(self, term: Term) -> Any:
+        return self._objective(term, maximize=True)
+
+    def _objective(self, term: Term, maximize: bool) -> Any:
+        opt = self.solver
+        assert isinstance(opt, z3.Optimize)
+        handle = opt.maximize(self.expr(term)) if maximize else opt.minimize(self.expr(term))
+        self._max[id(handle)] = maximize
+        return handle
+
+    def add_soft(self, term: Term, weight: Fraction) -> None:
+        opt = self.solver
+        assert isinstance(opt, z3.Optimize)
+        opt.add_soft(self.expr(term), _weight_text(weight))
+
+    def bound(self, handle: Any) -> Bound:
+        vector = handle.upper_values() if self._max[id(handle)] else handle.lower_values()
+        infinite, value, epsilon = (to_fraction(vector[i]) for i in range(3))
+        return Bound(int(infinite), value, epsilon)

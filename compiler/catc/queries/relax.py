@@ -1,0 +1,321 @@
+"""relax: the least weakening of the requirements that makes the problem feasible.
+
+The least weighted slack on numeric requirements — initial values, and order comparisons
+among preconditions and goals — that restores feasibility (paper eq. relax), proven least by
+a search over Boolean skeletons with an LP per skeleton; or, ``discrete``, a least set of
+labelled constructs to drop (a minimum correction set).  The composition the relaxation makes
+possible is replayed by the independent validator on the relaxed instance.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field, replace
+from fractions import Fraction
+
+from catc import ir
+from catc.semantics.compositions import canonical_fresh, checked
+from catc.semantics.horizon import default_horizon
+from catc.semantics.plan import Plan
+from catc.semantics.validate import ValidationFailure
+from catc.smt.backend import Check
+from catc.smt.labelled import LabelledModel
+from catc.smt.readback import read_plan
+from catc.smt.script import SmtSort, Symbol, and_text, real_literal
+from catc.smt.terms import Term, eq, lt
+
+
+@dataclass
+class Requirement:
+    label: str
+    kind: str  # "initial value" | "precondition" | "goal"
+    resources: frozenset[str]
+    weight: Fraction
+    integral: bool
+
+
+@dataclass
+class Relaxation:
+    label: str
+    kind: str
+    delta: Fraction  # signed for initial values; ≥ 0 (the weakening) for comparisons
+    weight: Fraction
+
+
+@dataclass
+class RelaxResult:
+    status: str  # "relaxed" | "sat" (already feasible) | "unsat" (no relaxation helps) | "unknown"
+    proven: bool = True  # False: the best relaxation found before the time limit
+    relaxations: list[Relaxation] = field(default_factory=list)
+    dropped: list[str] = field(default_factory=list)  # discrete variant
+    cost: Fraction | None = None
+    plan: Plan | None = None
+    states: tuple = ()
+    relaxed_instance: ir.Instance | None = None
+    eligible: list[Requirement] = field(default_factory=list)
+    horizon: int = 0
+    timings: dict[str, float] = field(default_factory=dict)
+
+
+def eligible_requirements(
+    inst: ir.Instance, only: Iterable[str] = (), weights: dict[str, Fraction] | None = None
+) -> list[Requirement]:
+    """Numeric initial values, and order comparisons among preconditions and goals.
+
+    ``only`` keeps those whose label equals or starts with an entry, or that mention a
+    resource named by an entry; ``weights`` (same matching) sets weights (default 1)."""
+    only = list(only)
+    weights = weights or {}
+    reqs: list[Requirement] = []
+
+    def matches(key: str, label: str, resources: frozenset[str]) -> bool:
+        return label == key or label.startswith(key.rstrip("/") + "/") or key in resources
+
+    def add(label: str, kind: str, resources: frozenset[str], integral: bool) -> None:
+        if only and not any(matches(k, label, resources) for k in only):
+            return
+        w = Fraction(1)
+        for key, value in weights.items():
+            if matches(key, label, resources):
+                w = value
+        reqs.append(Requirement(label, kind, resources, w, integral))
+
+    for name, init in inst.problem.init.items():
+        r = inst.resources.get(name)
+        if r is not None and r.sort.is_numeric:
+            add(init.label, "initial value", frozenset({name}), r.sort.kind is ir.SortKind.INT)
+    for m in inst.morphisms.values():
+        for lit in m.pre:
+            if _is_order(lit.expr):
+                add(lit.label, "precondition", ir.resources_in(lit.expr), _int_compare(lit.expr))
+    for lit in inst.problem.goal:
+        if _is_order(lit.expr):
+            add(lit.label, "goal", ir.resources_in(lit.expr), _int_compare(lit.expr))
+    return reqs
+
+
+def _is_order(e: ir.Expr) -> bool:
+    return isinstance(e, ir.Compare) and e.op is not ir.CmpOp.EQ
+
+
+def _int_compare(e: ir.Compare) -> bool:  # type: ignore[name-defined]
+    return e.left.sort.kind is ir.SortKind.INT and e.right.sort.kind is ir.SortKind.INT
+
+
+def relax(
+    inst: ir.Instance,
+    *,
+    horizon: int | None = None,
+    sequential: bool = False,
+    only: Iterable[str] = (),
+    weights: dict[str, Fraction] | None = None,
+    discrete: bool = False,
+    relative_to: Iterable[str] | None = None,
+    timeout: float | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> RelaxResult:
+    start = time.perf_counter()
+    k = default_horizon(inst) if horizon is None else horizon
+    components = (tuple(relative_to) or None) if relative_to is not None else (inst.problem.deployed or None)
+    result = RelaxResult("unknown", horizon=k)
+    say = progress or (lambda message: None)
+    deadline = start + timeout if timeout else None
+    if discrete:
+        say("looking for the fewest requirements to drop")
+        return _finish(_relax_discrete(inst, k, sequential, components, timeout, result, start), start)
+    result.eligible = eligible_requirements(inst, only, weights)
+    search = _SlackSearch(inst, k, sequential, components, result.eligible)
+    result.timings["encode"] = time.perf_counter() - start
+    say("looking for a restoration")
+    best, result.proven, exhausted = search.run(deadline, say)
+    if best is None:
+        result.status = "unsat" if exhausted else "unknown"
+        return _finish(result, start)
+    result.cost, values, plan = best
+    result.relaxations = [
+        Relaxation(req.label, req.kind, values[req.label], req.weight)
+        for req in result.eligible
+        if values[req.label] != 0
+    ]
+    result.status = "relaxed" if result.relaxations else "sat"
+    relaxed = relaxed_instance(inst, {r_.label: r_.delta for r_ in result.relaxations})
+    checked(relaxed, plan, k, sequential, "the relaxed composition")
+    result.plan = canonical_fresh(plan)
+    result.states = checked(relaxed, result.plan, k, sequential, "the relaxed composition")
+    result.relaxed_instance = relaxed
+    return _finish(result, start)
+
+
+class _SlackSearch:
+    """The least weighted slack, found by two copies of the labelled model with slack on
+    every eligible requirement: a solver that looks for ever cheaper relaxations (any
+    Boolean skeleton), and an optimiser that finds the least slack for one skeleton (an LP).
+    The search ends when no cheaper relaxation exists (proven) or at the deadline (the best
+    found).  Both share one term store: a skeleton found by one is asserted in the other."""
+
+    def __init__(
+        self, inst: ir.Instance, k: int, sequential: bool, components: tuple[str, ...] | None, reqs: list[Requirement]
+    ) -> None:
+        slack: dict[str, str] = {}
+        self.slack_vars: list[tuple[Requirement, list[Symbol]]] = []
+        for req in reqs:
+            base = f"d.{req.label}"
+            sort = SmtSort.INT if req.integral else SmtSort.REAL
+            if req.kind == "initial value":  # s0 = v + δ⁺ − δ⁻: initial values move either way
+                plus, minus = Symbol(base + ".up", sort), Symbol(base + ".down", sort)
+                slack[req.label] = f"(- {plus} {minus})"
+                self.slack_vars.append((req, [plus, minus]))
+            else:
+                q = Symbol(base, sort)
+                slack[req.label] = q
+                self.slack_vars.append((req, [q]))
+        decls = [v for _, vs in self.slack_vars for v in vs]
+        models: list[LabelledModel] = []
+        for optimize in (False, True):
+            lm = LabelledModel(
+                inst,
+                k,
+                sequential=sequential,
+                components=components,
+                horizon_label=False,
+                slack=slack,
+                slack_decls=decls,
+                optimize=optimize,
+                share_with=models[0] if models else None,
+            )
+            lm.backend.assert_term(and_text([f"(>= {v} 0)" for v in decls]))
+            lm.enforce_all()
+            models.append(lm)
+        self.feas, self.lp = models
+        weighted = []
+        for req, vs in self.slack_vars:
+            for v in vs:
+                amount = f"(to_real {v})" if req.integral else v
+                weighted.append(f"(* {real_literal(req.weight)} {amount})")
+        cost = "(+ 0.0 " + " ".join(weighted) + ")"
+        used = [f"(ite (> {v} 0) 1 0)" for _, vs in self.slack_vars for v in vs]
+        noninit = [f"(ite (> {v} 0) 1 0)" for req, vs in self.slack_vars if req.kind != "initial value" for v in vs]
+        lp = self.lp.backend
+        # least cost, then fewest slacks, then fewest weakened conditions (initial values first)
+        self.cost_handle = lp.minimize(lp.intern(cost))
+        lp.minimize(lp.intern(f"(+ 0 {' '.join(used)})"))
+        lp.minimize(lp.intern(f"(+ 0 {' '.join(noninit)})"))
+        self.feas_cost = self.feas.backend.intern(cost)
+        self.acts = [q for step in self.feas.enc.act for q in step.values()]
+
+    def run(
+        self, deadline: float | None, say: Callable[[str], None]
+    ) -> tuple[tuple[Fraction, dict[str, Fraction], Plan] | None, bool, bool]:
+        """(the best relaxation found: cost, slack per label, composition), whether it is
+        proven least, and whether the search space ran out."""
+        feas = self.feas.backend
+        best = None
+        while True:
+            feas.set_timeout(_remaining(deadline))
+            r = feas.check()
+            if r is Check.UNSAT:
+                return best, best is not None, True
+            if r is Check.UNKNOWN:
+                return best, False, False
+            skeleton = [eq(q, feas.value(q)) for q in self.acts]
+            found = self._least_slack(skeleton, deadline)
+            if found is None:
+                return best, False, False
+            best = found
+            cost = found[0]
+            if cost == 0:
+                return best, True, False
+            say(f"best restoration so far: weighted total {cost}; is there a cheaper one?")
+            feas.assert_term(lt(self.feas_cost, cost))
+
+    def _least_slack(
+        self, skeleton: list[Term], deadline: float | None
+    ) -> tuple[Fraction, dict[str, Fraction], Plan] | None:
+        """The LP for one Boolean skeleton: its least cost, the slack per label, the composition."""
+        lp = self.lp.backend
+        lp.push()
+        for part in skeleton:
+            lp.assert_term(part)
+        lp.set_timeout(_remaining(deadline))
+        if lp.check() is not Check.SAT:
+            lp.pop()
+            return None
+        values: dict[str, Fraction] = {}
+        for req, vs in self.slack_vars:
+            amounts = [lp.value(v) for v in vs]
+            assert all(not isinstance(a, bool) for a in amounts)
+            values[req.label] = amounts[0] - amounts[1] if req.kind == "initial value" else amounts[0]  # type: ignore[operator,assignment]
+        bound = lp.bound(self.cost_handle)
+        if not bound.exact:
+            raise ValueError(f"the least restoration is not attained (infimum {bound.value})")
+        found = (bound.value, values, read_plan(lp, self.lp.enc, self.lp.extended))
+        lp.pop()
+        return found
+
+
+def _relax_discrete(
+    inst: ir.Instance,
+    k: int,
+    sequential: bool,
+    components: tuple[str, ...] | None,
+    timeout: float | None,
+    result: RelaxResult,
+    start: float,
+) -> RelaxResult:
+    """A minimum-cardinality set of labelled constraints whose removal restores feasibility
+    (a minimal correction set)."""
+    model = LabelledModel(inst, k, sequential=sequential, components=components, horizon_label=True, optimize=True)
+    opt = model.backend
+    for label in model.labels:
+        opt.add_soft(model.indicator[label], Fraction(1))
+    if timeout:
+        opt.set_timeout(timeout)
+    result.timings["encode"] = time.perf_counter() - start
+    r = opt.check()
+    if r is not Check.SAT:
+        result.status = "unsat" if r is Check.UNSAT else "unknown"
+        return result
+    dropped = [label for label in model.labels if opt.value(model.indicator[label]) is not True]
+    # minimality: putting back any dropped label makes it infeasible again
+    for label in dropped:
+        keep = [x for x in model.labels if x not in dropped or x == label]
+        if model.check(keep)[0] is not Check.UNSAT:  # pragma: no cover - a minimum set is minimal
+            raise ValidationFailure(f"dropping {dropped} is not minimal: {label} can stay")
+    result.dropped = dropped
+    result.status = "relaxed" if dropped else "sat"
+    return result
+
+
+def _remaining(deadline: float | None) -> float | None:
+    return None if deadline is None else max(0.001, deadline - time.perf_counter())
+
+
+def relaxed_instance(inst: ir.Instance, deltas: dict[str, Fraction]) -> ir.Instance:
+    """The instance with each relaxation applied to the IR (for independent validation)."""
+    init = dict(inst.problem.init)
+    for name, value in inst.problem.init.items():
+        if value.label in deltas and isinstance(value.value, ir.Const):
+            init[name] = replace(value, value=ir.Const(value.value.value + deltas[value.label], value.value.sort))  # type: ignore[operator]
+
+    def weaken(lit: ir.Literal) -> ir.Literal:
+        d = deltas.get(lit.label)
+        if d is None or not isinstance(lit.expr, ir.Compare):
+            return lit
+        e = lit.expr
+        c = ir.Const(d, ir.REAL if ir.REAL in (e.left.sort, e.right.sort) else ir.INT)
+        if e.op in (ir.CmpOp.GE, ir.CmpOp.GT):
+            e = replace(e, left=ir.Arith(ir.ArithOp.ADD, (e.left, c), c.sort if e.left.sort == c.sort else ir.REAL))
+        else:
+            e = replace(e, right=ir.Arith(ir.ArithOp.ADD, (e.right, c), c.sort if e.right.sort == c.sort else ir.REAL))
+        return replace(lit, expr=e)
+
+    morphisms = {n: replace(m, pre=tuple(weaken(l) for l in m.pre)) for n, m in inst.morphisms.items()}
+    domain = replace(inst.domain, morphisms=ir.frozen(morphisms))
+    problem = replace(inst.problem, init=ir.frozen(init), goal=tuple(weaken(l) for l in inst.problem.goal))
+    return ir.Instance(domain, problem, inst.view)
+
+
+def _finish(result, start: float):
+    result.timings["total"] = time.perf_counter() - start
+    return result

@@ -1,0 +1,174 @@
+"""The backend protocol: what every query may ask of a solver, and nothing more.
+
+A :class:`Backend` is fed the encoder's script (declarations and labelled assertions,
+:mod:`catc.smt.script`) and the queries' own :mod:`~catc.smt.terms`; it checks, under
+assumptions, inside push/pop scopes; it answers with a :class:`Check`, an unsat core (the
+assumed :class:`~catc.smt.script.Symbol` s that conflict), a model's values as exact
+``Fraction`` s and ``bool`` s, and — where it can optimise — each objective's :class:`Bound`.
+No module outside the backends imports a solver; no value crosses the boundary as text.
+
+Backends are found by name in :data:`BACKENDS` and imported only when opened, so a missing
+optional solver is an error naming its package, not an import failure at start-up.  A new
+backend is one module implementing :class:`Backend` plus one entry in :data:`BACKENDS`.
+"""
+
+from __future__ import annotations
+
+import importlib
+from abc import ABC, abstractmethod
+from collections.abc import Sequence
+from enum import Enum
+from fractions import Fraction
+from typing import Any
+
+from catc.smt.script import Assertion, Symbol
+from catc.smt.terms import Term
+from catgrammar.record import Record, set_field
+
+
+class Check(str, Enum):
+    SAT = "sat"
+    UNSAT = "unsat"
+    UNKNOWN = "unknown"
+
+
+class Capability(str, Enum):
+    """What a backend can do beyond checking satisfiability."""
+
+    MODELS = "models"  # values after SAT
+    CORES = "cores"  # unsat cores over the assumptions
+    OPTIMIZE = "optimize"  # minimize / maximize / soft constraints (open with optimize=True)
+    LOGIC = "logic"  # a solver configured for a named logic (open with logic=...)
+
+
+class Bound(Record):
+    """An objective's optimum as the solver reports it: ``infinite``·∞ + ``value`` +
+    ``epsilon``·ε.  ``infinite`` is −1, 0 or 1; a non-zero ``epsilon`` means the value is a
+    supremum or infimum that no model attains."""
+
+    __slots__ = ("infinite", "value", "epsilon")
+    infinite: int
+    value: Fraction
+    epsilon: Fraction
+
+    def __init__(self, infinite: int, value: Fraction, epsilon: Fraction = Fraction(0)) -> None:
+        set_field(self, "infinite", infinite)
+        set_field(self, "value", value)
+        set_field(self, "epsilon", epsilon)
+
+    @property
+    def exact(self) -> bool:
+        return self.infinite == 0 and self.epsilon == 0
+
+
+class BackendError(Exception):
+    """A backend cannot be opened (its package is missing) or cannot do what was asked."""
+
+
+class Backend(ABC):
+    """One solver instance.  Open one with :func:`open_backend`."""
+
+    name: str = ""
+    capabilities: frozenset[Capability] = frozenset()
+
+    # ------------------------------------------------------------ input
+    @abstractmethod
+    def add(self, decls: Sequence[Symbol], asserts: Sequence[Assertion]) -> None:
+        """Declare ``decls`` and assert ``asserts`` (label, SMT-LIB text), in one batch."""
+
+    @abstractmethod
+    def assert_term(self, term: Term) -> None:
+        """Assert one query term."""
+
+    def intern(self, term: Term) -> Term:
+        """The same term, prepared once for repeated use (an objective read after every
+        check); by default the term itself."""
+        return term
+
+    @abstractmethod
+    def push(self) -> None: ...
+
+    @abstractmethod
+    def pop(self) -> None: ...
+
+    # ------------------------------------------------------------ checking
+    @abstractmethod
+    def set_timeout(self, seconds: float | None) -> None:
+        """A limit for each following check (None: none)."""
+
+    @abstractmethod
+    def check(self, assumptions: Sequence[Symbol] = ()) -> Check:
+        """Satisfiability of the assertions with the Boolean ``assumptions`` assumed true."""
+
+    @abstractmethod
+    def reason_unknown(self) -> str: ...
+
+    def core(self) -> list[Symbol]:
+        """After UNSAT under assumptions: a subset of the assumptions that conflicts."""
+        raise self.unsupported(Capability.CORES)
+
+    def has_model(self) -> bool:
+        """Whether a model can be read (after SAT, or a stopped optimisation's best)."""
+        return False
+
+    def value(self, term: Term) -> Fraction | bool:
+        """The value of ``term`` in the current model: ``bool``, or an exact ``Fraction``
+        (for Int and Real terms alike); unconstrained constants take a default value."""
+        raise self.unsupported(Capability.MODELS)
+
+    # ------------------------------------------------------------ optimisation
+    def minimize(self, term: Term) -> Any:
+        """Add an objective (priority: the order of the calls); returns its handle."""
+        raise self.unsupported(Capability.OPTIMIZE)
+
+    def maximize(self, term: Term) -> Any:
+        raise self.unsupported(Capability.OPTIMIZE)
+
+    def add_soft(self, term: Term, weight: Fraction) -> None:
+        raise self.unsupported(Capability.OPTIMIZE)
+
+    def bound(self, handle: Any) -> Bound:
+        """The optimum of an objective after a finished check."""
+        raise self.unsupported(Capability.OPTIMIZE)
+
+    def unsupported(self, capability: Capability) -> BackendError:
+        return BackendError(f"the {self.name} backend cannot do this: no {capability.value} support")
+
+
+#: Backend name → "module:class", imported on first use.
+BACKENDS: dict[str, str] = {
+    "z3": "catc.smt.z3backend:Z3Backend",
+    "cvc5": "catc.smt.cvc5backend:Cvc5Backend",
+}
+
+DEFAULT_BACKEND = "z3"
+
+
+def backend_class(name: str) -> type[Backend]:
+    target = BACKENDS.get(name)
+    if target is None:
+        raise BackendError(f"unknown backend {name!r}; expected one of: {', '.join(sorted(BACKENDS))}")
+    module, _, attr = target.partition(":")
+    cls: type[Backend] = getattr(importlib.import_module(module), attr)
+    return cls
+
+
+def open_backend(
+    name: str = DEFAULT_BACKEND,
+    *,
+    optimize: bool = False,
+    logic: str | None = None,
+    share_with: Backend | None = None,
+) -> Backend:
+    """A fresh solver: an optimiser with ``optimize``, configured for ``logic`` when given;
+    ``share_with`` another backend of the same kind to share its term store (Z3: its
+    context), so that both see the same term identities."""
+    cls = backend_class(name)
+    needed = {Capability.OPTIMIZE} if optimize else set()
+    if logic:
+        needed.add(Capability.LOGIC)
+    missing = needed - cls.capabilities
+    if missing:
+        what = ", ".join(sorted(c.value for c in missing))
+        raise BackendError(f"the {name} backend has no {what} support")
+    return cls(optimize=optimize, logic=logic, share_with=share_with)  # type: ignore[call-arg]
