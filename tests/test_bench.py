@@ -26,7 +26,7 @@ from catc.bench.harness import (
     text_diff,
 )
 from catc.interfaces.cli import main
-from catc.semantics.plan import decimal_text
+from catc.ir.numbers import decimal_text
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"

@@ -196,7 +196,7 @@ def text_diff(old: str, new: str, *, pddl: bool = False) -> LineDiff:
 def fraction_text(v: Fraction | None) -> str:
     if v is None:
         return "—"
-    from catc.semantics.plan import decimal_text
+    from catc.ir.numbers import decimal_text
 
     return decimal_text(Fraction(v))
 

@@ -13,8 +13,10 @@ from fractions import Fraction
 from typing import TYPE_CHECKING
 
 from catc import ir
-from catc.frontend.typecheck import Context, ExprChecker, Scope, assignable, describe, fold_constant
+from catc.frontend.typecheck import Context, ExprChecker, Scope, assignable, describe
 from catc.ir import BOOL, INT, REAL, Sort, SortKind
+from catc.ir.fold import FoldError, fold_constant
+from catc.ir.numbers import ratio_text
 from catgrammar import ast
 from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
 from catgrammar.span import Span
@@ -140,6 +142,14 @@ class DomainChecker:
         self.failed = False
 
     # ------------------------------------------------------------------ names
+    def _fold(self, expr: ir.Expr) -> ir.Const | ir.SetLit | None:
+        """The constant value of ``expr`` (None if it has none); division by zero is E0310."""
+        try:
+            return fold_constant(expr)
+        except FoldError as exc:
+            self.diags.report("E0310", str(exc), exc.expr.span or expr.span)
+            return None
+
     def _declare(self, table: dict, name: ast.Name, what: str, existing_span=None) -> bool:
         text = name.text
         if text in RESERVED_NAMES:
@@ -481,7 +491,7 @@ class DomainChecker:
         if Option.COST.value in opts:
             node = opts[Option.COST.value].value
             cost = checker.numeric(node, Context.COST)  # type: ignore[arg-type]
-            folded = fold_constant(cost) if cost is not None else None
+            folded = self._fold(cost) if cost is not None else None
             if isinstance(folded, ir.Const) and folded.value < 0:  # type: ignore[operator]
                 self.diags.report("E0307", ":cost must not be negative", node.span)  # type: ignore[union-attr]
         doc = opts.get(Option.DOC.value)
@@ -941,7 +951,11 @@ class ProblemChecker:
         value = self.checker.term(value_node, Context.CONSTANT, r.sort)
         if value is None:
             return None
-        folded = fold_constant(value)
+        try:
+            folded = fold_constant(value)
+        except FoldError as exc:
+            self.diags.report("E0310", str(exc), exc.expr.span or value_node.span)
+            return None
         if folded is None:
             self.diags.report("E0502", "an initial value must be a constant", value_node.span)
             return None
@@ -1024,9 +1038,7 @@ def _init_target(lit: ast.Expr) -> set[str]:
 
 
 def _fmt(v: Fraction | None) -> str:
-    if v is None:
-        return "*"
-    return str(v.numerator) if v.denominator == 1 else f"{float(v):g} ({v})"
+    return "*" if v is None else ratio_text(v)
 
 
 def check_objective_text(text: str, inst: ir.Instance, diags: Diagnostics, origin: str) -> ir.Expr | None:

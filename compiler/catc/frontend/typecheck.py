@@ -465,35 +465,3 @@ class ExprChecker:
         label = node.name if isinstance(node, ast.Ref) else "this"
         self.diags.report("E0202", f"unknown morphism '{label}'{did_you_mean(label, list(morphisms))}", node.span)
         return None
-
-
-def fold_constant(expr: ir.Expr) -> ir.Const | ir.SetLit | None:
-    """Evaluate an expression built from constants only (init values, bounds)."""
-    if isinstance(expr, ir.Const):
-        return expr
-    if isinstance(expr, ir.SetLit):
-        return expr if all(isinstance(e, ir.Const) for e in expr.elements) else None
-    if isinstance(expr, ir.Arith):
-        vals = []
-        for a in expr.args:
-            c = fold_constant(a)
-            if not isinstance(c, ir.Const) or isinstance(c.value, (bool, str)):
-                return None
-            vals.append(c.value)
-        op = expr.op
-        if op is ir.ArithOp.ADD:
-            v = sum(vals, Fraction(0))
-        elif op is ir.ArithOp.SUB:
-            v = -vals[0] if len(vals) == 1 else vals[0] - sum(vals[1:], Fraction(0))
-        elif op is ir.ArithOp.MUL:
-            v = Fraction(1)
-            for x in vals:
-                v *= x
-        elif op is ir.ArithOp.DIV:
-            v = vals[0] / vals[1]
-        elif op is ir.ArithOp.MIN:
-            v = min(vals)
-        else:
-            v = max(vals)
-        return ir.Const(Fraction(v), expr.sort, expr.span)
-    return None

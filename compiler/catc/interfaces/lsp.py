@@ -157,7 +157,8 @@ def lookup(a: Analysis, name: str) -> list[Definition]:
 
 
 def hover_text(a: Analysis, name: str) -> str | None:
-    from catc.ir.text import effect_text, number_text, to_text
+    from catc.ir.numbers import number_text
+    from catc.ir.text import effect_text, to_text
 
     for dom in a.domains:
         r = dom.resources.get(name)

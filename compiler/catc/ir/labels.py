@@ -10,7 +10,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from catc import ir
-from catc.ir.text import effect_text, number_text, to_text
+from catc.ir.numbers import number_text
+from catc.ir.text import effect_text, to_text
 from catgrammar.span import Span
 
 

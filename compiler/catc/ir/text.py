@@ -7,28 +7,9 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from fractions import Fraction
 
 from catc import ir
-
-
-def number_text(v: Fraction) -> str:
-    if v.denominator == 1:
-        return str(v.numerator)
-    d = v.denominator
-    while d % 2 == 0:
-        d //= 2
-    while d % 5 == 0:
-        d //= 5
-    if d == 1:  # a terminating decimal: print it exactly
-        sign = "-" if v < 0 else ""
-        a = abs(v)
-        places = 0
-        while (a * 10**places).denominator != 1:
-            places += 1
-        digits = str((a * 10**places).numerator).rjust(places + 1, "0")
-        return f"{sign}{digits[:-places]}.{digits[-places:]}"
-    return f"(/ {v.numerator} {v.denominator})"
+from catc.ir.numbers import number_text
 
 
 def _const(e: ir.Const) -> str:

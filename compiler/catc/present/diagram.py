@@ -40,6 +40,7 @@ from fractions import Fraction
 from typing import Any
 
 from catc import ir
+from catc.ir.numbers import ratio_text
 from catc.semantics.plan import Activation, Plan
 
 __all__ = ["GROUP_ORDER", "KIND_STYLE", "format_value", "render_svg"]
@@ -137,24 +138,6 @@ def _num(x: float) -> str:
     return s[:-2] if s.endswith(".0") else s
 
 
-def _number_text(q: Fraction) -> str:
-    if q.denominator == 1:
-        return str(q.numerator)
-    den, twos, fives = q.denominator, 0, 0
-    while den % 2 == 0:
-        den //= 2
-        twos += 1
-    while den % 5 == 0:
-        den //= 5
-        fives += 1
-    if den != 1:
-        return f"{q.numerator}/{q.denominator}"
-    places = max(twos, fives)
-    digits = str(abs(q.numerator) * 10**places // q.denominator).rjust(places + 1, "0")
-    sign = "-" if q < 0 else ""
-    return f"{sign}{digits[:-places]}.{digits[-places:]}"
-
-
 def format_value(v: Any) -> str:
     """A state or θ value as the diagram prints it.
 
@@ -166,7 +149,7 @@ def format_value(v: Any) -> str:
     if isinstance(v, int):
         return str(v)
     if isinstance(v, Fraction):
-        return _number_text(v)
+        return ratio_text(v)
     if isinstance(v, float):
         return repr(v)
     if isinstance(v, (frozenset, set)):

@@ -12,7 +12,8 @@ from fractions import Fraction
 from typing import Any
 
 from catc import ir
-from catc.semantics.plan import Plan, decimal_text, value_to_json
+from catc.ir.numbers import decimal_text
+from catc.semantics.plan import Plan, value_to_json
 
 
 def show_value(v: Any, fresh: Mapping[str, str] = {}, unit: str | None = None) -> str:

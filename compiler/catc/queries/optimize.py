@@ -18,7 +18,7 @@ from enum import Enum
 from fractions import Fraction
 
 from catc import ir
-from catc.ir.text import number_text
+from catc.ir.numbers import number_text
 from catc.semantics.compositions import canonical_fresh, prune_plan
 from catc.semantics.horizon import default_horizon
 from catc.semantics.plan import Plan

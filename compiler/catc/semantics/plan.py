@@ -86,19 +86,6 @@ def value_to_json(v: StateValue) -> Any:
     return v
 
 
-def decimal_text(v: Fraction, places: int = 6) -> str:
-    """A readable decimal for an exact value: exact when it terminates within ``places``."""
-    if v.denominator == 1:
-        return str(v.numerator)
-    q = v * 10**places
-    if q.denominator == 1:
-        text = f"{v.numerator * 10**places // v.denominator:+d}"
-        sign, digits = text[0], text[1:].rjust(places + 1, "0")
-        whole, frac = digits[:-places], digits[-places:].rstrip("0")
-        return f"{'-' if sign == '-' else ''}{whole}.{frac}"
-    return f"≈{float(v):.{places}g}"
-
-
 class PlanFormatError(ValueError):
     """A plan file that does not follow ``catc.plan/1``."""
 

@@ -34,6 +34,9 @@ from types import MappingProxyType
 
 from catc import ir
 from catc.ir import ArithOp, BoolOpKind, CmpOp, EffectKind, SortKind
+from catc.ir.fold import arith
+from catc.ir.numbers import ratio_text
+from catc.ir.text import to_text
 from catc.semantics.plan import Activation, Plan
 from catgrammar.record import Record, set_field
 
@@ -122,7 +125,7 @@ class MissingValue(EvaluationError):
 
 class DivisionByZero(EvaluationError):
     def __init__(self, expr: ir.Arith, divisor_text: str):
-        super().__init__(f"division by zero: {divisor_text} is 0 in {show(expr)}")
+        super().__init__(f"division by zero: {divisor_text} is 0 in {to_text(expr)}")
         self.expr = expr
 
 
@@ -157,14 +160,14 @@ def _is_num(v: object) -> bool:
 def _num(env: _Env, e: ir.Expr) -> Fraction:
     v = _eval(env, e)
     if not _is_num(v):
-        raise EvaluationError(f"{show(e)} is {fmt(v)}, not a number")
+        raise EvaluationError(f"{to_text(e)} is {fmt(v)}, not a number")
     return v  # type: ignore[return-value]
 
 
 def _bool(env: _Env, e: ir.Expr) -> bool:
     v = _eval(env, e)
     if not isinstance(v, bool):
-        raise EvaluationError(f"{show(e)} is {fmt(v)}, not true or false")
+        raise EvaluationError(f"{to_text(e)} is {fmt(v)}, not true or false")
     return v
 
 
@@ -190,39 +193,20 @@ def _h_setlit(env: _Env, e: ir.SetLit):
     for x in e.elements:
         v = _eval(env, x)
         if not isinstance(v, str):
-            raise EvaluationError(f"set element {show(x)} is {fmt(v)}, not a symbol")
+            raise EvaluationError(f"set element {to_text(x)} is {fmt(v)}, not a symbol")
         out.add(v)
     return frozenset(out)
 
 
 def _h_arith(env: _Env, e: ir.Arith):
     args = [_num(env, a) for a in e.args]  # strict: every argument is evaluated
-    op = e.op
     if not args:
-        raise EvaluationError(f"{show(e)} has no arguments")
-    if op is ArithOp.ADD:
-        return sum(args, Fraction(0))
-    if op is ArithOp.SUB:
-        if len(args) == 1:
-            return -args[0]
-        return args[0] - sum(args[1:], Fraction(0))
-    if op is ArithOp.MUL:
-        out = Fraction(1)
-        for a in args:
-            out *= a
-        return out
-    if op is ArithOp.DIV:
-        out = args[0]
+        raise EvaluationError(f"{to_text(e)} has no arguments")
+    if e.op is ArithOp.DIV:
         for sub, a in zip(e.args[1:], args[1:]):
             if a == 0:
-                raise DivisionByZero(e, show(sub))
-            out /= a
-        return out
-    if op is ArithOp.MIN:
-        return min(args)
-    if op is ArithOp.MAX:
-        return max(args)
-    raise EvaluationError(f"unknown arithmetic operator {op!r}")
+                raise DivisionByZero(e, to_text(sub))
+    return arith(e.op, args)
 
 
 _ORDER: dict[CmpOp, Callable[[Fraction, Fraction], bool]] = {
@@ -249,10 +233,10 @@ def _h_compare(env: _Env, e: ir.Compare):
     left, right = _eval(env, e.left), _eval(env, e.right)
     if e.op is CmpOp.EQ:
         if _kind_of(left) != _kind_of(right):
-            raise EvaluationError(f"cannot compare {fmt(left)} with {fmt(right)} in {show(e)}")
+            raise EvaluationError(f"cannot compare {fmt(left)} with {fmt(right)} in {to_text(e)}")
         return left == right
     if not (_is_num(left) and _is_num(right)):
-        raise EvaluationError(f"{show(e)} compares non-numbers {fmt(left)} and {fmt(right)}")
+        raise EvaluationError(f"{to_text(e)} compares non-numbers {fmt(left)} and {fmt(right)}")
     return _ORDER[e.op](left, right)  # type: ignore[arg-type]
 
 
@@ -265,11 +249,11 @@ def _h_boolop(env: _Env, e: ir.BoolOp):
         return any(args)
     if op is BoolOpKind.NOT:
         if len(args) != 1:
-            raise EvaluationError(f"{show(e)}: 'not' takes one argument")
+            raise EvaluationError(f"{to_text(e)}: 'not' takes one argument")
         return not args[0]
     if op is BoolOpKind.IMPLY:
         if not args:
-            raise EvaluationError(f"{show(e)}: 'imply' needs arguments")
+            raise EvaluationError(f"{to_text(e)}: 'imply' needs arguments")
         return (not all(args[:-1])) or args[-1]
     raise EvaluationError(f"unknown boolean operator {op!r}")
 
@@ -283,13 +267,13 @@ def _h_ite(env: _Env, e: ir.Ite):
 def _h_member(env: _Env, e: ir.Member):
     x, s = _eval(env, e.element), _eval(env, e.set)
     if not isinstance(s, frozenset):
-        raise EvaluationError(f"{show(e.set)} is {fmt(s)}, not a set")
+        raise EvaluationError(f"{to_text(e.set)} is {fmt(s)}, not a set")
     return x in s
 
 
 def _need_plan(env: _Env, e: ir.Expr) -> Plan:
     if env.plan is None:
-        raise EvaluationError(f"{show(e)} is an objective term: it needs a composition")
+        raise EvaluationError(f"{to_text(e)} is an objective term: it needs a composition")
     return env.plan
 
 
@@ -386,57 +370,16 @@ def objective_value(
 
 
 def fmt(v: object) -> str:
-    """A value as the language writes it (numbers exact: decimals when they terminate)."""
+    """A value as messages write it (numbers exact: decimals when they terminate, else n/d)."""
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, Fraction):
-        if v.denominator == 1:
-            return str(v.numerator)
-        d = v.denominator
-        for p in (2, 5):
-            while d % p == 0:
-                d //= p
-        if d == 1:  # terminating decimal
-            sign = "-" if v < 0 else ""
-            a = abs(v)
-            places = 0
-            while (a * 10**places).denominator != 1:
-                places += 1
-            digits = str((a * 10**places).numerator).rjust(places + 1, "0")
-            return f"{sign}{digits[:-places]}.{digits[-places:]}"
-        return f"{v.numerator}/{v.denominator}"
+        return ratio_text(v)
     if isinstance(v, frozenset):
         return "{" + " ".join(sorted(map(str, v))) + "}"
     if isinstance(v, str):
         return v
     return repr(v)
-
-
-def _show_const(e):
-    return fmt(_norm(e.value))
-
-
-_SHOW: dict[type, Callable] = {
-    ir.Const: _show_const,
-    ir.ResourceRef: lambda e: e.name,
-    ir.ParamRef: lambda e: e.name,
-    ir.SetLit: lambda e: "{" + " ".join(show(x) for x in e.elements) + "}",
-    ir.Arith: lambda e: "(" + " ".join([e.op.value, *(show(a) for a in e.args)]) + ")",
-    ir.Compare: lambda e: f"({e.op.value} {show(e.left)} {show(e.right)})",
-    ir.BoolOp: lambda e: "(" + " ".join([e.op.value, *(show(a) for a in e.args)]) + ")",
-    ir.Ite: lambda e: f"(if {show(e.cond)} {show(e.then)} {show(e.orelse)})",
-    ir.Member: lambda e: f"(member {show(e.element)} {show(e.set)})",
-    ir.TotalCost: lambda e: "(total-cost)",
-    ir.TotalChurn: lambda e: "(total-churn)",
-    ir.Uses: lambda e: f"(uses {e.morphism})",
-    ir.ParamValue: lambda e: f"(param {e.morphism} {e.param})",
-}
-
-
-def show(e: ir.Expr) -> str:
-    """An IR expression as s-expression text (for messages)."""
-    f = _SHOW.get(type(e))
-    return f(e) if f else f"<{type(e).__name__}>"
 
 
 def _activation_text(act: Activation) -> str:
@@ -732,7 +675,7 @@ class _Validator:
         except DivisionByZero as exc:
             self.add(
                 "division-by-zero",
-                f"{where}{lit.label} {show(lit.expr)} is false: {exc} ({_bindings(lit.expr, state, params)})",
+                f"{where}{lit.label} {to_text(lit.expr)} is false: {exc} ({_bindings(lit.expr, state, params)})",
                 i,
                 morphism,
                 lit.label,
@@ -741,7 +684,7 @@ class _Validator:
         except EvaluationError as exc:
             self.add(
                 "initial-state" if isinstance(exc, MissingValue) else kind,
-                f"{where}{lit.label} {show(lit.expr)} cannot be evaluated: {exc}",
+                f"{where}{lit.label} {to_text(lit.expr)} cannot be evaluated: {exc}",
                 i,
                 morphism,
                 lit.label,
@@ -751,7 +694,7 @@ class _Validator:
             bindings = _bindings(lit.expr, state, params)
             self.add(
                 kind,
-                f"{where}{lit.label} {show(lit.expr)} is false" + (f" with {bindings}" if bindings else ""),
+                f"{where}{lit.label} {to_text(lit.expr)} is false" + (f" with {bindings}" if bindings else ""),
                 i,
                 morphism,
                 lit.label,

@@ -31,7 +31,9 @@ from fractions import Fraction
 
 from catc import ir
 from catc.ir import ArithOp, BoolOpKind, CmpOp, EffectKind, SortKind
-from catc.semantics.plan import Activation, Plan, decimal_text
+from catc.ir.fold import FoldError, fold
+from catc.ir.numbers import decimal_text, number_text
+from catc.semantics.plan import Activation, Plan
 
 #: Words some PDDL planners (ENHSP, the PyPI parser) reject as names.
 RESERVED = frozenset(
@@ -166,13 +168,8 @@ def value_suffix(v: object) -> str:
 
 
 def number(v: Fraction | int) -> str:
-    v = Fraction(v)
-    if v.denominator == 1:
-        return str(v.numerator)
-    d = decimal_text(v, 12)
-    if d.startswith("≈"):
-        return f"(/ {v.numerator} {v.denominator})"
-    return d
+    """A PDDL number: an integer or a decimal of at most 12 places, else ``(/ n d)``."""
+    return number_text(Fraction(v), max_places=12)
 
 
 class _Names:
@@ -266,75 +263,10 @@ class _Exporter:
 
     # ---- expressions: fold θ, then print
     def _fold(self, e: ir.Expr, theta: Mapping[str, object]) -> ir.Expr:
-        if isinstance(e, ir.ParamRef):
-            if e.name not in theta:  # a θ the action does not fix (a PDDL+ dial)
-                return e
-            return ir.Const(theta[e.name], e.sort)
-        if isinstance(e, ir.Arith):
-            args = tuple(self._fold(a, theta) for a in e.args)
-            if all(isinstance(a, ir.Const) for a in args):
-                vals = [a.value for a in args]
-                try:
-                    if e.op is ArithOp.ADD:
-                        v = sum(vals, Fraction(0))
-                    elif e.op is ArithOp.SUB:
-                        v = -vals[0] if len(vals) == 1 else vals[0] - sum(vals[1:], Fraction(0))
-                    elif e.op is ArithOp.MUL:
-                        v = Fraction(1)
-                        for x in vals:
-                            v *= x
-                    elif e.op is ArithOp.DIV:
-                        v = vals[0]
-                        for x in vals[1:]:
-                            v /= x
-                    elif e.op is ArithOp.MIN:
-                        v = min(vals)
-                    else:
-                        v = max(vals)
-                except ZeroDivisionError:
-                    raise Unsupported("division by zero") from None
-                return ir.Const(Fraction(v), e.sort)
-            return ir.Arith(e.op, args, e.sort)
-        if isinstance(e, ir.Compare):
-            l, r = self._fold(e.left, theta), self._fold(e.right, theta)
-            if isinstance(l, ir.Const) and isinstance(r, ir.Const):
-                a, b = l.value, r.value
-                if e.op is CmpOp.EQ:
-                    return ir.Const(a == b, ir.BOOL)
-                return ir.Const({CmpOp.LT: a < b, CmpOp.LE: a <= b, CmpOp.GT: a > b, CmpOp.GE: a >= b}[e.op], ir.BOOL)
-            return ir.Compare(e.op, l, r)
-        if isinstance(e, ir.BoolOp):
-            args = tuple(self._fold(a, theta) for a in e.args)
-            if e.op is BoolOpKind.NOT:
-                if isinstance(args[0], ir.Const):
-                    return ir.Const(not args[0].value, ir.BOOL)
-            elif e.op is BoolOpKind.AND:
-                if any(isinstance(a, ir.Const) and a.value is False for a in args):
-                    return ir.Const(False, ir.BOOL)
-                args = tuple(a for a in args if not isinstance(a, ir.Const))
-                if not args:
-                    return ir.Const(True, ir.BOOL)
-            elif e.op is BoolOpKind.OR:
-                if any(isinstance(a, ir.Const) and a.value is True for a in args):
-                    return ir.Const(True, ir.BOOL)
-                args = tuple(a for a in args if not isinstance(a, ir.Const))
-                if not args:
-                    return ir.Const(False, ir.BOOL)
-            elif e.op is BoolOpKind.IMPLY:
-                a, b = args
-                if isinstance(a, ir.Const):
-                    return b if a.value else ir.Const(True, ir.BOOL)
-            return ir.BoolOp(e.op, args)
-        if isinstance(e, ir.Ite):
-            c = self._fold(e.cond, theta)
-            if isinstance(c, ir.Const):
-                return self._fold(e.then if c.value else e.orelse, theta)
-            return ir.Ite(c, self._fold(e.then, theta), self._fold(e.orelse, theta), e.sort)
-        if isinstance(e, ir.Member):
-            return ir.Member(self._fold(e.element, theta), self._fold(e.set, theta))
-        if isinstance(e, ir.SetLit):
-            return ir.SetLit(tuple(self._fold(a, theta) for a in e.elements), e.sort)
-        return e
+        try:
+            return fold(e, theta)
+        except FoldError:
+            raise Unsupported("division by zero") from None
 
     def num(self, e: ir.Expr) -> str:
         if isinstance(e, ir.Const) and isinstance(e.value, Fraction):

@@ -37,7 +37,8 @@ from fractions import Fraction
 
 from catc import ir
 from catc.ir import SortKind
-from catc.semantics.plan import Activation, Plan, decimal_text
+from catc.ir.numbers import decimal_text
+from catc.semantics.plan import Activation, Plan
 from catc.targets.pddl import Export, ExportError, Unsupported, _Exporter, number
 
 #: SMTPlan+'s encoder separates consecutive happenings by at least this much time
