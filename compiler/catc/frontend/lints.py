@@ -11,6 +11,7 @@ from collections.abc import Callable
 
 from catc import ir
 from catc.ir import SortKind
+from catc.semantics.validate import initial_state
 from catgrammar.diagnostics import Diagnostics, Note
 from catgrammar.span import Span
 
@@ -115,11 +116,11 @@ def unreachable_morphisms(inst: ir.Instance):
                     any_member.add(r.name)
                 elif r.sort.kind is SortKind.BOOL:
                     bools |= {(r.name, True), (r.name, False)}
-    for name, v in inst.problem.init.items():
-        if isinstance(v.value, ir.SetLit):
-            members |= {(name, e.value) for e in v.value.elements if isinstance(e, ir.Const)}
-        elif isinstance(v.value, ir.Const) and isinstance(v.value.value, bool):
-            bools.add((name, v.value.value))
+    for name, value in initial_state(inst).items():  # s₀, as the validator replays it
+        if isinstance(value, frozenset):
+            members |= {(name, e) for e in value}
+        elif isinstance(value, bool):
+            bools.add((name, value))
 
     def holds(lit: ir.Literal, params: dict[str, ir.Param]) -> tuple[bool, str]:
         e = lit.expr
