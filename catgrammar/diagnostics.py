@@ -9,94 +9,10 @@ error[CODE]: message`` with the source line and a caret), JSON or GitHub annotat
 from __future__ import annotations
 
 from collections.abc import Iterable, Iterator
-from enum import Enum
 
+from catgrammar.codes import CODES, Code, Severity  # noqa: F401 - part of the diagnostics API
 from catgrammar.record import Record, set_field
 from catgrammar.span import Source, Span
-
-
-class Severity(str, Enum):
-    ERROR = "error"
-    WARNING = "warning"
-    NOTE = "note"
-
-
-class Code(Record):
-    __slots__ = ("code", "name", "severity", "summary")
-    code: str
-    name: str
-    severity: Severity
-    summary: str
-
-    def __init__(self, code: str, name: str, severity: Severity, summary: str) -> None:
-        set_field(self, "code", code)
-        set_field(self, "name", name)
-        set_field(self, "severity", severity)
-        set_field(self, "summary", summary)
-
-
-def _codes(*rows: tuple[str, str, Severity, str]) -> dict[str, Code]:
-    return {c: Code(c, n, s, d) for c, n, s, d in rows}
-
-
-E, W = Severity.ERROR, Severity.WARNING
-
-#: The registry.  Codes are never reused; retired codes stay listed.
-CODES: dict[str, Code] = _codes(
-    # E00xx — reading input
-    ("E0001", "unreadable-file", E, "The file cannot be read (missing, a directory, or permission denied)."),
-    ("E0002", "binary-file", E, "The file contains NUL bytes; it is not a text file."),
-    ("E0003", "invalid-utf8", E, "The file is not valid UTF-8."),
-    ("E0004", "empty-file", E, "The file holds no definition."),
-    ("E0005", "no-input", E, "No .cat file was found among the given paths."),
-    # E01xx — syntax
-    ("E0101", "syntax", E, "The text does not follow the grammar."),
-    ("E0102", "unbalanced-close", E, "A ')' has no matching '('."),
-    ("E0103", "unclosed-paren", E, "A '(' is never closed."),
-    ("E0104", "too-deep", E, "Parentheses nest deeper than the supported limit."),
-    ("E0105", "literal-too-long", E, "A numeric literal has more digits than the supported limit."),
-    ("E0106", "unknown-section", E, "A section or option keyword is not part of the language."),
-    ("E0107", "bad-character", E, "A character that cannot start any token."),
-    # E02xx — names
-    ("E0201", "duplicate-name", E, "A name is declared twice in one namespace."),
-    ("E0202", "unknown-name", E, "A name is used but never declared."),
-    ("E0203", "reserved-name", E, "A keyword is used as a name."),
-    ("E0204", "shadowing", E, "A parameter has the name of a resource or constant."),
-    ("E0205", "duplicate-option", E, "An option or section is given twice where one is allowed."),
-    ("E0206", "missing-option", E, "A required option or section is missing."),
-    ("E0207", "unknown-domain", E, "A problem names a domain that cannot be found."),
-    ("E0208", "unknown-import", E, "An imported domain cannot be found."),
-    ("E0209", "circular-import", E, "Domains import each other in a cycle."),
-    ("E0210", "duplicate-definition", E, "Two files define a domain or problem of the same name."),
-    ("E0211", "unknown-operator", E, "An expression head is not an operator of the language."),
-    ("E0212", "unknown-requirement", E, "A requirement flag is not part of the language."),
-    # E03xx — types
-    ("E0301", "type-mismatch", E, "An expression has the wrong sort for where it is used."),
-    ("E0302", "arity", E, "An operator is given the wrong number of arguments."),
-    ("E0303", "not-a-set", E, "Membership or set update on something that is not a set."),
-    ("E0304", "bad-sort", E, "A sort declaration or reference is invalid."),
-    ("E0305", "misplaced-operator", E, "An operator is used where it is not allowed (e.g. an effect in a condition)."),
-    ("E0306", "bad-bounds", E, "Bounds are malformed or empty."),
-    ("E0307", "bad-value", E, "A value is out of its allowed range (e.g. a negative weight)."),
-    ("E0308", "not-assignable", E, "An effect writes something that is not a resource."),
-    ("E0310", "division-by-zero", E, "Division by the constant zero."),
-    # E04xx — requirements
-    ("E0401", "missing-requirement", E, "A construct needs a requirement flag the definition does not declare."),
-    # E05xx — semantics
-    ("E0501", "conflicting-effects", E, "One effect writes a resource in two incompatible ways."),
-    ("E0502", "bad-init", E, "An initial-state literal is not of the form (= resource value)."),
-    ("E0503", "missing-init", E, "A numeric or symbolic resource has no initial value."),
-    ("E0504", "closed-sort", E, "Objects added to a closed enumeration."),
-    ("E0505", "bad-objective", E, "An objective term is not a number or refers to something undefined."),
-    ("E0506", "bad-view", E, "A view keeps or drops resources inconsistently."),
-    ("E0507", "ambiguous-parameter", E, "A per-activation parameter is referenced where one value is needed."),
-    # W01xx — lints (errors under --strict)
-    ("W0101", "unused-resource", W, "A resource is declared but nothing reads or writes it."),
-    ("W0102", "unused-sort", W, "A sort is declared but never used."),
-    ("W0103", "unreachable-morphism", W, "A morphism can never apply: something it needs is never produced."),
-    ("W0104", "unwritable-goal", W, "A goal literal reads only resources that no morphism writes."),
-    ("W0105", "unbounded-parameter", W, "A real parameter has no bounds."),
-)
 
 
 def suggest(word: str, candidates: Iterable[str]) -> str | None:
@@ -237,7 +153,7 @@ class Diagnostics:
 # ---------------------------------------------------------------- formatting
 
 
-def _excerpt(source: Source | None, span: Span, label: str = "", highlight=None) -> list[str]:
+def excerpt_lines(source: Source | None, span: Span, label: str = "", highlight=None) -> list[str]:
     """The source line with a caret under the span; ``highlight`` (text → text, e.g. ANSI
     colours from the Pygments lexer) is applied to the source line only."""
     if source is None or span.line > source.line_count:
@@ -263,13 +179,13 @@ def format_text(diags: Diagnostics, *, excerpts: bool = True, highlight=None) ->
         where = f"{d.span}: " if d.span else ""
         out.append(f"{where}{d.severity.value}[{d.code}]: {d.message}")
         if excerpts and d.span:
-            out.extend(_excerpt(diags.sources.get(d.span.file), d.span, highlight=highlight))
+            out.extend(excerpt_lines(diags.sources.get(d.span.file), d.span, highlight=highlight))
         for n in d.notes:
             nwhere = f"{n.span}: " if n.span else ""
             out.append(f"  = note: {nwhere}{n.message}")
             if excerpts and n.span and n.span != d.span:
                 out.extend(
-                    "  " + line for line in _excerpt(diags.sources.get(n.span.file), n.span, highlight=highlight)
+                    "  " + line for line in excerpt_lines(diags.sources.get(n.span.file), n.span, highlight=highlight)
                 )
     return "\n".join(out)
 

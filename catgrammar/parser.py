@@ -25,7 +25,7 @@ import threading
 from fractions import Fraction
 from typing import Any
 
-from catgrammar import ast
+from catgrammar import ast, codes
 from catgrammar._lalr import Parser, Token, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
 from catgrammar.span import Source, Span
@@ -74,14 +74,16 @@ def decode_source(path: str, data: bytes, diags: Diagnostics) -> Source | None:
     if b"\x00" in data:
         offset = data.index(b"\x00")
         src = Source(path, data[:offset].decode("utf-8", errors="replace"))
-        diags.report("E0002", "binary file: found a NUL byte; .cat files are UTF-8 text", src.span(offset, offset))
+        diags.report(
+            codes.BINARY_FILE, "binary file: found a NUL byte; .cat files are UTF-8 text", src.span(offset, offset)
+        )
         return None
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as exc:
         src = Source(path, data[: exc.start].decode("utf-8", errors="replace"))
         diags.report(
-            "E0003",
+            codes.INVALID_UTF8,
             f"invalid UTF-8: byte 0x{data[exc.start]:02x} cannot start or continue a character",
             src.span(len(src.text), len(src.text) + 1),
         )
@@ -96,7 +98,7 @@ def read_source(path: str, diags: Diagnostics) -> Source | None:
         with open(path, "rb") as fh:
             data = fh.read()
     except OSError as exc:
-        diags.report("E0001", f"cannot read '{path}': {exc.strerror or exc}", None)
+        diags.report(codes.UNREADABLE_FILE, f"cannot read '{path}': {exc.strerror or exc}", None)
         return None
     return decode_source(path, data, diags)
 
@@ -112,20 +114,24 @@ def scan_parentheses(src: Source, diags: Diagnostics) -> bool:
     for m in _SCAN.finditer(src.text):
         tok = m.group()
         if tok[0] == '"' and m.group("close") is None:
-            diags.report("E0107", "unterminated string: a string must close on the line it opens", src.span(m.start()))
+            diags.report(
+                codes.BAD_CHARACTER,
+                "unterminated string: a string must close on the line it opens",
+                src.span(m.start()),
+            )
             return False
         if tok == "(":
             stack.append(m.start())
             if len(stack) > MAX_DEPTH:
                 diags.report(
-                    "E0104",
+                    codes.TOO_DEEP,
                     f"parentheses nest more than {MAX_DEPTH} deep; split the expression",
                     src.span(m.start()),
                 )
                 return False
         elif tok == ")":
             if not stack:
-                diags.report("E0102", "unmatched ')': there is no '(' to close", src.span(m.start()))
+                diags.report(codes.UNBALANCED_CLOSE, "unmatched ')': there is no '(' to close", src.span(m.start()))
                 return False
             stack.pop()
     if stack:
@@ -135,7 +141,7 @@ def scan_parentheses(src: Source, diags: Diagnostics) -> bool:
         if inner != opener:
             notes.append(Note("the innermost '(' still open at the end of the file is here", src.span(inner)))
         diags.report(
-            "E0103",
+            codes.UNCLOSED_PAREN,
             f"'(' is never closed: the file ends with {len(stack)} parenthes{'is' if len(stack) == 1 else 'es'} open",
             src.span(opener),
             *notes,
@@ -179,7 +185,7 @@ def _report_syntax(exc: UnexpectedInput, src: Source, parser: Parser, diags: Dia
     if isinstance(exc, UnexpectedToken):
         tok = exc.token
         if tok.type == "$END":
-            diags.report("E0103", "unexpected end of file", src.span(len(src.text), len(src.text)))
+            diags.report(codes.UNCLOSED_PAREN, "unexpected end of file", src.span(len(src.text), len(src.text)))
             return
         pos = tok.start_pos if tok.start_pos is not None else pos
         text = str(tok)
@@ -189,10 +195,10 @@ def _report_syntax(exc: UnexpectedInput, src: Source, parser: Parser, diags: Dia
         text = m.group() if m else src.text[pos : pos + 1]
         expected = set(exc.allowed or ())
     elif isinstance(exc, UnexpectedEOF):  # pragma: no cover - LALR reports the end as a $END token
-        diags.report("E0103", "unexpected end of file", src.span(len(src.text), len(src.text)))
+        diags.report(codes.UNCLOSED_PAREN, "unexpected end of file", src.span(len(src.text), len(src.text)))
         return
     else:  # pragma: no cover - there are no other kinds
-        diags.report("E0101", str(exc).splitlines()[0], src.span(pos))
+        diags.report(codes.SYNTAX, str(exc).splitlines()[0], src.span(pos))
         return
 
     span = src.span(pos, pos + max(1, len(text)))
@@ -206,17 +212,17 @@ def _report_syntax(exc: UnexpectedInput, src: Source, parser: Parser, diags: Dia
                 msg += f"; expected {_expected_text(parser, expected)}"
         else:
             msg = f"unexpected keyword '{text}'; expected {_expected_text(parser, expected)}"
-        diags.report("E0106", msg, span)
+        diags.report(codes.UNKNOWN_SECTION, msg, span)
         return
     if isinstance(exc, UnexpectedCharacters):
         if text.startswith('"'):
-            diags.report("E0107", "unterminated string: a string must close on the line it opens", span)
+            diags.report(codes.BAD_CHARACTER, "unterminated string: a string must close on the line it opens", span)
         elif text[:1].isdigit() or text[:1] in "+-.":
             m = re.match(r"[+\-.\w]+", src.text[pos:])
             bad = m.group() if m else text
-            diags.report("E0107", f"malformed number '{bad}'", src.span(pos, pos + len(bad)))
+            diags.report(codes.BAD_CHARACTER, f"malformed number '{bad}'", src.span(pos, pos + len(bad)))
         else:
-            diags.report("E0107", f"unexpected character {text!r}", span)
+            diags.report(codes.BAD_CHARACTER, f"unexpected character {text!r}", span)
         return
     what = "')'" if text == ")" else "'('" if text == "(" else f"'{text}'"
     msg = f"unexpected {what}; expected {_expected_text(parser, expected)}"
@@ -224,7 +230,7 @@ def _report_syntax(exc: UnexpectedInput, src: Source, parser: Parser, diags: Dia
         hint = did_you_mean(":" + text, keywords)
         if hint:
             msg += f" (keywords start with ':'{hint})"
-    diags.report("E0101", msg, span)
+    diags.report(codes.SYNTAX, msg, span)
 
 
 # ---------------------------------------------------------------- tree → AST
@@ -281,7 +287,9 @@ class _Builder:
         else:
             return ast.Num(Fraction(text), text, span)
         self.diags.report(
-            "E0105", f"numeric literal {problem}; at most {MAX_LITERAL_DIGITS} digits are supported", span
+            codes.LITERAL_TOO_LONG,
+            f"numeric literal {problem}; at most {MAX_LITERAL_DIGITS} digits are supported",
+            span,
         )
         return ast.Num(Fraction(0), "0", span)
 
@@ -527,7 +535,7 @@ def parse_source(src: Source, diags: Diagnostics) -> ast.SourceFile | None:
     stripped = re.sub(r";[^\n]*", "", src.text).strip()
     if not stripped:
         diags.report(
-            "E0004",
+            codes.EMPTY_FILE,
             "empty file: expected (define (domain ...)) or (define (problem ...))",
             src.span(0, 0),
         )

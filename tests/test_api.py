@@ -13,7 +13,7 @@ from conftest import ROOT, run_catc
 import catc.interfaces.api
 from catc.api import CatError, Model, load
 from catc.queries.optimize import OptStatus
-from catc.queries.solve import Status
+from catc.queries.solve import SolveStatus
 
 EX = ROOT / "examples"
 
@@ -99,8 +99,8 @@ def test_errors_are_located_exceptions(tmp_path):
 
 def test_views_domains_and_named_problems():
     full = load(EX / "semantics/view.cat", problem_name="shop-full")
-    assert full.solve().status is Status.UNSAT  # semantics/expect.toml
-    assert load(EX / "semantics/view.cat", problem_name="shop-software").solve().status is Status.SAT
+    assert full.solve().status is SolveStatus.UNSAT  # semantics/expect.toml
+    assert load(EX / "semantics/view.cat", problem_name="shop-software").solve().status is SolveStatus.SAT
     model = load(EX / "detection/person.cat", EX / "detection/domain.cat")
     assert isinstance(model, Model) and "detect-person" in repr(model)
     with pytest.raises(TypeError):

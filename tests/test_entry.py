@@ -1,4 +1,4 @@
-"""The ``catc`` executable's click-free route for plain ``catc solve`` command lines
+"""The ``catc`` executable's click-free route for plain query command lines
 (catc.interfaces.entry): it reads arguments exactly as click does or leaves them to click, and the
 command then behaves the same whichever route it took."""
 
@@ -16,29 +16,38 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from catc.interfaces import cli, command
-from catc.interfaces.entry import SOLVE_DEFAULTS, SOLVE_OPTIONS, parse_solve
+from catc.interfaces.entry import parse_query
+from catc.queries import registry
+from catc.queries.base import Kind
 
 EXAMPLES = ROOT / "examples"
+SOLVE = registry.get("solve")
 
 
-def click_params(args: list[str]) -> dict | None:
-    """What click passes to the ``solve`` command for ``args`` (None: click rejects them)."""
+def click_params(args: list[str], name: str = "solve") -> dict | None:
+    """What click passes to the query command for ``args`` (None: click rejects them), with
+    --minimize/--maximize folded into the query's ``objectives`` option as the command does."""
+    query = registry.get(name)
     try:
-        with cli.solve.make_context("solve", list(args)) as ctx:
-            return dict(ctx.params)
+        with cli.query_command(query).make_context(name, list(args)) as ctx:
+            params = dict(ctx.params)
+            raw = cli.raw_values(query, params, ctx)
     except (click.ClickException, click.exceptions.Exit):
         return None
+    return {"paths": params["paths"], **raw}
 
 
-def test_options_and_defaults_are_clicks():
-    options = {name: p for p in cli.solve.params for name in p.opts}
-    for name, (dest, kind) in SOLVE_OPTIONS.items():
-        assert options[name].name == dest
-        assert options[name].is_flag == (kind == "flag")
-        if isinstance(kind, tuple):
-            assert kind == tuple(options[name].type.choices)
-    defaults = click_params(["p.cat"])
-    assert defaults.pop("paths") == ("p.cat",) and defaults == SOLVE_DEFAULTS
+def parse_solve(args: list[str]) -> dict | None:
+    return parse_query(SOLVE, args)
+
+
+@pytest.mark.parametrize("name", registry.names())
+def test_defaults_are_clicks(name):
+    query = registry.get(name)
+    if any(o.kind is Kind.PLAN_FILE for o in query.options):
+        assert parse_query(query, ["p.cat"]) is None  # a plan file: always click's
+        return
+    assert parse_query(query, ["p.cat"]) == click_params(["p.cat"], name)
 
 
 PLAIN = [
@@ -101,7 +110,8 @@ def test_other_command_lines_are_left_to_click(args):
     assert parse_solve(args) is None
 
 
-WORDS = sorted({*SOLVE_OPTIONS, "--path", "--diagram", "--help", "-h", "--", "-", "-x", "--jso", "--version"}) + [
+FLAGS = {flag for name in registry.names() for o in registry.get(name).options for flag in o.flags if flag[0] == "-"}
+WORDS = sorted({*FLAGS, "--help", "-h", "--", "-", "-x", "--jso", "--version"}) + [
     "p.cat",
     "d.cat",
     "",
@@ -132,15 +142,23 @@ WORDS = sorted({*SOLVE_OPTIONS, "--path", "--diagram", "--help", "-h", "--", "-"
     "out.svg",
     "٣",
     " 3",
+    "none",
+    "a,b",
+    "budget=2",
+    "budget=x",
+    "stability",
+    "objective",
+    "cat",
+    "init/",
 ]
 
 
-@settings(max_examples=400, deadline=None)
-@given(st.lists(st.sampled_from(WORDS), max_size=7))
-def test_whatever_is_read_here_click_reads_the_same(args):
-    params = parse_solve(args)
+@settings(max_examples=600, deadline=None)
+@given(st.sampled_from(registry.names()), st.lists(st.sampled_from(WORDS), max_size=7))
+def test_whatever_is_read_here_click_reads_the_same(name, args):
+    params = parse_query(registry.get(name), args)
     if params is not None:
-        assert params == click_params(args)
+        assert params == click_params(args, name)
 
 
 # ---------------------------------------------------------------- the same command either way
@@ -201,11 +219,11 @@ def test_interrupt_and_internal_errors_are_reported_as_click_does(monkeypatch):
     def broken(*args, **kwargs):
         raise ValueError("a bug")
 
-    monkeypatch.setattr(command, "solve", interrupted)
+    monkeypatch.setattr(command, "run_query", interrupted)
     for via_click in (False, True):
         res = run_catc("solve", person, via_click=via_click)
         assert res.exit_code == 1 and res.stderr == "\nAborted!\n"
-    monkeypatch.setattr(command, "solve", broken)
+    monkeypatch.setattr(command, "run_query", broken)
     for via_click in (False, True):
         res = run_catc("solve", person, via_click=via_click)
         assert res.exit_code == 70

@@ -16,7 +16,7 @@ from conftest import ROOT
 
 from catc.frontend.workspace import load_instance
 from catc.ir.views import apply_view
-from catc.queries.solve import Status, solve
+from catc.queries.solve import SolveStatus, solve
 from catgrammar.diagnostics import Diagnostics
 
 EXAMPLES = ROOT / "examples"
@@ -47,7 +47,7 @@ def test_example_outcome(folder, case):
     inst = instance(folder, case)
     result = solve(inst)
     assert result.status.value == case["status"]
-    if result.status is Status.UNSAT:
+    if result.status is SolveStatus.UNSAT:
         assert result.final == case.get("final_unsat", False)
         return
     plan = result.plan
@@ -68,7 +68,7 @@ def test_example_outcome(folder, case):
         assert values and all(v in plan.fresh for v in values)
     if "sequential_steps" in case:
         seq = solve(inst, sequential=True)
-        assert seq.status is Status.SAT and len(seq.plan) == case["sequential_steps"]
+        assert seq.status is SolveStatus.SAT and len(seq.plan) == case["sequential_steps"]
         assert all(len(step) == 1 for step in seq.plan.steps)
 
 

@@ -23,11 +23,12 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
+from conftest import run_catc
 
 from catc.frontend.workspace import load_instance
 from catc.interfaces.cli import main
 from catc.ir.views import apply_view
-from catc.queries.solve import Status, solve
+from catc.queries.solve import SolveStatus, solve
 from catc.semantics.horizon import default_horizon
 from catc.semantics.validate import validate
 from catc.targets.pddl import RESERVED, ExportError, export_pddl
@@ -140,16 +141,16 @@ def test_enhsp_agrees_with_catc_and_its_plans_validate(folder, case, tmp_path, r
         # catc finds a sequential composition too (at ENHSP's length if the default horizon,
         # which counts parallel steps, is too short)
         catc = solve(inst, sequential=True)
-        if catc.status is not Status.SAT:
+        if catc.status is not SolveStatus.SAT:
             assert len(plan) > default_horizon(inst)
-            assert solve(inst, horizon=len(plan), sequential=True).status is Status.SAT
+            assert solve(inst, horizon=len(plan), sequential=True).status is SolveStatus.SAT
     else:
         catc = solve(inst, sequential=True)
         if key in EXPECTED_DIFFERENCE:
-            assert catc.status is Status.SAT
+            assert catc.status is SolveStatus.SAT
             assert any(c == EXPECTED_DIFFERENCE[key] for c, _ in ex.report.items)
         else:
-            assert catc.status is Status.UNSAT
+            assert catc.status is SolveStatus.UNSAT
 
 
 # ---------------------------------------------------------------- CLI, refusals, report
@@ -226,7 +227,7 @@ def test_horizon_bounds_the_number_of_actions():
 
 
 def test_missing_baselines_name_what_to_install(monkeypatch, tmp_path):
-    from catc.interfaces.export_cli import check_with_pddl_parser
+    from catc.interfaces.export_cli import MissingParser, check_with_pddl_parser
     from catc.targets import enhsp
 
     monkeypatch.setattr(enhsp.shutil, "which", lambda _: None)
@@ -236,10 +237,11 @@ def test_missing_baselines_name_what_to_install(monkeypatch, tmp_path):
     with pytest.raises(enhsp.BaselineMissing, match=r"catc-lang\[baselines\]"):
         enhsp.enhsp_jar()
     monkeypatch.setitem(sys.modules, "pddl", None)
-    import click
-
-    with pytest.raises(click.ClickException, match=r"pip install --no-deps 'pddl==0.5.1'"):
+    with pytest.raises(MissingParser, match=r"pip install --no-deps 'pddl==0.5.1'"):
         check_with_pddl_parser(tmp_path / "d.pddl", tmp_path / "p.pddl")
+    # on the command line: a located error naming the package, exit 2
+    res = run_catc("export", "pddl", str(EXAMPLES / "lifelong/budget-cut.cat"), "-o", str(tmp_path / "out"))
+    assert res.exit_code == 2 and "error[E0706]" in res.stderr and "pddl==0.5.1" in res.stderr
 
 
 def _action_block(domain: str, name: str) -> str:

@@ -16,7 +16,7 @@ from catc.queries.diagnose import diagnose
 from catc.queries.optimize import OptStatus
 from catc.queries.recompose import recompose
 from catc.queries.relax import relax, relaxed_instance
-from catc.queries.solve import Status, solve
+from catc.queries.solve import SolveStatus, solve
 from catc.smt.backend import Check
 from catgrammar.diagnostics import Diagnostics
 
@@ -109,7 +109,7 @@ def test_relaxation_matches_a_bisection_over_the_budget():
             for n, m in trial.morphisms.items()
         }
         trial = ir.Instance(replace(trial.domain, morphisms=ir.frozen(morphisms)), trial.problem, trial.view)
-        return solve(trial).status is Status.SAT
+        return solve(trial).status is SolveStatus.SAT
 
     lo, hi = Fraction(500), Fraction(40000)
     assert not feasible(lo) and feasible(hi)

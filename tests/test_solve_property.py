@@ -16,7 +16,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from catc.frontend.workspace import load_instance
-from catc.queries.solve import Status, solve
+from catc.queries.solve import SolveStatus, solve
 from catgrammar.diagnostics import Diagnostics
 
 COUNTER_MAX = 3
@@ -185,9 +185,11 @@ def test_solve_agrees_with_breadth_first_search(tmp_path, domain):
     expected = shortest_by_bfs(*domain)
     result = solve(inst, prune=False)
     if expected is None:
-        assert result.status is Status.UNSAT
+        assert result.status is SolveStatus.UNSAT
     else:
-        assert result.status is Status.SAT and len(result.plan) == expected
+        assert result.status is SolveStatus.SAT and len(result.plan) == expected
     for sequential_ok in (True,):
         seq = solve(inst, sequential=sequential_ok, prune=False)
-        assert (seq.status is Status.SAT) <= (result.status is Status.SAT)  # sequential is never more permissive
+        assert (seq.status is SolveStatus.SAT) <= (
+            result.status is SolveStatus.SAT
+        )  # sequential is never more permissive

@@ -9,7 +9,7 @@ import re
 from conftest import ROOT, run_catc
 
 from catc.frontend.workspace import load_instance
-from catc.queries.solve import Status, solve
+from catc.queries.solve import SolveStatus, solve
 from catc.queries.synthesize import synthesize
 from catgrammar.diagnostics import Diagnostics
 
@@ -19,7 +19,7 @@ HOLES = ROOT / "examples" / "holes"
 def test_synthesised_effects_are_the_missing_capability():
     diags = Diagnostics()
     _, inst = load_instance(None, str(HOLES / "talk.cat"), diags)
-    assert solve(inst).status is Status.UNSAT  # the catalog alone cannot do it
+    assert solve(inst).status is SolveStatus.UNSAT  # the catalog alone cannot do it
     r = synthesize(inst)
     assert r.status == "synthesised"
     assert [(e.kind.value, e.resource) for e in r.morphism.effects] == [("assign", "speech-out")]

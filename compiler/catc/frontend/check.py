@@ -17,7 +17,7 @@ from catc.frontend.typecheck import Context, ExprChecker, Scope, assignable, des
 from catc.ir import BOOL, INT, REAL, Sort, SortKind
 from catc.ir.fold import FoldError, fold_constant
 from catc.ir.numbers import ratio_text
-from catgrammar import ast
+from catgrammar import ast, codes
 from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
 from catgrammar.span import Span
 from catgrammar.symbols import (
@@ -55,7 +55,7 @@ class _Requirements:
                     flags.add(_REQUIREMENTS[flag.text])
                 else:
                     diags.report(
-                        "E0212",
+                        codes.UNKNOWN_REQUIREMENT,
                         f"unknown requirement '{flag.text}'{did_you_mean(flag.text, _REQUIREMENTS)}",
                         flag.span,
                     )
@@ -72,7 +72,7 @@ class _Requirements:
         self._reported.add(flag)
         notes = [Note("requirements are declared here", self.section)] if self.section else []
         self.diags.report(
-            "E0401",
+            codes.MISSING_REQUIREMENT,
             f"{what} needs the requirement '{flag.value}'; add it to (:requirements ...)",
             span,
             *notes,
@@ -85,10 +85,10 @@ def _options(opts: Iterable[ast.Opt], allowed: Iterable[Option], owner: str, dia
     out: dict[str, ast.Opt] = {}
     for opt in opts:
         if opt.key not in allowed_keys:  # pragma: no cover - excluded by the grammar
-            diags.report("E0106", f"option '{opt.key}' is not allowed in {owner}", opt.span)
+            diags.report(codes.UNKNOWN_SECTION, f"option '{opt.key}' is not allowed in {owner}", opt.span)
         elif opt.key in out:
             diags.report(
-                "E0205",
+                codes.DUPLICATE_OPTION,
                 f"option '{opt.key}' is given twice in {owner}",
                 opt.span,
                 Note("first given here", out[opt.key].span),
@@ -102,7 +102,7 @@ def _positive_int(num: ast.Num, what: str, diags: Diagnostics, *, allow_zero: bo
     v = num.value
     if v.denominator != 1 or v < 0 or (v == 0 and not allow_zero):
         kind = "a non-negative" if allow_zero else "a positive"
-        diags.report("E0307", f"{what} must be {kind} integer, got {num.text}", num.span)
+        diags.report(codes.BAD_VALUE, f"{what} must be {kind} integer, got {num.text}", num.span)
         return None
     return int(v)
 
@@ -112,15 +112,19 @@ def _bounds(b: ast.Bounds, sort: Sort, diags: Diagnostics, what: str) -> tuple[F
     hi = b.upper.value if b.upper else None
     ok = True
     if not sort.is_numeric:
-        diags.report("E0306", f":bounds apply to numbers only, but {what} is {describe(sort)}", b.span)
+        diags.report(codes.BAD_BOUNDS, f":bounds apply to numbers only, but {what} is {describe(sort)}", b.span)
         return None, None, False
     if sort.kind is SortKind.INT:
         for n in (b.lower, b.upper):
             if n is not None and n.value.denominator != 1:
-                diags.report("E0306", f"{what} is an int, so its bounds must be integers, got {n.text}", n.span)
+                diags.report(
+                    codes.BAD_BOUNDS, f"{what} is an int, so its bounds must be integers, got {n.text}", n.span
+                )
                 ok = False
     if lo is not None and hi is not None and lo > hi:
-        diags.report("E0306", f"empty bounds for {what}: lower {b.lower.text} exceeds upper {b.upper.text}", b.span)  # type: ignore[union-attr]
+        diags.report(
+            codes.BAD_BOUNDS, f"empty bounds for {what}: lower {b.lower.text} exceeds upper {b.upper.text}", b.span
+        )  # type: ignore[union-attr]
         ok = False
     return lo, hi, ok
 
@@ -147,19 +151,19 @@ class DomainChecker:
         try:
             return fold_constant(expr)
         except FoldError as exc:
-            self.diags.report("E0310", str(exc), exc.expr.span or expr.span)
+            self.diags.report(codes.DIVISION_BY_ZERO, str(exc), exc.expr.span or expr.span)
             return None
 
     def _declare(self, table: dict, name: ast.Name, what: str, existing_span=None) -> bool:
         text = name.text
         if text in RESERVED_NAMES:
-            self.diags.report("E0203", f"'{text}' is a keyword and cannot name a {what}", name.span)
+            self.diags.report(codes.RESERVED_NAME, f"'{text}' is a keyword and cannot name a {what}", name.span)
             return False
         if text in table:
             prev = table[text]
             span = getattr(prev, "span", None) or existing_span
             notes = [Note("previously declared here", span)] if span else []
-            self.diags.report("E0201", f"{what} '{text}' is declared twice", name.span, *notes)
+            self.diags.report(codes.DUPLICATE_NAME, f"{what} '{text}' is declared twice", name.span, *notes)
             return False
         return True
 
@@ -169,7 +173,9 @@ class DomainChecker:
             if name.text in table:
                 prev = table[name.text]
                 notes = [Note(f"the {kind} is declared here", prev.span)] if prev.span else []
-                self.diags.report("E0201", f"{what} '{name.text}' has the name of a {kind}", name.span, *notes)
+                self.diags.report(
+                    codes.DUPLICATE_NAME, f"{what} '{name.text}' has the name of a {kind}", name.span, *notes
+                )
                 return True
         return False
 
@@ -248,7 +254,7 @@ class DomainChecker:
             for key, value in theirs.items():
                 if key in mine and mine[key] != value:
                     self.diags.report(
-                        "E0201",
+                        codes.DUPLICATE_NAME,
                         f"{what} '{key}' from '{dom.name}' conflicts with another definition of it",
                         via.span,
                     )
@@ -277,26 +283,26 @@ class DomainChecker:
                 continue
             if parent.text in ("bool", "int", "real", "set", "enum"):
                 self.diags.report(
-                    "E0304",
+                    codes.BAD_SORT,
                     f"a symbolic sort's parent must be 'symbol' or another symbolic sort, not '{parent.text}'",
                     parent.span,
                 )
             elif parent.text not in self.sorts:
                 self.diags.report(
-                    "E0202",
+                    codes.UNKNOWN_NAME,
                     f"unknown sort '{parent.text}'{did_you_mean(parent.text, list(self.sorts) + ['symbol'])}",
                     parent.span,
                 )
             elif self.sorts[parent.text].kind is SortKind.ENUM:
                 self.diags.report(
-                    "E0304", f"enumeration '{parent.text}' is closed and cannot have sub-sorts", parent.span
+                    codes.BAD_SORT, f"enumeration '{parent.text}' is closed and cannot have sub-sorts", parent.span
                 )
 
     def _enum(self, name: ast.Name, spec: ast.EnumSpec) -> None:
         values: list[str] = []
         for v in spec.values:
             if v.text in values:
-                self.diags.report("E0201", f"enumeration value '{v.text}' is listed twice", v.span)
+                self.diags.report(codes.DUPLICATE_NAME, f"enumeration value '{v.text}' is listed twice", v.span)
                 continue
             if not self._declare(self.constants, v, "enumeration value") or self._value_name_taken(
                 v, "enumeration value"
@@ -304,7 +310,7 @@ class DomainChecker:
                 continue
             values.append(v.text)
         if not values:
-            self.diags.report("E0304", f"enumeration '{name.text}' has no values", spec.span)
+            self.diags.report(codes.BAD_SORT, f"enumeration '{name.text}' has no values", spec.span)
         sort = Sort(SortKind.ENUM, name.text, values=tuple(values), span=name.span)
         self.sorts[name.text] = sort
         for v in spec.values:
@@ -318,7 +324,7 @@ class DomainChecker:
             while name is not None and name in self.sorts:
                 if name == start:
                     self.diags.report(
-                        "E0304",
+                        codes.BAD_SORT,
                         f"sort '{start}' is its own ancestor: {' - '.join(seen + [start])}",
                         self.sorts[start].span,
                     )
@@ -337,7 +343,7 @@ class DomainChecker:
                 return None
             if not elem.is_symbolic:
                 self.diags.report(
-                    "E0304", f"sets hold symbols; a set of '{elem.name}' is not supported", t.element.span
+                    codes.BAD_SORT, f"sets hold symbols; a set of '{elem.name}' is not supported", t.element.span
                 )
                 return None
             return ir.set_of(elem)
@@ -353,11 +359,11 @@ class DomainChecker:
             return self.sorts[name.text]
         if name.text in ("symbol", "set", "enum"):
             self.diags.report(
-                "E0304", f"'{name.text}' is not a sort by itself; declare a sort in (:sorts ...)", name.span
+                codes.BAD_SORT, f"'{name.text}' is not a sort by itself; declare a sort in (:sorts ...)", name.span
             )
             return None
         self.diags.report(
-            "E0202",
+            codes.UNKNOWN_NAME,
             f"unknown sort '{name.text}'{did_you_mean(name.text, list(self.sorts) + ['bool', 'int', 'real'])}",
             name.span,
         )
@@ -377,7 +383,7 @@ class DomainChecker:
     def _constant_sort(self, group: ast.TypedGroup) -> Sort | None:
         if group.type is None:
             self.diags.report(
-                "E0304",
+                codes.BAD_SORT,
                 f"constant{'s' if len(group.names) > 1 else ''} "
                 f"{', '.join(repr(n.text) for n in group.names)} need a sort: write '... - SORT'",
                 group.span,
@@ -388,13 +394,15 @@ class DomainChecker:
             return None
         if sort.kind is SortKind.ENUM:
             self.diags.report(
-                "E0504",
+                codes.CLOSED_SORT,
                 f"enumeration '{sort.name}' is closed; its values are listed in its (enum ...) declaration",
                 group.type.span,
             )
             return None
         if sort.kind is not SortKind.SYMBOL:
-            self.diags.report("E0304", f"constants must have a symbolic sort, not '{sort.name}'", group.type.span)
+            self.diags.report(
+                codes.BAD_SORT, f"constants must have a symbolic sort, not '{sort.name}'", group.type.span
+            )
             return None
         return sort
 
@@ -433,14 +441,14 @@ class DomainChecker:
         opts = _options(v.options, VIEW_OPTIONS, f"view '{v.name.text}'", self.diags)
         keep, drop = opts.get(Option.KEEP.value), opts.get(Option.DROP.value)
         if keep and drop:
-            self.diags.report("E0506", f"view '{v.name.text}' gives both :keep and :drop; give one", drop.span)
+            self.diags.report(codes.BAD_VIEW, f"view '{v.name.text}' gives both :keep and :drop; give one", drop.span)
             return
         listed: set[str] = set()
         chosen = keep or drop
         for name in chosen.value if chosen else ():  # type: ignore[union-attr]
             if name.text not in self.resources:
                 self.diags.report(
-                    "E0202",
+                    codes.UNKNOWN_NAME,
                     f"unknown resource '{name.text}'{did_you_mean(name.text, self.resources)}",
                     name.span,
                 )
@@ -455,7 +463,7 @@ class DomainChecker:
         if not self._declare(self.morphisms, m.name, "morphism"):
             return
         if name in self.holes:
-            self.diags.report("E0201", f"'{name}' names both a hole and a morphism", m.name.span)
+            self.diags.report(codes.DUPLICATE_NAME, f"'{name}' names both a hole and a morphism", m.name.span)
             return
         owner = f"morphism '{name}'"
         opts = _options(m.options, MORPHISM_OPTIONS, owner, self.diags)
@@ -466,7 +474,7 @@ class DomainChecker:
                 kind = _KINDS[k.text]
             else:
                 self.diags.report(
-                    "E0307",
+                    codes.BAD_VALUE,
                     f"unknown morphism kind '{k.text}'"
                     + (did_you_mean(k.text, _KINDS) or f"; expected one of {', '.join(_KINDS)}"),
                     k.span,
@@ -476,7 +484,7 @@ class DomainChecker:
             self.req.need(Requirement.RECOMPOSITION, opts[Option.CHURN.value].span, ":churn")
             num: ast.Num = opts[Option.CHURN.value].value  # type: ignore[assignment]
             if num.value < 0:
-                self.diags.report("E0307", f":churn must not be negative, got {num.text}", num.span)
+                self.diags.report(codes.BAD_VALUE, f":churn must not be negative, got {num.text}", num.span)
             churn = num.value
         uses = None
         if Option.USES.value in opts:
@@ -493,7 +501,7 @@ class DomainChecker:
             cost = checker.numeric(node, Context.COST)  # type: ignore[arg-type]
             folded = self._fold(cost) if cost is not None else None
             if isinstance(folded, ir.Const) and folded.value < 0:  # type: ignore[operator]
-                self.diags.report("E0307", ":cost must not be negative", node.span)  # type: ignore[union-attr]
+                self.diags.report(codes.BAD_VALUE, ":cost must not be negative", node.span)  # type: ignore[union-attr]
         doc = opts.get(Option.DOC.value)
         self.morphisms[name] = ir.Morphism(
             name=name,
@@ -517,11 +525,13 @@ class DomainChecker:
         for p in opt.value:  # type: ignore[union-attr]
             pname = p.name.text
             if pname in RESERVED_NAMES:
-                self.diags.report("E0203", f"'{pname}' is a keyword and cannot name a parameter", p.name.span)
+                self.diags.report(
+                    codes.RESERVED_NAME, f"'{pname}' is a keyword and cannot name a parameter", p.name.span
+                )
                 continue
             if pname in seen:
                 self.diags.report(
-                    "E0201",
+                    codes.DUPLICATE_NAME,
                     f"parameter '{pname}' is declared twice",
                     p.name.span,
                     Note("previously declared here", seen[pname].span),
@@ -531,7 +541,7 @@ class DomainChecker:
             if clash is not None:
                 kind = "resource" if pname in self.resources else "constant"
                 self.diags.report(
-                    "E0204",
+                    codes.SHADOWING,
                     f"parameter '{pname}' has the name of a {kind}; rename it so references are unambiguous",
                     p.name.span,
                     *([Note(f"the {kind} is declared here", clash.span)] if clash.span else []),
@@ -543,7 +553,9 @@ class DomainChecker:
                 continue
             if sort.kind is SortKind.SET:
                 self.diags.report(
-                    "E0304", "set-valued parameters are not supported; use a symbol parameter and 'add'", p.type.span
+                    codes.BAD_SORT,
+                    "set-valued parameters are not supported; use a symbol parameter and 'add'",
+                    p.type.span,
                 )
                 continue
             lo = hi = None
@@ -597,7 +609,7 @@ class DomainChecker:
                 )
             else:
                 msg = "an effect must be (assign r v), (increase r v), (decrease r v), (add s x) or (remove s x)"
-            self.diags.report("E0305", msg, node.span)
+            self.diags.report(codes.MISPLACED_OPERATOR, msg, node.span)
             return None
         head = node.head.text
         if not checker._arity(node, 2, 2):
@@ -612,19 +624,19 @@ class DomainChecker:
                     what = f"constant '{target_node.name}'"
                 else:
                     self.diags.report(
-                        "E0202",
+                        codes.UNKNOWN_NAME,
                         f"unknown resource '{target_node.name}'{did_you_mean(target_node.name, self.resources)}",
                         target_node.span,
                     )
                     return None
-            self.diags.report("E0308", f"'{head}' writes a resource; {what} is not one", target_node.span)
+            self.diags.report(codes.NOT_ASSIGNABLE, f"'{head}' writes a resource; {what} is not one", target_node.span)
             return None
         res = self.resources[target_node.name]
         kind = ir.EffectKind(head)
         if kind in (ir.EffectKind.ADD, ir.EffectKind.REMOVE):
             if res.sort.kind is not SortKind.SET:
                 self.diags.report(
-                    "E0303",
+                    codes.NOT_A_SET,
                     f"'{head}' needs a set resource, but '{res.name}' is {describe(res.sort)}",
                     target_node.span,
                 )
@@ -634,7 +646,7 @@ class DomainChecker:
                 return None
             if not assignable(res.sort.element, value.sort, self.sorts):  # type: ignore[arg-type]
                 self.diags.report(
-                    "E0301",
+                    codes.TYPE_MISMATCH,
                     f"cannot {head} {describe(value.sort)} {'to' if head == 'add' else 'from'} "
                     f"'{res.name}', {describe(res.sort)}",
                     value_node.span,
@@ -643,7 +655,7 @@ class DomainChecker:
         elif kind in (ir.EffectKind.INCREASE, ir.EffectKind.DECREASE):
             if not res.sort.is_numeric:
                 self.diags.report(
-                    "E0301",
+                    codes.TYPE_MISMATCH,
                     f"'{head}' needs a numeric resource, but '{res.name}' is {describe(res.sort)}",
                     target_node.span,
                 )
@@ -653,7 +665,7 @@ class DomainChecker:
                 return None
             if not assignable(res.sort, value.sort, self.sorts):
                 self.diags.report(
-                    "E0301",
+                    codes.TYPE_MISMATCH,
                     f"cannot {head} '{res.name}', {describe(res.sort)}, by {describe(value.sort)}",
                     value_node.span,
                 )
@@ -664,7 +676,7 @@ class DomainChecker:
                 return None
             if not assignable(res.sort, value.sort, self.sorts):
                 self.diags.report(
-                    "E0301",
+                    codes.TYPE_MISMATCH,
                     f"cannot assign {describe(value.sort)} to '{res.name}', {describe(res.sort)}",
                     value_node.span,
                 )
@@ -677,7 +689,7 @@ class DomainChecker:
         if not self._declare(self.holes, h.name, "hole"):
             return
         if h.name.text in self.morphisms:
-            self.diags.report("E0201", f"'{h.name.text}' names both a hole and a morphism", h.name.span)
+            self.diags.report(codes.DUPLICATE_NAME, f"'{h.name.text}' names both a hole and a morphism", h.name.span)
             return
         opts = _options(h.options, HOLE_OPTIONS, f"hole '{h.name.text}'", self.diags)
         view = None
@@ -685,7 +697,7 @@ class DomainChecker:
             vname: ast.Name = opts[Option.HOLE_VIEW.value].value  # type: ignore[assignment]
             if vname.text not in self.views:
                 self.diags.report(
-                    "E0202", f"unknown view '{vname.text}'{did_you_mean(vname.text, self.views)}", vname.span
+                    codes.UNKNOWN_NAME, f"unknown view '{vname.text}'{did_you_mean(vname.text, self.views)}", vname.span
                 )
             view = vname.text
         max_eff = max_pre = None
@@ -728,7 +740,7 @@ def _check_effect_conflicts(effects: list[ir.Effect], diags: Diagnostics) -> Non
         if assigns and len(effs) > 1:
             other = next(e for e in effs if e is not assigns[0])
             diags.report(
-                "E0501",
+                codes.CONFLICTING_EFFECTS,
                 f"'{res}' is written twice in one effect: an assign cannot be combined with another write",
                 other.span,
                 Note("the assign is here", assigns[0].span),
@@ -738,7 +750,7 @@ def _check_effect_conflicts(effects: list[ir.Effect], diags: Diagnostics) -> Non
         for e in effs:
             if e.kind is ir.EffectKind.REMOVE and _elem_key(e.value) in adds:
                 diags.report(
-                    "E0501",
+                    codes.CONFLICTING_EFFECTS,
                     f"the same element is both added to and removed from '{res}' in one effect",
                     e.span,
                     Note("the add is here", adds[_elem_key(e.value)].span),
@@ -766,7 +778,9 @@ class ProblemChecker:
     def _single(self, cls, what: str):
         found = [s for s in self.node.sections if isinstance(s, cls)]
         for extra in found[1:]:
-            self.diags.report("E0205", f"{what} is given twice", extra.span, Note("first given here", found[0].span))
+            self.diags.report(
+                codes.DUPLICATE_OPTION, f"{what} is given twice", extra.span, Note("first given here", found[0].span)
+            )
         return found[0] if found else None
 
     def run(self) -> ir.Instance | None:
@@ -775,7 +789,9 @@ class ProblemChecker:
         dref = self._single(ast.DomainRef, "(:domain ...)")
         if dref is None:
             self.diags.report(
-                "E0206", f"problem '{node.name.text}' does not name its domain: add (:domain NAME)", node.name.span
+                codes.MISSING_OPTION,
+                f"problem '{node.name.text}' does not name its domain: add (:domain NAME)",
+                node.name.span,
             )
             return None
         domain = self.ws.domain_ir(dref.name.text, self.path, dref.name.span)
@@ -796,7 +812,7 @@ class ProblemChecker:
         goal_sec = self._single(ast.Goal, "(:goal ...)")
         goal = split_literals(self.checker, goal_sec.condition, "goal", Context.CONDITION) if goal_sec else []
         if goal_sec is None:
-            self.diags.report("E0206", f"problem '{node.name.text}' has no (:goal ...)", node.name.span)
+            self.diags.report(codes.MISSING_OPTION, f"problem '{node.name.text}' has no (:goal ...)", node.name.span)
         horizon_sec = self._single(ast.Horizon, "(:horizon ...)")
         horizon = None
         if horizon_sec is not None:
@@ -832,18 +848,18 @@ class ProblemChecker:
             for group in sec.groups:
                 sort = None
                 if group.type is None:
-                    self.diags.report("E0304", "objects need a sort: write '... - SORT'", group.span)
+                    self.diags.report(codes.BAD_SORT, "objects need a sort: write '... - SORT'", group.span)
                 else:
                     sort = self.domain.sorts.get(group.type.text)
                     if sort is None:
                         self.diags.report(
-                            "E0202",
+                            codes.UNKNOWN_NAME,
                             f"unknown sort '{group.type.text}'{did_you_mean(group.type.text, self.domain.sorts)}",
                             group.type.span,
                         )
                     elif sort.kind is SortKind.ENUM:
                         self.diags.report(
-                            "E0504",
+                            codes.CLOSED_SORT,
                             f"enumeration '{sort.name}' is closed; problems cannot add values to it "
                             f"(declare it '- symbol' to make it open)",
                             group.type.span,
@@ -852,12 +868,18 @@ class ProblemChecker:
                 for name in group.names:
                     prev = out.get(name.text) or self.domain.constants.get(name.text)
                     if name.text in RESERVED_NAMES:
-                        self.diags.report("E0203", f"'{name.text}' is a keyword and cannot name an object", name.span)
+                        self.diags.report(
+                            codes.RESERVED_NAME, f"'{name.text}' is a keyword and cannot name an object", name.span
+                        )
                     elif prev is not None:
                         notes = [Note("previously declared here", prev.span)] if prev.span else []
-                        self.diags.report("E0201", f"object '{name.text}' is declared twice", name.span, *notes)
+                        self.diags.report(
+                            codes.DUPLICATE_NAME, f"object '{name.text}' is declared twice", name.span, *notes
+                        )
                     elif name.text in self.domain.resources:
-                        self.diags.report("E0201", f"object '{name.text}' has the name of a resource", name.span)
+                        self.diags.report(
+                            codes.DUPLICATE_NAME, f"object '{name.text}' has the name of a resource", name.span
+                        )
                     elif sort is not None:
                         out[name.text] = ir.Constant(name.text, sort, name.span)
         return out
@@ -869,7 +891,7 @@ class ProblemChecker:
         self.req.need(Requirement.VIEWS, sec.span, "(:view ...)")
         if sec.name.text not in self.domain.views:
             self.diags.report(
-                "E0202",
+                codes.UNKNOWN_NAME,
                 f"unknown view '{sec.name.text}'{did_you_mean(sec.name.text, self.domain.views)}",
                 sec.name.span,
             )
@@ -890,7 +912,7 @@ class ProblemChecker:
                 name, value = parsed
                 if name in out:
                     self.diags.report(
-                        "E0205",
+                        codes.DUPLICATE_OPTION,
                         f"'{name}' is given an initial value twice",
                         lit.span,
                         Note("first given here", out[name].span),
@@ -912,7 +934,7 @@ class ProblemChecker:
             where = sections[0].span if sections else self.node.name.span
             names = ", ".join(f"'{r.name}'" for r in missing)
             self.diags.report(
-                "E0503",
+                codes.MISSING_INIT,
                 f"no initial value for {names}: numeric and symbolic resources must be given one with (= resource value)",
                 where,
                 *[Note(f"'{r.name}' is declared here", r.span) for r in missing[:3] if r.span],
@@ -934,7 +956,7 @@ class ProblemChecker:
             return lit.args[0].name, ir.Const(False, BOOL, lit.span)
         if not (isinstance(lit, ast.Call) and lit.head.text == "=" and len(lit.args) == 2):
             self.diags.report(
-                "E0502",
+                codes.BAD_INIT,
                 "an initial-state literal is (= resource value), a bool resource, or (not resource)",
                 lit.span,
             )
@@ -943,9 +965,13 @@ class ProblemChecker:
         if not isinstance(target, ast.Ref) or target.name not in res:
             label = target.name if isinstance(target, ast.Ref) else None
             if label is not None:
-                self.diags.report("E0202", f"unknown resource '{label}'{did_you_mean(label, res)}", target.span)
+                self.diags.report(
+                    codes.UNKNOWN_NAME, f"unknown resource '{label}'{did_you_mean(label, res)}", target.span
+                )
             else:
-                self.diags.report("E0502", "the left side of an initial-state literal must be a resource", target.span)
+                self.diags.report(
+                    codes.BAD_INIT, "the left side of an initial-state literal must be a resource", target.span
+                )
             return None
         r = res[target.name]
         value = self.checker.term(value_node, Context.CONSTANT, r.sort)
@@ -954,14 +980,14 @@ class ProblemChecker:
         try:
             folded = fold_constant(value)
         except FoldError as exc:
-            self.diags.report("E0310", str(exc), exc.expr.span or value_node.span)
+            self.diags.report(codes.DIVISION_BY_ZERO, str(exc), exc.expr.span or value_node.span)
             return None
         if folded is None:
-            self.diags.report("E0502", "an initial value must be a constant", value_node.span)
+            self.diags.report(codes.BAD_INIT, "an initial value must be a constant", value_node.span)
             return None
         if not assignable(r.sort, folded.sort, self.domain.sorts):
             self.diags.report(
-                "E0301",
+                codes.TYPE_MISMATCH,
                 f"'{r.name}' is {describe(r.sort)} and cannot start as {describe(folded.sort)}",
                 value_node.span,
             )
@@ -970,7 +996,7 @@ class ProblemChecker:
             v = folded.value
             if (r.lower is not None and v < r.lower) or (r.upper is not None and v > r.upper):  # type: ignore[operator]
                 self.diags.report(
-                    "E0307",
+                    codes.BAD_VALUE,
                     f"initial value {_fmt(v)} of '{r.name}' lies outside its bounds "  # type: ignore[arg-type]
                     f"[{_fmt(r.lower)}, {_fmt(r.upper)}]",
                     value_node.span,
@@ -988,7 +1014,9 @@ class ProblemChecker:
             if Option.WEIGHT.value in opts:
                 num: ast.Num = opts[Option.WEIGHT.value].value  # type: ignore[assignment]
                 if num.value <= 0:
-                    self.diags.report("E0307", f"a soft constraint's weight must be positive, got {num.text}", num.span)
+                    self.diags.report(
+                        codes.BAD_VALUE, f"a soft constraint's weight must be positive, got {num.text}", num.span
+                    )
                 weight = num.value
             expr = self.checker.condition(sec.condition)
             if expr is not None:
@@ -1007,7 +1035,7 @@ class ProblemChecker:
                 objectives.append(ir.Objective(ir.Sense(obj.sense.text), term, obj.span))
         mode = ir.MetricMode(sec.mode)
         if mode is ir.MetricMode.PARETO and len(sec.objectives) < 2:
-            self.diags.report("E0505", "a pareto metric needs at least two objectives", sec.span)
+            self.diags.report(codes.BAD_OBJECTIVE, "a pareto metric needs at least two objectives", sec.span)
         return ir.Metric(mode, tuple(objectives), sec.span)
 
     def _deployed(self) -> list[str]:
@@ -1019,12 +1047,14 @@ class ProblemChecker:
             for name in sec.names:
                 if name.text not in self.domain.morphisms:
                     self.diags.report(
-                        "E0202",
+                        codes.UNKNOWN_NAME,
                         f"unknown morphism '{name.text}'{did_you_mean(name.text, self.domain.morphisms)}",
                         name.span,
                     )
                 elif name.text in out:
-                    self.diags.report("E0205", f"'{name.text}' is listed twice in (:deployed ...)", name.span)
+                    self.diags.report(
+                        codes.DUPLICATE_OPTION, f"'{name.text}' is listed twice in (:deployed ...)", name.span
+                    )
                 else:
                     out.append(name.text)
         return out
@@ -1057,7 +1087,7 @@ def check_objective_text(text: str, inst: ir.Instance, diags: Diagnostics, origi
     if parsed is not None:
         metric = next((s for s in parsed.definitions[0].sections if isinstance(s, ast.Metric)), None)
         if metric is None or len(metric.objectives) != 1:
-            local.report("E0505", f"expected one objective term, got {text!r}", None)
+            local.report(codes.BAD_OBJECTIVE, f"expected one objective term, got {text!r}", None)
         else:
             constants = inst.constants()
             scope = Scope(inst.domain.sorts, constants, inst.domain.resources, {}, inst.domain.morphisms)

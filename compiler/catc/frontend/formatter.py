@@ -23,10 +23,7 @@ comments must come back identical, or it raises :class:`FormatError`.
 from __future__ import annotations
 
 import re
-import sys
 from dataclasses import dataclass, field
-
-import click
 
 from catgrammar.symbols import Section
 from catgrammar.tokens import tokenize
@@ -549,44 +546,3 @@ def format_file(path: str, diags) -> tuple[str, str] | None:
     with open(path, "rb") as fh:
         raw = fh.read().decode("utf-8")
     return raw, format_text(src.text)
-
-
-@click.command("fmt")
-@click.argument("paths", nargs=-1, required=True, type=click.Path())
-@click.option("--check", is_flag=True, help="Write nothing: list the files that would change and exit 1 if any.")
-def fmt_command(paths: tuple[str, ...], check: bool) -> None:
-    """Rewrite .cat files (and folders) in the canonical layout, keeping comments.
-
-    With --check, nothing is written: the files that are not formatted are listed and the
-    exit code is 1.  Exit 2 when a file cannot be read or parsed (the diagnostics of
-    catc check are printed).
-    """
-    from catc.interfaces.cli import _collect
-    from catgrammar.diagnostics import Diagnostics
-    from catgrammar.diagnostics import format_text as diag_text
-
-    diags = Diagnostics()
-    files = _collect(paths, diags)
-    changed: list[str] = []
-    results: list[tuple[str, str, str]] = []
-    for f in files:
-        r = format_file(f, diags)
-        if r is not None:
-            results.append((f, *r))
-    for f, before, after in results:
-        if before == after:
-            continue
-        changed.append(f)
-        if check:
-            click.echo(f"would reformat {f}")
-        else:
-            with open(f, "w", encoding="utf-8", newline="\n") as fh:
-                fh.write(after)
-            click.echo(f"reformatted {f}", err=True)
-    if diags.has_errors:
-        click.echo(diag_text(diags), err=True)
-        sys.exit(2)
-    if check and changed:
-        click.echo(f"{len(changed)} file(s) would be reformatted", err=True)
-        sys.exit(1)
-    sys.exit(0)

@@ -12,6 +12,7 @@ from collections.abc import Callable
 from catc import ir
 from catc.ir import SortKind
 from catc.semantics.validate import initial_state
+from catgrammar import codes
 from catgrammar.diagnostics import Diagnostics, Note
 from catgrammar.span import Span
 
@@ -41,7 +42,7 @@ def lint_domain(
                     else ("no lower bound" if p.lower is None else "no upper bound")
                 )
                 diags.report(
-                    "W0105",
+                    codes.UNBOUNDED_PARAMETER,
                     f"real parameter '{p.name}' of '{m.name}' has {missing}; "
                     f"optimisation over it may be unbounded and exports cannot grid it",
                     p.span,
@@ -49,7 +50,7 @@ def lint_domain(
     for r in domain.resources.values():
         used_sorts.add(_base(r.sort))
         if r.name not in used_resources and _user(r.span, is_user):
-            diags.report("W0101", f"resource '{r.name}' is never read or written by any morphism", r.span)
+            diags.report(codes.UNUSED_RESOURCE, f"resource '{r.name}' is never read or written by any morphism", r.span)
     for c in domain.constants.values():
         used_sorts.add(c.sort.name)
     for s in domain.sorts.values():
@@ -58,7 +59,7 @@ def lint_domain(
     for s in domain.sorts.values():
         span = _sort_span(domain, s)
         if s.name not in used_sorts and span is not None and _user(span, is_user):
-            diags.report("W0102", f"sort '{s.name}' is never used", span)
+            diags.report(codes.UNUSED_SORT, f"sort '{s.name}' is never used", span)
 
 
 def _base(sort: ir.Sort) -> str:
@@ -81,14 +82,14 @@ def lint_instance(inst: ir.Instance, diags: Diagnostics, is_user: Callable[[str]
         if reads and not (reads & written) and _user(lit.span, is_user):
             names = ", ".join(f"'{r}'" for r in sorted(reads))
             diags.report(
-                "W0104",
+                codes.UNWRITABLE_GOAL,
                 f"this goal reads only {names}, which no morphism writes: the initial state alone decides it",
                 lit.span,
             )
     for m, lit, why in unreachable_morphisms(inst):
         if _user(m.span, is_user):
             notes = [Note(why, lit.span)] if lit.span else []
-            diags.report("W0103", f"morphism '{m.name}' can never apply: {why}", m.span, *notes)
+            diags.report(codes.UNREACHABLE_MORPHISM, f"morphism '{m.name}' can never apply: {why}", m.span, *notes)
 
 
 def unreachable_morphisms(inst: ir.Instance):

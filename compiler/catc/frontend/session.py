@@ -1,14 +1,17 @@
-"""Front-end entry points shared by the CLI, the language server and the Python API."""
+"""Front-end entry points shared by the CLI, the language server and the Python API:
+files → checked IR, with every error and lint in a :class:`Diagnostics`."""
 
 from __future__ import annotations
 
+import os
+from collections.abc import Iterable
 from pathlib import Path
 
 from catc import ir
 from catc.frontend.lints import lint_domain, lint_instance
-from catc.frontend.workspace import Workspace, stdlib_dir
+from catc.frontend.workspace import Workspace, load_instance, stdlib_dir
 from catc.ir.views import ViewError, apply_view
-from catgrammar import ast
+from catgrammar import ast, codes
 from catgrammar.diagnostics import Diagnostics
 from catgrammar.parser import gc_paused
 
@@ -62,7 +65,7 @@ def check_parsed(
                 try:
                     apply_view(inst, None)
                 except ViewError as exc:
-                    diags.report("E0506", str(exc), exc.span or d.name.span)
+                    diags.report(codes.BAD_VIEW, str(exc), exc.span or d.name.span)
                     continue
                 instances[inst.problem.name] = inst
                 checked.append(inst)
@@ -71,3 +74,34 @@ def check_parsed(
     for inst in checked:
         lint_instance(inst, diags, is_user_file)
     return domains, instances
+
+
+def load_checked(
+    problem: str | os.PathLike[str],
+    domain: str | os.PathLike[str] | None,
+    diags: Diagnostics,
+    *,
+    view: str | None = None,
+    problem_name: str | None = None,
+    search_paths: Iterable[str | os.PathLike[str]] = (),
+) -> ir.Instance | None:
+    """Files → the checked instance with its view applied, or None with errors in ``diags``
+    (the front end of every query: the command line, the API, the language server)."""
+    paths = [str(problem)] if domain is None else [str(domain), str(problem)]
+    for p in paths:
+        if Path(p).is_dir():
+            diags.report(codes.UNREADABLE_FILE, f"cannot read '{p}': it is a folder; give a .cat file", None)
+        elif not Path(p).is_file():
+            diags.report(codes.UNREADABLE_FILE, f"cannot read '{p}': no such file", None)
+    if diags.has_errors:
+        return None
+    _, inst = load_instance(
+        None if domain is None else str(domain), str(problem), diags, tuple(str(p) for p in search_paths), problem_name
+    )
+    if inst is None or diags.has_errors:
+        return None
+    try:
+        return apply_view(inst, view)
+    except ViewError as exc:
+        diags.report(codes.BAD_VIEW, str(exc), exc.span)
+        return None

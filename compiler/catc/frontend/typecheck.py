@@ -13,7 +13,7 @@ from fractions import Fraction
 
 from catc import ir
 from catc.ir import BOOL, INT, REAL, Sort, SortKind
-from catgrammar import ast
+from catgrammar import ast, codes
 from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
 from catgrammar.span import Span
 from catgrammar.symbols import (
@@ -158,14 +158,16 @@ class ExprChecker:
     def condition(self, node: ast.Expr, ctx: Context = Context.CONDITION) -> ir.Expr | None:
         expr = self.term(node, ctx)
         if expr is not None and expr.sort.kind is not SortKind.BOOL:
-            self.diags.report("E0301", f"expected a condition (bool), found {describe(expr.sort)}", node.span)
+            self.diags.report(
+                codes.TYPE_MISMATCH, f"expected a condition (bool), found {describe(expr.sort)}", node.span
+            )
             return None
         return expr
 
     def numeric(self, node: ast.Expr, ctx: Context) -> ir.Expr | None:
         expr = self.term(node, ctx)
         if expr is not None and not expr.sort.is_numeric:
-            self.diags.report("E0301", f"expected a number, found {describe(expr.sort)}", node.span)
+            self.diags.report(codes.TYPE_MISMATCH, f"expected a number, found {describe(expr.sort)}", node.span)
             return None
         return expr
 
@@ -191,7 +193,9 @@ class ExprChecker:
             if ctx in (Context.COST, Context.CONSTANT):
                 where = "a morphism's :cost" if ctx is Context.COST else "an initial value"
                 self.diags.report(
-                    "E0301", f"resource '{name}' cannot appear in {where}; only constants and parameters can", node.span
+                    codes.TYPE_MISMATCH,
+                    f"resource '{name}' cannot appear in {where}; only constants and parameters can",
+                    node.span,
                 )
                 return None
             r = sc.resources[name]
@@ -203,7 +207,7 @@ class ExprChecker:
         hint = did_you_mean(name, candidates)
         if sc.morphisms is not None and name in sc.morphisms:
             hint = f"; '{name}' is a morphism: use (uses {name}) to count its activations"
-        self.diags.report("E0202", f"unknown name '{name}'{hint}", node.span)
+        self.diags.report(codes.UNKNOWN_NAME, f"unknown name '{name}'{hint}", node.span)
         return None
 
     def _set_literal(self, node: ast.SetLit, ctx: Context, expected: Sort | None) -> ir.Expr | None:
@@ -217,7 +221,9 @@ class ExprChecker:
                 ok = False
                 continue
             if not e.sort.is_symbolic:
-                self.diags.report("E0301", f"set elements must be symbols, found {describe(e.sort)}", el.span)
+                self.diags.report(
+                    codes.TYPE_MISMATCH, f"set elements must be symbols, found {describe(e.sort)}", el.span
+                )
                 ok = False
                 continue
             elems.append(e)
@@ -227,19 +233,21 @@ class ExprChecker:
             for e, el in zip(elems, node.elements):
                 if not assignable(want, e.sort, self.scope.sorts):
                     self.diags.report(
-                        "E0301",
+                        codes.TYPE_MISMATCH,
                         f"{describe(e.sort)} cannot be an element of a set of '{want}'",
                         el.span,
                     )
                     ok = False
             return ir.SetLit(tuple(elems), ir.set_of(want), node.span) if ok else None
         if not elems:
-            self.diags.report("E0301", "cannot tell the element sort of the empty set {} here", node.span)
+            self.diags.report(codes.TYPE_MISMATCH, "cannot tell the element sort of the empty set {} here", node.span)
             return None
         first = elems[0].sort
         for e, el in zip(elems[1:], node.elements[1:]):
             if not compatible(first, e.sort, self.scope.sorts):
-                self.diags.report("E0301", f"set literal mixes {describe(first)} and {describe(e.sort)}", el.span)
+                self.diags.report(
+                    codes.TYPE_MISMATCH, f"set literal mixes {describe(first)} and {describe(e.sort)}", el.span
+                )
                 return None
         elem_sort = self.scope.sorts.get(root_of(first, self.scope.sorts), first)
         return ir.SetLit(tuple(elems), ir.set_of(elem_sort), node.span)
@@ -273,7 +281,7 @@ class ExprChecker:
                 return None
             if not compatible(then.sort, orelse.sort, self.scope.sorts):
                 self.diags.report(
-                    "E0301",
+                    codes.TYPE_MISMATCH,
                     f"'if' branches differ: {describe(then.sort)} and {describe(orelse.sort)}",
                     node.span,
                 )
@@ -289,19 +297,23 @@ class ExprChecker:
         sc = self.scope
         if head in _EFFECT_HEADS:
             msg = f"'{head}' is an effect and cannot appear in a {ctx.value}"
-            self.diags.report("E0305", msg, node.head.span)
+            self.diags.report(codes.MISPLACED_OPERATOR, msg, node.head.span)
         elif head in _OBJECTIVE_HEADS:
             self.diags.report(
-                "E0305", f"'({head} ...)' is an objective term; it is only allowed in (:metric ...)", node.head.span
+                codes.MISPLACED_OPERATOR,
+                f"'({head} ...)' is an objective term; it is only allowed in (:metric ...)",
+                node.head.span,
             )
         elif head in sc.resources or head in sc.constants or head in sc.params:
             self.diags.report(
-                "E0211",
+                codes.UNKNOWN_OPERATOR,
                 f"'{head}' is not an operator; names are written without parentheses: use {head} instead of ({head} ...)",
                 node.head.span,
             )
         else:
-            self.diags.report("E0211", f"unknown operator '{head}'{did_you_mean(head, allowed)}", node.head.span)
+            self.diags.report(
+                codes.UNKNOWN_OPERATOR, f"unknown operator '{head}'{did_you_mean(head, allowed)}", node.head.span
+            )
         return None
 
     def _arity(self, node: ast.Call, lo: int, hi: int | None) -> bool:
@@ -313,7 +325,7 @@ class ExprChecker:
                 want = f"at least {lo} argument{'s' if lo != 1 else ''}"
             else:
                 want = f"{lo} to {hi} arguments"
-            self.diags.report("E0302", f"'{node.head.text}' takes {want}, got {n}", node.span)
+            self.diags.report(codes.ARITY, f"'{node.head.text}' takes {want}, got {n}", node.span)
             return False
         return True
 
@@ -345,7 +357,7 @@ class ExprChecker:
         if op is ir.CmpOp.EQ:
             if not compatible(left.sort, right.sort, self.scope.sorts):
                 self.diags.report(
-                    "E0301",
+                    codes.TYPE_MISMATCH,
                     f"cannot compare {describe(left.sort)} with {describe(right.sort)}",
                     node.span,
                 )
@@ -354,7 +366,7 @@ class ExprChecker:
             for side, n in ((left, left_node), (right, right_node)):
                 if not side.sort.is_numeric:
                     self.diags.report(
-                        "E0301",
+                        codes.TYPE_MISMATCH,
                         f"'{node.head.text}' compares numbers, but this is {describe(side.sort)}",
                         n.span,
                     )
@@ -378,7 +390,7 @@ class ExprChecker:
         for a, n in zip(args, node.args):
             if not a.sort.is_numeric:  # type: ignore[union-attr]
                 self.diags.report(
-                    "E0301",
+                    codes.TYPE_MISMATCH,
                     f"'{node.head.text}' needs numbers, but this is {describe(a.sort)}",
                     n.span,  # type: ignore[union-attr]
                 )
@@ -386,7 +398,7 @@ class ExprChecker:
         if op is ir.ArithOp.DIV:
             divisor = args[1]
             if isinstance(divisor, ir.Const) and divisor.value == 0:
-                self.diags.report("E0310", "division by zero", node.args[1].span)
+                self.diags.report(codes.DIVISION_BY_ZERO, "division by zero", node.args[1].span)
                 return None
             sort = REAL
         else:
@@ -403,12 +415,14 @@ class ExprChecker:
             return None
         if coll.sort.kind is not SortKind.SET:
             self.diags.report(
-                "E0303", f"'member' needs a set as its second argument, found {describe(coll.sort)}", node.args[1].span
+                codes.NOT_A_SET,
+                f"'member' needs a set as its second argument, found {describe(coll.sort)}",
+                node.args[1].span,
             )
             return None
         if not elem.sort.is_symbolic or not compatible(elem.sort, coll.sort.element, self.scope.sorts):  # type: ignore[arg-type]
             self.diags.report(
-                "E0301",
+                codes.TYPE_MISMATCH,
                 f"{describe(elem.sort)} can never be a member of {describe(coll.sort)}",
                 node.args[0].span,
             )
@@ -441,7 +455,7 @@ class ExprChecker:
             names = [p.name for p in m.params]
             label = pnode.name if isinstance(pnode, ast.Ref) else "this"
             self.diags.report(
-                "E0202",
+                codes.UNKNOWN_NAME,
                 f"morphism '{m.name}' has no parameter '{label}'{did_you_mean(label, names)}",
                 pnode.span,
             )
@@ -450,7 +464,7 @@ class ExprChecker:
         assert p is not None
         if not p.fixed and m.uses != 1:
             self.diags.report(
-                "E0507",
+                codes.AMBIGUOUS_PARAMETER,
                 f"parameter '{p.name}' of '{m.name}' takes one value per activation; "
                 f"declare it :fixed or limit '{m.name}' to :uses 1 to use it in an objective",
                 node.span,
@@ -463,5 +477,7 @@ class ExprChecker:
         if isinstance(node, ast.Ref) and node.name in morphisms:
             return morphisms[node.name]
         label = node.name if isinstance(node, ast.Ref) else "this"
-        self.diags.report("E0202", f"unknown morphism '{label}'{did_you_mean(label, list(morphisms))}", node.span)
+        self.diags.report(
+            codes.UNKNOWN_NAME, f"unknown morphism '{label}'{did_you_mean(label, list(morphisms))}", node.span
+        )
         return None

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from catc import ir
 from catc.frontend.check import DomainChecker, ProblemChecker
-from catgrammar import ast
+from catgrammar import ast, codes
 from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
 from catgrammar.parser import gc_paused, parse_source, read_source
 from catgrammar.span import Span
@@ -46,7 +46,8 @@ class Loaded:
         self.file = file
 
 
-def _norm(path: str) -> str:
+def normalise_path(path: str) -> str:
+    """The key of a file among those loaded (absolute, case-normalised where the OS is)."""
     return os.path.normcase(os.path.abspath(path))
 
 
@@ -60,9 +61,10 @@ def _domain_pattern(name: str) -> re.Pattern[str]:
 
 class Workspace:
     def __init__(self, diags: Diagnostics, search_paths: list[str] | tuple[str, ...] = ()):
+        """``search_paths``: extra folders to look for domains in, in order (the interfaces
+        add ``--path`` and ``CATC_PATH``; nothing here reads the environment)."""
         self.diags = diags
-        env = [p for p in os.environ.get("CATC_PATH", "").split(os.pathsep) if p]
-        self.search_paths = [Path(p) for p in list(search_paths) + env]
+        self.search_paths = [Path(p) for p in search_paths]
         self.files: dict[str, ast.SourceFile | None] = {}
         #: every loaded definition by name: several when unrelated folders reuse a name
         self.domains: dict[str, list[tuple[ast.Domain, str]]] = {}
@@ -73,7 +75,7 @@ class Workspace:
 
     # -------------------------------------------------------------- files
     def load(self, path: str) -> ast.SourceFile | None:
-        key = _norm(path)
+        key = normalise_path(path)
         if key in self.files:
             return self.files[key]
         self.files[key] = None
@@ -82,10 +84,10 @@ class Workspace:
         self.files[key] = parsed
         if parsed is not None:
             for d in parsed.definitions:
-                self._index(d, path)
+                self.index(d, path)
         return parsed
 
-    def _index(self, d: ast.Definition, path: str) -> None:
+    def index(self, d: ast.Definition, path: str) -> None:
         """Record a definition.  Two definitions of one name in one folder are ambiguous
         (a reference from that folder could mean either); in different folders they are not."""
         table = self.domains if isinstance(d, ast.Domain) else self.problems
@@ -94,9 +96,13 @@ class Workspace:
         folder = _folder(path)
         for prev, prev_path in entries:
             if _folder(prev_path) == folder:
-                where = "twice in one file" if _norm(prev_path) == _norm(path) else "in two files of one folder"
+                where = (
+                    "twice in one file"
+                    if normalise_path(prev_path) == normalise_path(path)
+                    else "in two files of one folder"
+                )
                 self.diags.report(
-                    "E0210",
+                    codes.DUPLICATE_DEFINITION,
                     f"{what} '{d.name.text}' is defined {where}",
                     d.name.span,
                     Note("also defined here", prev.name.span),
@@ -116,7 +122,7 @@ class Workspace:
         candidates = [preferred] if preferred.is_file() else []
         candidates += sorted(p for p in folder.glob("*.cat") if p != preferred)
         for p in candidates:
-            if _norm(str(p)) in self.files:
+            if normalise_path(str(p)) in self.files:
                 continue
             try:
                 head = p.read_bytes()[:1_000_000].decode("utf-8", errors="replace")
@@ -148,7 +154,7 @@ class Workspace:
             return loaded[0]
         if len(loaded) > 1:
             self.diags.report(
-                "E0210",
+                codes.DUPLICATE_DEFINITION,
                 f"domain '{name}' is defined in several folders; keep the problem next to the one it means "
                 f"or pass only that one",
                 ref,
@@ -169,7 +175,7 @@ class Workspace:
         found = self.find_domain(name, near, ref)
         if found is None:
             if not self.domains.get(name) or len(self.domains[name]) <= 1:
-                code = "E0208" if importing else "E0207"
+                code = codes.UNKNOWN_IMPORT if importing else codes.UNKNOWN_DOMAIN
                 what = "imported domain" if importing else "domain"
                 hint = did_you_mean(name, self.known_domain_names())
                 self.diags.report(
@@ -184,7 +190,7 @@ class Workspace:
         if any(k == key for _, k in self._stack):
             names = [n for n, _ in self._stack]
             cycle = " -> ".join(names[names.index(name) :] + [name])
-            self.diags.report("E0209", f"circular import: {cycle}", ref)
+            self.diags.report(codes.CIRCULAR_IMPORT, f"circular import: {cycle}", ref)
             return None
         if key in self._checked:
             return self._checked[key]
@@ -227,10 +233,12 @@ def _load_instance(domain_path, problem_path, diags, search_paths, problem_name)
         problems = [p for p in problems if p.name.text == problem_name]
     if not problems:
         what = f"no problem named '{problem_name}'" if problem_name else "no (define (problem ...)) found"
-        diags.report("E0206", f"{what} in {problem_path}", None)
+        diags.report(codes.MISSING_OPTION, f"{what} in {problem_path}", None)
         return ws, None
     if len(problems) > 1:
         names = ", ".join(p.name.text for p in problems)
-        diags.report("E0206", f"{problem_path} defines several problems ({names}); choose one with --problem", None)
+        diags.report(
+            codes.MISSING_OPTION, f"{problem_path} defines several problems ({names}); choose one with --problem", None
+        )
         return ws, None
     return ws, ws.check_problem(problems[0], problem_path)

@@ -1,10 +1,10 @@
-"""What the command line does, without click.
+"""What a query command does, without click: load, convert the arguments, run, print, exit.
 
-:mod:`catc.interfaces.cli` defines the commands with click; :mod:`catc.interfaces.entry` runs a plain
-``catc solve`` command line without importing click at all (click's import is about a
-fifth of a small solve's whole run, docs/benchmarks.md).  Both call the functions here,
-so a command behaves the same whichever way it was parsed: the same output, exit codes
-and error handling.  Nothing here may import click.
+:mod:`catc.interfaces.cli` builds the click commands from the query registry;
+:mod:`catc.interfaces.entry` reads plain command lines without importing click at all
+(click's import is about a fifth of a small solve's whole run, docs/benchmarks.md).  Both
+hand the same raw values to :func:`run_query`, so a command behaves the same whichever way
+it was parsed: the same output, exit codes and error handling.  Nothing here may import click.
 
 Exit codes (docs/cli.md): 0 success; 1 model errors (``check``) or infeasible (queries);
 2 usage or unreadable input (and, for queries, any input error); 3 the solver gave up;
@@ -13,17 +13,27 @@ Exit codes (docs/cli.md): 0 success; 1 model errors (``check``) or infeasible (q
 
 from __future__ import annotations
 
+import math
 import os
 import sys
-from collections.abc import Callable
-from pathlib import Path
-from typing import Any, NoReturn
+from collections.abc import Callable, Mapping, Sequence
+from fractions import Fraction
+from typing import TYPE_CHECKING, Any, NoReturn
 
-EXIT_OK = 0
-EXIT_FAIL = 1
-EXIT_INPUT = 2
-EXIT_UNKNOWN = 3
-EXIT_INTERNAL = 70
+from catc.queries.base import ExitCode, InputError, Kind, Query
+from catgrammar import codes
+
+if TYPE_CHECKING:  # pragma: no cover
+    from catc import ir
+    from catgrammar.diagnostics import Diagnostics
+
+EXIT_OK, EXIT_FAIL, EXIT_INPUT, EXIT_UNKNOWN, EXIT_INTERNAL = (
+    ExitCode.OK,
+    ExitCode.FAIL,
+    ExitCode.INPUT,
+    ExitCode.UNKNOWN,
+    ExitCode.INTERNAL,
+)
 
 
 def echo(text: str = "", err: bool = False) -> None:
@@ -54,28 +64,21 @@ def guarded(
     except Exception as exc:  # a bug, reported without a traceback
         if os.environ.get("CATC_DEBUG"):
             raise
-        echo(f"catc: internal error: {type(exc).__name__}: {exc} (set CATC_DEBUG=1 for details)", err=True)
+        from catc.semantics.validate import ValidationFailure
+
+        detail = (
+            str(exc)
+            if isinstance(exc, ValidationFailure)
+            else f"{type(exc).__name__}: {exc} (set CATC_DEBUG=1 for details)"
+        )
+        echo(f"catc: internal error: {detail}", err=True)
         sys.exit(EXIT_INTERNAL)
 
 
-# ---------------------------------------------------------------- shared by the queries
+# ====================================================================== errors
 
 
-def instance(paths: tuple[str, ...], view: str | None, search_paths, problem: str | None, as_json: bool):
-    """PROBLEM or DOMAIN PROBLEM (the caller checks there are one or two paths) → the
-    checked instance with its view applied, or exit 2 with the diagnostics."""
-    from catc.interfaces.api import load_checked
-    from catgrammar.diagnostics import Diagnostics
-
-    domain_path, problem_path = (None, paths[0]) if len(paths) == 1 else paths
-    diags = Diagnostics()
-    inst = load_checked(problem_path, domain_path, diags, view=view, problem_name=problem, search_paths=search_paths)
-    if inst is None:
-        input_errors(diags, as_json)
-    return inst
-
-
-def input_errors(diags, as_json: bool) -> NoReturn:
+def input_errors(diags: Diagnostics, as_json: bool) -> NoReturn:
     """Report located input errors — a catc.error/1 document with ``--json``, compiler-style
     text on standard error otherwise — and exit 2."""
     if as_json:
@@ -94,18 +97,161 @@ def input_errors(diags, as_json: bool) -> NoReturn:
     sys.exit(EXIT_INPUT)
 
 
-def console(as_json: bool = False):
+def argument_error(message: str, code: str, as_json: bool, location: str | None = None) -> NoReturn:
+    """A bad command-line argument or input file found after parsing: ``catc: error[CODE]``
+    (or ``FILE: error[CODE]``) and exit 2; with ``--json``, a catc.error/1 document."""
+    from catgrammar.diagnostics import Diagnostics
+
+    if as_json:
+        diags = Diagnostics()
+        diags.report(code, message, None)
+        input_errors(diags, as_json)
+    echo(f"{location or 'catc'}: error[{code}]: {message}", err=True)
+    sys.exit(EXIT_INPUT)
+
+
+# ====================================================================== loading
+
+
+def search_path(extra: Sequence[str] = ()) -> tuple[str, ...]:
+    """Where domains are looked for besides the problem's folder: ``--path`` folders, then
+    the folders of the ``CATC_PATH`` environment variable (read here, at the edge)."""
+    env = [p for p in os.environ.get("CATC_PATH", "").split(os.pathsep) if p]
+    return (*extra, *env)
+
+
+def instance(
+    paths: Sequence[str], view: str | None, search_paths: Sequence[str], problem: str | None, as_json: bool
+) -> ir.Instance:
+    """PROBLEM or DOMAIN PROBLEM → the checked instance with its view applied, or exit 2
+    with the diagnostics."""
+    from catc.frontend.session import load_checked
+    from catgrammar.diagnostics import Diagnostics
+
+    if len(paths) not in (1, 2):
+        argument_error("give PROBLEM or DOMAIN PROBLEM", codes.BAD_ARGUMENT, as_json)
+    domain_path, problem_path = (None, paths[0]) if len(paths) == 1 else paths
+    diags = Diagnostics()
+    inst = load_checked(
+        problem_path, domain_path, diags, view=view, problem_name=problem, search_paths=search_path(search_paths)
+    )
+    if inst is None:
+        input_errors(diags, as_json)
+    return inst
+
+
+# ====================================================================== arguments
+
+
+def convert(query: Query, inst: ir.Instance, raw: Mapping[str, Any]) -> dict[str, Any]:
+    """The command line's values → the values the query takes (objective terms checked
+    against the model, components looked up, weights read exactly, plan files read).
+    Raises :class:`InputError`; objective terms with errors raise :class:`ObjectiveErrors`."""
+    values = dict(raw)
+    for option in query.options:
+        value = raw.get(option.name)
+        if value is None:
+            continue
+        if option.kind is Kind.SECONDS and not math.isfinite(value):
+            raise InputError(f"{option.flags[0]} must be a finite number of seconds, got {value}", codes.BAD_ARGUMENT)
+        if option.kind is Kind.OBJECTIVES:
+            values[option.name] = objectives(inst, value) if value else None
+        elif option.kind is Kind.COMPONENTS:
+            values[option.name] = components(inst, value, option.none_word)
+        elif option.kind is Kind.WEIGHTS:
+            values[option.name] = weights(value) if value else None
+        elif option.kind is Kind.PLAN_FILE:
+            values[option.name] = read_plan_file(inst, value)
+    return values
+
+
+class ObjectiveErrors(Exception):
+    def __init__(self, diags: Diagnostics) -> None:
+        super().__init__("objective errors")
+        self.diags = diags
+
+
+def objectives(inst: ir.Instance, terms: Sequence[tuple[str, str]]) -> list[ir.Objective]:
+    """``(sense, text)`` pairs in command-line order → checked objectives."""
+    from catc import ir
+    from catc.frontend.check import check_objective_text
+    from catgrammar.diagnostics import Diagnostics
+
+    diags = Diagnostics()
+    out = []
+    for sense, text in terms:
+        term = check_objective_text(text, inst, diags, f"<--{sense}>")
+        if term is not None:
+            out.append(ir.Objective(ir.Sense(sense), term))
+    if diags.has_errors:
+        raise ObjectiveErrors(diags)
+    return out
+
+
+def components(inst: ir.Instance, text: str, none_word: str | None) -> list[str]:
+    """``a,b c`` → morphism names, each one of the model's; ``none_word`` → no component."""
+    if none_word is not None and text.strip().lower() == none_word:
+        return []
+    names = [c for c in text.replace(",", " ").split() if c]
+    unknown = [n for n in names if n not in inst.morphisms]
+    if unknown:
+        raise InputError(f"unknown morphism(s) in the composition: {', '.join(unknown)}", codes.UNKNOWN_COMPONENT)
+    return names
+
+
+def weights(specs: Sequence[str]) -> dict[str, Fraction]:
+    """``KEY=W`` specs → exact weights."""
+    out: dict[str, Fraction] = {}
+    for spec in specs:
+        key, _, value = spec.partition("=")
+        try:
+            out[key] = Fraction(value)
+        except (ValueError, ZeroDivisionError):
+            raise InputError(f"--weights expects KEY=NUMBER, got {spec!r}", codes.BAD_WEIGHT) from None
+    return out
+
+
+class PlanFileError(Exception):
+    def __init__(self, location: str, message: str, code: str) -> None:
+        super().__init__(message)
+        self.location, self.code = location, code
+
+
+def read_plan_file(inst: ir.Instance, path: str) -> Any:
+    """A ``catc.plan/1`` file → a Plan (unreadable: E0001; not JSON: E0801; not a plan: E0802)."""
+    import json
+
+    from catc.queries.validate import param_sorts
+    from catc.semantics.plan import PlanFormatError, plan_from_json
+
+    try:
+        with open(path, encoding="utf-8") as fh:
+            doc = json.load(fh)
+    except (OSError, UnicodeDecodeError) as exc:
+        raise PlanFileError(path, f"cannot read the plan: {exc}", codes.UNREADABLE_FILE) from None
+    except json.JSONDecodeError as exc:
+        raise PlanFileError(f"{path}:{exc.lineno}:{exc.colno}", f"not JSON: {exc.msg}", codes.PLAN_NOT_JSON) from None
+    try:
+        return plan_from_json(doc, param_sorts(inst))
+    except PlanFormatError as exc:
+        raise PlanFileError(path, str(exc), codes.BAD_PLAN) from None
+
+
+# ====================================================================== output
+
+
+def console(as_json: bool = False) -> Any:
     """Rich on a terminal; plain aligned text when piped (no colour codes, faster start)."""
     if sys.stdout.isatty() and not os.environ.get("NO_COLOR"):
         from rich.console import Console
 
         return Console(highlight=False)
-    from catc.present.report import PlainConsole
+    from catc.present.console import PlainConsole
 
     return PlainConsole(echo)
 
 
-def progress(enabled: bool):
+def progress(enabled: bool) -> Any:
     """A rich status line on a terminal (stderr), showing what the query is doing."""
     import contextlib
 
@@ -116,7 +262,7 @@ def progress(enabled: bool):
     return Console(stderr=True).status("solving…")
 
 
-def reporter(status) -> Callable[[str], None] | None:
+def reporter(status: Any) -> Callable[[str], None] | None:
     """A ``progress(message)`` callback for a query, showing ``message`` on the status line
     with the time since the query started, kept current while the solver works (rich
     redraws the line from its own thread); None without a status line."""
@@ -138,94 +284,45 @@ def reporter(status) -> Callable[[str], None] | None:
     return lambda message: status.update(Live(message))
 
 
-def input_error(message: str, as_json: bool) -> NoReturn:
-    """A bad command-line argument found after parsing (an objective, a weight, ...): exit 2."""
+# ====================================================================== a query command
+
+
+def run_query(name: str, paths: Sequence[str], raw: Mapping[str, Any]) -> NoReturn:
+    """``catc NAME PATHS [options]``: load, check the arguments, answer, print, exit with
+    the answer's exit code.  ``raw`` holds every option's value as the command line gives
+    it (see :func:`convert`)."""
+    from catc.queries import registry
+
+    query = registry.get(name)
+    values = {**query.defaults(), **raw}
+    as_json = bool(values.get("as_json"))
+    inst = instance(paths, values.get("view"), values.get("search_paths") or (), values.get("problem_name"), as_json)
+    try:
+        values = convert(query, inst, values)
+        why = query.check(inst, values) if query.check is not None else None
+        if why is not None:
+            raise InputError(why, codes.NOT_APPLICABLE)
+    except ObjectiveErrors as exc:
+        input_errors(exc.diags, as_json)
+    except PlanFileError as exc:
+        argument_error(str(exc), exc.code, as_json, location=exc.location)
+    except InputError as exc:
+        argument_error(str(exc), exc.code, as_json)
+    kwargs = query.run_options(values)
+    with progress(query.progress and not as_json) as status:
+        if query.progress:
+            kwargs["progress"] = reporter(status)
+        result = query.run(inst, **kwargs)
+    try:
+        messages = query.artifacts(inst, result, values)
+    except InputError as exc:
+        argument_error(str(exc), exc.code, as_json)
     if as_json:
         import json
 
-        echo(
-            json.dumps(
-                {
-                    "schema": "catc.error/1",
-                    "status": "error",
-                    "diagnostics": [
-                        {
-                            "code": "E0505",
-                            "name": "bad-objective",
-                            "severity": "error",
-                            "message": message,
-                            "location": None,
-                            "notes": [],
-                        }
-                    ],
-                },
-                indent=2,
-            )
-        )
+        echo(json.dumps(query.to_json(inst, result), indent=2))
     else:
-        echo(f"catc: error[E0505]: {message}", err=True)
-    sys.exit(EXIT_INPUT)
-
-
-def write_diagram(path, inst, plan, states, as_json: bool) -> None:
-    if not path or plan is None:
-        return
-    from catc.present.diagram import render_svg
-
-    Path(path).write_text(
-        render_svg(inst, plan, states=list(states), title=f"{inst.problem.name} ({inst.domain.name})"), encoding="utf-8"
-    )
-    if not as_json:
-        echo(f"diagram written to {path}", err=True)
-
-
-# ---------------------------------------------------------------- catc solve
-
-
-def solve(
-    paths: tuple[str, ...],
-    horizon: int | None = None,
-    view: str | None = None,
-    sequential: bool = False,
-    search_paths: tuple[str, ...] = (),
-    problem_name: str | None = None,
-    timeout: float | None = None,
-    strategy: str = "incremental",
-    as_json: bool = False,
-    diagram: str | None = None,
-    no_prune: bool = False,
-) -> NoReturn:
-    """``catc solve``: print the shortest composition (or why there is none) and exit
-    0 SAT, 1 UNSAT, 2 input error, 3 unknown/timeout."""
-    from catc.queries.solve import Status
-    from catc.queries.solve import solve as run_solve
-    from catc.semantics.validate import ValidationFailure
-
-    inst = instance(paths, view, search_paths, problem_name, as_json)
-    with progress(not as_json) as status:
-        report = reporter(status)
-        try:
-            result = run_solve(
-                inst,
-                horizon=horizon,
-                sequential=sequential,
-                timeout=timeout,
-                strategy=strategy,
-                progress=report and (lambda t, k, elapsed: report(f"solving: horizon {t} of {k}")),
-                prune=not no_prune,
-            )
-        except ValidationFailure as exc:
-            echo(f"catc: internal error: {exc}", err=True)
-            sys.exit(EXIT_INTERNAL)
-    if as_json:
-        import json
-
-        from catc.present.report import solve_json
-
-        echo(json.dumps(solve_json(inst, result), indent=2))
-    else:
-        from catc.present.report import print_solve
-
-        print_solve(console(), inst, result)
-    write_diagram(diagram, inst, result.plan if result.status is Status.SAT else None, result.states, as_json)
-    sys.exit({Status.SAT: EXIT_OK, Status.UNSAT: EXIT_FAIL, Status.UNKNOWN: EXIT_UNKNOWN}[result.status])
+        query.render(console(), inst, result, values)
+        for message in messages:
+            echo(message, err=True)
+    sys.exit(result.exit_code)

@@ -13,10 +13,16 @@ import json
 import sys
 from fractions import Fraction
 from pathlib import Path
+from typing import Any
 
 import click
 
-EXIT_OK, EXIT_FAIL, EXIT_INPUT, EXIT_UNKNOWN = 0, 1, 2, 3
+from catc.interfaces.command import EXIT_FAIL, EXIT_UNKNOWN, argument_error
+from catgrammar import codes
+
+
+class MissingParser(RuntimeError):
+    """A parser the export is checked with is not installed (the 'baselines' extra)."""
 
 
 def _grid(specs: tuple[str, ...]) -> dict[str, Fraction]:
@@ -42,7 +48,7 @@ def check_with_pddl_parser(domain_file: Path, problem_file: Path) -> None:
     try:
         from pddl import parse_domain, parse_problem
     except ImportError:
-        raise click.ClickException(
+        raise MissingParser(
             "the PyPI 'pddl' parser is missing: pip install --no-deps 'pddl==0.5.1' "
             "(it pins an older lark but works with catc's), or pass --no-check"
         ) from None
@@ -58,7 +64,7 @@ def check_pddlplus(domain_file: Path, problem_file: Path) -> list[str]:
     try:
         from unified_planning.io import PDDLReader
     except ImportError:
-        raise click.ClickException(
+        raise MissingParser(
             "unified-planning is missing (it parses the PDDL+ export): "
             "pip install 'catc-lang[baselines]', or pass --no-check"
         ) from None
@@ -77,7 +83,7 @@ def check_pddlplus(domain_file: Path, problem_file: Path) -> list[str]:
 
 @click.group(name="export")
 def export_command() -> None:
-    """Export a model to other planners' formats (DESIGN §6)."""
+    """Export a model to other planners' formats (docs/export.md)."""
 
 
 @export_command.command(name="pddl")
@@ -151,114 +157,109 @@ def pddl_command(
     a fluent raised by a process; docs/export.md).  Whatever PDDL cannot express (holes,
     soft constraints, reserve values, parallel steps, ...) is listed in report.md.
     """
-    from catc.interfaces.cli import _instance
+    from catc.interfaces.command import instance
     from catc.targets.pddl import ExportError, export_pddl
 
     grid = _grid(grid_specs)
-    inst = _instance(paths, view, search_paths, problem_name, False)
+    if len(paths) not in (1, 2):
+        raise click.UsageError("give PROBLEM or DOMAIN PROBLEM")
+    inst = instance(paths, view, search_paths, problem_name, False)
     try:
         ex = export_pddl(inst, grid=grid, horizon=horizon, flavor=flavor)
     except ExportError as exc:
-        click.echo(f"error: {exc}", err=True)
-        sys.exit(EXIT_INPUT)
-    out = Path(out_dir)
+        argument_error(str(exc), codes.EXPORT_UNSUPPORTED, False)
+    dom, prob = _write(Path(out_dir), inst, ex)
+    if not no_check:
+        _check(flavor, dom, prob)
+    if run_planner and flavor == "smtplan":
+        _run_smtplan(inst, ex, dom, prob, timeout)
+    elif run_planner:
+        _run_enhsp(inst, ex, dom, prob, planner, timeout)
+
+
+def _write(out: Path, inst: Any, ex: Any) -> tuple[Path, Path]:
+    """domain.pddl, problem.pddl, report.md, actions.json (and dials.json for PDDL+)."""
+    from catc.semantics.plan import value_to_json
+
     out.mkdir(parents=True, exist_ok=True)
     dom, prob = out / "domain.pddl", out / "problem.pddl"
     dom.write_text(ex.domain)
     prob.write_text(ex.problem)
     report = ex.report.markdown(f"problem {inst.problem.name} of domain {inst.domain.name}")
     (out / "report.md").write_text(report)
-    from catc.semantics.plan import value_to_json
-
-    (out / "actions.json").write_text(
-        json.dumps(
-            {
-                n: {"morphism": a.morphism, "params": {k: value_to_json(v) for k, v in a.params.items()}}
-                for n, a in ex.actions.items()
-            },
-            indent=1,
-        )
-        + "\n"
-    )
+    actions = {
+        n: {"morphism": a.morphism, "params": {k: value_to_json(v) for k, v in a.params.items()}}
+        for n, a in ex.actions.items()
+    }
+    (out / "actions.json").write_text(json.dumps(actions, indent=1) + "\n")
     if ex.dials:  # smtplan flavour: how to read each real θ off a timed plan
-        (out / "dials.json").write_text(
-            json.dumps(
-                {
-                    k: {
-                        "morphism": d.morphism,
-                        "param": d.param,
-                        "lower": value_to_json(d.lower),
-                        "upper": None if d.upper is None else value_to_json(d.upper),
-                        "fluent": d.fluent,
-                        "start": d.start,
-                        "stop": d.stop,
-                        "process": d.process,
-                        "lock": d.lock,
-                        "reset": d.reset,
-                    }
-                    for k, d in ex.dials.items()
-                },
-                indent=1,
-            )
-            + "\n"
-        )
+        dials = {
+            k: {
+                "morphism": d.morphism,
+                "param": d.param,
+                "lower": value_to_json(d.lower),
+                "upper": None if d.upper is None else value_to_json(d.upper),
+                "fluent": d.fluent,
+                "start": d.start,
+                "stop": d.stop,
+                "process": d.process,
+                "lock": d.lock,
+                "reset": d.reset,
+            }
+            for k, d in ex.dials.items()
+        }
+        (out / "dials.json").write_text(json.dumps(dials, indent=1) + "\n")
     click.echo(
         f"wrote {dom}, {prob} ({len(ex.actions)} ground actions{f', {len(ex.dials)} dials' if ex.dials else ''}), "
-        f"{out / 'report.md'}"
+        f"{out / 'report.md'}, {out / 'actions.json'}" + (f", {out / 'dials.json'}" if ex.dials else "")
     )
     click.echo(report.rstrip())
-    if not no_check and flavor == "smtplan":
-        try:
-            checked = check_pddlplus(dom, prob)
-        except click.ClickException as exc:
-            click.echo(f"error: {exc.message}", err=True)
-            sys.exit(EXIT_INPUT)
-        except Exception as exc:  # the parsers' own errors
-            click.echo(f"error: a PDDL+ parser rejects the export: {type(exc).__name__}: {exc}", err=True)
-            sys.exit(EXIT_INPUT)
-        for line in checked:
-            click.echo(f"parsed by {line}: ok" if "skipped" not in line else line)
-    elif not no_check:
-        try:
-            check_with_pddl_parser(dom, prob)
-        except click.ClickException as exc:
-            click.echo(f"error: {exc.message}", err=True)
-            sys.exit(EXIT_INPUT)
-        except Exception as exc:  # the parser's own errors
-            click.echo(f"error: the PyPI 'pddl' parser rejects the export: {exc}", err=True)
-            sys.exit(EXIT_INPUT)
-        click.echo("parsed by the PyPI 'pddl' package: ok")
-    if run_planner and flavor == "smtplan":
-        _run_smtplan(inst, ex, dom, prob, timeout)
-    elif run_planner:
-        from catc.semantics.validate import validate
-        from catc.targets.enhsp import BaselineMissing, run_enhsp
+    return dom, prob
 
-        try:
-            res = run_enhsp(dom, prob, planner=planner, timeout=timeout)
-        except BaselineMissing as exc:
-            click.echo(f"error: {exc}", err=True)
-            sys.exit(EXIT_INPUT)
-        click.echo(
-            f"ENHSP ({planner}): {res.status.upper()} in {res.wall:.2f} s"
-            + (f", {len(res.actions)} actions, metric {res.metric}" if res.status == "sat" else "")
-        )
-        if res.status == "sat":
-            plan = ex.plan_from_actions(res.actions)
-            for i, name in enumerate(res.actions, 1):
-                click.echo(f"  {i:3d}  {name}")
-            rep = validate(inst, plan, horizon=len(plan), sequential=True)
-            if not rep.ok:
-                click.echo(
-                    "catc's validator REJECTS the plan: " + "; ".join(str(v) for v in rep.violations[:5]), err=True
-                )
-                sys.exit(EXIT_FAIL)
-            click.echo("catc's validator accepts the plan (sequential semantics)")
-        elif res.status == "unsat":
+
+def _check(flavor: str, dom: Path, prob: Path) -> None:
+    """Parse the written files with parsers catc did not write."""
+    try:
+        if flavor == "smtplan":
+            for line in check_pddlplus(dom, prob):
+                click.echo(f"parsed by {line}: ok" if "skipped" not in line else line)
+            return
+        check_with_pddl_parser(dom, prob)
+    except MissingParser as exc:
+        argument_error(str(exc), codes.MISSING_EXTRA, False)
+    except Exception as exc:  # the parsers' own errors
+        which = "a PDDL+ parser" if flavor == "smtplan" else "the PyPI 'pddl' parser"
+        argument_error(f"{which} rejects the export: {type(exc).__name__}: {exc}", codes.EXPORT_REJECTED, False)
+    click.echo("parsed by the PyPI 'pddl' package: ok")
+
+
+def _run_enhsp(inst: Any, ex: Any, dom: Path, prob: Path, planner: str, timeout: float) -> None:
+    """``--run``: ENHSP on the files, its plan replayed by catc's validator."""
+    from catc.semantics.validate import validate
+    from catc.targets.enhsp import BaselineMissing, run_enhsp
+
+    try:
+        res = run_enhsp(dom, prob, planner=planner, timeout=timeout)
+    except BaselineMissing as exc:
+        argument_error(str(exc), codes.BASELINE_UNAVAILABLE, False)
+    click.echo(
+        f"ENHSP ({planner}): {res.status.upper()} in {res.wall:.2f} s"
+        + (f", {len(res.actions)} actions, metric {res.metric}" if res.status == "sat" else "")
+    )
+    if res.status == "sat":
+        plan = ex.plan_from_actions(res.actions)
+        for i, name in enumerate(res.actions, 1):
+            click.echo(f"  {i:3d}  {name}")
+        rep = validate(inst, plan, horizon=len(plan), sequential=True)
+        if not rep.ok:
+            click.echo("catc's validator REJECTS the plan: " + "; ".join(str(v) for v in rep.violations[:5]), err=True)
             sys.exit(EXIT_FAIL)
-        else:
-            click.echo(res.output[-2000:], err=True)
-            sys.exit(EXIT_UNKNOWN)
+        click.echo("catc's validator accepts the plan (sequential semantics)")
+    elif res.status == "unsat":
+        sys.exit(EXIT_FAIL)
+    else:
+        click.echo(res.output[-2000:], err=True)
+        sys.exit(EXIT_UNKNOWN)
 
 
 def _run_smtplan(inst, ex, dom: Path, prob: Path, timeout: float) -> None:
@@ -268,8 +269,9 @@ def _run_smtplan(inst, ex, dom: Path, prob: Path, timeout: float) -> None:
     from catc.targets.pddlplus import SMTPLAN_HINT, PlanReadError, parse_timed_plan, run_smtplan, smtplan_binary
 
     if smtplan_binary() is None:
-        click.echo(f"error: {SMTPLAN_HINT}; the files are written, --run needs the planner", err=True)
-        sys.exit(EXIT_INPUT)
+        argument_error(
+            f"{SMTPLAN_HINT}; the files are written, --run needs the planner", codes.BASELINE_UNAVAILABLE, False
+        )
     res = run_smtplan(dom, prob, timeout=timeout)
     click.echo(
         f"SMTPlan+: {res.status.upper()} in {res.wall:.2f} s"

@@ -14,6 +14,7 @@ import os
 import re
 import sys
 from dataclasses import dataclass, field
+from typing import Any
 from urllib.parse import unquote, urlparse
 
 import click
@@ -108,7 +109,7 @@ def definitions_of(tree: ast.SourceFile) -> list[Definition]:
 def analyse(path: str, text: str, search_paths: tuple[str, ...] = ()) -> Analysis:
     """``catc check`` on one document's in-memory text (its imports come from disk)."""
     from catc.frontend.session import check_parsed
-    from catc.frontend.workspace import Workspace, _norm
+    from catc.frontend.workspace import Workspace, normalise_path
     from catgrammar.diagnostics import Diagnostics
     from catgrammar.parser import gc_paused, parse_source
 
@@ -118,11 +119,11 @@ def analyse(path: str, text: str, search_paths: tuple[str, ...] = ()) -> Analysi
         tree = parse_source(Source(path, text), diags)
         result.tree = tree
         ws = Workspace(diags, search_paths)
-        ws.files[_norm(path)] = tree
+        ws.files[normalise_path(path)] = tree
         instances: dict = {}
         if tree is not None:
             for d in tree.definitions:
-                ws._index(d, path)
+                ws.index(d, path)
             _, instances = check_parsed(ws, [(path, tree)], diags)
     result.diagnostics = [d for d in diags if d.span is None or _same(d.span.file, path)]
     result.domains = ws.checked_domains()
@@ -291,132 +292,145 @@ def path_to_uri(path: str) -> str:
 # ---------------------------------------------------------------- the server
 
 
-def build_server():
+def build_server() -> Any:
+    """The language server: document sync with diagnostics, navigation, symbols, and one
+    ``workspace/executeCommand`` command per query (``catc.solve``, ``catc.diagnose``, ...)."""
     from lsprotocol import types
     from pygls.lsp.server import LanguageServer
 
     from catc import __version__
-    from catgrammar.diagnostics import Severity
-    from catgrammar.symbols import all_keywords
 
     server = LanguageServer("catc", __version__, text_document_sync_kind=types.TextDocumentSyncKind.Full)
-    server.analyses = {}  # uri → Analysis (the last one)
+    server.analyses = {}  # type: ignore[attr-defined] - uri → Analysis (the last one)
+    _register_documents(server, types)
+    _register_navigation(server, types)
+    _register_symbols(server, types)
+    _register_queries(server, types)
+    return server
 
-    def rng(span: Span | None) -> types.Range:
-        if span is None:
-            return types.Range(types.Position(0, 0), types.Position(0, 0))
-        return types.Range(
-            types.Position(span.line - 1, span.column - 1),
-            types.Position(span.end_line - 1, max(span.end_column - 1, 0)),
-        )
 
-    severity = {
-        Severity.ERROR: types.DiagnosticSeverity.Error,
-        Severity.WARNING: types.DiagnosticSeverity.Warning,
-    }
+def _range(types: Any, span: Span | None) -> Any:
+    if span is None:
+        return types.Range(types.Position(0, 0), types.Position(0, 0))
+    return types.Range(
+        types.Position(span.line - 1, span.column - 1),
+        types.Position(span.end_line - 1, max(span.end_column - 1, 0)),
+    )
 
-    def refresh(ls, uri: str) -> None:
-        doc = ls.workspace.get_text_document(uri)
-        path = uri_to_path(uri)
-        try:
-            a = analyse(path, doc.source)
-        except Exception as exc:  # never take the editor down with an internal error
-            ls.window_log_message(types.LogMessageParams(types.MessageType.Error, f"catc: {exc!r}"))
-            return
-        previous = ls.analyses.get(uri)
-        if a.tree is None and previous is not None:  # keep symbols/definitions of the last good parse
-            a.definitions = previous.definitions or a.definitions
-            a.domains = a.domains or previous.domains
-            a.tree = previous.tree
-        ls.analyses[uri] = a
-        out = []
-        for d in a.diagnostics:
-            related = []
-            for note in getattr(d, "notes", ()) or ():
-                if getattr(note, "span", None) is not None:
-                    related.append(
-                        types.DiagnosticRelatedInformation(
-                            types.Location(path_to_uri(note.span.file), rng(note.span)), note.message
-                        )
-                    )
-            out.append(
-                types.Diagnostic(
-                    range=rng(d.span),
-                    message=d.message,
-                    severity=severity.get(d.severity, types.DiagnosticSeverity.Information),
-                    code=d.code,
-                    source="catc",
-                    related_information=related or None,
-                )
+
+def _refresh(ls: Any, types: Any, uri: str) -> None:
+    """Analyse the document's text and publish its diagnostics."""
+    from catc.interfaces.command import search_path
+    from catgrammar.diagnostics import Severity
+
+    doc = ls.workspace.get_text_document(uri)
+    path = uri_to_path(uri)
+    try:
+        a = analyse(path, doc.source, search_path())
+    except Exception as exc:  # never take the editor down with an internal error
+        ls.window_log_message(types.LogMessageParams(types.MessageType.Error, f"catc: {exc!r}"))
+        return
+    previous = ls.analyses.get(uri)
+    if a.tree is None and previous is not None:  # keep symbols/definitions of the last good parse
+        a.definitions = previous.definitions or a.definitions
+        a.domains = a.domains or previous.domains
+        a.tree = previous.tree
+    ls.analyses[uri] = a
+    severity = {Severity.ERROR: types.DiagnosticSeverity.Error, Severity.WARNING: types.DiagnosticSeverity.Warning}
+    out = []
+    for d in a.diagnostics:
+        related = [
+            types.DiagnosticRelatedInformation(
+                types.Location(path_to_uri(note.span.file), _range(types, note.span)), note.message
             )
-        ls.text_document_publish_diagnostics(types.PublishDiagnosticsParams(uri=uri, diagnostics=out))
+            for note in getattr(d, "notes", ()) or ()
+            if getattr(note, "span", None) is not None
+        ]
+        out.append(
+            types.Diagnostic(
+                range=_range(types, d.span),
+                message=d.message,
+                severity=severity.get(d.severity, types.DiagnosticSeverity.Information),
+                code=d.code,
+                source="catc",
+                related_information=related or None,
+            )
+        )
+    ls.text_document_publish_diagnostics(types.PublishDiagnosticsParams(uri=uri, diagnostics=out))
 
+
+def _current(ls: Any, types: Any, uri: str) -> Analysis:
+    a = ls.analyses.get(uri)
+    if a is None:
+        _refresh(ls, types, uri)
+        a = ls.analyses.get(uri) or Analysis(uri_to_path(uri), "")
+    return a  # type: ignore[no-any-return]
+
+
+def _register_documents(server: Any, types: Any) -> None:
     @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
-    def did_open(ls, params: types.DidOpenTextDocumentParams) -> None:
-        refresh(ls, params.text_document.uri)
+    def did_open(ls: Any, params: Any) -> None:
+        _refresh(ls, types, params.text_document.uri)
 
     @server.feature(types.TEXT_DOCUMENT_DID_CHANGE)
-    def did_change(ls, params: types.DidChangeTextDocumentParams) -> None:
-        refresh(ls, params.text_document.uri)
+    def did_change(ls: Any, params: Any) -> None:
+        _refresh(ls, types, params.text_document.uri)
 
     @server.feature(types.TEXT_DOCUMENT_DID_SAVE)
-    def did_save(ls, params: types.DidSaveTextDocumentParams) -> None:
-        refresh(ls, params.text_document.uri)
+    def did_save(ls: Any, params: Any) -> None:
+        _refresh(ls, types, params.text_document.uri)
 
     @server.feature(types.TEXT_DOCUMENT_DID_CLOSE)
-    def did_close(ls, params: types.DidCloseTextDocumentParams) -> None:
+    def did_close(ls: Any, params: Any) -> None:
         ls.analyses.pop(params.text_document.uri, None)
         ls.text_document_publish_diagnostics(
             types.PublishDiagnosticsParams(uri=params.text_document.uri, diagnostics=[])
         )
 
-    def current(ls, uri: str) -> Analysis:
-        a = ls.analyses.get(uri)
-        if a is None:
-            refresh(ls, uri)
-            a = ls.analyses.get(uri) or Analysis(uri_to_path(uri), "")
-        return a
+
+_COMPLETION_KINDS = {
+    "resource": "Variable",
+    "morphism": "Function",
+    "sort": "Class",
+    "constant": "Constant",
+    "object": "Constant",
+    "enum value": "EnumMember",
+    "view": "Interface",
+    "hole": "Struct",
+    "domain": "Module",
+    "problem": "Module",
+    "parameter": "TypeParameter",
+}
+
+
+def _register_navigation(server: Any, types: Any) -> None:
+    from catgrammar.symbols import all_keywords
+
+    def name_at(ls: Any, params: Any) -> tuple[Analysis, str | None]:
+        a = _current(ls, types, params.text_document.uri)
+        doc = ls.workspace.get_text_document(params.text_document.uri)
+        return a, word_at(doc.source, params.position.line, params.position.character)
 
     @server.feature(types.TEXT_DOCUMENT_HOVER)
-    def hover(ls, params: types.HoverParams):
-        a = current(ls, params.text_document.uri)
-        doc = ls.workspace.get_text_document(params.text_document.uri)
-        name = word_at(doc.source, params.position.line, params.position.character)
-        if not name:
-            return None
-        text = hover_text(a, name)
+    def hover(ls: Any, params: Any) -> Any:
+        a, name = name_at(ls, params)
+        text = hover_text(a, name) if name else None
         if text is None:
             return None
         return types.Hover(contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value=text))
 
     @server.feature(types.TEXT_DOCUMENT_DEFINITION)
-    def definition(ls, params: types.DefinitionParams):
-        a = current(ls, params.text_document.uri)
-        doc = ls.workspace.get_text_document(params.text_document.uri)
-        name = word_at(doc.source, params.position.line, params.position.character)
-        if not name:
-            return None
-        defs = lookup(a, name)
+    def definition(ls: Any, params: Any) -> Any:
+        a, name = name_at(ls, params)
+        defs = lookup(a, name) if name else []
         if not defs:
             return None
-        return [types.Location(path_to_uri(d.span.file), rng(d.span)) for d in defs]
+        return [types.Location(path_to_uri(d.span.file), _range(types, d.span)) for d in defs]
 
     @server.feature(types.TEXT_DOCUMENT_COMPLETION, types.CompletionOptions(trigger_characters=[":", "("]))
-    def completion(ls, params: types.CompletionParams):
-        a = current(ls, params.text_document.uri)
-        kinds = {
-            "resource": types.CompletionItemKind.Variable,
-            "morphism": types.CompletionItemKind.Function,
-            "sort": types.CompletionItemKind.Class,
-            "constant": types.CompletionItemKind.Constant,
-            "object": types.CompletionItemKind.Constant,
-            "enum value": types.CompletionItemKind.EnumMember,
-            "view": types.CompletionItemKind.Interface,
-            "hole": types.CompletionItemKind.Struct,
-            "domain": types.CompletionItemKind.Module,
-            "problem": types.CompletionItemKind.Module,
-            "parameter": types.CompletionItemKind.TypeParameter,
-        }
+    def completion(ls: Any, params: Any) -> Any:
+        a = _current(ls, types, params.text_document.uri)
+        kinds = {k: getattr(types.CompletionItemKind, v) for k, v in _COMPLETION_KINDS.items()}
         items = [
             types.CompletionItem(label=k, kind=types.CompletionItemKind.Keyword, detail="keyword")
             for k in sorted({w for words in all_keywords().values() for w in words})
@@ -427,19 +441,23 @@ def build_server():
         ]
         return types.CompletionList(is_incomplete=False, items=items)
 
+
+_SYMBOL_KINDS = {
+    "resource": "Variable",
+    "morphism": "Function",
+    "view": "Interface",
+    "hole": "Struct",
+    "sort": "Class",
+    "constant": "Constant",
+    "object": "Constant",
+}
+
+
+def _register_symbols(server: Any, types: Any) -> None:
     @server.feature(types.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
-    def document_symbol(ls, params: types.DocumentSymbolParams):
-        a = current(ls, params.text_document.uri)
+    def document_symbol(ls: Any, params: Any) -> Any:
+        a = _current(ls, types, params.text_document.uri)
         sk = types.SymbolKind
-        kind_of = {
-            "resource": sk.Variable,
-            "morphism": sk.Function,
-            "view": sk.Interface,
-            "hole": sk.Struct,
-            "sort": sk.Class,
-            "constant": sk.Constant,
-            "object": sk.Constant,
-        }
         top: list = []
         by_owner: dict[str, list] = {}
         for d in a.definitions:
@@ -448,29 +466,64 @@ def build_server():
             if d.kind in ("domain", "problem"):
                 children: list = []
                 by_owner[d.name] = children
+                kind = sk.Module if d.kind == "domain" else sk.Namespace
                 top.append(
                     types.DocumentSymbol(
                         name=d.name,
                         detail=d.kind,
-                        kind=sk.Module if d.kind == "domain" else sk.Namespace,
-                        range=rng(d.whole),
-                        selection_range=rng(d.span),
+                        kind=kind,
+                        range=_range(types, d.whole),
+                        selection_range=_range(types, d.span),
                         children=children,
                     )
                 )
-            elif d.kind in kind_of and d.owner in by_owner:
+            elif d.kind in _SYMBOL_KINDS and d.owner in by_owner:
                 by_owner[d.owner].append(
                     types.DocumentSymbol(
                         name=d.name,
                         detail=d.kind,
-                        kind=kind_of[d.kind],
-                        range=rng(d.whole),
-                        selection_range=rng(d.span),
+                        kind=getattr(sk, _SYMBOL_KINDS[d.kind]),
+                        range=_range(types, d.whole),
+                        selection_range=_range(types, d.span),
                     )
                 )
         return top
 
-    return server
+
+def run_query_on_file(name: str, uri: str, options: dict[str, Any] | None = None) -> dict:
+    """Answer the query ``name`` for the problem saved in the file at ``uri``: the query's
+    ``--json`` document, or a ``catc.error/1`` document for input errors."""
+    from catc.interfaces.api import CatError, load
+    from catc.queries import registry
+    from catc.queries.base import InputError
+
+    query = registry.get(name)
+    try:
+        model = load(uri_to_path(uri))
+        values = {**query.defaults(), **(options or {})}
+        why = query.check(model.instance, values) if query.check is not None else None
+        if why is not None:
+            raise InputError(why)
+        result = model.query(name, **query.run_options(values))
+    except CatError as exc:
+        return {"schema": "catc.error/1", "status": "error", "diagnostics": [d.to_json() for d in exc.diagnostics]}
+    except (InputError, ValueError) as exc:
+        return {"schema": "catc.error/1", "status": "error", "diagnostics": [{"message": str(exc)}]}
+    return query.to_json(model.instance, result)
+
+
+def _register_queries(server: Any, types: Any) -> None:
+    """``catc.<query>`` commands: arguments ``[uri]`` or ``[uri, {option: value}]``; they
+    answer for the saved file, as the command line would."""
+    from catc.queries import registry
+
+    for name in registry.names():
+
+        def handler(ls: Any, args: Any, name: str = name) -> dict:
+            uri, options = args[0], (args[1] if len(args) > 1 else None)
+            return run_query_on_file(name, uri, options)
+
+        server.command(f"catc.{name}")(handler)
 
 
 @click.command("lsp")

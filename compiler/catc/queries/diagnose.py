@@ -13,19 +13,32 @@ names what stops that composition rather than the whole causal chain.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 from catc import ir
+from catc.ir.labels import label_index
+from catc.present.console import Console
+from catc.present.labels import describe, excerpts, label_json, where
+from catc.present.values import timings_json
+from catc.queries.base import ExitCode, Kind, Option, Progress, Query, Result, Status, json_option, timeout_option
 from catc.semantics.horizon import default_horizon
 from catc.semantics.validate import ValidationFailure
-from catc.smt.backend import Check
+from catc.smt.backend import BACKENDS, DEFAULT_BACKEND, Check
 from catc.smt.labelled import LabelledModel
 
 
+class DiagnoseStatus(Status):
+    UNSAT = "unsat", ExitCode.OK  # cores found
+    SAT = "sat", ExitCode.FAIL  # feasible: nothing to diagnose
+    UNKNOWN = "unknown", ExitCode.UNKNOWN
+
+
 @dataclass
-class Diagnosis:
-    status: str  # "unsat" (cores found) | "sat" (nothing to diagnose) | "unknown"
+class Diagnosis(Result):
+    query = "diagnose"
+    status: DiagnoseStatus
     cores: list[list[str]] = field(default_factory=list)
     total: int = 0  # labelled constraints considered
     relative_to: tuple[str, ...] | None = None
@@ -72,20 +85,21 @@ def diagnose(
     all_cores: bool = False,
     max_cores: int = 5,
     timeout: float | None = None,
-    progress: Callable[[str], None] | None = None,
+    progress: Progress | None = None,
+    backend: str = DEFAULT_BACKEND,
 ) -> Diagnosis:
     start = time.perf_counter()
     deadline = start + timeout if timeout else None
     k = default_horizon(inst) if horizon is None else horizon
     components = (tuple(relative_to) or None) if relative_to is not None else (inst.problem.deployed or None)
-    model = LabelledModel(inst, k, sequential=sequential, components=components)
-    result = Diagnosis("unknown", total=len(model.labels), relative_to=components, horizon=k)
+    model = LabelledModel(inst, k, sequential=sequential, components=components, backend=backend)
+    result = Diagnosis(DiagnoseStatus.UNKNOWN, total=len(model.labels), relative_to=components, horizon=k)
     result.timings["encode"] = time.perf_counter() - start
     say = progress or (lambda message: None)
     say(f"checking {len(model.labels)} requirements together")
     r, core = model.check(model.labels, _remaining(deadline))
     if r is Check.SAT:
-        result.status = "sat"
+        result.status = DiagnoseStatus.SAT
     elif r is Check.UNSAT:
         found: list[list[str]] = []
         # Hitting-set tree: every further core must avoid one member of each core found.
@@ -116,7 +130,96 @@ def diagnose(
         if all_cores and frontier and len(found) >= max_cores:
             result.complete = False
         result.cores = found
-        result.status = "unsat" if found else "unknown"
+        result.status = DiagnoseStatus.UNSAT if found else DiagnoseStatus.UNKNOWN
     result.checks = model.checks
     result.timings["total"] = time.perf_counter() - start
     return result
+
+
+# ====================================================================== output
+
+
+def diagnosis_json(inst: ir.Instance, diag: Diagnosis) -> dict:
+    index = label_index(inst)
+    return {
+        "schema": "catc.diagnose/1",
+        "status": diag.status.value,
+        "problem": inst.problem.name,
+        "horizon": diag.horizon,
+        "total": diag.total,
+        "relative_to": list(diag.relative_to) if diag.relative_to else None,
+        "cores": [[label_json(index[label]) for label in core] for core in diag.cores],
+        "complete": diag.complete,
+        "timings": timings_json(diag.timings),
+    }
+
+
+def render(console: Console, inst: ir.Instance, diag: Diagnosis, options: Mapping[str, Any] | None = None) -> None:
+    if diag.status is DiagnoseStatus.SAT:
+        console.print(f"[bold green]SAT[/]  nothing to diagnose: a composition exists within {diag.horizon} steps")
+        return
+    if diag.status is not DiagnoseStatus.UNSAT:
+        console.print("[bold yellow]UNKNOWN[/]  the solver gave up before finding a core")
+        return
+    index, excerpt = label_index(inst), excerpts()
+    rel = ""
+    if diag.relative_to:
+        rel = f"\n       relative to the deployed composition: {', '.join(diag.relative_to)}"
+    for n, core in enumerate(diag.cores, 1):
+        head = f"core {n}: " if len(diag.cores) > 1 else ""
+        console.print(
+            f"[bold red]UNSAT[/]  {head}{len(core)} of {diag.total} labelled constraints conflict "
+            f"(irreducible: dropping any one restores feasibility){rel if n == 1 else ''}"
+        )
+        for i, label in enumerate(core, 1):
+            info = index[label]
+            console.print(f"  {i}. {describe(info)}")
+            console.print(f"     {where(info)}")
+            for line in excerpt(info.span):
+                console.print("     " + line)
+    if len(diag.cores) > 1 or not diag.complete:
+        more = "" if diag.complete else " (search stopped by --max or --timeout; more may exist)"
+        console.print(f"{len(diag.cores)} distinct core{'s' if len(diag.cores) != 1 else ''}{more}")
+
+
+QUERY = Query(
+    "diagnose",
+    summary="Explain infeasibility: an irreducible set of conflicting source constructs.",
+    description=(
+        "Exit 0 when a core is found, 1 when the problem is feasible (nothing to diagnose), 2 input error, 3 unknown."
+    ),
+    options=(
+        Option(
+            "relative_to",
+            ("--relative-to",),
+            Kind.COMPONENTS,
+            "Diagnose relative to this composition (comma-separated morphisms; default: the problem's "
+            "(:deployed ...); 'none' for none).",
+            metavar="COMPONENTS",
+            none_word="none",
+        ),
+        Option(
+            "all_cores",
+            ("--all",),
+            Kind.FLAG,
+            "Enumerate several distinct cores (bounded by --max and --timeout).",
+            default=False,
+        ),
+        Option("max_cores", ("--max",), Kind.POSITIVE, "The most cores --all reports.", default=5, show_default=True),
+        timeout_option("Stop after this many seconds (exit 3 when no core is found by then)."),
+        json_option("catc.diagnose/1"),
+        Option(
+            "backend",
+            ("--backend",),
+            Kind.CHOICE,
+            "The solver: z3, or cvc5 (through its Python API).",
+            default=DEFAULT_BACKEND,
+            choices=tuple(name for name in BACKENDS),
+            show_default=True,
+        ),
+    ),
+    run=diagnose,
+    to_json=diagnosis_json,
+    render=render,
+    progress=True,
+)

@@ -12,17 +12,35 @@ validator's, and it must equal the solver's (else: internal error).
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from enum import Enum
 from fractions import Fraction
+from typing import Any
 
 from catc import ir
-from catc.ir.numbers import number_text
+from catc.ir.numbers import decimal_text, number_text
+from catc.ir.text import to_text
+from catc.present.composition import print_composition, where_text
+from catc.present.console import Console, Table
+from catc.present.values import show_value, state_json, steps_json, timings_json
+from catc.queries.base import (
+    ExitCode,
+    Kind,
+    Option,
+    Progress,
+    Query,
+    Result,
+    Status,
+    diagram_option,
+    json_option,
+    objectives_option,
+    timeout_option,
+)
+from catc.queries.solve import SolveStatus, solve
 from catc.semantics.compositions import canonical_fresh, prune_plan
 from catc.semantics.horizon import default_horizon
-from catc.semantics.plan import Plan
-from catc.semantics.validate import ValidationFailure
+from catc.semantics.plan import Plan, value_to_json
+from catc.semantics.validate import ValidationFailure, evaluate, objective_value, validate
 from catc.smt.backend import DEFAULT_BACKEND, Backend, Bound, Check, open_backend
 from catc.smt.encoder import Encoder
 from catc.smt.readback import read_plan
@@ -30,12 +48,12 @@ from catc.smt.script import real_literal
 from catc.smt.terms import Term, and_, better, eq, or_
 
 
-class OptStatus(str, Enum):
-    OPT = "opt"  # proven optimal
-    SUBOPT = "subopt"  # best found before the time limit
-    UNSAT = "unsat"
-    UNKNOWN = "unknown"
-    UNBOUNDED = "unbounded"
+class OptStatus(Status):
+    OPT = "opt", ExitCode.OK  # proven optimal
+    SUBOPT = "subopt", ExitCode.UNKNOWN  # best found before the time limit
+    UNSAT = "unsat", ExitCode.FAIL
+    UNKNOWN = "unknown", ExitCode.UNKNOWN
+    UNBOUNDED = "unbounded", ExitCode.FAIL
 
 
 @dataclass
@@ -53,7 +71,8 @@ class SoftOutcome:
 
 
 @dataclass
-class OptResult:
+class OptResult(Result):
+    query = "optimize"
     status: OptStatus
     horizon: int
     plan: Plan | None = None
@@ -68,6 +87,8 @@ class OptResult:
 #: on the examples with 2–6 steps it costs 1.0–1.3× plain solve, the deepening route
 #: 1.2–2.2× (its extra encodings dominate such small problems; docs/benchmarks.md).
 DEEPEN_FROM = 8
+
+STRATEGIES = ("deepen", "single")
 
 
 def objectives_of(inst: ir.Instance) -> list[ir.Objective]:
@@ -87,7 +108,7 @@ def optimize(
     prune: bool = True,
     strategy: str = "deepen",
     deepen_from: int | None = None,
-    progress: Callable[[str], None] | None = None,
+    progress: Progress | None = None,
 ) -> OptResult:
     """The optimum over every composition of at most ``horizon`` steps.
 
@@ -108,7 +129,7 @@ def optimize(
         objectives = [ir.Objective(ir.Sense.MINIMIZE, ir.Const(Fraction(0), ir.REAL))]
     if not objectives:
         raise ValueError("nothing to optimise: the problem has no (:metric ...) and no soft constraints")
-    if strategy not in ("deepen", "single"):
+    if strategy not in STRATEGIES:
         raise ValueError(f"unknown strategy {strategy!r}; expected 'deepen' or 'single'")
     k = default_horizon(inst) if horizon is None else horizon
     start = time.perf_counter()
@@ -116,106 +137,143 @@ def optimize(
     if strategy == "single" or k < (DEEPEN_FROM if deepen_from is None else deepen_from):
         say(f"optimising over {k} steps")
         return _done(_optimize_at(inst, objectives, softs, k, sequential, deadline, prune), start)
+    return _done(_Deepening(inst, objectives, softs, k, sequential, prune, timeout, say).run(), start)
 
-    from catc.queries.solve import Status, solve
 
-    first = solve(
-        inst,
-        horizon=k,
-        sequential=sequential,
-        timeout=timeout,
-        validate_answer=False,
-        prune=False,
-        progress=lambda t, k, elapsed: say(f"looking for a first composition: horizon {t} of {k}"),
-    )
-    timings = {"encode": first.timings["encode"], "solve": first.timings["solve"], "validate": 0.0}
-    if first.status is Status.UNSAT:
-        return _done(OptResult(OptStatus.UNSAT, k, timings=timings), start)
-    if first.status is not Status.SAT:
-        return _done(OptResult(OptStatus.UNKNOWN, k, reason=first.reason, timings=timings), start)
-    k0 = len(first.plan.steps)
-    from catc.semantics.validate import validate
+class _Deepening:
+    """``strategy="deepen"``: the first composition, the optimum over its length k₀, and the
+    proof that nothing longer (up to the horizon) is better."""
 
-    report0 = validate(inst, first.plan, horizon=k, sequential=sequential)
-    if not report0.ok:
-        raise ValidationFailure("the independent validator rejected the solver's first composition")
+    def __init__(
+        self,
+        inst: ir.Instance,
+        objectives: list[ir.Objective],
+        softs: list[ir.Soft],
+        k: int,
+        sequential: bool,
+        prune: bool,
+        timeout: float | None,
+        say: Progress,
+    ) -> None:
+        self.inst, self.objectives, self.softs, self.k = inst, objectives, softs, k
+        self.sequential, self.prune, self.timeout, self.say = sequential, prune, timeout, say
+        self.start = time.perf_counter()
+        self.deadline = self.start + timeout if timeout else None
+        self.timings: dict[str, float] = {}
 
-    def first_plan(status: OptStatus, reason: str | None = None) -> OptResult:
+    def run(self) -> OptResult:
+        inst, k = self.inst, self.k
+        first = solve(
+            inst,
+            horizon=k,
+            sequential=self.sequential,
+            timeout=self.timeout,
+            validate_answer=False,
+            prune=False,
+            progress=self.say,
+            phase="looking for a first composition",
+        )
+        self.timings = {"encode": first.timings["encode"], "solve": first.timings["solve"], "validate": 0.0}
+        if first.status is SolveStatus.UNSAT:
+            return OptResult(OptStatus.UNSAT, k, timings=self.timings)
+        if first.status is not SolveStatus.SAT or first.plan is None:
+            return OptResult(OptStatus.UNKNOWN, k, reason=first.reason, timings=self.timings)
+        self.first = first.plan
+        k0 = len(first.plan.steps)
+        report0 = validate(inst, first.plan, horizon=k, sequential=self.sequential)
+        if not report0.ok:
+            raise ValidationFailure("the independent validator rejected the solver's first composition")
+        if k0 < k and self._first_is_optimal(k0, report0):
+            return self._first_plan(OptStatus.OPT)
+        self.say(f"optimising over {k0} steps")
+        expired = _expired(self.deadline)
+        short = None if expired else _optimize_at(inst, *self._args(k0), self.deadline, self.prune)
+        if short is None or (short.plan is None and _expired(self.deadline)):
+            return self._first_plan(OptStatus.SUBOPT, "timeout")  # out of time: the first composition is the best known
+        _add_timings(self.timings, short.timings)
+        short.horizon = k
+        exact = (
+            short.status is OptStatus.OPT
+            and short.plan is not None
+            and all(v.attained and v.value is not None for v in short.values)
+        )
+        if not exact:  # unattained or unbounded over k₀ steps, or out of time: optimise over everything
+            if short.status is OptStatus.SUBOPT and _expired(self.deadline):
+                short.timings = self.timings
+                return short
+            self.say(f"optimising over all {k} steps")
+            whole = _optimize_at(inst, *self._args(k), self.deadline, self.prune)
+            _add_timings(self.timings, whole.timings)
+            whole.timings = self.timings
+            return whole
+        if k0 == k:
+            short.timings = self.timings
+            return short
+        return self._race(short, k0)
+
+    def _args(self, k: int) -> tuple[list[ir.Objective], list[ir.Soft], int, bool]:
+        return self.objectives, self.softs, k, self.sequential
+
+    def _first_is_optimal(self, k0: int, report0: Any) -> bool:
+        """Often the first composition found is already optimal: try to refute anything
+        better within the whole horizon, on a budget as long as the time spent so far."""
+        values0 = _scores(self.inst, self.first, self.objectives, self.softs, self.k, self.sequential, report0)
+        if None in values0:
+            return False
+        self.say(f"first composition: {k0} steps; is there a better one within {self.k} steps?")
+        budget0 = max(0.25, time.perf_counter() - self.start)
+        limit = _sooner(self.deadline, budget0)
+        r = _better_exists(
+            self.inst, self.objectives, self.softs, values0, self.k, self.sequential, limit, self.timings
+        )  # type: ignore[arg-type]
+        return r is Check.UNSAT
+
+    def _first_plan(self, status: OptStatus, reason: str | None = None) -> OptResult:
         """The first composition as the answer (no solver bound to compare its values with)."""
         t2 = time.perf_counter()
-        result = OptResult(status, k, reason=reason, timings=timings)
-        _finish(inst, result, first.plan, objectives, softs, [("exact", None)] * len(objectives), k, sequential, prune)
-        timings["validate"] += time.perf_counter() - t2
-        return _done(result, start)
+        result = OptResult(status, self.k, reason=reason, timings=self.timings)
+        exact: list[tuple[str, object]] = [("exact", None)] * len(self.objectives)
+        _finish(self.inst, result, self.first, self.objectives, self.softs, exact, self.k, self.sequential, self.prune)
+        self.timings["validate"] += time.perf_counter() - t2
+        return result
 
-    if k0 < k:
-        # Often the first composition found is already optimal: try to refute anything better
-        # within the whole horizon, on a budget as long as the time spent so far.
-        values0 = _scores(inst, first.plan, objectives, softs, k, sequential, report0)
-        if None not in values0:
-            say(f"first composition: {k0} steps; is there a better one within {k} steps?")
-            budget0 = max(0.25, time.perf_counter() - start)
-            r = _better_exists(inst, objectives, softs, values0, k, sequential, _sooner(deadline, budget0), timings)
-            if r is Check.UNSAT:
-                return first_plan(OptStatus.OPT)
-    say(f"optimising over {k0} steps")
-    short = None if _expired(deadline) else _optimize_at(inst, objectives, softs, k0, sequential, deadline, prune)
-    if short is None or (short.plan is None and _expired(deadline)):
-        return first_plan(OptStatus.SUBOPT, "timeout")  # out of time: the first composition is the best known
-    _add_timings(timings, short.timings)
-    short.horizon = k
-    exact = (
-        short.status is OptStatus.OPT
-        and short.plan is not None
-        and all(v.attained and v.value is not None for v in short.values)
-    )
-    if not exact:  # unattained or unbounded over k₀ steps, or out of time: optimise over everything
-        if short.status is OptStatus.SUBOPT and _expired(deadline):
-            short.timings = timings
-            return _done(short, start)
-        say(f"optimising over all {k} steps")
-        whole = _optimize_at(inst, objectives, softs, k, sequential, deadline, prune)
-        _add_timings(timings, whole.timings)
-        whole.timings = timings
-        return _done(whole, start)
-    if k0 == k:
-        short.timings = timings
-        return _done(short, start)
-    # Refute anything better over the whole horizon, or optimise over the whole horizon,
-    # whichever finishes first: the two alternate with doubling time budgets (neither is
-    # always the faster: see docs/benchmarks.md), so the cost stays within a small factor of
-    # the better of the two.
-    values = [v.value for v in short.values]
-    budget = max(0.25, time.perf_counter() - start)
-    refute = True
-    while True:
-        if refute:
-            say(f"optimum over {k0} steps: {_values_text(values)}; is there a better one within {k} steps?")
-            limit = _sooner(deadline, budget)
-            r = _better_exists(inst, objectives, softs, values, k, sequential, limit, timings)
-            if r is Check.UNSAT:  # nothing better within the whole horizon: the short optimum is it
-                short.timings = timings
-                return _done(short, start)
-            if r is Check.SAT or not _expired(limit):  # something better, or no proof to be had here
-                refute = False
+    def _race(self, short: OptResult, k0: int) -> OptResult:
+        """Refute anything better over the whole horizon, or optimise over the whole horizon,
+        whichever finishes first: the two alternate with doubling time budgets (neither is
+        always the faster: see docs/benchmarks.md), so the cost stays within a small factor
+        of the better of the two."""
+        inst, k, deadline = self.inst, self.k, self.deadline
+        values: list[Fraction] = [v.value for v in short.values]  # type: ignore[misc]
+        budget = max(0.25, time.perf_counter() - self.start)
+        refute = True
+        while True:
+            if refute:
+                self.say(f"optimum over {k0} steps: {_values_text(values)}; is there a better one within {k} steps?")
+                limit = _sooner(deadline, budget)
+                r = _better_exists(inst, self.objectives, self.softs, values, k, self.sequential, limit, self.timings)
+                if r is Check.UNSAT:  # nothing better within the whole horizon: the short optimum is it
+                    short.timings = self.timings
+                    return short
+                if r is Check.SAT or not _expired(limit):  # something better, or no proof to be had here
+                    refute = False
+                budget *= 2
+            if _expired(deadline):
+                break
+            limit = _sooner(deadline, None if not refute else budget)
+            self.say(f"optimum over {k0} steps: {_values_text(values)}; optimising over all {k} steps")
+            whole = _optimize_at(inst, *self._args(k), limit, self.prune)
+            _add_timings(self.timings, whole.timings)
+            if whole.reason != "timeout":  # finished
+                whole.timings = self.timings
+                return whole
+            if _expired(deadline):  # the best found wins if it is at least as good as the short optimum
+                if whole.plan is not None and _not_worse([v.value for v in whole.values], values, self.objectives):
+                    whole.timings = self.timings
+                    return whole
+                break
             budget *= 2
-        if _expired(deadline):
-            break
-        limit = _sooner(deadline, None if not refute else budget)
-        say(f"optimum over {k0} steps: {_values_text(values)}; optimising over all {k} steps")
-        whole = _optimize_at(inst, objectives, softs, k, sequential, limit, prune)
-        _add_timings(timings, whole.timings)
-        if whole.reason != "timeout":  # finished
-            whole.timings = timings
-            return _done(whole, start)
-        if _expired(deadline):  # the best found wins if it is at least as good as the short optimum
-            if whole.plan is not None and _not_worse([v.value for v in whole.values], values, objectives):
-                whole.timings = timings
-                return _done(whole, start)
-            break
-        budget *= 2
-    short.status, short.reason, short.timings = OptStatus.SUBOPT, "timeout", timings
-    return _done(short, start)
+        short.status, short.reason, short.timings = OptStatus.SUBOPT, "timeout", self.timings
+        return short
 
 
 def _values_text(values: list[Fraction]) -> str:
@@ -355,8 +413,6 @@ def _optimize_at(
 
     t2 = time.perf_counter()
     plan = read_plan(solver, enc, k)
-    from catc.semantics.validate import validate
-
     report = validate(inst, plan, horizon=k, sequential=sequential)
     if not report.ok and result.status is OptStatus.SUBOPT:
         # an interrupted optimiser may hold a model it had not finished: not a composition
@@ -384,8 +440,6 @@ def _scores(
 ) -> list[Fraction | None]:
     """A composition's objective values, exact, from the validator's replay (the first with
     the soft penalties); ``report`` is the replay when the caller already has it."""
-    from catc.semantics.validate import evaluate, objective_value, validate
-
     rep = report if report is not None else validate(inst, p, horizon=k, sequential=sequential)
     fin = rep.states[-1]
     pen = sum((s.weight for s in softs if evaluate(inst, s.expr, fin) is not True), Fraction(0))
@@ -411,8 +465,6 @@ def _finish(
 ) -> None:
     """Prune (keeping the values), rename fresh values, and fill in ``result`` from the
     validator's replay; an OPT value must equal the solver's bound where it gave one."""
-    from catc.semantics.validate import evaluate, objective_value, validate
-
     if prune:
         target = _scores(inst, plan, objectives, softs, k, sequential)
         plan = prune_plan(
@@ -464,3 +516,142 @@ def _not_worse(values: list, target: list, objectives: list[ir.Objective]) -> bo
 def _done(result: OptResult, start: float) -> OptResult:
     result.timings["total"] = time.perf_counter() - start
     return result
+
+
+# ====================================================================== output
+
+
+def optimize_json(inst: ir.Instance, result: OptResult) -> dict:
+    doc = {
+        "schema": "catc.optimize/1",
+        "status": result.status.value,
+        "problem": inst.problem.name,
+        "domain": inst.domain.name,
+        "view": inst.view,
+        "horizon": result.horizon,
+        "objectives": [
+            {
+                "sense": ov.objective.sense.value,
+                "term": to_text(ov.objective.term),
+                "value": value_to_json(ov.value) if ov.value is not None else None,
+                "decimal": decimal_text(ov.value) if ov.value is not None else None,
+                "attained": ov.attained,
+                "bound": ov.bound,
+            }
+            for ov in result.values
+        ],
+        "soft": [
+            {
+                "label": o.soft.label,
+                "constraint": to_text(o.soft.expr),
+                "weight": value_to_json(o.soft.weight),
+                "violated": o.violated,
+            }
+            for o in result.softs
+        ],
+        "steps": None,
+        "fresh": None,
+        "final_state": None,
+        "reason": result.reason,
+        "timings": timings_json(result.timings),
+    }
+    if result.plan is not None:
+        doc["steps"] = steps_json(inst, result.plan)
+        doc["fresh"] = dict(result.plan.fresh)
+        if result.states:
+            doc["final_state"] = state_json(result.states[-1])
+    return doc
+
+
+def _objective_rows(inst: ir.Instance, result: OptResult) -> list[tuple[str, str, str, str]]:
+    rows = []
+    for i, ov in enumerate(result.values, 1):
+        term = to_text(ov.objective.term)
+        if i == 1 and inst.problem.softs:
+            term += " with soft penalties"
+        if ov.bound is not None and not ov.attained:
+            value = ov.bound + (f" (composition shown: {show_value(ov.value)})" if ov.value is not None else "")
+        elif ov.value is None:
+            value = "undefined"
+        else:
+            value = show_value(ov.value)
+            if ov.value.denominator != 1:
+                value += f"  [{ov.value.numerator}/{ov.value.denominator}]"
+        rows.append((str(i), ov.objective.sense.value, term, value))
+    return rows
+
+
+_COLOUR = {"OPT": "green", "SUBOPT": "yellow", "UNSAT": "red", "UNKNOWN": "yellow", "UNBOUNDED": "red"}
+_WHAT = {"OPT": "proven optimal", "UNBOUNDED": "the objective is unbounded"}
+
+
+def render(console: Console, inst: ir.Instance, result: OptResult, options: Mapping[str, Any] | None = None) -> None:
+    status = result.status.value.upper()
+    head = f"[bold {_COLOUR[status]}]{status}[/]"
+    where = where_text(inst)
+    if result.status is OptStatus.UNSAT:
+        console.print(f"{head}  no composition within {result.horizon} steps ({where})")
+        return
+    if result.plan is None:
+        console.print(f"{head}  the solver gave up ({result.reason}) for {where}")
+        return
+    what = _WHAT.get(status, f"best found before the solver stopped ({result.reason})")
+    console.print(f"{head}  {what} for {where}")
+    table = Table("#", "sense", "objective", "value", right=(0,))
+    for row in _objective_rows(inst, result):
+        table.add_row(*row)
+    console.print(table)
+    if result.softs:
+        console.print()
+        st = Table("soft constraint", "weight", "outcome")
+        for o in result.softs:
+            st.add_row(to_text(o.soft.expr), show_value(o.soft.weight), "violated" if o.violated else "satisfied")
+        console.print(st)
+    console.print()
+    print_composition(console, inst, result.plan, result.states)
+    t = result.timings
+    console.print(
+        f"[dim]time: encode {t.get('encode', 0) * 1000:.0f} ms, optimise {t.get('solve', 0) * 1000:.0f} ms, "
+        f"validate {t.get('validate', 0) * 1000:.0f} ms; horizon {result.horizon}[/]"
+    )
+
+
+def check(inst: ir.Instance, options: Mapping[str, Any]) -> str | None:
+    if options.get("objectives") is None and not objectives_of(inst) and not inst.problem.softs:
+        return "nothing to optimise: the problem has no (:metric ...) or (:soft ...); give --minimize or --maximize"
+    return None
+
+
+QUERY = Query(
+    "optimize",
+    summary="Find the best composition for the problem's (:metric ...) and soft constraints.",
+    description=(
+        "PATHS is PROBLEM, or DOMAIN PROBLEM.  --minimize/--maximize replace the metric.  Exit 0 "
+        "optimum (OPT), 1 infeasible or unbounded, 2 input error, 3 stopped early (best-so-far "
+        "reported as SUBOPT) or unknown."
+    ),
+    options=(
+        objectives_option(
+            "Minimise this term (repeatable; with --maximize, in the order given: lexicographic).",
+            "Maximise this term (repeatable).",
+        ),
+        timeout_option("Stop after this many seconds; the best composition so far is reported (exit 3)."),
+        json_option("catc.optimize/1"),
+        diagram_option(),
+        Option(
+            "strategy",
+            ("--strategy",),
+            Kind.CHOICE,
+            "deepen: optimise over the shortest feasible horizon, then prove nothing longer is better; "
+            "single: one encoding of the whole horizon.",
+            default="deepen",
+            choices=STRATEGIES,
+            show_default=True,
+        ),
+    ),
+    run=optimize,
+    to_json=optimize_json,
+    render=render,
+    check=check,
+    progress=True,
+)

@@ -17,18 +17,39 @@ objective values exactly.  ``max_points``/``timeout`` bound fronts that are infi
 from __future__ import annotations
 
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
+from typing import Any
 
 from catc import ir
+from catc.ir.numbers import decimal_text
+from catc.ir.text import to_text
+from catc.present.console import Console, Table
+from catc.present.plot import ascii_plot, draw_front
+from catc.present.values import show_value, steps_json, timings_json
+from catc.queries.base import (
+    ExitCode,
+    InputError,
+    Kind,
+    Option,
+    Query,
+    Result,
+    Status,
+    Use,
+    json_option,
+    objectives_option,
+    timeout_option,
+)
 from catc.semantics.compositions import canonical_fresh
 from catc.semantics.horizon import default_horizon
-from catc.semantics.plan import Plan
+from catc.semantics.plan import Plan, value_to_json
 from catc.semantics.validate import ValidationFailure
 from catc.smt.backend import DEFAULT_BACKEND, Check, open_backend
 from catc.smt.encoder import Encoder
 from catc.smt.readback import read_plan
 from catc.smt.terms import App, and_, better, or_
+from catgrammar import codes
 
 
 @dataclass
@@ -38,15 +59,26 @@ class ParetoPoint:
     states: tuple = ()
 
 
+class ParetoStatus(Status):
+    FRONT = "front", ExitCode.OK
+    UNSAT = "unsat", ExitCode.FAIL
+    UNKNOWN = "unknown", ExitCode.UNKNOWN
+
+
 @dataclass
-class ParetoResult:
-    status: str  # "front" | "unsat" | "unknown"
+class ParetoResult(Result):
+    query = "pareto"
+    status: ParetoStatus
     objectives: list[ir.Objective]
     points: list[ParetoPoint] = field(default_factory=list)
     complete: bool = True
     horizon: int = 0
     checks: int = 0
     timings: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def settled(self) -> bool:
+        return self.complete
 
 
 def pareto(
@@ -74,7 +106,7 @@ def pareto(
     solver = open_backend(DEFAULT_BACKEND)
     solver.add(*enc.script.take())
     terms = [solver.intern(t) for t in texts]
-    result = ParetoResult("unknown", objectives, horizon=k)
+    result = ParetoResult(ParetoStatus.UNKNOWN, objectives, horizon=k)
     result.timings["encode"] = time.perf_counter() - start
     minimizing = [o.sense is ir.Sense.MINIMIZE for o in objectives]
 
@@ -141,9 +173,9 @@ def pareto(
     else:
         result.complete = False
     if result.points:
-        result.status = "front"
+        result.status = ParetoStatus.FRONT
     elif result.complete:
-        result.status = "unsat"
+        result.status = ParetoStatus.UNSAT
     result.points.sort(key=lambda p: p.values)
     result.timings["total"] = time.perf_counter() - start
     return result
@@ -159,62 +191,107 @@ def dominates(a: tuple, b: tuple, objectives: list[ir.Objective]) -> bool:
     return at_least and strictly
 
 
-# ---------------------------------------------------------------- pictures
+# ====================================================================== output
 
 
-def ascii_plot(result: ParetoResult, labels: list[str], width: int = 56, height: int = 14) -> str:
-    """The front on the first two objectives, as text (no plotting library needed)."""
-    xs = [float(p.values[0]) for p in result.points]
-    ys = [float(p.values[1]) for p in result.points]
-    if not xs:
-        return ""
-    x0, x1 = min(xs), max(xs)
-    y0, y1 = min(ys), max(ys)
-    grid = [[" "] * width for _ in range(height)]
-    for n, (x, y) in enumerate(zip(xs, ys), 1):
-        col = 0 if x1 == x0 else round((x - x0) / (x1 - x0) * (width - 1))
-        row = 0 if y1 == y0 else round((y - y0) / (y1 - y0) * (height - 1))
-        mark = str(n) if n < 10 else "*"
-        grid[height - 1 - row][col] = mark if grid[height - 1 - row][col] == " " else "*"
-    y_hi, y_lo = f"{y1:.4g}", f"{y0:.4g}"
-    pad = max(len(y_hi), len(y_lo))
-    lines = [f"{labels[1]} ↑"]
-    for i, row in enumerate(grid):
-        tick = y_hi if i == 0 else y_lo if i == height - 1 else ""
-        lines.append(f"{tick.rjust(pad)} |{''.join(row)}")
-    lines.append(" " * pad + " +" + "-" * width)
-    left, right = f"{x0:.4g}", f"{x1:.4g}"
-    lines.append(" " * (pad + 2) + left + " " * max(1, width - len(left) - len(right)) + right)
-    lines.append(" " * (pad + 2) + f"{labels[0]} →   (digits: point numbers in the table; * several)")
-    return "\n".join(lines)
+def objective_labels(objectives: list[ir.Objective]) -> list[str]:
+    return [f"{o.sense.value} {to_text(o.term)}" for o in objectives]
 
 
-def plot(result: ParetoResult, labels: list[str], path: str) -> None:
-    """PNG or SVG via matplotlib (the optional 'plots' extra)."""
+def pareto_json(inst: ir.Instance, result: ParetoResult) -> dict:
+    return {
+        "schema": "catc.pareto/1",
+        "status": result.status.value,
+        "complete": result.complete,
+        "objectives": [{"sense": o.sense.value, "term": to_text(o.term)} for o in result.objectives],
+        "points": [
+            {
+                "values": [value_to_json(v) for v in p.values],
+                "decimals": [decimal_text(v) for v in p.values],
+                "components": sorted(p.plan.components),
+                "steps": steps_json(inst, p.plan, kinds=False),
+            }
+            for p in result.points
+        ],
+        "timings": timings_json(result.timings),
+    }
+
+
+def render(console: Console, inst: ir.Instance, result: ParetoResult, options: Mapping[str, Any] | None = None) -> None:
+    if result.status is ParetoStatus.UNSAT:
+        console.print(f"UNSAT  no composition within {result.horizon} steps")
+        return
+    labels = objective_labels(result.objectives)
+    done = "complete" if result.complete else "incomplete: stopped by --max-points or --timeout"
+    console.print(
+        f"FRONT  {len(result.points)} non-dominated compositions ({done}) for problem "
+        f"{inst.problem.name} of domain {inst.domain.name}"
+    )
+    table = Table("#", *labels, "components", right=tuple(range(len(labels) + 1)))
+    for n, p in enumerate(result.points, 1):
+        table.add_row(str(n), *[show_value(v) for v in p.values], " ".join(sorted(p.plan.components)))
+    console.print(table)
+    if result.points:
+        console.print()
+        console.print(ascii_plot([p.values for p in result.points], labels))
+
+
+def check(inst: ir.Instance, options: Mapping[str, Any]) -> str | None:
+    objectives = options.get("objectives")
+    if objectives is None:
+        metric = inst.problem.metric
+        objectives = list(metric.objectives) if metric is not None else []
+    if len(objectives) < 2:
+        return "a Pareto front needs at least two objectives: use (:metric pareto ...) or --minimize/--maximize"
+    return None
+
+
+def plot_artifact(inst: ir.Instance, result: ParetoResult, options: Mapping[str, Any]) -> list[str]:
+    """--plot FILE: the front drawn to PNG or SVG (the 'plots' extra)."""
+    path = options.get("plot_path")
+    if not path or not result.points:
+        return []
     try:
-        import matplotlib
+        draw_front([p.values for p in result.points], objective_labels(result.objectives), path)
+    except RuntimeError as exc:
+        raise InputError(str(exc), code=codes.MISSING_EXTRA) from exc
+    return [f"plot written to {path}"]
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError as exc:  # pragma: no cover - depends on the environment
-        raise RuntimeError("--plot needs matplotlib: pip install 'catc-lang[plots]'") from exc
-    fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=120)
-    xs = [float(p.values[0]) for p in result.points]
-    ys = [float(p.values[1]) for p in result.points]
-    extra = len(result.objectives) > 2
-    colours = [float(p.values[2]) for p in result.points] if extra else None
-    sc = ax.scatter(xs, ys, c=colours, cmap="viridis" if extra else None, s=42, zorder=3)
-    order = sorted(range(len(xs)), key=lambda i: (xs[i], ys[i]))
-    if not extra:
-        ax.plot([xs[i] for i in order], [ys[i] for i in order], color="0.6", lw=1, zorder=2)
-    for n, (x, y) in enumerate(zip(xs, ys), 1):
-        ax.annotate(str(n), (x, y), textcoords="offset points", xytext=(4, 4), fontsize=8)
-    ax.set_xlabel(labels[0])
-    ax.set_ylabel(labels[1])
-    if extra:
-        fig.colorbar(sc, ax=ax, label=labels[2])
-    ax.set_title(f"Pareto front: {len(result.points)} non-dominated compositions")
-    ax.grid(True, alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+
+QUERY = Query(
+    "pareto",
+    summary="Every non-dominated composition for two or more objectives.",
+    description=(
+        "Objectives come from the problem's (:metric pareto ...) or from --minimize/--maximize. "
+        "Exit 0 with a front, 1 infeasible, 2 input error, 3 stopped before the front was complete."
+    ),
+    options=(
+        objectives_option(
+            "An objective to minimise (repeatable; replaces the metric).",
+            "An objective to maximise (repeatable).",
+        ),
+        Option(
+            "max_points",
+            ("--max-points",),
+            Kind.POSITIVE,
+            "Stop after this many points.",
+            default=100,
+            show_default=True,
+        ),
+        timeout_option("Stop after this many seconds; the points found so far are reported (exit 3)."),
+        Option(
+            "plot_path",
+            ("--plot",),
+            Kind.OUTPUT_FILE,
+            "Draw the front (first two objectives; a third as colour) to FILE.png or FILE.svg (needs the 'plots' "
+            "extra).",
+            use=Use.OUTPUT,
+        ),
+        json_option("catc.pareto/1"),
+    ),
+    run=pareto,
+    to_json=pareto_json,
+    render=render,
+    check=check,
+    artifacts=plot_artifact,
+)

@@ -8,12 +8,17 @@ in either priority (eq. reconfigure): *stability* first (least churn, then the m
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
+from typing import Any
 
 from catc import ir
-from catc.queries.optimize import objectives_of, optimize
+from catc.present.console import Console, Table
+from catc.present.values import show_value, value_to_json
+from catc.queries import optimize as opt
+from catc.queries.base import Kind, Option, Progress, Query, Result, diagram_option, json_option, timeout_option
+from catc.queries.optimize import OptResult, OptStatus, objectives_of, optimize
 
 
 @dataclass
@@ -24,12 +29,29 @@ class ChurnItem:
 
 
 @dataclass
-class Recomposition:
-    result: object  # the OptResult of the lexicographic optimisation
+class Recomposition(Result):
+    query = "recompose"
+    result: OptResult  # the lexicographic optimisation
     deployed: tuple[str, ...]
     priority: str  # "stability" (churn first) | "objective"
     churn: Fraction | None = None
     items: list[ChurnItem] = field(default_factory=list)
+
+    @property
+    def status(self) -> OptStatus:  # type: ignore[override]
+        return self.result.status
+
+    @property
+    def timings(self) -> dict[str, float]:  # type: ignore[override]
+        return self.result.timings
+
+    @property
+    def plan(self):
+        return self.result.plan
+
+    @property
+    def states(self) -> tuple:
+        return self.result.states
 
 
 def recompose(
@@ -41,7 +63,7 @@ def recompose(
     horizon: int | None = None,
     sequential: bool = False,
     timeout: float | None = None,
-    progress: Callable[[str], None] | None = None,
+    progress: Progress | None = None,
 ) -> Recomposition:
     if deployed is not None:
         inst = ir.Instance(inst.domain, replace(inst.problem, deployed=tuple(deployed)), inst.view)
@@ -62,3 +84,82 @@ def recompose(
         ]
         rec.churn = sum((i.weight for i in rec.items), Fraction(0))
     return rec
+
+
+# ====================================================================== output
+
+
+def recompose_json(inst: ir.Instance, rec: Recomposition) -> dict:
+    doc = opt.optimize_json(inst, rec.result)
+    doc["schema"] = "catc.recompose/1"
+    doc["priority"] = rec.priority
+    doc["deployed"] = list(rec.deployed)
+    doc["churn"] = value_to_json(rec.churn) if rec.churn is not None else None
+    doc["changes"] = [
+        {"morphism": i.morphism, "change": i.change, "weight": value_to_json(i.weight)} for i in rec.items
+    ]
+    return doc
+
+
+def render(console: Console, inst: ir.Instance, rec: Recomposition, options: Mapping[str, Any] | None = None) -> None:
+    res = rec.result
+    if res.plan is None:
+        opt.render(console, inst, res)
+        return
+    first = (
+        "stability first (least churn, then the mission objective)"
+        if rec.priority == "stability"
+        else "objective first (the mission objective, then least churn)"
+    )
+    console.print(
+        f"[bold green]{res.status.value.upper()}[/]  {first}: churn {show_value(rec.churn)} against the deployed "
+        f"composition of {len(rec.deployed)} components"
+    )
+    if rec.items:
+        table = Table("change", "component", "churn weight")
+        for item in rec.items:
+            table.add_row("+ added" if item.change == "added" else "- removed", item.morphism, show_value(item.weight))
+        console.print(table)
+    else:
+        console.print("  no component changes")
+    console.print()
+    opt.render(console, inst, res)
+
+
+def check(inst: ir.Instance, options: Mapping[str, Any]) -> str | None:
+    if options.get("deployed") is None and not inst.problem.deployed:
+        return "no deployed composition: add (:deployed ...) to the problem or pass --deployed"
+    return None
+
+
+QUERY = Query(
+    "recompose",
+    summary="A new composition with the least weighted churn against the deployed one.",
+    description="Exit 0 optimum, 1 infeasible, 2 input error, 3 stopped early.",
+    options=(
+        Option(
+            "deployed",
+            ("--deployed",),
+            Kind.COMPONENTS,
+            "The deployed composition (comma-separated morphisms; default: the problem's (:deployed ...)).",
+            metavar="COMPONENTS",
+        ),
+        Option(
+            "priority",
+            ("--priority",),
+            Kind.CHOICE,
+            "stability: least churn first, then the mission objective; objective: the reverse.",
+            default="stability",
+            choices=("stability", "objective"),
+            show_default=True,
+        ),
+        timeout_option("Stop after this many seconds; the best composition so far is reported (exit 3)."),
+        json_option("catc.recompose/1"),
+        diagram_option(),
+    ),
+    run=recompose,
+    to_json=recompose_json,
+    render=render,
+    check=check,
+    progress=True,
+)

@@ -10,14 +10,21 @@ possible is replayed by the independent validator on the relaxed instance.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
+from typing import Any
 
 from catc import ir
+from catc.ir.labels import LabelInfo, label_index
+from catc.present.composition import print_composition
+from catc.present.console import Console
+from catc.present.labels import describe, label_json, where
+from catc.present.values import show_value, steps_json, timings_json
+from catc.queries.base import ExitCode, Kind, Option, Progress, Query, Result, Status, json_option, timeout_option
 from catc.semantics.compositions import canonical_fresh, checked
 from catc.semantics.horizon import default_horizon
-from catc.semantics.plan import Plan
+from catc.semantics.plan import Plan, value_to_json
 from catc.semantics.validate import ValidationFailure
 from catc.smt.backend import Check
 from catc.smt.labelled import LabelledModel
@@ -43,9 +50,17 @@ class Relaxation:
     weight: Fraction
 
 
+class RelaxStatus(Status):
+    RELAXED = "relaxed", ExitCode.OK
+    SAT = "sat", ExitCode.FAIL  # already feasible: nothing to relax
+    UNSAT = "unsat", ExitCode.FAIL  # no relaxation of the eligible requirements helps
+    UNKNOWN = "unknown", ExitCode.UNKNOWN
+
+
 @dataclass
-class RelaxResult:
-    status: str  # "relaxed" | "sat" (already feasible) | "unsat" (no relaxation helps) | "unknown"
+class RelaxResult(Result):
+    query = "relax"
+    status: RelaxStatus
     proven: bool = True  # False: the best relaxation found before the time limit
     relaxations: list[Relaxation] = field(default_factory=list)
     dropped: list[str] = field(default_factory=list)  # discrete variant
@@ -56,6 +71,10 @@ class RelaxResult:
     eligible: list[Requirement] = field(default_factory=list)
     horizon: int = 0
     timings: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def settled(self) -> bool:
+        return self.proven
 
 
 def eligible_requirements(
@@ -113,12 +132,12 @@ def relax(
     discrete: bool = False,
     relative_to: Iterable[str] | None = None,
     timeout: float | None = None,
-    progress: Callable[[str], None] | None = None,
+    progress: Progress | None = None,
 ) -> RelaxResult:
     start = time.perf_counter()
     k = default_horizon(inst) if horizon is None else horizon
     components = (tuple(relative_to) or None) if relative_to is not None else (inst.problem.deployed or None)
-    result = RelaxResult("unknown", horizon=k)
+    result = RelaxResult(RelaxStatus.UNKNOWN, horizon=k)
     say = progress or (lambda message: None)
     deadline = start + timeout if timeout else None
     if discrete:
@@ -130,7 +149,7 @@ def relax(
     say("looking for a restoration")
     best, result.proven, exhausted = search.run(deadline, say)
     if best is None:
-        result.status = "unsat" if exhausted else "unknown"
+        result.status = RelaxStatus.UNSAT if exhausted else RelaxStatus.UNKNOWN
         return _finish(result, start)
     result.cost, values, plan = best
     result.relaxations = [
@@ -138,7 +157,7 @@ def relax(
         for req in result.eligible
         if values[req.label] != 0
     ]
-    result.status = "relaxed" if result.relaxations else "sat"
+    result.status = RelaxStatus.RELAXED if result.relaxations else RelaxStatus.SAT
     relaxed = relaxed_instance(inst, {r_.label: r_.delta for r_ in result.relaxations})
     checked(relaxed, plan, k, sequential, "the relaxed composition")
     result.plan = canonical_fresh(plan)
@@ -274,7 +293,7 @@ def _relax_discrete(
     result.timings["encode"] = time.perf_counter() - start
     r = opt.check()
     if r is not Check.SAT:
-        result.status = "unsat" if r is Check.UNSAT else "unknown"
+        result.status = RelaxStatus.UNSAT if r is Check.UNSAT else RelaxStatus.UNKNOWN
         return result
     dropped = [label for label in model.labels if opt.value(model.indicator[label]) is not True]
     # minimality: putting back any dropped label makes it infeasible again
@@ -283,7 +302,7 @@ def _relax_discrete(
         if model.check(keep)[0] is not Check.UNSAT:  # pragma: no cover - a minimum set is minimal
             raise ValidationFailure(f"dropping {dropped} is not minimal: {label} can stay")
     result.dropped = dropped
-    result.status = "relaxed" if dropped else "sat"
+    result.status = RelaxStatus.RELAXED if dropped else RelaxStatus.SAT
     return result
 
 
@@ -319,3 +338,124 @@ def relaxed_instance(inst: ir.Instance, deltas: dict[str, Fraction]) -> ir.Insta
 def _finish(result, start: float):
     result.timings["total"] = time.perf_counter() - start
     return result
+
+
+# ====================================================================== output
+
+
+def relaxation_text(inst: ir.Instance, rel: Relaxation, info: LabelInfo) -> str:
+    if rel.kind == "initial value":
+        name = info.owner
+        assert name is not None
+        unit = inst.resources[name].unit if name in inst.resources else None
+        sign = "+" if rel.delta > 0 else "-"
+        old = inst.problem.init[name].value.value
+        return (
+            f"{name}: {sign}{show_value(abs(rel.delta))}{' ' + unit if unit else ''}"
+            f"   (initial value {show_value(old)} → {show_value(old + rel.delta)})"  # type: ignore[operator]
+        )
+    return f"{info.label}: weaken {info.text} by {show_value(rel.delta)}"
+
+
+def relax_json(inst: ir.Instance, result: RelaxResult) -> dict:
+    index = label_index(inst)
+    return {
+        "schema": "catc.relax/1",
+        "status": result.status.value,
+        "problem": inst.problem.name,
+        "cost": value_to_json(result.cost) if result.cost is not None else None,
+        "proven": result.proven,
+        "relaxations": [
+            {**label_json(index[r.label]), "delta": value_to_json(r.delta), "weight": value_to_json(r.weight)}
+            for r in result.relaxations
+        ],
+        "dropped": [label_json(index[label]) for label in result.dropped],
+        "steps": None if result.plan is None else steps_json(inst, result.plan, kinds=False),
+        "timings": timings_json(result.timings),
+    }
+
+
+def render(console: Console, inst: ir.Instance, result: RelaxResult, options: Mapping[str, Any] | None = None) -> None:
+    if result.status is RelaxStatus.SAT:
+        console.print("[bold green]SAT[/]  nothing to relax: the problem is feasible as it is")
+        return
+    if result.status is RelaxStatus.UNSAT:
+        console.print("[bold red]UNSAT[/]  no relaxation of the eligible requirements restores feasibility")
+        return
+    if result.status is not RelaxStatus.RELAXED:
+        console.print("[bold yellow]UNKNOWN[/]  the solver gave up")
+        return
+    index = label_index(inst)
+    if result.dropped:
+        console.print(
+            f"[bold yellow]RELAXED[/]  drop {len(result.dropped)} requirement"
+            f"{'s' if len(result.dropped) != 1 else ''} (a minimum set whose removal restores feasibility):"
+        )
+        for label in result.dropped:
+            info = index[label]
+            console.print(f"  - {describe(info)}   {where(info)}")
+        return
+    what = (
+        "the least restoration"
+        if result.proven
+        else "the best restoration found before the time limit (not proven least)"
+    )
+    console.print(
+        f"[bold yellow]RELAXED[/]  {what} (weighted total {show_value(result.cost)}) "
+        f"over {len(result.eligible)} eligible requirements:"
+    )
+    for rel in result.relaxations:
+        info = index[rel.label]
+        console.print(f"  {relaxation_text(inst, rel, info)}   {where(info)}")
+    if result.plan is not None:
+        console.print("\nthe composition this makes possible:")
+        print_composition(console, result.relaxed_instance or inst, result.plan, result.states)
+
+
+QUERY = Query(
+    "relax",
+    summary="The least weakening of the requirements that makes the problem feasible.",
+    description=(
+        "Exit 0 when a relaxation is found, 1 when none helps or the problem is already "
+        "feasible, 2 input error, 3 unknown."
+    ),
+    options=(
+        Option(
+            "only",
+            ("--only",),
+            Kind.TEXTS,
+            "Relax only these requirements (a label, a label prefix such as init/, or a resource name; repeatable).",
+            default=(),
+            metavar="LABEL|RESOURCE",
+        ),
+        Option(
+            "weights",
+            ("--weights",),
+            Kind.WEIGHTS,
+            "Weight of the slack on matching requirements (default 1; repeatable).",
+            default=(),
+            metavar="KEY=W",
+        ),
+        Option(
+            "discrete",
+            ("--discrete",),
+            Kind.FLAG,
+            "Return a minimum set of requirements to drop instead of numeric slack.",
+            default=False,
+        ),
+        Option(
+            "relative_to",
+            ("--relative-to",),
+            Kind.COMPONENTS,
+            "Keep this composition (default: the problem's (:deployed ...); 'none' for any).",
+            metavar="COMPONENTS",
+            none_word="none",
+        ),
+        timeout_option("Stop after this many seconds; the best relaxation so far is reported (exit 3)."),
+        json_option("catc.relax/1"),
+    ),
+    run=relax,
+    to_json=relax_json,
+    render=render,
+    progress=True,
+)

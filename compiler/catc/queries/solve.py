@@ -14,27 +14,43 @@ is returned; a rejected answer is an internal error, never shown as a compositio
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
-from enum import Enum
+from collections.abc import Mapping
+from typing import Any
 
 from catc import ir
+from catc.present.composition import print_composition, where_text
+from catc.present.console import Console
+from catc.present.values import state_json, steps_json, timings_json
+from catc.queries.base import (
+    ExitCode,
+    Kind,
+    Option,
+    Progress,
+    Query,
+    Result,
+    Status,
+    diagram_option,
+    json_option,
+    timeout_option,
+)
 from catc.semantics.compositions import canonical_fresh, checked, prune_plan
 from catc.semantics.horizon import default_horizon, use_bound
 from catc.semantics.plan import Plan
-from catc.smt.backend import DEFAULT_BACKEND, Check, open_backend
+from catc.smt.backend import BACKENDS, DEFAULT_BACKEND, Check, open_backend
 from catc.smt.encoder import Encoder
 from catc.smt.readback import read_plan
 
 
-class Status(str, Enum):
-    SAT = "sat"
-    UNSAT = "unsat"
-    UNKNOWN = "unknown"
+class SolveStatus(Status):
+    SAT = "sat", ExitCode.OK
+    UNSAT = "unsat", ExitCode.FAIL
+    UNKNOWN = "unknown", ExitCode.UNKNOWN
 
 
-class SolveResult:
+class SolveResult(Result):
     """The answer of :func:`solve`; filled in as the search goes."""
 
+    query = "solve"
     __slots__ = (
         "status",
         "horizon",
@@ -47,11 +63,12 @@ class SolveResult:
         "horizons_tried",
         "sequential",
         "strategy",
+        "backend",
     )
 
     def __init__(
         self,
-        status: Status,
+        status: SolveStatus,
         horizon: int,
         plan: Plan | None = None,
         states: tuple = (),
@@ -62,6 +79,7 @@ class SolveResult:
         horizons_tried: int = 0,
         sequential: bool = False,  # how it was solved (echoed by catc.solve/1)
         strategy: str = "incremental",
+        backend: str = DEFAULT_BACKEND,
     ) -> None:
         self.status = status
         self.horizon = horizon
@@ -74,9 +92,13 @@ class SolveResult:
         self.horizons_tried = horizons_tried
         self.sequential = sequential
         self.strategy = strategy
+        self.backend = backend
 
     def __repr__(self) -> str:
         return f"SolveResult({self.status.name}, horizon={self.horizon}, plan={self.plan!r})"
+
+
+STRATEGIES = ("incremental", "single")
 
 
 def solve(
@@ -85,98 +107,222 @@ def solve(
     horizon: int | None = None,
     sequential: bool = False,
     timeout: float | None = None,
-    progress: Callable[[int, int, float], None] | None = None,
+    progress: Progress | None = None,
     strategy: str = "incremental",
     validate_answer: bool = True,
     prune: bool = True,
     backend: str = DEFAULT_BACKEND,
+    phase: str = "solving",
 ) -> SolveResult:
-    """``progress(t, k, elapsed)`` is called before each horizon is tried."""
-    k = default_horizon(inst) if horizon is None else horizon
-    start = time.perf_counter()
-    deadline = start + timeout if timeout else None
-    bound = use_bound(inst)
-    # start: creating the Z3 context and solver (the first context of a process initialises
-    # Z3, ~10 ms; a hand-written Z3 script pays it too)
-    timings = {"start": 0.0, "encode": 0.0, "solve": 0.0, "validate": 0.0}
-
-    t0 = time.perf_counter()
-    enc = Encoder(inst, k, sequential=sequential)
-    t1 = time.perf_counter()
-    solver = open_backend(backend)
-    t2 = time.perf_counter()
-    solver.add(*enc.script.take())
-    timings["start"] = t2 - t1
-    timings["encode"] += (t1 - t0) + (time.perf_counter() - t2)
-
-    tried = 0
-    result: SolveResult | None = None
-
-    def timed_check(extra: list[str]) -> Check:
-        """Check the goal (and use limits) at the current horizon, in a scope the caller pops."""
-        nonlocal tried
-        if deadline is not None:  # an exhausted budget still checks (push/pop stay paired)
-            solver.set_timeout(max(0.001, deadline - time.perf_counter()))
-        t2 = time.perf_counter()
-        solver.push()
-        solver.add((), [(None, c) for c in extra])
-        r = solver.check()
-        timings["solve"] += time.perf_counter() - t2
-        tried += 1
-        return r
-
-    def grow(t: int) -> list[str]:
-        t1 = time.perf_counter()
-        while len(enc.act) < t:
-            enc.add_step()
-        solver.add(*enc.script.take())
-        extra = [c for _, c in enc.goal_constraints(t)] + [c for _, c in enc.uses_constraints(t)]
-        timings["encode"] += time.perf_counter() - t1
-        return extra
-
-    def unknown() -> SolveResult:
-        reason = solver.reason_unknown()
-        if deadline is not None and time.perf_counter() >= deadline:
-            reason = "timeout"
-        return SolveResult(Status.UNKNOWN, k, reason=reason, length_bound=bound)
-
-    if strategy == "incremental":
-        for t in range(k + 1):
-            extra = grow(t)
-            if progress is not None:
-                progress(t, k, time.perf_counter() - start)
-            r = timed_check(extra)
-            if r is Check.SAT:
-                result = SolveResult(Status.SAT, k, read_plan(solver, enc, t), length_bound=bound)
-            elif r is Check.UNKNOWN:
-                result = unknown()
-            solver.pop()
-            if result is not None:
-                break
-    elif strategy == "single":
-        extra = grow(k)
-        if progress is not None:
-            progress(k, k, time.perf_counter() - start)
-        r = timed_check(extra)
-        if r is Check.SAT:
-            result = SolveResult(Status.SAT, k, read_plan(solver, enc, k), length_bound=bound)
-        elif r is Check.UNKNOWN:
-            result = unknown()
-        solver.pop()
-    else:
+    """The shortest composition within the horizon (``strategy="incremental"``), or any
+    composition (``"single"``), on the named backend.  ``progress(message)`` is told each
+    horizon as it is tried (``"{phase}: horizon t of k"``)."""
+    if strategy not in STRATEGIES:
         raise ValueError(f"unknown strategy {strategy!r}; expected 'incremental' or 'single'")
-    if result is None:  # UNSAT at every horizon up to k
-        final = bound is not None and k >= bound
-        result = SolveResult(Status.UNSAT, k, final=final, length_bound=bound)
-    result.horizons_tried = tried
-    result.sequential, result.strategy = sequential, strategy
-    if result.status is Status.SAT and validate_answer:
-        t2 = time.perf_counter()
+    k = default_horizon(inst) if horizon is None else horizon
+    search = _Search(inst, k, sequential, timeout, backend)
+    result = search.run(range(k + 1) if strategy == "incremental" else (k,), progress, phase)
+    result.sequential, result.strategy, result.backend = sequential, strategy, backend
+    if result.status is SolveStatus.SAT and validate_answer:
+        t0 = time.perf_counter()
+        assert result.plan is not None
         checked(inst, result.plan, k, sequential, "the solver's composition")
         plan = prune_plan(inst, result.plan, k, sequential) if prune else result.plan
         result.plan = canonical_fresh(plan)
         result.states = checked(inst, result.plan, k, sequential, "the pruned composition")
-        timings["validate"] = time.perf_counter() - t2
-    timings["total"] = time.perf_counter() - start
-    result.timings = timings
+        search.timings["validate"] = time.perf_counter() - t0
+    search.timings["total"] = time.perf_counter() - search.start
+    result.timings = search.timings
     return result
+
+
+class _Search:
+    """One solver over an encoding that grows a step at a time; the goal and the use limits
+    at horizon ``t`` are checked inside a push/pop scope."""
+
+    def __init__(self, inst: ir.Instance, k: int, sequential: bool, timeout: float | None, backend: str) -> None:
+        self.k = k
+        self.start = time.perf_counter()
+        self.deadline = self.start + timeout if timeout else None
+        self.bound = use_bound(inst)
+        # start: creating the solver (the first Z3 context of a process initialises Z3,
+        # ~10 ms; a hand-written Z3 script pays it too)
+        self.timings = {"start": 0.0, "encode": 0.0, "solve": 0.0, "validate": 0.0}
+        self.tried = 0
+        t0 = time.perf_counter()
+        self.enc = Encoder(inst, k, sequential=sequential)
+        t1 = time.perf_counter()
+        self.solver = open_backend(backend)
+        t2 = time.perf_counter()
+        self.solver.add(*self.enc.script.take())
+        self.timings["start"] = t2 - t1
+        self.timings["encode"] += (t1 - t0) + (time.perf_counter() - t2)
+
+    def run(self, horizons: range | tuple[int, ...], progress: Progress | None, phase: str) -> SolveResult:
+        """Check the goal at each horizon in turn; the first SAT or UNKNOWN answers."""
+        for t in horizons:
+            extra = self._grow(t)
+            if progress is not None:
+                progress(f"{phase}: horizon {t} of {self.k}")
+            r = self._check(extra)
+            result = None
+            if r is Check.SAT:
+                result = SolveResult(
+                    SolveStatus.SAT, self.k, read_plan(self.solver, self.enc, t), length_bound=self.bound
+                )
+            elif r is Check.UNKNOWN:
+                result = self._unknown()
+            self.solver.pop()
+            if result is not None:
+                break
+        else:  # UNSAT at every horizon tried
+            final = self.bound is not None and self.k >= self.bound
+            result = SolveResult(SolveStatus.UNSAT, self.k, final=final, length_bound=self.bound)
+        result.horizons_tried = self.tried
+        return result
+
+    def _grow(self, t: int) -> list[str]:
+        """Encode up to step ``t``; the goal and use limits at ``t``, to check."""
+        t0 = time.perf_counter()
+        while len(self.enc.act) < t:
+            self.enc.add_step()
+        self.solver.add(*self.enc.script.take())
+        extra = [c for _, c in self.enc.goal_constraints(t)] + [c for _, c in self.enc.uses_constraints(t)]
+        self.timings["encode"] += time.perf_counter() - t0
+        return extra
+
+    def _check(self, extra: list[str]) -> Check:
+        """Check ``extra`` in a new scope (the caller pops it); an exhausted budget still
+        checks, so push and pop stay paired."""
+        if self.deadline is not None:
+            self.solver.set_timeout(max(0.001, self.deadline - time.perf_counter()))
+        t0 = time.perf_counter()
+        self.solver.push()
+        self.solver.add((), [(None, c) for c in extra])
+        r = self.solver.check()
+        self.timings["solve"] += time.perf_counter() - t0
+        self.tried += 1
+        return r
+
+    def _unknown(self) -> SolveResult:
+        reason = self.solver.reason_unknown()
+        if self.deadline is not None and time.perf_counter() >= self.deadline:
+            reason = "timeout"
+        return SolveResult(SolveStatus.UNKNOWN, self.k, reason=reason, length_bound=self.bound)
+
+
+# ====================================================================== output
+
+
+def solve_json(inst: ir.Instance, result: SolveResult) -> dict:
+    plan = result.plan
+    doc: dict = {
+        "schema": "catc.solve/1",
+        "status": result.status.value,
+        "problem": inst.problem.name,
+        "domain": inst.domain.name,
+        "view": inst.view,
+        "horizon": result.horizon,
+        "sequential": result.sequential,
+        "strategy": result.strategy,
+        "steps": None,
+        "fresh": None,
+        "initial_state": None,
+        "final_state": None,
+        "unsat": None,
+        "reason": result.reason,
+        "timings": timings_json(result.timings),
+    }
+    if result.backend != DEFAULT_BACKEND:
+        doc["backend"] = result.backend
+    if plan is not None:
+        doc["steps"] = steps_json(inst, plan)
+        doc["fresh"] = dict(plan.fresh)
+        if result.states:
+            doc["initial_state"] = state_json(result.states[0])
+            doc["final_state"] = state_json(result.states[-1])
+    if result.status is SolveStatus.UNSAT:
+        doc["unsat"] = {"final": result.final, "length_bound": result.length_bound}
+    return doc
+
+
+def unsat_sentence(inst: ir.Instance, result: SolveResult) -> str:
+    k = result.horizon
+    head = f"no composition within {k} step{'s' if k != 1 else ''}"
+    if result.final:
+        return (
+            f"{head}; this is final: every morphism has a use limit, so no composition needs more than "
+            f"{result.length_bound} step{'s' if result.length_bound != 1 else ''}"
+        )
+    if result.length_bound is not None:
+        return f"{head} (not final: compositions may need up to {result.length_bound} steps; raise --horizon)"
+    unlimited = [m.name for m in inst.morphisms.values() if m.uses is None]
+    names = ", ".join(unlimited[:3]) + (", ..." if len(unlimited) > 3 else "")
+    return (
+        f"{head} (not final: {names} {'has' if len(unlimited) == 1 else 'have'} no use limit; try a larger --horizon)"
+    )
+
+
+_COLOUR = {SolveStatus.SAT: "green", SolveStatus.UNSAT: "red", SolveStatus.UNKNOWN: "yellow"}
+
+
+def render(console: Console, inst: ir.Instance, result: SolveResult, options: Mapping[str, Any]) -> None:
+    status = f"[bold {_COLOUR[result.status]}]{result.status.value.upper()}[/]"
+    where = where_text(inst)
+    if result.plan is not None and result.status is SolveStatus.SAT:
+        n = len(result.plan)
+        console.print(f"{status}  composition of {n} step{'s' if n != 1 else ''} for {where}")
+        print_composition(console, inst, result.plan, result.states)
+    elif result.status is SolveStatus.UNSAT:
+        console.print(f"{status}  {unsat_sentence(inst, result)} ({where})")
+    else:
+        console.print(f"{status}  the solver gave up ({result.reason}) for {where}")
+    t = result.timings
+    if t:
+        engine = "Z3" if result.backend == "z3" else result.backend
+        start = f"{engine} start {t['start'] * 1000:.0f} ms, " if "start" in t else ""
+        console.print(
+            f"[dim]time: {start}encode {t.get('encode', 0) * 1000:.0f} ms, solve {t.get('solve', 0) * 1000:.0f} ms, "
+            f"validate {t.get('validate', 0) * 1000:.0f} ms; horizons tried {result.horizons_tried}[/]"
+        )
+
+
+QUERY = Query(
+    "solve",
+    summary="Find the shortest composition that reaches the goal.",
+    description="PATHS is PROBLEM, or DOMAIN PROBLEM.  Exit 0 SAT, 1 UNSAT, 2 input error, 3 unknown/timeout.",
+    options=(
+        timeout_option(),
+        Option(
+            "strategy",
+            ("--strategy",),
+            Kind.CHOICE,
+            "incremental: deepen the horizon one step at a time (shortest composition); "
+            "single: one check of the whole horizon.",
+            default="incremental",
+            choices=STRATEGIES,
+            show_default=True,
+        ),
+        json_option("catc.solve/1"),
+        diagram_option(),
+        Option(
+            "prune",
+            ("--no-prune",),
+            Kind.NO_FLAG,
+            "Keep activations the composition does not need (as the solver found them).",
+        ),
+        Option(
+            "backend",
+            ("--backend",),
+            Kind.CHOICE,
+            "The solver: z3, or cvc5 (through its Python API).",
+            default=DEFAULT_BACKEND,
+            choices=tuple(BACKENDS),
+            show_default=True,
+        ),
+    ),
+    run=solve,
+    to_json=solve_json,
+    render=render,
+    progress=True,
+)

@@ -19,25 +19,38 @@ domain in place of the hole.
 from __future__ import annotations
 
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 from catc import ir
 from catc.ir import SortKind
 from catc.ir.text import effect_text, to_text
 from catc.ir.views import project_instance
-from catc.queries.solve import Status, solve
+from catc.present.composition import print_composition
+from catc.present.console import Console
+from catc.queries.base import ExitCode, Kind, Option, Query, Result, Status, Use, json_option, timeout_option
+from catc.queries.solve import SolveStatus, solve
 from catc.semantics.compositions import checked
 from catc.semantics.horizon import default_horizon
 from catc.semantics.plan import Plan
-from catc.smt.backend import DEFAULT_BACKEND, Check, open_backend
+from catc.smt.backend import DEFAULT_BACKEND, Backend, Check, open_backend
 from catc.smt.encoder import Encoder
 from catc.smt.holes import HoleEncoding
 from catc.smt.readback import read_plan
 
 
+class SynthesisStatus(Status):
+    SYNTHESISED = "synthesised", ExitCode.OK
+    NOT_NEEDED = "not-needed", ExitCode.OK  # feasible without the hole
+    UNSAT = "unsat", ExitCode.FAIL  # even a component in the hole cannot help
+    UNKNOWN = "unknown", ExitCode.UNKNOWN
+
+
 @dataclass
-class Synthesis:
-    status: str  # "synthesised" | "not-needed" | "unsat" | "unknown"
+class Synthesis(Result):
+    query = "synthesize"
+    status: SynthesisStatus
     hole: ir.Hole
     morphism: ir.Morphism | None = None
     plan: Plan | None = None
@@ -49,76 +62,89 @@ class Synthesis:
 
 def synthesize(
     inst: ir.Instance,
-    hole_name: str | None = None,
+    hole: str | None = None,
     *,
     horizon: int | None = None,
     sequential: bool = False,
     timeout: float | None = None,
 ) -> Synthesis:
     start = time.perf_counter()
-    holes = inst.domain.holes
-    if not holes:
-        raise ValueError(f"domain '{inst.domain.name}' declares no (:hole ...)")
-    if hole_name is None:
-        if len(holes) > 1:
-            raise ValueError(f"several holes ({', '.join(holes)}): choose one")
-        hole_name = next(iter(holes))
-    if hole_name not in holes:
-        raise ValueError(f"no hole named '{hole_name}' (holes: {', '.join(holes)})")
-    hole = holes[hole_name]
-    if hole.view is not None:
-        inst = project_instance(inst, inst.domain.views[hole.view].kept, hole.view)
+    mu = inst.domain.holes[pick_hole(inst, hole)]
+    if mu.view is not None:
+        inst = project_instance(inst, inst.domain.views[mu.view].kept, mu.view)
     k = default_horizon(inst) if horizon is None else horizon
-    result = Synthesis("unknown", hole, instance=inst)
+    result = Synthesis(SynthesisStatus.UNKNOWN, mu, instance=inst)
 
     plain = solve(inst, horizon=k, sequential=sequential, timeout=timeout, strategy="single")
-    if plain.status is Status.SAT:
-        result.status = "not-needed"
+    if plain.status is SolveStatus.SAT:
+        result.status = SynthesisStatus.NOT_NEEDED
         result.plan, result.states = plain.plan, plain.states
         return _finish(result, start)
 
     enc = Encoder(inst, k, sequential=sequential, extra_written=frozenset(inst.resources))
-    mu = HoleEncoding(enc, hole)
+    encoding = HoleEncoding(enc, mu)
     enc.unroll(k)
-    enc.add(None, mu.once())
+    enc.add(None, encoding.once())
     solver = open_backend(DEFAULT_BACKEND, optimize=True)
     solver.add(*enc.script.take())
-    solver.minimize(solver.intern(mu.effects_count()))
+    solver.minimize(solver.intern(encoding.effects_count()))
     # Among minimal specifications, prefer effects no existing component has: the hole is a
     # missing capability, not a shortcut around the components that exist.
     written = {e.resource for m in inst.morphisms.values() for e in m.effects}
-    if any(r.name in written for _, _, r, _ in mu.selectors):
-        solver.minimize(solver.intern(mu.effects_count(written)))
+    if any(r.name in written for _, _, r, _ in encoding.selectors):
+        solver.minimize(solver.intern(encoding.effects_count(written)))
     if timeout:
         solver.set_timeout(timeout)
     r = solver.check()
     result.timings["solve"] = time.perf_counter() - start
     if r is not Check.SAT:
-        result.status = "unsat" if r is Check.UNSAT else "unknown"
+        result.status = SynthesisStatus.UNSAT if r is Check.UNSAT else SynthesisStatus.UNKNOWN
         return _finish(result, start)
-    effects = mu.effects(solver)
+    _read_specification(result, inst, encoding, solver, k, sequential)
+    return _finish(result, start)
+
+
+def _read_specification(
+    result: Synthesis, inst: ir.Instance, encoding: HoleEncoding, solver: Backend, k: int, sequential: bool
+) -> None:
+    """μ's effects from the model, then what it may assume: the state where it applies,
+    learnt by replaying the composition with μ as an ordinary morphism."""
+    mu = encoding.hole
+    effects = encoding.effects(solver)
     skeleton = ir.Morphism(
-        hole.name,
+        mu.name,
         ir.MorphismKind.SOFTWARE,
         (),
         (),
         tuple(effects),
         uses=1,
-        doc="synthesised by catc for hole " + hole.name,
+        doc="synthesised by catc for hole " + mu.name,
     )
-    # Replay with μ as an ordinary morphism to learn the state where it applies.
-    plan = mu.plan(solver, k, read_plan(solver, enc, k).fresh)
+    plan = encoding.plan(solver, k, read_plan(solver, encoding.enc, k).fresh)
     states = checked(_with_morphism(inst, skeleton), plan, k, sequential, "the synthesised component's composition")
-    mu_step = next(i for i, s in enumerate(plan.steps) if any(a.morphism == hole.name for a in s))
-    pre = _assumptions(inst, states[mu_step], effects, hole.max_preconditions)
+    mu_step = next(i for i, s in enumerate(plan.steps) if any(a.morphism == mu.name for a in s))
+    pre = _assumptions(inst, states[mu_step], effects, mu.max_preconditions)
     final = replace(skeleton, pre=tuple(pre))
     with_mu = _with_morphism(inst, final)
     # the assumptions hold where μ applies by construction: checked all the same
     states = checked(with_mu, plan, k, sequential, "the synthesised preconditions")
-    result.status = "synthesised"
+    result.status = SynthesisStatus.SYNTHESISED
     result.morphism, result.plan, result.states, result.step = final, plan, states, mu_step + 1
     result.instance = with_mu
-    return _finish(result, start)
+
+
+def pick_hole(inst: ir.Instance, name: str | None) -> str:
+    """The hole to fill: ``name``, or the domain's only one; ValueError when there is none."""
+    holes = inst.domain.holes
+    if not holes:
+        raise ValueError(f"domain '{inst.domain.name}' declares no (:hole ...)")
+    if name is None:
+        if len(holes) > 1:
+            raise ValueError(f"several holes ({', '.join(holes)}): choose one")
+        return next(iter(holes))
+    if name not in holes:
+        raise ValueError(f"no hole named '{name}' (holes: {', '.join(holes)})")
+    return name
 
 
 def _with_morphism(inst: ir.Instance, m: ir.Morphism) -> ir.Instance:
@@ -175,3 +201,81 @@ def to_cat(m: ir.Morphism, hole: ir.Hole) -> str:
 def _finish(result: Synthesis, start: float) -> Synthesis:
     result.timings["total"] = time.perf_counter() - start
     return result
+
+
+# ====================================================================== output
+
+
+def synthesize_json(inst: ir.Instance, result: Synthesis) -> dict:
+    m = result.morphism
+    return {
+        "schema": "catc.synthesize/1",
+        "status": result.status.value,
+        "hole": result.hole.name,
+        "view": result.hole.view,
+        "effects": [effect_text(e) for e in m.effects] if m else None,
+        "preconditions": [to_text(lit.expr) for lit in m.pre] if m else None,
+        "applied_at_step": result.step,
+        "skeleton": to_cat(m, result.hole) if m is not None else None,
+    }
+
+
+def render(console: Console, inst: ir.Instance, result: Synthesis, options: Mapping[str, Any]) -> None:
+    skeleton = to_cat(result.morphism, result.hole) if result.morphism is not None else None
+    if options.get("emit") == "cat":  # only the skeleton, ready to paste into the domain
+        console.print(skeleton.rstrip("\n") if skeleton is not None else f"; no skeleton: {result.status.value}")
+        return
+    hole = result.hole
+    if result.status is SynthesisStatus.NOT_NEEDED:
+        console.print(f"SAT  no hole needed: a composition exists without '{hole.name}'")
+    elif result.status is SynthesisStatus.SYNTHESISED and result.morphism is not None and skeleton is not None:
+        console.print(
+            f"SYNTHESISED  hole '{hole.name}'"
+            + (f" in view '{hole.view}'" if hole.view else "")
+            + f": {len(result.morphism.effects)} effect(s) it must provide, "
+            f"{len(result.morphism.pre)} precondition(s) it may assume; applied at step {result.step}"
+        )
+        console.print(skeleton.rstrip())
+        console.print("\nthe composition it completes:")
+        assert result.plan is not None and result.instance is not None
+        print_composition(console, result.instance, result.plan, result.states)
+    elif result.status is SynthesisStatus.UNSAT:
+        console.print(f"UNSAT  even a component in hole '{hole.name}' cannot make the problem feasible")
+    else:
+        console.print("UNKNOWN  the solver gave up")
+
+
+def check(inst: ir.Instance, options: Mapping[str, Any]) -> str | None:
+    try:
+        pick_hole(inst, options.get("hole"))
+    except ValueError as exc:
+        return str(exc)
+    return None
+
+
+QUERY = Query(
+    "synthesize",
+    summary="The weakest specification of a missing component (a hole μ) that makes the problem feasible.",
+    description=(
+        "Exit 0 when synthesised (or no hole is needed), 1 when even a hole cannot help, 2 input error, 3 unknown."
+    ),
+    options=(
+        Option("hole", ("--hole",), Kind.NAME, "The hole to fill (default: the domain's only one)."),
+        Option(
+            "emit",
+            ("--emit",),
+            Kind.CHOICE,
+            "cat: print only the (:morphism ...) skeleton, ready to paste into the domain.",
+            default="text",
+            choices=("text", "cat"),
+            show_default=True,
+            use=Use.OUTPUT,
+        ),
+        timeout_option(),
+        json_option("catc.synthesize/1"),
+    ),
+    run=synthesize,
+    to_json=synthesize_json,
+    render=render,
+    check=check,
+)

@@ -121,7 +121,7 @@ class Cvc5Backend(Backend):
 
     # ------------------------------------------------------------ checking
     def set_timeout(self, seconds: float | None) -> None:
-        ms = 0 if seconds is None else max(1, int(seconds * 1000))
+        ms = 0 if seconds is None or seconds >= 2**53 / 1000 else max(1, int(seconds * 1000))  # 0: no limit
         self.solver.setOption("tlimit-per", str(ms))
 
     def check(self, assumptions: Sequence[Symbol] = ()) -> Check:

@@ -131,7 +131,7 @@ class Z3Backend(Backend):
 
     # ------------------------------------------------------------ checking
     def set_timeout(self, seconds: float | None) -> None:
-        ms = _NO_LIMIT_MS if seconds is None else min(_NO_LIMIT_MS, max(1, int(seconds * 1000)))
+        ms = _NO_LIMIT_MS if seconds is None or seconds * 1000 >= _NO_LIMIT_MS else max(1, int(seconds * 1000))
         self.solver.set("timeout", ms)
 
     def check(self, assumptions: Sequence[Symbol] = ()) -> Check:

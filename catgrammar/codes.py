@@ -1,0 +1,203 @@
+"""The diagnostic codes: a stable code, a name and a one-line summary for every problem the
+toolchain reports, with a named constant per code (``codes.UNKNOWN_NAME == "E0202"``) so that
+no module spells a code as a string literal.
+
+Codes are never reused; a retired code stays listed.  docs/errors.md lists them all
+(``tests/test_symbols.py`` checks that, and that every code is exercised by a test).
+Ranges: E00xx reading input, E01xx syntax, E02xx names, E03xx types, E04xx requirements,
+E05xx semantics, E07xx command-line arguments, E08xx plan files, E09xx exports, E10xx the
+runtime, W01xx lints.
+"""
+
+from __future__ import annotations
+
+from enum import Enum
+
+from catgrammar.record import Record, set_field
+
+
+class Severity(str, Enum):
+    ERROR = "error"
+    WARNING = "warning"
+    NOTE = "note"
+
+
+class Code(Record):
+    __slots__ = ("code", "name", "severity", "summary")
+    code: str
+    name: str
+    severity: Severity
+    summary: str
+
+    def __init__(self, code: str, name: str, severity: Severity, summary: str) -> None:
+        set_field(self, "code", code)
+        set_field(self, "name", name)
+        set_field(self, "severity", severity)
+        set_field(self, "summary", summary)
+
+
+E, W = Severity.ERROR, Severity.WARNING
+
+#: The registry: code → :class:`Code`.
+CODES: dict[str, Code] = {
+    c.code: c
+    for c in (
+        # E00xx — reading input
+        Code("E0001", "unreadable-file", E, "The file cannot be read (missing, a directory, or permission denied)."),
+        Code("E0002", "binary-file", E, "The file contains NUL bytes; it is not a text file."),
+        Code("E0003", "invalid-utf8", E, "The file is not valid UTF-8."),
+        Code("E0004", "empty-file", E, "The file holds no definition."),
+        Code("E0005", "no-input", E, "No .cat file was found among the given paths."),
+        # E01xx — syntax
+        Code("E0101", "syntax", E, "The text does not follow the grammar."),
+        Code("E0102", "unbalanced-close", E, "A ')' has no matching '('."),
+        Code("E0103", "unclosed-paren", E, "A '(' is never closed."),
+        Code("E0104", "too-deep", E, "Parentheses nest deeper than the supported limit."),
+        Code("E0105", "literal-too-long", E, "A numeric literal has more digits than the supported limit."),
+        Code("E0106", "unknown-section", E, "A section or option keyword is not part of the language."),
+        Code("E0107", "bad-character", E, "A character that cannot start any token."),
+        # E02xx — names
+        Code("E0201", "duplicate-name", E, "A name is declared twice in one namespace."),
+        Code("E0202", "unknown-name", E, "A name is used but never declared."),
+        Code("E0203", "reserved-name", E, "A keyword is used as a name."),
+        Code("E0204", "shadowing", E, "A parameter has the name of a resource or constant."),
+        Code("E0205", "duplicate-option", E, "An option or section is given twice where one is allowed."),
+        Code("E0206", "missing-option", E, "A required option or section is missing."),
+        Code("E0207", "unknown-domain", E, "A problem names a domain that cannot be found."),
+        Code("E0208", "unknown-import", E, "An imported domain cannot be found."),
+        Code("E0209", "circular-import", E, "Domains import each other in a cycle."),
+        Code("E0210", "duplicate-definition", E, "Two files define a domain or problem of the same name."),
+        Code("E0211", "unknown-operator", E, "An expression head is not an operator of the language."),
+        Code("E0212", "unknown-requirement", E, "A requirement flag is not part of the language."),
+        # E03xx — types
+        Code("E0301", "type-mismatch", E, "An expression has the wrong sort for where it is used."),
+        Code("E0302", "arity", E, "An operator is given the wrong number of arguments."),
+        Code("E0303", "not-a-set", E, "Membership or set update on something that is not a set."),
+        Code("E0304", "bad-sort", E, "A sort declaration or reference is invalid."),
+        Code(
+            "E0305",
+            "misplaced-operator",
+            E,
+            "An operator is used where it is not allowed (e.g. an effect in a condition).",
+        ),
+        Code("E0306", "bad-bounds", E, "Bounds are malformed or empty."),
+        Code("E0307", "bad-value", E, "A value is out of its allowed range (e.g. a negative weight)."),
+        Code("E0308", "not-assignable", E, "An effect writes something that is not a resource."),
+        Code("E0310", "division-by-zero", E, "Division by the constant zero."),
+        # E04xx — requirements
+        Code(
+            "E0401", "missing-requirement", E, "A construct needs a requirement flag the definition does not declare."
+        ),
+        # E05xx — semantics
+        Code("E0501", "conflicting-effects", E, "One effect writes a resource in two incompatible ways."),
+        Code("E0502", "bad-init", E, "An initial-state literal is not of the form (= resource value)."),
+        Code("E0503", "missing-init", E, "A numeric or symbolic resource has no initial value."),
+        Code("E0504", "closed-sort", E, "Objects added to a closed enumeration."),
+        Code("E0505", "bad-objective", E, "An objective term is not a number or refers to something undefined."),
+        Code("E0506", "bad-view", E, "A view keeps or drops resources inconsistently."),
+        Code("E0507", "ambiguous-parameter", E, "A per-activation parameter is referenced where one value is needed."),
+        # E07xx — command-line arguments
+        Code(
+            "E0701",
+            "bad-argument",
+            E,
+            "A command-line argument cannot be used (malformed, or the wrong number of paths).",
+        ),
+        Code(
+            "E0702",
+            "unknown-component",
+            E,
+            "A morphism named on the command line (--deployed, --relative-to) is not in the model.",
+        ),
+        Code("E0703", "bad-weight", E, "A --weights entry is not KEY=NUMBER."),
+        Code(
+            "E0704",
+            "not-applicable",
+            E,
+            "The query cannot run on this problem as asked (nothing to optimise, fewer than two objectives, no deployed composition, no such hole).",
+        ),
+        Code("E0705", "cannot-write", E, "An output file (--diagram, --plot, -o) cannot be written."),
+        Code("E0706", "missing-extra", E, "An optional part is not installed; the message names the extra to install."),
+        # E08xx — plan files
+        Code("E0801", "plan-not-json", E, "A plan file is not JSON."),
+        Code("E0802", "bad-plan", E, "A plan file does not follow the catc.plan/1 schema."),
+        # E09xx — exports
+        Code(
+            "E0901",
+            "export-unsupported",
+            E,
+            "The model cannot be exported as asked (e.g. a real parameter without a --grid step).",
+        ),
+        Code(
+            "E0902", "export-rejected", E, "An independent parser rejects the exported files (a bug in catc's export)."
+        ),
+        Code(
+            "E0903", "baseline-unavailable", E, "The baseline planner cannot be run (Java, ENHSP or SMTPlan+ missing)."
+        ),
+        # W01xx — lints (errors under --strict)
+        Code("W0101", "unused-resource", W, "A resource is declared but nothing reads or writes it."),
+        Code("W0102", "unused-sort", W, "A sort is declared but never used."),
+        Code("W0103", "unreachable-morphism", W, "A morphism can never apply: something it needs is never produced."),
+        Code("W0104", "unwritable-goal", W, "A goal literal reads only resources that no morphism writes."),
+        Code("W0105", "unbounded-parameter", W, "A real parameter has no bounds."),
+    )
+}
+
+
+UNREADABLE_FILE = "E0001"
+BINARY_FILE = "E0002"
+INVALID_UTF8 = "E0003"
+EMPTY_FILE = "E0004"
+NO_INPUT = "E0005"
+SYNTAX = "E0101"
+UNBALANCED_CLOSE = "E0102"
+UNCLOSED_PAREN = "E0103"
+TOO_DEEP = "E0104"
+LITERAL_TOO_LONG = "E0105"
+UNKNOWN_SECTION = "E0106"
+BAD_CHARACTER = "E0107"
+DUPLICATE_NAME = "E0201"
+UNKNOWN_NAME = "E0202"
+RESERVED_NAME = "E0203"
+SHADOWING = "E0204"
+DUPLICATE_OPTION = "E0205"
+MISSING_OPTION = "E0206"
+UNKNOWN_DOMAIN = "E0207"
+UNKNOWN_IMPORT = "E0208"
+CIRCULAR_IMPORT = "E0209"
+DUPLICATE_DEFINITION = "E0210"
+UNKNOWN_OPERATOR = "E0211"
+UNKNOWN_REQUIREMENT = "E0212"
+TYPE_MISMATCH = "E0301"
+ARITY = "E0302"
+NOT_A_SET = "E0303"
+BAD_SORT = "E0304"
+MISPLACED_OPERATOR = "E0305"
+BAD_BOUNDS = "E0306"
+BAD_VALUE = "E0307"
+NOT_ASSIGNABLE = "E0308"
+DIVISION_BY_ZERO = "E0310"
+MISSING_REQUIREMENT = "E0401"
+CONFLICTING_EFFECTS = "E0501"
+BAD_INIT = "E0502"
+MISSING_INIT = "E0503"
+CLOSED_SORT = "E0504"
+BAD_OBJECTIVE = "E0505"
+BAD_VIEW = "E0506"
+AMBIGUOUS_PARAMETER = "E0507"
+BAD_ARGUMENT = "E0701"
+UNKNOWN_COMPONENT = "E0702"
+BAD_WEIGHT = "E0703"
+NOT_APPLICABLE = "E0704"
+CANNOT_WRITE = "E0705"
+MISSING_EXTRA = "E0706"
+PLAN_NOT_JSON = "E0801"
+BAD_PLAN = "E0802"
+EXPORT_UNSUPPORTED = "E0901"
+EXPORT_REJECTED = "E0902"
+BASELINE_UNAVAILABLE = "E0903"
+UNUSED_RESOURCE = "W0101"
+UNUSED_SORT = "W0102"
+UNREACHABLE_MORPHISM = "W0103"
+UNWRITABLE_GOAL = "W0104"
+UNBOUNDED_PARAMETER = "W0105"

@@ -1,0 +1,55 @@
+"""``catc fmt``: the canonical layout of .cat files (:mod:`catc.frontend.formatter`)."""
+
+from __future__ import annotations
+
+import difflib
+import sys
+
+import click
+
+from catc.frontend.formatter import format_file
+from catc.interfaces.cli import collect_files
+from catgrammar.diagnostics import Diagnostics
+from catgrammar.diagnostics import format_text as diag_text
+
+
+@click.command("fmt")
+@click.argument("paths", nargs=-1, required=True, type=click.Path())
+@click.option("--check", is_flag=True, help="Write nothing: list the files that would change and exit 1 if any.")
+@click.option("--diff", is_flag=True, help="Write nothing: print what would change as a unified diff; exit 1 if any.")
+def fmt_command(paths: tuple[str, ...], check: bool, diff: bool) -> None:
+    """Rewrite .cat files (and folders) in the canonical layout, keeping comments.
+
+    With --check or --diff, nothing is written: the files that are not formatted are listed
+    (--check) or their changes printed (--diff), and the exit code is 1.  Exit 2 when a file
+    cannot be read or parsed (the diagnostics of catc check are printed).
+    """
+    diags = Diagnostics()
+    files = collect_files(paths, diags)
+    changed: list[str] = []
+    for f in files:
+        r = format_file(f, diags)
+        if r is None:
+            continue
+        before, after = r
+        if before == after:
+            continue
+        changed.append(f)
+        if diff:
+            lines = difflib.unified_diff(
+                before.splitlines(keepends=True), after.splitlines(keepends=True), f"a/{f}", f"b/{f}"
+            )
+            click.echo("".join(lines), nl=False)
+        elif check:
+            click.echo(f"would reformat {f}")
+        else:
+            with open(f, "w", encoding="utf-8", newline="\n") as fh:
+                fh.write(after)
+            click.echo(f"reformatted {f}", err=True)
+    if diags.has_errors:
+        click.echo(diag_text(diags), err=True)
+        sys.exit(2)
+    if (check or diff) and changed:
+        click.echo(f"{len(changed)} file(s) would be reformatted", err=True)
+        sys.exit(1)
+    sys.exit(0)

@@ -1,0 +1,58 @@
+"""Values for people and for JSON: exact numbers, fresh symbols, states and steps.
+
+Numbers are exact: an integer prints plainly, a terminating decimal as a decimal (``4.25``),
+anything else as a fraction with an approximation (``1/3 (≈0.333333)``).  Fresh values from
+the finite grounding are marked ``(fresh)``.  In JSON every number is an integer or a string
+of an exact rational (``"17/4"``), never a float (schemas in docs/cli.md).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from fractions import Fraction
+from typing import Any
+
+from catc import ir
+from catc.ir.numbers import decimal_text
+from catc.semantics.plan import Activation, Plan, value_to_json
+
+
+def show_value(v: Any, fresh: Mapping[str, str] | None = None, unit: str | None = None) -> str:
+    fresh = fresh or {}
+    if isinstance(v, bool):
+        text = "true" if v else "false"
+    elif isinstance(v, Fraction):
+        dec = decimal_text(v)
+        text = dec if not dec.startswith("≈") else f"{v.numerator}/{v.denominator} ({dec})"
+    elif isinstance(v, frozenset):
+        text = "{" + " ".join(f"{e} (fresh)" if e in fresh else e for e in sorted(v)) + "}"
+    elif isinstance(v, str):
+        text = f"{v} (fresh)" if v in fresh else v
+    else:
+        text = str(v)
+    return f"{text} {unit}" if unit and isinstance(v, Fraction) else text
+
+
+def params_text(params: Mapping[str, Any], fresh: Mapping[str, str]) -> str:
+    return ", ".join(f"{k} = {show_value(v, fresh)}" for k, v in params.items())
+
+
+def state_json(state: Mapping[str, Any]) -> dict:
+    return {k: value_to_json(v) for k, v in state.items()}
+
+
+def timings_json(timings: Mapping[str, float]) -> dict:
+    return {k: round(v, 6) for k, v in timings.items()}
+
+
+def steps_json(inst: ir.Instance, plan: Plan, *, kinds: bool = True) -> list:
+    """The steps of a composition: each a list of ``{"morphism", ["kind",] "params"}``."""
+
+    def activation(a: Activation) -> dict:
+        doc: dict = {"morphism": a.morphism}
+        if kinds:
+            doc["kind"] = inst.morphisms[a.morphism].kind.value
+        doc["params"] = {k: value_to_json(v) for k, v in a.params.items()}
+        return doc
+
+    return [[activation(a) for a in step] for step in plan.steps]

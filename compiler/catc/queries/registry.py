@@ -1,0 +1,38 @@
+"""The queries, by name.  Adding a query: one module defining ``QUERY`` (see
+:mod:`catc.queries.base`), and one line here.  Modules are imported on first use, so
+answering one query loads only its own module."""
+
+from __future__ import annotations
+
+import importlib
+
+from catc.queries.base import Query
+
+QUERIES: dict[str, str] = {
+    "solve": "catc.queries.solve",
+    "optimize": "catc.queries.optimize",
+    "pareto": "catc.queries.pareto",
+    "diagnose": "catc.queries.diagnose",
+    "relax": "catc.queries.relax",
+    "recompose": "catc.queries.recompose",
+    "synthesize": "catc.queries.synthesize",
+    "validate": "catc.queries.validate",
+}
+
+
+def names() -> list[str]:
+    return list(QUERIES)
+
+
+def get(name: str) -> Query:
+    """The query named ``name`` (KeyError when there is none)."""
+    query: Query = importlib.import_module(QUERIES[name]).QUERY
+    return query
+
+
+def for_result(result: object) -> Query:
+    """The query whose answer ``result`` is."""
+    name = getattr(type(result), "query", "")
+    if name not in QUERIES:
+        raise TypeError(f"not a catc query result: {type(result).__name__}")
+    return get(name)

@@ -1,0 +1,107 @@
+"""validate: replay a composition from elsewhere and report every violation.
+
+The independent validator (:mod:`catc.semantics.validate`) replays the composition on exact
+rationals; the composition comes as a :class:`~catc.semantics.plan.Plan` or as a
+``catc.plan/1`` document (the steps of any ``--json`` answer).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from catc import ir
+from catc.present.console import Console
+from catc.present.values import state_json
+from catc.queries.base import ExitCode, Kind, Option, Query, Result, Status, json_option
+from catc.semantics.plan import Plan, plan_from_json
+from catc.semantics.validate import Report, validate
+
+
+class ValidateStatus(Status):
+    VALID = "valid", ExitCode.OK
+    INVALID = "invalid", ExitCode.FAIL
+
+
+@dataclass
+class Validation(Result):
+    query = "validate"
+    status: ValidateStatus
+    plan: Plan
+    report: Report
+    timings: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        return self.report.ok
+
+    @property
+    def violations(self) -> tuple:
+        return tuple(self.report.violations)
+
+    @property
+    def states(self) -> tuple:
+        return tuple(self.report.states)
+
+
+def param_sorts(inst: ir.Instance) -> dict[str, dict[str, str]]:
+    """How to read each parameter of a ``catc.plan/1`` document: 'bool', 'int', 'real' or 'symbol'."""
+    return {
+        m.name: {p.name: (p.sort.kind.value if not p.sort.is_symbolic else "symbol") for p in m.params}
+        for m in inst.morphisms.values()
+    }
+
+
+def validate_plan(
+    inst: ir.Instance,
+    plan: Plan | Mapping[str, Any],
+    *,
+    horizon: int | None = None,
+    sequential: bool = False,
+) -> Validation:
+    """Replay ``plan`` (a Plan or a ``catc.plan/1`` document; a malformed document raises
+    :class:`catc.semantics.plan.PlanFormatError`) and collect every violation."""
+    if not isinstance(plan, Plan):
+        plan = plan_from_json(plan, param_sorts(inst))
+    report = validate(inst, plan, horizon=horizon, sequential=sequential)
+    return Validation(ValidateStatus.VALID if report.ok else ValidateStatus.INVALID, plan, report)
+
+
+def validate_json(inst: ir.Instance, result: Validation) -> dict:
+    report = result.report
+    return {
+        "schema": "catc.validate/1",
+        "valid": report.ok,
+        "violations": [
+            {"kind": v.kind, "message": v.message, "step": v.step, "morphism": v.morphism, "label": v.label}
+            for v in report.violations
+        ],
+        "final_state": state_json(report.states[-1]) if report.ok and report.states else None,
+    }
+
+
+def render(console: Console, inst: ir.Instance, result: Validation, options: Mapping[str, Any] | None = None) -> None:
+    report = result.report
+    if report.ok:
+        console.print(f"valid: {len(result.plan)} steps reach the goal of '{inst.problem.name}'")
+        return
+    n = len(report.violations)
+    console.print(f"invalid: {n} violation{'s' if n != 1 else ''}")
+    for v in report.violations:
+        where = f"step {v.step}: " if v.step is not None else ""
+        console.print(f"  {where}{v.kind}: {v.message}")
+
+
+QUERY = Query(
+    "validate",
+    summary="Replay a composition from elsewhere (a catc.plan/1 JSON file) and report every violation.",
+    description="PATHS is PROBLEM, or DOMAIN PROBLEM.  Exit 0 valid, 1 invalid, 2 input error.",
+    options=(
+        Option("plan", ("PLAN_FILE",), Kind.PLAN_FILE, "The composition: a catc.plan/1 JSON document."),
+        json_option("catc.validate/1"),
+    ),
+    run=validate_plan,
+    to_json=validate_json,
+    render=render,
+)
