@@ -173,7 +173,7 @@ def excerpt_lines(source: Source | None, span: Span, label: str = "", highlight=
 
 def format_text(diags: Diagnostics, *, excerpts: bool = True, highlight=None) -> str:
     """Compiler-style text: ``file:line:col: error[CODE]: message`` plus excerpt and notes.
-    ``highlight`` colours the excerpts' source lines (see :func:`terminal_highlighter`)."""
+    ``highlight`` colours the excerpts' source lines (see :func:`catgrammar.lexer.terminal_highlighter`)."""
     out: list[str] = []
     for d in diags.sorted():
         where = f"{d.span}: " if d.span else ""
@@ -234,15 +234,3 @@ def format_github(diags: Diagnostics) -> str:
             ] + props
         out.append(f"::{kind} {','.join(props)}::{_gh_escape(d.message)}")
     return "\n".join(out)
-
-
-def terminal_highlighter():
-    """A function colouring one line of .cat source for a terminal, with the Pygments lexer
-    of this package (the same keyword lists as the grammar)."""
-    from pygments import highlight
-    from pygments.formatters import TerminalFormatter
-
-    from catgrammar.lexer import CatLexer
-
-    lexer, formatter = CatLexer(), TerminalFormatter()
-    return lambda line: highlight(line, lexer, formatter).rstrip("\n")

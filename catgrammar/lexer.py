@@ -37,7 +37,7 @@ as a whole name: ``not-ready`` is a plain ``Name``.
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 from pygments.lexer import RegexLexer, bygroups, default
 from pygments.token import (
@@ -150,3 +150,13 @@ class CatLexer(RegexLexer):
         if re.search(r"\(\s*define\s*\(\s*(?:domain|problem)\s+[a-zA-Z_]", text[:4096]):
             return 0.8
         return 0.0
+
+
+def terminal_highlighter() -> Callable[[str], str]:
+    """A function colouring one line of .cat source for a terminal, with this lexer (the
+    same keyword lists as the grammar)."""
+    from pygments import highlight
+    from pygments.formatters import TerminalFormatter
+
+    lexer, formatter = CatLexer(), TerminalFormatter()
+    return lambda line: highlight(line, lexer, formatter).rstrip("\n")

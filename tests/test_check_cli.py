@@ -48,7 +48,8 @@ def test_module_entry_point_runs_in_a_fresh_process():
 
 def test_excerpts_are_highlighted_with_the_pygments_lexer_on_a_terminal():
     from catc.frontend.session import check_files
-    from catgrammar.diagnostics import Diagnostics, format_text, terminal_highlighter
+    from catgrammar.diagnostics import Diagnostics, format_text
+    from catgrammar.lexer import terminal_highlighter
 
     diags = Diagnostics()
     check_files([str(TYPES)], diags)

@@ -23,7 +23,7 @@ from conftest import ROOT, repo_cat_files
 
 from catgrammar import _lalr, ast, build_parser
 from catgrammar.diagnostics import Diagnostics
-from catgrammar.parser import _Builder, lalr_parser
+from catgrammar.parser import _Builder, parse_text
 from catgrammar.span import Source
 from catgrammar.tokens import tokenize
 
@@ -179,8 +179,25 @@ def test_a_builder_without_a_callback_is_refused():
         _lalr.Parser(object())
 
 
-def test_the_parser_is_made_once():
-    assert lalr_parser() is lalr_parser()
+def test_parses_share_no_state():
+    """Each parse makes its own builder and parser (no module-level builder to lock): two
+    parses interleaved by threads build exactly what each would alone."""
+    import threading
+
+    texts = [path.read_text(encoding="utf-8") for path in repo_cat_files()[:6]]
+    alone = [parse_text(t, f"t{i}.cat") for i, t in enumerate(texts)]
+    together: dict[int, object] = {}
+
+    def parse(i: int) -> None:
+        for _ in range(5):
+            together[i] = parse_text(texts[i], f"t{i}.cat")
+
+    threads = [threading.Thread(target=parse, args=(i,)) for i in range(len(texts))]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert [together[i] for i in range(len(texts))] == alone
 
 
 # ---------------------------------------------------------------- AST nodes = frozen dataclasses

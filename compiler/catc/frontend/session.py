@@ -13,7 +13,6 @@ from catc.frontend.workspace import Workspace, load_instance, stdlib_dir
 from catc.ir.views import ViewError, apply_view
 from catgrammar import ast, codes
 from catgrammar.diagnostics import Diagnostics
-from catgrammar.parser import gc_paused
 
 
 def is_user_file(path: str) -> bool:
@@ -28,11 +27,6 @@ def check_files(
     files: list[str], diags: Diagnostics, search_paths: tuple[str, ...] | list[str] = ()
 ) -> tuple[dict[str, ir.Domain], dict[str, ir.Instance]]:
     """Check every definition in ``files``: errors and lints go to ``diags``."""
-    with gc_paused():
-        return _check_files(files, diags, search_paths)
-
-
-def _check_files(files, diags, search_paths):
     ws = Workspace(diags, search_paths)
     parsed: list[tuple[str, ast.SourceFile]] = []
     for f in files:

@@ -16,7 +16,7 @@ from catc import ir
 from catc.frontend.check import DomainChecker, ProblemChecker
 from catgrammar import ast, codes
 from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
-from catgrammar.parser import gc_paused, parse_source, read_source
+from catgrammar.parser import parse_source, read_source
 from catgrammar.span import Span
 
 STDLIB_DIR = Path(__file__).resolve().parents[3] / "stdlib_domains"
@@ -217,11 +217,6 @@ def load_instance(
     problem_name: str | None = None,
 ) -> tuple[Workspace, ir.Instance | None]:
     """The common front end of every query command: files → checked instance."""
-    with gc_paused():
-        return _load_instance(domain_path, problem_path, diags, search_paths, problem_name)
-
-
-def _load_instance(domain_path, problem_path, diags, search_paths, problem_name):
     ws = Workspace(diags, search_paths)
     if domain_path is not None:
         ws.load(domain_path)

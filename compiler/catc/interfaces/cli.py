@@ -205,7 +205,7 @@ def _emit(diags: Any, files: list[str], fmt: str, quiet: bool) -> None:
         return
     colour = sys.stdout.isatty() and not os.environ.get("NO_COLOR")
     if colour:
-        from catgrammar.diagnostics import terminal_highlighter
+        from catgrammar.lexer import terminal_highlighter
 
         text = format_text(diags, highlight=terminal_highlighter())
     else:

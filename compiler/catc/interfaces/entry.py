@@ -15,6 +15,7 @@ generated command lines), and both routes run the same :func:`catc.interfaces.co
 
 from __future__ import annotations
 
+import gc
 import sys
 from typing import Any
 
@@ -96,8 +97,25 @@ def parse_query(query: Query, args: list[str]) -> dict[str, Any] | None:
     return params
 
 
+#: The cyclic collector's first threshold for a catc process.  The front end allocates many
+#: small objects and keeps them (the AST, then the IR), so with the default (700) the
+#: collector rescans the growing, cycle-free structure again and again: parse + check of a
+#: 20,000-morphism domain took 10.7 s with it and 7.0 s with this (measured by hand).  It is
+#: a setting of the whole process, so only the executable makes it — never the library,
+#: which the language server, the runtime and programs share with their own threads.
+GC_THRESHOLD = 100_000
+
+
+def configure_process() -> None:
+    """What the ``catc`` executable sets for its own process (see :data:`GC_THRESHOLD`)."""
+    _, second, third = gc.get_threshold()
+    gc.set_threshold(GC_THRESHOLD, second, third)
+
+
 def main(argv: list[str] | None = None) -> None:
     """Run ``catc`` with ``argv`` (default: the process's arguments); exits."""
+    if argv is None:
+        configure_process()
     args = sys.argv[1:] if argv is None else list(argv)
     from catc.queries import registry
 

@@ -111,20 +111,19 @@ def analyse(path: str, text: str, search_paths: tuple[str, ...] = ()) -> Analysi
     from catc.frontend.session import check_parsed
     from catc.frontend.workspace import Workspace, normalise_path
     from catgrammar.diagnostics import Diagnostics
-    from catgrammar.parser import gc_paused, parse_source
+    from catgrammar.parser import parse_source
 
     result = Analysis(path, text)
     diags = Diagnostics()
-    with gc_paused():
-        tree = parse_source(Source(path, text), diags)
-        result.tree = tree
-        ws = Workspace(diags, search_paths)
-        ws.files[normalise_path(path)] = tree
-        instances: dict = {}
-        if tree is not None:
-            for d in tree.definitions:
-                ws.index(d, path)
-            _, instances = check_parsed(ws, [(path, tree)], diags)
+    tree = parse_source(Source(path, text), diags)
+    result.tree = tree
+    ws = Workspace(diags, search_paths)
+    ws.files[normalise_path(path)] = tree
+    instances: dict = {}
+    if tree is not None:
+        for d in tree.definitions:
+            ws.index(d, path)
+        _, instances = check_parsed(ws, [(path, tree)], diags)
     result.diagnostics = [d for d in diags if d.span is None or _same(d.span.file, path)]
     result.domains = ws.checked_domains()
     result.problems = [i.problem for i in instances.values()]
