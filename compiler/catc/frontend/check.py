@@ -593,46 +593,71 @@ class DomainChecker:
         _check_effect_conflicts(out, self.diags)
         return out
 
+    _EFFECT_HEADS = ("assign", "increase", "decrease", "add", "remove")
+
     def _effect(self, checker: ExprChecker, node: ast.Expr, label: str) -> ir.Effect | None:
-        heads = ("assign", "increase", "decrease", "add", "remove")
-        if not isinstance(node, ast.Call) or node.head.text not in heads:
-            if isinstance(node, ast.Call):
-                head = node.head.text
-                hint = did_you_mean(head, heads + ("and",))
-                msg = (
-                    f"'{head}' is not an effect{hint}"
-                    if hint
-                    else (
-                        f"'{head}' is not an effect; effects are (and ...), (assign r v), (increase r v), "
-                        f"(decrease r v), (add s x) and (remove s x)"
-                    )
-                )
-            else:
-                msg = "an effect must be (assign r v), (increase r v), (decrease r v), (add s x) or (remove s x)"
-            self.diags.report(codes.MISPLACED_OPERATOR, msg, node.span)
+        """One effect literal: ``(op resource value)``, checked for the resource's sort."""
+        if not isinstance(node, ast.Call) or node.head.text not in self._EFFECT_HEADS:
+            self._not_an_effect(node)
             return None
-        head = node.head.text
         if not checker._arity(node, 2, 2):
             return None
         target_node, value_node = node.args
-        if not isinstance(target_node, ast.Ref) or target_node.name not in self.resources:
-            what = "this"
-            if isinstance(target_node, ast.Ref):
-                if target_node.name in checker.scope.params:
-                    what = f"parameter '{target_node.name}'"
-                elif target_node.name in self.constants:
-                    what = f"constant '{target_node.name}'"
-                else:
-                    self.diags.report(
-                        codes.UNKNOWN_NAME,
-                        f"unknown resource '{target_node.name}'{did_you_mean(target_node.name, self.resources)}",
-                        target_node.span,
-                    )
-                    return None
-            self.diags.report(codes.NOT_ASSIGNABLE, f"'{head}' writes a resource; {what} is not one", target_node.span)
+        res = self._effect_target(checker, node.head.text, target_node)
+        if res is None:
             return None
-        res = self.resources[target_node.name]
-        kind = ir.EffectKind(head)
+        kind = ir.EffectKind(node.head.text)
+        value = self._effect_value(checker, kind, res, target_node, value_node)
+        if value is None:
+            return None
+        return ir.Effect(kind, res.name, value, label, node.span)
+
+    def _not_an_effect(self, node: ast.Expr) -> None:
+        if isinstance(node, ast.Call):
+            head = node.head.text
+            hint = did_you_mean(head, (*self._EFFECT_HEADS, "and"))
+            msg = (
+                f"'{head}' is not an effect{hint}"
+                if hint
+                else (
+                    f"'{head}' is not an effect; effects are (and ...), (assign r v), (increase r v), "
+                    f"(decrease r v), (add s x) and (remove s x)"
+                )
+            )
+        else:
+            msg = "an effect must be (assign r v), (increase r v), (decrease r v), (add s x) or (remove s x)"
+        self.diags.report(codes.MISPLACED_OPERATOR, msg, node.span)
+
+    def _effect_target(self, checker: ExprChecker, head: str, target_node: ast.Expr) -> ir.Resource | None:
+        """The resource an effect writes, or None after reporting what the target is instead."""
+        if isinstance(target_node, ast.Ref) and target_node.name in self.resources:
+            return self.resources[target_node.name]
+        what = "this"
+        if isinstance(target_node, ast.Ref):
+            if target_node.name in checker.scope.params:
+                what = f"parameter '{target_node.name}'"
+            elif target_node.name in self.constants:
+                what = f"constant '{target_node.name}'"
+            else:
+                self.diags.report(
+                    codes.UNKNOWN_NAME,
+                    f"unknown resource '{target_node.name}'{did_you_mean(target_node.name, self.resources)}",
+                    target_node.span,
+                )
+                return None
+        self.diags.report(codes.NOT_ASSIGNABLE, f"'{head}' writes a resource; {what} is not one", target_node.span)
+        return None
+
+    def _effect_value(
+        self,
+        checker: ExprChecker,
+        kind: ir.EffectKind,
+        res: ir.Resource,
+        target_node: ast.Expr,
+        value_node: ast.Expr,
+    ) -> ir.Expr | None:
+        """The effect's value, of a sort the effect can write to ``res``."""
+        head = kind.value
         if kind in (ir.EffectKind.ADD, ir.EffectKind.REMOVE):
             if res.sort.kind is not SortKind.SET:
                 self.diags.report(
@@ -641,17 +666,9 @@ class DomainChecker:
                     target_node.span,
                 )
                 return None
+            want = res.sort.element
+            mismatch = f"cannot {head} {{value}} {'to' if head == 'add' else 'from'} '{res.name}', {describe(res.sort)}"
             value = checker.term(value_node, Context.TERM)
-            if value is None:
-                return None
-            if not assignable(res.sort.element, value.sort, self.sorts):  # type: ignore[arg-type]
-                self.diags.report(
-                    codes.TYPE_MISMATCH,
-                    f"cannot {head} {describe(value.sort)} {'to' if head == 'add' else 'from'} "
-                    f"'{res.name}', {describe(res.sort)}",
-                    value_node.span,
-                )
-                return None
         elif kind in (ir.EffectKind.INCREASE, ir.EffectKind.DECREASE):
             if not res.sort.is_numeric:
                 self.diags.report(
@@ -660,28 +677,19 @@ class DomainChecker:
                     target_node.span,
                 )
                 return None
+            want = res.sort
+            mismatch = f"cannot {head} '{res.name}', {describe(res.sort)}, by {{value}}"
             value = checker.term(value_node, Context.TERM)
-            if value is None:
-                return None
-            if not assignable(res.sort, value.sort, self.sorts):
-                self.diags.report(
-                    codes.TYPE_MISMATCH,
-                    f"cannot {head} '{res.name}', {describe(res.sort)}, by {describe(value.sort)}",
-                    value_node.span,
-                )
-                return None
         else:
+            want = res.sort
+            mismatch = f"cannot assign {{value}} to '{res.name}', {describe(res.sort)}"
             value = checker.term(value_node, Context.TERM, res.sort)
-            if value is None:
-                return None
-            if not assignable(res.sort, value.sort, self.sorts):
-                self.diags.report(
-                    codes.TYPE_MISMATCH,
-                    f"cannot assign {describe(value.sort)} to '{res.name}', {describe(res.sort)}",
-                    value_node.span,
-                )
-                return None
-        return ir.Effect(kind, res.name, value, label, node.span)
+        if value is None:
+            return None
+        if not assignable(want, value.sort, self.sorts):  # type: ignore[arg-type]
+            self.diags.report(codes.TYPE_MISMATCH, mismatch.format(value=describe(value.sort)), value_node.span)
+            return None
+        return value
 
     # ------------------------------------------------------------------ holes
     def _hole(self, h: ast.HoleDecl) -> None:

@@ -44,7 +44,7 @@ from catc.queries.base import (
 from catc.semantics.compositions import canonical_fresh
 from catc.semantics.horizon import default_horizon
 from catc.semantics.plan import Plan, value_to_json
-from catc.semantics.validate import ValidationFailure
+from catc.semantics.validate import ValidationFailure, objective_value, validate
 from catc.smt.backend import DEFAULT_BACKEND, Check, open_backend
 from catc.smt.encoder import Encoder
 from catc.smt.readback import read_plan
@@ -90,74 +90,21 @@ def pareto(
     max_points: int = 100,
     timeout: float | None = None,
 ) -> ParetoResult:
-    from catc.semantics.validate import objective_value, validate
-
     if objectives is None:
         metric = inst.problem.metric
         objectives = list(metric.objectives) if metric else []
     if len(objectives) < 2:
         raise ValueError("a Pareto front needs at least two objectives")
     start = time.perf_counter()
-    deadline = start + timeout if timeout else None
     k = default_horizon(inst) if horizon is None else horizon
-    enc = Encoder(inst, k, sequential=sequential)
-    enc.unroll(k)
-    texts = [enc.objective(o.term, k) for o in objectives]
-    solver = open_backend(DEFAULT_BACKEND)
-    solver.add(*enc.script.take())
-    terms = [solver.intern(t) for t in texts]
-    result = ParetoResult(ParetoStatus.UNKNOWN, objectives, horizon=k)
+    search = _Guided(inst, objectives, k, sequential, start + timeout if timeout else None)
+    result = search.result
     result.timings["encode"] = time.perf_counter() - start
-    minimizing = [o.sense is ir.Sense.MINIMIZE for o in objectives]
-
-    def as_good(values: tuple[Fraction, ...]) -> App:
-        """At least as good as ``values`` in every objective."""
-        return and_(*[better(t, v, m, strict=False) for t, v, m in zip(terms, values, minimizing)])
-
-    def improving(values: tuple[Fraction, ...]) -> App:
-        """Strictly better than ``values`` in some objective."""
-        return or_(*[better(t, v, m) for t, v, m in zip(terms, values, minimizing)])
-
-    def check() -> Check:
-        if deadline is not None:
-            solver.set_timeout(max(0.001, deadline - time.perf_counter()))
-        result.checks += 1
-        return solver.check()
-
-    def values_now() -> tuple[Fraction, ...]:
-        out = []
-        for t in terms:
-            v = solver.value(t)
-            assert not isinstance(v, bool)
-            out.append(v)
-        return tuple(out)
-
     while len(result.points) < max_points:
-        r = check()
-        if r is Check.UNSAT:
+        found = search.next_point()
+        if found is None:
             break
-        if r is Check.UNKNOWN:
-            result.complete = False
-            break
-        values = values_now()
-        plan = read_plan(solver, enc, k)
-        # Improve until nothing dominates it.
-        while True:
-            solver.push()
-            solver.assert_term(as_good(values))  # a point that dominates this one
-            solver.assert_term(improving(values))
-            r = check()
-            if r is Check.SAT:
-                values = values_now()
-                plan = read_plan(solver, enc, k)
-                solver.pop()
-                continue
-            solver.pop()
-            if r is Check.UNKNOWN:
-                result.complete = False
-            break
-        if not result.complete:
-            break
+        values, plan = found
         report = validate(inst, plan, horizon=k, sequential=sequential)
         if not report.ok:
             raise ValidationFailure(
@@ -169,7 +116,7 @@ def pareto(
             raise ValidationFailure(f"Pareto point values {values} differ from the composition's {recomputed}")
         result.points.append(ParetoPoint(values, canonical_fresh(plan), report.states))
         # Every later answer must be strictly better than this point in some objective.
-        solver.assert_term(improving(values))
+        search.solver.assert_term(search.improving(values))
     else:
         result.complete = False
     if result.points:
@@ -179,6 +126,69 @@ def pareto(
     result.points.sort(key=lambda p: p.values)
     result.timings["total"] = time.perf_counter() - start
     return result
+
+
+class _Guided:
+    """The guided improvement algorithm over one solver: any composition not dominated by a
+    point found so far, then ever better ones until nothing dominates it."""
+
+    def __init__(
+        self, inst: ir.Instance, objectives: list[ir.Objective], k: int, sequential: bool, deadline: float | None
+    ) -> None:
+        self.k, self.deadline = k, deadline
+        self.enc = enc = Encoder(inst, k, sequential=sequential)
+        enc.unroll(k)
+        texts = [enc.objective(o.term, k) for o in objectives]
+        self.solver = open_backend(DEFAULT_BACKEND)
+        self.solver.add(*enc.script.take())
+        self.terms = [self.solver.intern(t) for t in texts]
+        self.minimizing = [o.sense is ir.Sense.MINIMIZE for o in objectives]
+        self.result = ParetoResult(ParetoStatus.UNKNOWN, objectives, horizon=k)
+
+    def as_good(self, values: tuple[Fraction, ...]) -> App:
+        """At least as good as ``values`` in every objective."""
+        return and_(*[better(t, v, m, strict=False) for t, v, m in zip(self.terms, values, self.minimizing)])
+
+    def improving(self, values: tuple[Fraction, ...]) -> App:
+        """Strictly better than ``values`` in some objective."""
+        return or_(*[better(t, v, m) for t, v, m in zip(self.terms, values, self.minimizing)])
+
+    def check(self) -> Check:
+        if self.deadline is not None:
+            self.solver.set_timeout(max(0.001, self.deadline - time.perf_counter()))
+        self.result.checks += 1
+        return self.solver.check()
+
+    def values_now(self) -> tuple[Fraction, ...]:
+        out = []
+        for t in self.terms:
+            v = self.solver.value(t)
+            assert not isinstance(v, bool)
+            out.append(v)
+        return tuple(out)
+
+    def next_point(self) -> tuple[tuple[Fraction, ...], Plan] | None:
+        """The next Pareto-optimal point and its composition; None when the front is done
+        (or, with ``result.complete`` false, when the solver gave up)."""
+        r = self.check()
+        if r is not Check.SAT:
+            self.result.complete = r is Check.UNSAT
+            return None
+        values, plan = self.values_now(), read_plan(self.solver, self.enc, self.k)
+        while True:  # improve until nothing dominates it
+            self.solver.push()
+            self.solver.assert_term(self.as_good(values))  # a point that dominates this one
+            self.solver.assert_term(self.improving(values))
+            r = self.check()
+            if r is Check.SAT:
+                values, plan = self.values_now(), read_plan(self.solver, self.enc, self.k)
+                self.solver.pop()
+                continue
+            self.solver.pop()
+            if r is Check.UNKNOWN:
+                self.result.complete = False
+                return None
+            return values, plan
 
 
 def dominates(a: tuple, b: tuple, objectives: list[ir.Objective]) -> bool:
