@@ -5,7 +5,9 @@ removed; SMT-LIB2 and PDDL text as written), to compare a later tree against.
     python tests/golden/record.py --check    # compare (what tests/test_golden_answers.py does)
 
 The file was recorded on the tree before the architecture change (issue 11) and is the
-proof that the move changed no answer: it is never regenerated to make a test pass.
+proof that the move changed no answer: it is never regenerated to make a test pass.  Source
+locations are kept as the text they point at (``{"file", "text"}``), so that reformatting a
+model (``catc fmt``) moves no answer while a location pointing elsewhere still differs.
 """
 
 from __future__ import annotations
@@ -32,8 +34,21 @@ GRIDS = {
 }
 
 
+def located_text(loc: dict) -> dict:
+    """A location as the source text it spans, white space folded."""
+    lines = (ROOT / loc["file"]).read_text(encoding="utf-8").splitlines()
+    first, last = loc["line"] - 1, loc["end_line"] - 1
+    if first == last:
+        text = lines[first][loc["column"] - 1 : loc["end_column"] - 1]
+    else:
+        text = "\n".join([lines[first][loc["column"] - 1 :], *lines[first + 1 : last], lines[last][: loc["end_column"] - 1]])
+    return {"file": loc["file"], "text": " ".join(text.split())}
+
+
 def strip(doc):
     if isinstance(doc, dict):
+        if set(doc) >= {"file", "line", "column", "end_line", "end_column"}:
+            return located_text(doc)
         return {k: strip(v) for k, v in doc.items() if k != "timings"}
     if isinstance(doc, list):
         return [strip(v) for v in doc]
