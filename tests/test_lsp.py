@@ -248,3 +248,38 @@ def test_diagnostics_use_the_given_text_not_the_file() -> None:
     text = EVERY.read_text().replace("(>= confidence 0.7)", "(>= confidenc 0.7)")
     a = analyse(str(EVERY), text)
     assert any("confidenc" in d.message for d in a.diagnostics)
+
+
+@needs_lsp
+async def test_every_query_is_a_server_command(client: LanguageClient) -> None:
+    """workspace/executeCommand catc.<query> answers with the command line's --json document."""
+    from catc.queries import registry
+
+    result = await client.workspace_execute_command_async(
+        types.ExecuteCommandParams(command="catc.solve", arguments=[PROBLEM.resolve().as_uri()])
+    )
+    assert result["schema"] == "catc.solve/1" and result["status"] == "sat"
+    budget = (ROOT / "examples/lifelong/budget-cut.cat").resolve().as_uri()
+    result = await client.workspace_execute_command_async(
+        types.ExecuteCommandParams(command="catc.diagnose", arguments=[budget])
+    )
+    labels = {c["label"] for c in result["cores"][0]}
+    assert result["schema"] == "catc.diagnose/1" and labels == {"init/budget", "pre/buy-lidar/1"}
+    result = await client.workspace_execute_command_async(
+        types.ExecuteCommandParams(command="catc.relax", arguments=[budget, {"discrete": True}])
+    )
+    assert result["schema"] == "catc.relax/1" and [d["label"] for d in result["dropped"]] == ["init/budget"]
+    result = await client.workspace_execute_command_async(
+        types.ExecuteCommandParams(command="catc.optimize", arguments=[PROBLEM.resolve().as_uri()])
+    )
+    assert result["schema"] == "catc.error/1" and "nothing to optimise" in result["diagnostics"][0]["message"]
+    for name in registry.names():  # every query is a command; none crashes on a file it cannot answer
+        result = await client.workspace_execute_command_async(
+            types.ExecuteCommandParams(command=f"catc.{name}", arguments=[PROBLEM.resolve().as_uri()])
+        )
+        assert result["schema"] in (f"catc.{name}/1", "catc.error/1")
+    plan = {"steps": [[{"morphism": "mount-rgb-camera"}]]}
+    result = await client.workspace_execute_command_async(
+        types.ExecuteCommandParams(command="catc.validate", arguments=[PROBLEM.resolve().as_uri(), {"plan": plan}])
+    )
+    assert result["schema"] == "catc.validate/1" and result["valid"] is False

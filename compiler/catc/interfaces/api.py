@@ -116,8 +116,8 @@ class Model:
         query = registry.get(name)
         for option in query.options:
             value = options.get(option.name)
-            if option.kind is Kind.WEIGHTS and value is not None:
-                options[option.name] = {k: Fraction(v) for k, v in value.items()}
+            if option.kind is Kind.WEIGHTS and option.name in options:
+                options[option.name] = {k: Fraction(v) for k, v in value.items()} if value else None
             elif option.kind is Kind.OBJECTIVES and value is not None:
                 options[option.name] = list(value)
         return query.run(self.instance, *args, **options)

@@ -494,12 +494,15 @@ def run_query_on_file(name: str, uri: str, options: dict[str, Any] | None = None
     ``--json`` document, or a ``catc.error/1`` document for input errors."""
     from catc.interfaces.api import CatError, load
     from catc.queries import registry
-    from catc.queries.base import InputError
+    from catc.queries.base import InputError, Kind
 
     query = registry.get(name)
     try:
         model = load(uri_to_path(uri))
         values = {**query.defaults(), **(options or {})}
+        for option in query.options:
+            if option.kind is Kind.PLAN_FILE and values.get(option.name) is None:
+                raise InputError(f"catc.{name} needs '{option.name}': a catc.plan/1 document")
         why = query.check(model.instance, values) if query.check is not None else None
         if why is not None:
             raise InputError(why)
@@ -516,13 +519,15 @@ def _register_queries(server: Any, types: Any) -> None:
     answer for the saved file, as the command line would."""
     from catc.queries import registry
 
-    for name in registry.names():
-
-        def handler(ls: Any, args: Any, name: str = name) -> dict:
+    def command_for(name: str) -> Any:
+        def handler(ls: Any, *args: Any) -> dict:
             uri, options = args[0], (args[1] if len(args) > 1 else None)
             return run_query_on_file(name, uri, options)
 
-        server.command(f"catc.{name}")(handler)
+        return handler
+
+    for name in registry.names():
+        server.command(f"catc.{name}")(command_for(name))
 
 
 @click.command("lsp")
