@@ -199,3 +199,11 @@ def test_division_by_zero_in_a_constant_is_a_located_error(tmp_path):
     )
     res = run_catc("check", str(tmp_path / "d.cat"), str(tmp_path / "p.cat"))
     assert res.exit_code == 1 and re.search(r"p\.cat:2:15: error\[E0310\]: division by zero", res.stdout)
+
+
+def test_the_architecture_picture_is_drawn_from_the_current_code():
+    import subprocess
+    import sys
+
+    res = subprocess.run([sys.executable, "docs/img/architecture.py", "--check"], cwd=ROOT)
+    assert res.returncode == 0, "run: python docs/img/architecture.py"
