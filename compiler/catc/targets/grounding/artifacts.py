@@ -1,0 +1,67 @@
+"""The artifacts of a composition, as bytes, and the manifest that names them.
+
+Deterministic: the same model and composition give the same bytes (golden files in the
+tests), so a change on the robot shows as a change of hash.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from pathlib import Path
+
+from catc.semantics.plan import plan_to_json
+from catc.targets.grounding.bt import bt_xml
+from catc.targets.grounding.compose import compose_yaml
+from catc.targets.grounding.instructions import instructions_md
+from catc.targets.grounding.params import params_yaml
+from catc.targets.grounding.resolve import Grounded
+
+MANIFEST_SCHEMA = "catc.ground/1"
+ARTIFACTS = ("instructions.md", "compose.yaml", "params.yaml", "bt.xml")
+
+
+def sha256(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def artifacts(grounded: Grounded) -> dict[str, bytes]:
+    """Every artifact file's name and bytes (UTF-8)."""
+    texts = {
+        "instructions.md": instructions_md(grounded),
+        "compose.yaml": compose_yaml(grounded),
+        "params.yaml": params_yaml(grounded),
+        "bt.xml": bt_xml(grounded),
+    }
+    return {name: text.encode("utf-8") for name, text in texts.items()}
+
+
+def manifest(grounded: Grounded, files: dict[str, bytes], model_sha256: str) -> dict:
+    return {
+        "schema": MANIFEST_SCHEMA,
+        "project": grounded.project,
+        "model": {"sha256": model_sha256},
+        "plan": plan_to_json(grounded.plan),
+        "artifacts": {name: {"sha256": sha256(data), "bytes": len(data)} for name, data in files.items()},
+        "services": [s.name for s in grounded.services],
+        "hardware_steps": len(grounded.hardware),
+        "missing_grounding": list(grounded.missing),
+    }
+
+
+def write(out: Path, files: dict[str, bytes], document: dict, *, durable: bool = False) -> list[Path]:
+    """Write the artifacts and manifest.json into ``out`` (created); ``durable`` syncs each
+    file to disk before returning (the runtime's generations)."""
+    out.mkdir(parents=True, exist_ok=True)
+    written = []
+    everything = {**files, "manifest.json": (json.dumps(document, indent=2) + "\n").encode("utf-8")}
+    for name, data in everything.items():
+        path = out / name
+        with open(path, "wb") as fh:
+            fh.write(data)
+            if durable:
+                fh.flush()
+                os.fsync(fh.fileno())
+        written.append(path)
+    return written

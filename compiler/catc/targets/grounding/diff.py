@@ -1,0 +1,88 @@
+"""What changes on the robot between two compositions of one model.
+
+Components (morphisms used at least once) are added or removed — exactly the churn of a
+recomposition; on the robot that means hardware to unmount and mount, services to stop,
+start or recreate, and whether the behaviour tree changed.  A service whose image, node,
+parameters or remappings changed must be *recreated*: Compose does not restart a container
+when only a mounted file changed.  The Compose commands that enact the change are part of
+the answer.
+"""
+
+from __future__ import annotations
+
+from catc.targets.grounding.bt import bt_xml
+from catc.targets.grounding.resolve import Grounded, Service
+from catgrammar.record import Record, set_field
+
+
+class GroundDiff(Record):
+    __slots__ = (
+        "project",
+        "added",
+        "removed",
+        "unmount",
+        "mount",
+        "stop",
+        "start",
+        "recreate",
+        "tree_changed",
+    )
+    project: str
+    added: tuple[str, ...]  # components (morphisms) in the new composition only
+    removed: tuple[str, ...]  # in the old one only
+    unmount: tuple[str, ...]  # hardware steps to undo (their morphisms)
+    mount: tuple[str, ...]
+    stop: tuple[str, ...]  # services
+    start: tuple[str, ...]
+    recreate: tuple[str, ...]
+    tree_changed: bool
+
+    def __init__(self, project: str, added: tuple[str, ...], removed: tuple[str, ...], unmount: tuple[str, ...],
+                 mount: tuple[str, ...], stop: tuple[str, ...], start: tuple[str, ...], recreate: tuple[str, ...],
+                 tree_changed: bool) -> None:  # fmt: skip
+        for name, value in zip(self.__slots__, (project, added, removed, unmount, mount, stop, start, recreate,
+                                                tree_changed)):  # fmt: skip
+            set_field(self, name, value)
+
+    @property
+    def empty(self) -> bool:
+        return not (self.added or self.removed or self.mount or self.unmount or self.stop or self.start
+                    or self.recreate or self.tree_changed)  # fmt: skip
+
+    def commands(self) -> list[list[str]]:
+        """The Compose command lines that enact the change (in order)."""
+        base = ["docker", "compose", "-p", self.project, "-f", "compose.yaml"]
+        out = []
+        if self.start or self.stop or self.recreate or self.tree_changed:
+            out.append([*base, "up", "-d", "--remove-orphans"])
+        if self.recreate:
+            out.append([*base, "up", "-d", "--no-deps", "--force-recreate", *self.recreate])
+        return out
+
+
+def _same(a: Service, b: Service) -> bool:
+    return (a.image, a.node, a.profile, a.params, a.remap) == (b.image, b.node, b.profile, b.params, b.remap)
+
+
+def ground_diff(old: Grounded, new: Grounded) -> GroundDiff:
+    old_components, new_components = old.plan.components, new.plan.components
+    old_hw = {h.morphism: h for h in old.hardware}
+    new_hw = {h.morphism: h for h in new.hardware}
+    remount = {m for m in old_hw.keys() & new_hw.keys() if old_hw[m].instruction != new_hw[m].instruction}
+    old_sv = {s.name: s for s in old.services}
+    new_sv = {s.name: s for s in new.services}
+    tree_changed = bt_xml(old) != bt_xml(new)
+    recreate = {n for n in old_sv.keys() & new_sv.keys() if not _same(old_sv[n], new_sv[n])}
+    if tree_changed and "bt-executor" in old_sv.keys() & new_sv.keys():
+        recreate.add("bt-executor")  # the tree is a mounted file: the executor reads it at start
+    return GroundDiff(
+        new.project,
+        tuple(sorted(new_components - old_components)),
+        tuple(sorted(old_components - new_components)),
+        tuple(sorted((old_hw.keys() - new_hw.keys()) | remount)),
+        tuple(sorted((new_hw.keys() - old_hw.keys()) | remount)),
+        tuple(sorted(old_sv.keys() - new_sv.keys())),
+        tuple(sorted(new_sv.keys() - old_sv.keys())),
+        tuple(sorted(recreate)),
+        tree_changed,
+    )
