@@ -6,14 +6,13 @@ says how; the answers were never re-recorded to make this pass."""
 from __future__ import annotations
 
 import json
-import os
 import sys
 
 import pytest
 from conftest import ROOT
 
 sys.path.insert(0, str(ROOT / "tests" / "golden"))
-import record  # noqa: E402
+import record
 
 RECORDED = json.loads(record.ANSWERS.read_text())
 COMMANDS = dict(record.commands())

@@ -41,7 +41,9 @@ def located_text(loc: dict) -> dict:
     if first == last:
         text = lines[first][loc["column"] - 1 : loc["end_column"] - 1]
     else:
-        text = "\n".join([lines[first][loc["column"] - 1 :], *lines[first + 1 : last], lines[last][: loc["end_column"] - 1]])
+        text = "\n".join(
+            [lines[first][loc["column"] - 1 :], *lines[first + 1 : last], lines[last][: loc["end_column"] - 1]]
+        )
     return {"file": loc["file"], "text": " ".join(text.split())}
 
 
