@@ -74,7 +74,7 @@ def _sort_span(domain: ir.Domain, sort: ir.Sort) -> Span | None:
 
 
 def lint_instance(inst: ir.Instance, diags: Diagnostics, is_user: Callable[[str], bool]) -> None:
-    written = set()
+    written: set[str] = set()
     for m in inst.morphisms.values():
         written |= m.writes
     for lit in inst.problem.goal:
