@@ -339,10 +339,11 @@ class ExprChecker:
             return None
         if op is ir.BoolOpKind.IMPLY and not self._arity(node, 2, 2):
             return None
-        args = [self.condition(a, ctx) for a in node.args]
-        if any(a is None for a in args):
+        checked = [self.condition(a, ctx) for a in node.args]
+        args = [a for a in checked if a is not None]
+        if len(args) != len(checked):
             return None
-        return ir.BoolOp(op, tuple(args), node.span)  # type: ignore[arg-type]
+        return ir.BoolOp(op, tuple(args), node.span)
 
     def _compare(self, node: ast.Call, ctx: Context) -> ir.Expr | None:
         if not self._arity(node, 2, 2):
