@@ -133,18 +133,21 @@ def _reducer(origin: str, pattern: str, alias: str | None, expand1: bool, builde
     ``pattern`` has one letter per symbol of the rule: ``k`` keep, ``d`` drop (a filtered
     ``_TERMINAL``), ``s`` splice (the value of an inlined ``_rule``, itself a list)."""
     ops = tuple((i, c == "s") for i, c in enumerate(pattern) if c != "d")
+    filt: Callable[[list], list] | None
     if len(ops) == len(pattern) and not any(splice for _, splice in ops):
         filt = None  # keep every child as it is
     elif pattern == "sk":  # ``__x_star: __x_star item`` — grow the list in place
-        def filt(children: list) -> list:
+        def grow(children: list) -> list:
             first = children[0]
             first.append(children[1])
             return first
+
+        filt = grow
     else:
         first_i, first_splice = ops[0] if ops else (0, False)
         rest = ops[1:] if first_splice else ops
 
-        def filt(children: list) -> list:
+        def gather(children: list) -> list:
             out = children[first_i] if first_splice else []
             for i, splice in rest:
                 if splice:
@@ -152,6 +155,8 @@ def _reducer(origin: str, pattern: str, alias: str | None, expand1: bool, builde
                 else:
                     out.append(children[i])
             return out
+
+        filt = gather
 
     if origin.startswith("_"):  # inlined: the value is the list of children
         return filt or (lambda children: children)

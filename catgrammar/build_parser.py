@@ -15,8 +15,10 @@ from __future__ import annotations
 import argparse
 import hashlib
 import sys
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 HERE = Path(__file__).resolve().parent
 GRAMMAR_PATH = HERE / "cat.lark"
@@ -44,7 +46,7 @@ def compile_grammar(grammar: str, *, strict: bool = True):
         def __init__(self, lexer_conf) -> None:
             pass
 
-        def lex(self, data):  # pragma: no cover - never called
+        def lex(self, lexer_state: Any, parser_state: Any) -> Iterator[Any]:  # pragma: no cover - never called
             raise NotImplementedError
 
     return Lark(grammar, parser="lalr", lexer=_NoLexer, maybe_placeholders=False, strict=strict)

@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable, Iterator
+from typing import TypeAlias
 
 from pygments.lexer import RegexLexer, bygroups, default
 from pygments.token import (
@@ -49,13 +50,14 @@ from pygments.token import (
     Punctuation,
     String,
     Whitespace,
+    _TokenType,
 )
 
 from catgrammar.symbols import all_keywords
 
 __all__ = ["TOKEN_FOR_CATEGORY", "CatLexer"]
 
-TokenType = type(Keyword)
+TokenType: TypeAlias = _TokenType  # the class of Keyword, Name.Builtin, ...
 
 #: The Pygments token of every ``all_keywords()`` category.
 TOKEN_FOR_CATEGORY: dict[str, TokenType] = {
@@ -145,6 +147,7 @@ class CatLexer(RegexLexer):
         ],
     }
 
+    @staticmethod
     def analyse_text(text: str) -> float:
         """Recognise ``(define (domain x)`` / ``(define (problem x)`` near the top."""
         if re.search(r"\(\s*define\s*\(\s*(?:domain|problem)\s+[a-zA-Z_]", text[:4096]):

@@ -18,6 +18,7 @@ with ``python -m catgrammar.build_parser``.
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from fractions import Fraction
 from typing import Any
 
@@ -219,19 +220,28 @@ class _Builder:
     """
 
     def __init__(self, src: Source | None = None, diags: Diagnostics | None = None) -> None:
-        self.src = src  # type: ignore[assignment] - set before a parse
-        self.diags = diags  # type: ignore[assignment]
+        # None only in a builder that never parses (one made to check the callbacks)
+        self.src: Source = src  # type: ignore[assignment]
+        self.diags: Diagnostics = diags  # type: ignore[assignment]
 
     # -- helpers
     def _tok_span(self, tok: Token) -> Span:
-        return Span(self.src.path, tok.line, tok.column, tok.end_line, tok.end_column, tok.start_pos, tok.end_pos)
+        # ignored: tokenize() gives every token its position (None only in Lark's signature)
+        return Span(self.src.path, tok.line, tok.column, tok.end_line, tok.end_column, tok.start_pos, tok.end_pos)  # type: ignore[arg-type]
 
     def _span_of(self, item: Any) -> Span | None:
         if isinstance(item, Token):
             return self._tok_span(item)
         if isinstance(item, tuple):
-            return self._span_of(item[0]).cover(self._span_of(item[-1])) if item else None  # type: ignore[union-attr]
+            # ignored: the first and last item of a group are tokens or nodes, with spans
+            return self._span_of(item[0]).cover(self._span_of(item[-1])) if item else None  # type: ignore[union-attr, arg-type]
         return getattr(item, "span", None)
+
+    def _group_span(self, names: tuple[Any, ...]) -> Span:
+        """The span of an untyped group of names (never empty: the grammar wants one)."""
+        span = self._span_of(names)
+        assert span is not None
+        return span
 
     def _split(self, children: list) -> tuple[Span, list]:
         """(span of all children, children without punctuation and keyword tokens)."""
@@ -309,7 +319,7 @@ class _Builder:
     def sorts(self, children):
         span, items = self._split(children)
         groups = [
-            ast.SortGroup(c, None, self._span_of(c)) if isinstance(c, tuple) else c  # untyped tail
+            ast.SortGroup(c, None, self._group_span(c)) if isinstance(c, tuple) else c  # untyped tail
             for c in items
         ]
         return ast.Sorts(tuple(groups), span)
@@ -319,7 +329,7 @@ class _Builder:
         return ast.TypedGroup(names, self._name(sort), span)
 
     def typed_names(self, children):
-        return tuple(ast.TypedGroup(c, None, self._span_of(c)) if isinstance(c, tuple) else c for c in children)
+        return tuple(ast.TypedGroup(c, None, self._group_span(c)) if isinstance(c, tuple) else c for c in children)
 
     def constants(self, children):
         span, items = self._split(children)
@@ -357,20 +367,23 @@ class _Builder:
         span, (lower, upper) = self._split(children)
         return ast.Bounds(lower, upper, span)
 
-    def _opt(key: str, kind: str):
-        def callback(self, children):
+    @staticmethod
+    def _opt(key: str, kind: str) -> Callable[[_Builder, list[Any]], ast.Opt]:
+        def callback(self: _Builder, children: list[Any]) -> ast.Opt:
             span, payload = self._split(children)
+            value: object
             if kind == "flag":
-                value: object = True
+                value = True
             else:
-                (value,) = payload
+                (item,) = payload  # a token, or a node for kind "node"
                 if kind == "name":
-                    value = self._name(value)  # type: ignore[arg-type]
+                    value = self._name(item)
                 elif kind == "number":
-                    value = self._num(value)  # type: ignore[arg-type]
+                    value = self._num(item)
                 elif kind == "string":
-                    tok: Token = value  # type: ignore[assignment]
-                    value = self._name(tok) if tok.type == "NAME" else ast.Name(_unquote(tok), self._tok_span(tok))
+                    value = self._name(item) if item.type == "NAME" else ast.Name(_unquote(item), self._tok_span(item))
+                else:
+                    value = item
             return ast.Opt(key, value, span)
 
         return callback

@@ -20,13 +20,26 @@ dataclasses.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from operator import attrgetter
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar, Protocol, TypeVar
+
+if TYPE_CHECKING:
+    from dataclasses import Field
 
 set_field = object.__setattr__  # for the hand-written ``__init__`` of frozen records
 
+R = TypeVar("R", bound="Record")
 
-def _getter(names: tuple[str, ...]):
+
+class _Getter(Protocol):
+    """The compared fields of a record, as a tuple (a protocol rather than a ``Callable`` so
+    that mypy does not take the class attribute holding it for a method bound to ``self``)."""
+
+    def __call__(self, obj: Any, /) -> tuple[Any, ...]: ...
+
+
+def _getter(names: tuple[str, ...]) -> Callable[[Any], tuple[Any, ...]]:
     """A function returning the named attributes as a tuple (also for one name)."""
     if len(names) == 1:
         one = attrgetter(names[0])
@@ -38,14 +51,14 @@ class _DataclassFields:
     """``Record.__dataclass_fields__``: the ``dataclasses.Field`` objects ``@dataclass`` would
     have made, built on first access and then stored on the class in its place."""
 
-    def __get__(self, obj: Any, cls: type) -> dict[str, Any]:
+    def __get__(self, obj: object, cls: type[Record]) -> dict[str, Field[Any]]:
         import dataclasses
 
-        fields = {}
+        fields: dict[str, Field[Any]] = {}
         for name in cls._fields:
-            f = dataclasses.field(compare=name in cls._compared, repr=name in cls._compared)
+            f: Field[Any] = dataclasses.field(compare=name in cls._compared, repr=name in cls._compared)
             f.name, f.type, f.kw_only = name, cls.__annotations__[name], False
-            f._field_type = dataclasses._FIELD  # type: ignore[attr-defined] - as @dataclass sets it
+            f._field_type = dataclasses._FIELD  # type: ignore[attr-defined]  # private: as @dataclass sets it
             fields[name] = f
         type.__setattr__(cls, "__dataclass_fields__", fields)
         return fields
@@ -54,7 +67,7 @@ class _DataclassFields:
 _DATACLASS_FIELDS = _DataclassFields()
 
 
-def replace(obj: Any, /, **changes: Any) -> Any:
+def replace(obj: R, /, **changes: Any) -> R:
     """A copy of the record ``obj`` with ``changes``, as ``dataclasses.replace`` makes it."""
     for name in obj._fields:
         if name not in changes:
@@ -69,18 +82,21 @@ class Record:
     __match_args__: ClassVar[tuple[str, ...]] = ()
     _fields: ClassVar[tuple[str, ...]]  # the fields, in order (default: every slot)
     _compared: ClassVar[tuple[str, ...]]  # the fields taking part in ==, hash and repr
-    _values: ClassVar[Any]  # getter of the compared fields, in order
+    _values: ClassVar[_Getter]  # getter of the compared fields, in order
+    # what ``dataclasses.fields``/``replace`` look for (set per class, built on first access)
+    __dataclass_fields__: ClassVar[dict[str, Field[Any]]]
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
         names: tuple[str, ...] = cls.__dict__.get("_fields", cls.__slots__)
         compared = cls.__dict__.get("_compared", names)
         cls._fields = names
-        cls.__match_args__ = names
+        cls.__match_args__ = names  # type: ignore[misc]  # each record class matches on its own fields
         cls._compared = compared
-        cls._values = _getter(compared)
+        # a staticmethod: the one-field getter is a lambda, which would otherwise bind ``self``
+        cls._values = staticmethod(_getter(compared))
         # every class gets its own, so a subclass never sees its base's fields
-        cls.__dataclass_fields__ = _DATACLASS_FIELDS  # type: ignore[attr-defined]
+        type.__setattr__(cls, "__dataclass_fields__", _DATACLASS_FIELDS)
 
     def __setattr__(self, name: str, value: Any) -> None:
         from dataclasses import FrozenInstanceError
@@ -108,4 +124,4 @@ class Record:
         return [getattr(self, name) for name in self._fields]
 
     def __setstate__(self, state: list[Any]) -> None:
-        self.__init__(*state)  # type: ignore[misc] - also rebuilds private caches
+        self.__init__(*state)  # type: ignore[misc]  # each record's own __init__; also rebuilds private caches

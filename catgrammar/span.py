@@ -38,7 +38,7 @@ class Source:
     hashable), written out to keep ``@dataclass``'s start-up cost off every ``catc`` run."""
 
     __slots__ = ("path", "text", "_line_starts")
-    __hash__ = None  # type: ignore[assignment]
+    __hash__ = None  # type: ignore[assignment]  # unhashable (mutable), as the dataclass was
 
     def __init__(self, path: str, text: str) -> None:
         self.path = path
@@ -53,7 +53,7 @@ class Source:
 
     def __eq__(self, other: object) -> bool:
         if other.__class__ is self.__class__:
-            return (self.path, self.text) == (other.path, other.text)  # type: ignore[attr-defined]
+            return (self.path, self.text) == (other.path, other.text)
         return NotImplemented
 
     def __repr__(self) -> str:

@@ -87,6 +87,7 @@ def tokenize(text: str) -> Iterator[Token]:
         if m is None:
             raise UnexpectedCharacters(text, pos, line, pos - line_start + 1)
         kind = m.lastgroup
+        assert kind is not None  # every alternative of _TOKEN is a named group
         end = m.end()
         value = m.group()
         if kind == "WS" or kind == "COMMENT":

@@ -222,3 +222,23 @@ def test_sort_spans_do_not_take_part_in_equality():
     b = ir.Sort(ir.SortKind.SYMBOL, "topic", span=object())
     assert a == b and hash(a) == hash(b) and "span" not in repr(b)
     assert ir.Sort(ir.SortKind.SYMBOL, "class") != a
+
+
+def test_a_record_with_one_compared_field_compares_and_hashes_like_a_dataclass():
+    # its getter is a lambda (not an attrgetter): stored on the class, it must not bind ``self``
+    class One(record.Record):
+        __slots__ = ("value", "note")
+        _compared = ("value",)
+        value: str
+        note: str
+
+        def __init__(self, value: str, note: str = "") -> None:
+            record.set_field(self, "value", value)
+            record.set_field(self, "note", note)
+
+    ref = dataclasses.make_dataclass(
+        "One", [("value", str), ("note", str, dataclasses.field(default="", compare=False, repr=False))], frozen=True
+    )
+    assert One("a", "x") == One("a", "y") != One("b")
+    assert hash(One("a")) == hash(ref("a"))
+    assert dataclasses.replace(One("a"), value="b") == One("b")

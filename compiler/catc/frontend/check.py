@@ -8,9 +8,9 @@ return ``None`` when anything was wrong.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from fractions import Fraction
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypeVar
 
 from catc import ir
 from catc.frontend.typecheck import Context, ExprChecker, Scope, assignable, describe
@@ -98,6 +98,16 @@ def _options(opts: Iterable[ast.Opt], allowed: Iterable[Option], owner: str, dia
     return out
 
 
+_V = TypeVar("_V")
+
+
+def _value(opt: ast.Opt, kind: type[_V]) -> _V:
+    """``opt.value`` (an ``object`` in the AST) as the kind of node the grammar gives its key."""
+    value = opt.value
+    assert isinstance(value, kind), (opt.key, value)
+    return value
+
+
 def _positive_int(num: ast.Num, what: str, diags: Diagnostics, *, allow_zero: bool = False) -> int | None:
     v = num.value
     if v.denominator != 1 or v < 0 or (v == 0 and not allow_zero):
@@ -121,10 +131,10 @@ def _bounds(b: ast.Bounds, sort: Sort, diags: Diagnostics, what: str) -> tuple[F
                     codes.BAD_BOUNDS, f"{what} is an int, so its bounds must be integers, got {n.text}", n.span
                 )
                 ok = False
-    if lo is not None and hi is not None and lo > hi:
+    if b.lower is not None and b.upper is not None and lo is not None and hi is not None and lo > hi:
         diags.report(
             codes.BAD_BOUNDS, f"empty bounds for {what}: lower {b.lower.text} exceeds upper {b.upper.text}", b.span
-        )  # type: ignore[union-attr]
+        )
         ok = False
     return lo, hi, ok
 
@@ -242,24 +252,25 @@ class DomainChecker:
             self._merge(dom, name)
 
     def _merge(self, dom: ir.Domain, via: ast.Name) -> None:
-        tables = (
-            (self.sorts, dom.sorts, "sort"),
-            (self.constants, dom.constants, "constant"),
-            (self.resources, dom.resources, "resource"),
-            (self.morphisms, dom.morphisms, "morphism"),
-            (self.holes, dom.holes, "hole"),
-            (self.views, dom.views, "view"),
-        )
-        for mine, theirs, what in tables:
-            for key, value in theirs.items():
-                if key in mine and mine[key] != value:
-                    self.diags.report(
-                        codes.DUPLICATE_NAME,
-                        f"{what} '{key}' from '{dom.name}' conflicts with another definition of it",
-                        via.span,
-                    )
-                    continue
-                mine[key] = value
+        self._merge_table(self.sorts, dom.sorts, "sort", dom, via)
+        self._merge_table(self.constants, dom.constants, "constant", dom, via)
+        self._merge_table(self.resources, dom.resources, "resource", dom, via)
+        self._merge_table(self.morphisms, dom.morphisms, "morphism", dom, via)
+        self._merge_table(self.holes, dom.holes, "hole", dom, via)
+        self._merge_table(self.views, dom.views, "view", dom, via)
+
+    def _merge_table(
+        self, mine: dict[str, _V], theirs: Mapping[str, _V], what: str, dom: ir.Domain, via: ast.Name
+    ) -> None:
+        for key, value in theirs.items():
+            if key in mine and mine[key] != value:
+                self.diags.report(
+                    codes.DUPLICATE_NAME,
+                    f"{what} '{key}' from '{dom.name}' conflicts with another definition of it",
+                    via.span,
+                )
+                continue
+            mine[key] = value
 
     # ------------------------------------------------------------------ sorts
     def _sorts(self, sec: ast.Sorts) -> None:
@@ -418,18 +429,20 @@ class DomainChecker:
             self.req.need(Requirement.SYMBOLS, r.type.span, f"the symbolic resource '{r.name.text}'")
         lo = hi = None
         if Option.BOUNDS.value in opts:
-            lo, hi, _ = _bounds(opts[Option.BOUNDS.value].value, sort, self.diags, f"resource '{r.name.text}'")  # type: ignore[arg-type]
+            lo, hi, _ = _bounds(
+                _value(opts[Option.BOUNDS.value], ast.Bounds), sort, self.diags, f"resource '{r.name.text}'"
+            )
         group = opts.get(Option.GROUP.value)
         unit = opts.get(Option.UNIT.value)
         doc = opts.get(Option.DOC.value)
         self.resources[r.name.text] = ir.Resource(
             r.name.text,
             sort,
-            group=group.value.text if group else None,  # type: ignore[union-attr]
-            unit=unit.value.text if unit else None,  # type: ignore[union-attr]
+            group=_value(group, ast.Name).text if group else None,
+            unit=_value(unit, ast.Name).text if unit else None,
             lower=lo,
             upper=hi,
-            doc=doc.value.text if doc else None,  # type: ignore[union-attr]
+            doc=_value(doc, ast.Name).text if doc else None,
             span=r.name.span,
         )
 
@@ -445,7 +458,8 @@ class DomainChecker:
             return
         listed: set[str] = set()
         chosen = keep or drop
-        for name in chosen.value if chosen else ():  # type: ignore[union-attr]
+        names: tuple[ast.Name, ...] = chosen.value if chosen else ()  # type: ignore[assignment]  # :keep/:drop list names
+        for name in names:
             if name.text not in self.resources:
                 self.diags.report(
                     codes.UNKNOWN_NAME,
@@ -469,7 +483,7 @@ class DomainChecker:
         opts = _options(m.options, MORPHISM_OPTIONS, owner, self.diags)
         kind = ir.MorphismKind.SOFTWARE
         if Option.KIND.value in opts:
-            k: ast.Name = opts[Option.KIND.value].value  # type: ignore[assignment]
+            k = _value(opts[Option.KIND.value], ast.Name)
             if k.text in _KINDS:
                 kind = _KINDS[k.text]
             else:
@@ -482,13 +496,13 @@ class DomainChecker:
         churn = Fraction(1)
         if Option.CHURN.value in opts:
             self.req.need(Requirement.RECOMPOSITION, opts[Option.CHURN.value].span, ":churn")
-            num: ast.Num = opts[Option.CHURN.value].value  # type: ignore[assignment]
+            num = _value(opts[Option.CHURN.value], ast.Num)
             if num.value < 0:
                 self.diags.report(codes.BAD_VALUE, f":churn must not be negative, got {num.text}", num.span)
             churn = num.value
         uses = None
         if Option.USES.value in opts:
-            uses = _positive_int(opts[Option.USES.value].value, ":uses", self.diags)  # type: ignore[arg-type]
+            uses = _positive_int(_value(opts[Option.USES.value], ast.Num), ":uses", self.diags)
 
         params = self._params(m, opts.get(Option.PARAMETERS.value))
         scope = Scope(self.sorts, self.constants, self.resources, {p.name: p for p in params})
@@ -497,11 +511,11 @@ class DomainChecker:
         effects = self._effects(checker, opts.get(Option.EFFECT.value), name)
         cost = None
         if Option.COST.value in opts:
-            node = opts[Option.COST.value].value
-            cost = checker.numeric(node, Context.COST)  # type: ignore[arg-type]
+            node: ast.Expr = opts[Option.COST.value].value  # type: ignore[assignment]  # :cost is an expression
+            cost = checker.numeric(node, Context.COST)
             folded = self._fold(cost) if cost is not None else None
             if isinstance(folded, ir.Const) and folded.value < 0:  # type: ignore[operator]
-                self.diags.report(codes.BAD_VALUE, ":cost must not be negative", node.span)  # type: ignore[union-attr]
+                self.diags.report(codes.BAD_VALUE, ":cost must not be negative", node.span)
         doc = opts.get(Option.DOC.value)
         self.morphisms[name] = ir.Morphism(
             name=name,
@@ -512,7 +526,7 @@ class DomainChecker:
             churn=churn,
             uses=uses,
             cost=cost,
-            doc=doc.value.text if doc else None,  # type: ignore[union-attr]
+            doc=_value(doc, ast.Name).text if doc else None,
             span=m.name.span,
         )
 
@@ -522,7 +536,8 @@ class DomainChecker:
         self.req.need(Requirement.FREE_PARAMETERS, opt.span, "free parameters")
         out: list[ir.Param] = []
         seen: dict[str, ir.Param] = {}
-        for p in opt.value:  # type: ignore[union-attr]
+        decls: tuple[ast.ParameterDecl, ...] = opt.value  # type: ignore[assignment]  # :parameters lists them
+        for p in decls:
             pname = p.name.text
             if pname in RESERVED_NAMES:
                 self.diags.report(
@@ -561,9 +576,9 @@ class DomainChecker:
             lo = hi = None
             bspan = None
             if Option.BOUNDS.value in popts:
-                b = popts[Option.BOUNDS.value].value
-                lo, hi, _ = _bounds(b, sort, self.diags, f"parameter '{pname}'")  # type: ignore[arg-type]
-                bspan = b.span  # type: ignore[union-attr]
+                b = _value(popts[Option.BOUNDS.value], ast.Bounds)
+                lo, hi, _ = _bounds(b, sort, self.diags, f"parameter '{pname}'")
+                bspan = b.span
             param = ir.Param(pname, sort, lo, hi, Option.FIXED.value in popts, p.name.span, bspan)
             seen[pname] = param
             out.append(param)
@@ -702,7 +717,7 @@ class DomainChecker:
         opts = _options(h.options, HOLE_OPTIONS, f"hole '{h.name.text}'", self.diags)
         view = None
         if Option.HOLE_VIEW.value in opts:
-            vname: ast.Name = opts[Option.HOLE_VIEW.value].value  # type: ignore[assignment]
+            vname = _value(opts[Option.HOLE_VIEW.value], ast.Name)
             if vname.text not in self.views:
                 self.diags.report(
                     codes.UNKNOWN_NAME, f"unknown view '{vname.text}'{did_you_mean(vname.text, self.views)}", vname.span
@@ -710,13 +725,13 @@ class DomainChecker:
             view = vname.text
         max_eff = max_pre = None
         if Option.MAX_EFFECTS.value in opts:
-            max_eff = _positive_int(opts[Option.MAX_EFFECTS.value].value, ":max-effects", self.diags)  # type: ignore[arg-type]
+            max_eff = _positive_int(_value(opts[Option.MAX_EFFECTS.value], ast.Num), ":max-effects", self.diags)
         if Option.MAX_PRECONDITIONS.value in opts:
             max_pre = _positive_int(
-                opts[Option.MAX_PRECONDITIONS.value].value,
+                _value(opts[Option.MAX_PRECONDITIONS.value], ast.Num),
                 ":max-preconditions",
                 self.diags,
-                allow_zero=True,  # type: ignore[arg-type]
+                allow_zero=True,
             )
         self.holes[h.name.text] = ir.Hole(h.name.text, view, max_eff, max_pre, h.name.span)
 
@@ -1020,7 +1035,7 @@ class ProblemChecker:
             opts = _options(sec.options, SOFT_OPTIONS, "(:soft ...)", self.diags)
             weight = Fraction(1)
             if Option.WEIGHT.value in opts:
-                num: ast.Num = opts[Option.WEIGHT.value].value  # type: ignore[assignment]
+                num = _value(opts[Option.WEIGHT.value], ast.Num)
                 if num.value <= 0:
                     self.diags.report(
                         codes.BAD_VALUE, f"a soft constraint's weight must be positive, got {num.text}", num.span

@@ -7,7 +7,7 @@ resources; numbers are assumed reachable) to find morphisms that can never apply
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 
 from catc import ir
 from catc.ir import SortKind
@@ -25,7 +25,7 @@ def lint_domain(
     domain: ir.Domain,
     diags: Diagnostics,
     is_user: Callable[[str], bool],
-    problems: list[ir.Problem] = (),  # type: ignore[assignment]
+    problems: Sequence[ir.Problem] = (),
 ) -> None:
     """``problems`` are this domain's problems checked in the same run: a sort used only
     for their objects is used."""
@@ -74,7 +74,7 @@ def _sort_span(domain: ir.Domain, sort: ir.Sort) -> Span | None:
 
 
 def lint_instance(inst: ir.Instance, diags: Diagnostics, is_user: Callable[[str], bool]) -> None:
-    written = set()
+    written: set[str] = set()
     for m in inst.morphisms.values():
         written |= m.writes
     for lit in inst.problem.goal:

@@ -75,9 +75,12 @@ class Scope:
 def root_of(sort: Sort, sorts: Mapping[str, Sort]) -> str:
     name = sort.name
     seen = set()
-    while name in sorts and sorts[name].parent and name not in seen:
+    while name in sorts and name not in seen:
+        parent = sorts[name].parent
+        if not parent:
+            break
         seen.add(name)
-        name = sorts[name].parent
+        name = parent
     return name
 
 
@@ -263,7 +266,8 @@ class ExprChecker:
         head = node.head.text
         allowed = self._allowed_heads(ctx)
         if head not in allowed:
-            return self._bad_head(node, ctx, allowed)
+            self._bad_head(node, ctx, allowed)
+            return None
         args = node.args
         if head in _BOOL:
             return self._boolean(node, ctx)
@@ -335,10 +339,11 @@ class ExprChecker:
             return None
         if op is ir.BoolOpKind.IMPLY and not self._arity(node, 2, 2):
             return None
-        args = [self.condition(a, ctx) for a in node.args]
-        if any(a is None for a in args):
+        checked = [self.condition(a, ctx) for a in node.args]
+        args = [a for a in checked if a is not None]
+        if len(args) != len(checked):
             return None
-        return ir.BoolOp(op, tuple(args), node.span)  # type: ignore[arg-type]
+        return ir.BoolOp(op, tuple(args), node.span)
 
     def _compare(self, node: ast.Call, ctx: Context) -> ir.Expr | None:
         if not self._arity(node, 2, 2):
@@ -384,15 +389,16 @@ class ExprChecker:
         elif not self._arity(node, 1, None):
             return None
         self.require(Requirement.NUMERIC, node.span, f"arithmetic '{node.head.text}'")
-        args = [self.term(a, ctx) for a in node.args]
-        if any(a is None for a in args):
+        checked = [self.term(a, ctx) for a in node.args]
+        args = [a for a in checked if a is not None]
+        if len(args) != len(checked):
             return None
         for a, n in zip(args, node.args):
-            if not a.sort.is_numeric:  # type: ignore[union-attr]
+            if not a.sort.is_numeric:
                 self.diags.report(
                     codes.TYPE_MISMATCH,
                     f"'{node.head.text}' needs numbers, but this is {describe(a.sort)}",
-                    n.span,  # type: ignore[union-attr]
+                    n.span,
                 )
                 return None
         if op is ir.ArithOp.DIV:
@@ -402,8 +408,8 @@ class ExprChecker:
                 return None
             sort = REAL
         else:
-            sort = numeric_join(args)  # type: ignore[arg-type]
-        return ir.Arith(op, tuple(args), sort, node.span)  # type: ignore[arg-type]
+            sort = numeric_join(args)
+        return ir.Arith(op, tuple(args), sort, node.span)
 
     def _member(self, node: ast.Call, ctx: Context) -> ir.Expr | None:
         if not self._arity(node, 2, 2):

@@ -50,9 +50,10 @@ def guarded(
     head``) stops quietly, input nesting too deeply is an input error, and anything else
     unexpected is a one-line internal-error report with exit 70 (``CATC_DEBUG=1`` shows
     the traceback).  ``passthrough`` exceptions (click's own) propagate unchanged."""
+    reraised: tuple[type[BaseException], ...] = (SystemExit, *passthrough)
     try:
         return call(*args, **kwargs)
-    except (SystemExit, *passthrough):
+    except reraised:
         raise
     except BrokenPipeError:  # stop quietly, as Unix tools do
         devnull = os.open(os.devnull, os.O_WRONLY)

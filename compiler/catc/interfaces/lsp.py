@@ -79,9 +79,9 @@ def definitions_of(tree: ast.SourceFile) -> list[Definition]:
                             for v in g.parent.values:
                                 out.append(Definition("enum value", v.text, v.span, g.parent.span, owner))
                 elif isinstance(s, ast.Constants):
-                    for g in s.groups:
-                        for n in g.names:
-                            out.append(Definition("constant", n.text, n.span, g.span, owner))
+                    for typed in s.groups:
+                        for n in typed.names:
+                            out.append(Definition("constant", n.text, n.span, typed.span, owner))
                 elif isinstance(s, ast.Resources):
                     for r in s.resources:
                         out.append(Definition("resource", r.name.text, r.name.span, r.span, owner))
@@ -98,11 +98,11 @@ def definitions_of(tree: ast.SourceFile) -> list[Definition]:
                     out.append(Definition("view", s.name.text, s.name.span, s.span, owner))
         elif isinstance(d, ast.Problem):
             out.append(Definition("problem", owner, d.name.span, d.span))
-            for s in d.sections:
-                if isinstance(s, ast.Objects):
-                    for g in s.groups:
-                        for n in g.names:
-                            out.append(Definition("object", n.text, n.span, g.span, owner))
+            for sec in d.sections:
+                if isinstance(sec, ast.Objects):
+                    for typed in sec.groups:
+                        for n in typed.names:
+                            out.append(Definition("object", n.text, n.span, typed.span, owner))
     return out
 
 
@@ -300,7 +300,7 @@ def build_server() -> Any:
     from catc import __version__
 
     server = LanguageServer("catc", __version__, text_document_sync_kind=types.TextDocumentSyncKind.Full)
-    server.analyses = {}  # type: ignore[attr-defined] - uri → Analysis (the last one)
+    server.analyses = {}  # type: ignore[attr-defined]  # catc's own: uri → Analysis (the last one)
     _register_documents(server, types)
     _register_navigation(server, types)
     _register_symbols(server, types)
@@ -363,7 +363,7 @@ def _current(ls: Any, types: Any, uri: str) -> Analysis:
     if a is None:
         _refresh(ls, types, uri)
         a = ls.analyses.get(uri) or Analysis(uri_to_path(uri), "")
-    return a  # type: ignore[no-any-return]
+    return a
 
 
 def _register_documents(server: Any, types: Any) -> None:

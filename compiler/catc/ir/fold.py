@@ -71,6 +71,8 @@ def fold(e: Expr, theta: Mapping[str, object] | None = None) -> Expr:
     subexpression evaluated.  Raises :class:`FoldError` on division by zero."""
     theta = theta or {}
     if isinstance(e, ParamRef):
+        # a value of theta is a parameter's value, or a placeholder a caller carries through
+        # (the PDDL+ export's dial marker): not only Fraction, bool or str
         return Const(theta[e.name], e.sort, e.span) if e.name in theta else e  # type: ignore[arg-type]
     if isinstance(e, Arith):
         return _fold_arith(e, theta)
@@ -100,6 +102,7 @@ def _fold_arith(e: Arith, theta: Mapping[str, object]) -> Expr:
     if not all(isinstance(a, Const) for a in args):
         return Arith(e.op, args, e.sort, e.span)
     try:
+        # every argument is a Const (checked above) of a numeric sort
         value = arith(e.op, [a.value for a in args])  # type: ignore[union-attr,misc]
     except ZeroDivisionError:
         raise FoldError("division by zero", e) from None

@@ -11,10 +11,11 @@ Numbers are :class:`fractions.Fraction` everywhere.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from enum import Enum
 from fractions import Fraction
 from types import MappingProxyType
+from typing import Never, TypeVar
 
 from catgrammar.record import Record
 from catgrammar.record import set_field as _set
@@ -394,7 +395,7 @@ def children(expr: Expr) -> tuple[Expr, ...]:
     return ()
 
 
-def walk(expr: Expr):
+def walk(expr: Expr) -> Iterator[Expr]:
     """Every sub-expression, pre-order, without recursion."""
     stack = [expr]
     while stack:
@@ -656,11 +657,15 @@ class View(Record):
         _set(self, "span", span)
 
 
-def frozen(mapping: Mapping | None = None) -> Mapping:
+_K = TypeVar("_K")
+_V = TypeVar("_V")
+
+
+def frozen(mapping: Mapping[_K, _V] | None = None) -> Mapping[_K, _V]:
     return MappingProxyType(dict(mapping or {}))
 
 
-EMPTY: Mapping = frozen()  # the default of a record's mapping fields (read-only, so shareable)
+EMPTY: Mapping[str, Never] = frozen()  # the default of a record's mapping fields (read-only, so shareable)
 
 
 class Domain(Record):

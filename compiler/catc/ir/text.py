@@ -6,7 +6,8 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Iterable
+from typing import assert_never
 
 from catc import ir
 from catc.ir.numbers import number_text
@@ -20,29 +21,36 @@ def _const(e: ir.Const) -> str:
     return number_text(e.value)
 
 
-def _call(head: str, args) -> str:
+def _call(head: str, args: Iterable[ir.Expr]) -> str:
     return f"({head}{''.join(' ' + to_text(a) for a in args)})"
 
 
-_PRINT: dict[type, Callable[[object], str]] = {
-    ir.Const: _const,
-    ir.ResourceRef: lambda e: e.name,
-    ir.ParamRef: lambda e: e.name,
-    ir.SetLit: lambda e: "{" + " ".join(to_text(x) for x in e.elements) + "}",
-    ir.Arith: lambda e: _call(e.op.value, e.args),
-    ir.Compare: lambda e: _call(e.op.value, (e.left, e.right)),
-    ir.BoolOp: lambda e: _call(e.op.value, e.args),
-    ir.Ite: lambda e: _call("if", (e.cond, e.then, e.orelse)),
-    ir.Member: lambda e: _call("member", (e.element, e.set)),
-    ir.TotalChurn: lambda e: "(total-churn)",
-    ir.TotalCost: lambda e: "(total-cost)",
-    ir.Uses: lambda e: f"(uses {e.morphism})",
-    ir.ParamValue: lambda e: f"(param {e.morphism} {e.param})",
-}
-
-
 def to_text(e: ir.Expr) -> str:
-    return _PRINT[type(e)](e)
+    match e:
+        case ir.Const():
+            return _const(e)
+        case ir.ResourceRef() | ir.ParamRef():
+            return e.name
+        case ir.SetLit():
+            return "{" + " ".join(to_text(x) for x in e.elements) + "}"
+        case ir.Arith() | ir.BoolOp():
+            return _call(e.op.value, e.args)
+        case ir.Compare():
+            return _call(e.op.value, (e.left, e.right))
+        case ir.Ite():
+            return _call("if", (e.cond, e.then, e.orelse))
+        case ir.Member():
+            return _call("member", (e.element, e.set))
+        case ir.TotalChurn():
+            return "(total-churn)"
+        case ir.TotalCost():
+            return "(total-cost)"
+        case ir.Uses():
+            return f"(uses {e.morphism})"
+        case ir.ParamValue():
+            return f"(param {e.morphism} {e.param})"
+        case _:
+            assert_never(e)
 
 
 def effect_text(e: ir.Effect) -> str:

@@ -15,12 +15,13 @@ from __future__ import annotations
 
 from catc import ir
 from catgrammar.record import replace
+from catgrammar.span import Span
 
 
 class ViewError(Exception):
     """A problem cannot be projected (its objective mentions a dropped resource)."""
 
-    def __init__(self, message: str, span=None):
+    def __init__(self, message: str, span: Span | None = None) -> None:
         super().__init__(message)
         self.span = span
 

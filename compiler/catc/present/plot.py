@@ -29,9 +29,9 @@ def ascii_plot(points: Sequence[Point], labels: list[str], width: int = 56, heig
     y_hi, y_lo = f"{y1:.4g}", f"{y0:.4g}"
     pad = max(len(y_hi), len(y_lo))
     lines = [f"{labels[1]} ↑"]
-    for i, row in enumerate(grid):
+    for i, cells in enumerate(grid):
         tick = y_hi if i == 0 else y_lo if i == height - 1 else ""
-        lines.append(f"{tick.rjust(pad)} |{''.join(row)}")
+        lines.append(f"{tick.rjust(pad)} |{''.join(cells)}")
     lines.append(" " * pad + " +" + "-" * width)
     left, right = f"{x0:.4g}", f"{x1:.4g}"
     lines.append(" " * (pad + 2) + left + " " * max(1, width - len(left) - len(right)) + right)

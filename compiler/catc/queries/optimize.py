@@ -217,15 +217,16 @@ class _Deepening:
     def _first_is_optimal(self, k0: int, report0: Any) -> bool:
         """Often the first composition found is already optimal: try to refute anything
         better within the whole horizon, on a budget as long as the time spent so far."""
-        values0 = _scores(self.inst, self.first, self.objectives, self.softs, self.k, self.sequential, report0)
-        if None in values0:
+        scores = _scores(self.inst, self.first, self.objectives, self.softs, self.k, self.sequential, report0)
+        values0 = [v for v in scores if v is not None]
+        if len(values0) != len(scores):
             return False
         self.say(f"first composition: {k0} steps; is there a better one within {self.k} steps?")
         budget0 = max(0.25, time.perf_counter() - self.start)
         limit = _sooner(self.deadline, budget0)
         r = _better_exists(
             self.inst, self.objectives, self.softs, values0, self.k, self.sequential, limit, self.timings
-        )  # type: ignore[arg-type]
+        )
         return r is Check.UNSAT
 
     def _first_plan(self, status: OptStatus, reason: str | None = None) -> OptResult:

@@ -10,10 +10,10 @@ possible is replayed by the independent validator on the relaxed instance.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Any
+from typing import Any, TypeGuard
 
 from catc import ir
 from catc.ir.labels import LabelInfo, label_index
@@ -114,11 +114,11 @@ def eligible_requirements(
     return reqs
 
 
-def _is_order(e: ir.Expr) -> bool:
+def _is_order(e: ir.Expr) -> TypeGuard[ir.Compare]:
     return isinstance(e, ir.Compare) and e.op is not ir.CmpOp.EQ
 
 
-def _int_compare(e: ir.Compare) -> bool:  # type: ignore[name-defined]
+def _int_compare(e: ir.Compare) -> bool:
     return e.left.sort.kind is ir.SortKind.INT and e.right.sort.kind is ir.SortKind.INT
 
 
@@ -249,7 +249,7 @@ class _SlackSearch:
             feas.assert_term(lt(self.feas_cost, cost))
 
     def _least_slack(
-        self, skeleton: list[Term], deadline: float | None
+        self, skeleton: Sequence[Term], deadline: float | None
     ) -> tuple[Fraction, dict[str, Fraction], Plan] | None:
         """The LP for one Boolean skeleton: its least cost, the slack per label, the composition."""
         lp = self.lp.backend
@@ -262,9 +262,9 @@ class _SlackSearch:
             return None
         values: dict[str, Fraction] = {}
         for req, vs in self.slack_vars:
-            amounts = [lp.value(v) for v in vs]
-            assert all(not isinstance(a, bool) for a in amounts)
-            values[req.label] = amounts[0] - amounts[1] if req.kind == "initial value" else amounts[0]  # type: ignore[operator,assignment]
+            amounts = [a for a in (lp.value(v) for v in vs) if not isinstance(a, bool)]
+            assert len(amounts) == len(vs)  # slacks are numbers
+            values[req.label] = amounts[0] - amounts[1] if req.kind == "initial value" else amounts[0]
         bound = lp.bound(self.cost_handle)
         if not bound.exact:
             raise ValueError(f"the least restoration is not attained (infimum {bound.value})")
@@ -349,7 +349,9 @@ def relaxation_text(inst: ir.Instance, rel: Relaxation, info: LabelInfo) -> str:
         assert name is not None
         unit = inst.resources[name].unit if name in inst.resources else None
         sign = "+" if rel.delta > 0 else "-"
-        old = inst.problem.init[name].value.value
+        initial = inst.problem.init[name].value
+        assert isinstance(initial, ir.Const)  # a relaxable initial value is a number
+        old = initial.value
         return (
             f"{name}: {sign}{show_value(abs(rel.delta))}{' ' + unit if unit else ''}"
             f"   (initial value {show_value(old)} → {show_value(old + rel.delta)})"  # type: ignore[operator]

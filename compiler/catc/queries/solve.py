@@ -65,6 +65,7 @@ class SolveResult(Result):
         "strategy",
         "backend",
     )
+    status: SolveStatus
 
     def __init__(
         self,

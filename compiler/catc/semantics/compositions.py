@@ -7,7 +7,7 @@ activation unless the replay still accepts the composition without it, and
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 
 from catc import ir
 from catc.semantics.plan import Activation, Plan, fresh_name
@@ -70,7 +70,9 @@ def canonical_fresh(plan: Plan) -> Plan:
     return Plan(steps, {rename[v]: plan.fresh[v] for v in rename})
 
 
-def checked(inst: ir.Instance, plan: Plan, horizon: int, sequential: bool, what: str) -> tuple:
+def checked(
+    inst: ir.Instance, plan: Plan, horizon: int, sequential: bool, what: str
+) -> tuple[Mapping[str, object], ...]:
     """The replay's states of a composition the solver returned, or :class:`ValidationFailure`
     (a bug in catc: an answer is never shown unvalidated)."""
     report = validate(inst, plan, horizon=horizon, sequential=sequential)

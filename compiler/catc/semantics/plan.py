@@ -11,17 +11,17 @@ rationals (``"17/4"``) or integers, so nothing is ever a float.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from fractions import Fraction
 from types import MappingProxyType
-from typing import Any
+from typing import Any, TypeAlias
 
 from catgrammar.record import Record, set_field
 
-Value = Fraction | bool | str
-SetValue = frozenset  # of symbol names
-StateValue = Value | SetValue
-State = Mapping[str, StateValue]
+Value: TypeAlias = Fraction | bool | str
+SetValue: TypeAlias = frozenset[str]  # of symbol names
+StateValue: TypeAlias = Value | SetValue
+State: TypeAlias = Mapping[str, StateValue]
 
 PLAN_SCHEMA = "catc.plan/1"
 
@@ -53,7 +53,7 @@ class Plan(Record):
     steps: tuple[tuple[Activation, ...], ...]
     fresh: Mapping[str, str]  # value → sort
 
-    def __init__(self, steps, fresh: Mapping[str, str] | None = None) -> None:
+    def __init__(self, steps: Iterable[Iterable[Activation]], fresh: Mapping[str, str] | None = None) -> None:
         set_field(self, "steps", tuple(tuple(s) for s in steps))
         set_field(self, "fresh", MappingProxyType(dict(fresh or {})))
 
@@ -105,7 +105,7 @@ def _number_from_json(x: Any, where: str) -> Fraction:
     raise PlanFormatError(f"{where}: expected a number, got {x!r}")
 
 
-def plan_to_json(plan: Plan) -> dict:
+def plan_to_json(plan: Plan) -> dict[str, Any]:
     return {
         "schema": PLAN_SCHEMA,
         "steps": [

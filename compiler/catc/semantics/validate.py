@@ -31,6 +31,7 @@ from collections import Counter, defaultdict
 from collections.abc import Callable, Mapping
 from fractions import Fraction
 from types import MappingProxyType
+from typing import Any, TypeGuard
 
 from catc import ir
 from catc.ir import ArithOp, BoolOpKind, CmpOp, EffectKind, SortKind
@@ -137,7 +138,13 @@ class Undefined(EvaluationError):
 class _Env:
     __slots__ = ("instance", "state", "params", "plan")
 
-    def __init__(self, instance, state, params, plan=None):
+    def __init__(
+        self,
+        instance: ir.Instance,
+        state: Mapping[str, object],
+        params: Mapping[str, object] | None,
+        plan: Plan | None = None,
+    ) -> None:
         self.instance = instance
         self.state = state
         self.params = params
@@ -153,7 +160,7 @@ def _norm(v: object) -> object:
     return v
 
 
-def _is_num(v: object) -> bool:
+def _is_num(v: object) -> TypeGuard[Fraction]:
     return isinstance(v, Fraction) and not isinstance(v, bool)
 
 
@@ -161,7 +168,7 @@ def _num(env: _Env, e: ir.Expr) -> Fraction:
     v = _eval(env, e)
     if not _is_num(v):
         raise EvaluationError(f"{to_text(e)} is {fmt(v)}, not a number")
-    return v  # type: ignore[return-value]
+    return v
 
 
 def _bool(env: _Env, e: ir.Expr) -> bool:
@@ -171,25 +178,25 @@ def _bool(env: _Env, e: ir.Expr) -> bool:
     return v
 
 
-def _h_const(env: _Env, e: ir.Const):
+def _h_const(env: _Env, e: ir.Const) -> object:
     return _norm(e.value)
 
 
-def _h_resource(env: _Env, e: ir.ResourceRef):
+def _h_resource(env: _Env, e: ir.ResourceRef) -> object:
     try:
         return env.state[e.name]
     except KeyError:
         raise MissingValue(f"resource '{e.name}' has no value") from None
 
 
-def _h_param(env: _Env, e: ir.ParamRef):
+def _h_param(env: _Env, e: ir.ParamRef) -> object:
     if env.params is None or e.name not in env.params:
         raise EvaluationError(f"parameter '{e.name}' has no value")
     return _norm(env.params[e.name])
 
 
-def _h_setlit(env: _Env, e: ir.SetLit):
-    out = set()
+def _h_setlit(env: _Env, e: ir.SetLit) -> frozenset[str]:
+    out: set[str] = set()
     for x in e.elements:
         v = _eval(env, x)
         if not isinstance(v, str):
@@ -198,7 +205,7 @@ def _h_setlit(env: _Env, e: ir.SetLit):
     return frozenset(out)
 
 
-def _h_arith(env: _Env, e: ir.Arith):
+def _h_arith(env: _Env, e: ir.Arith) -> Fraction:
     args = [_num(env, a) for a in e.args]  # strict: every argument is evaluated
     if not args:
         raise EvaluationError(f"{to_text(e)} has no arguments")
@@ -229,7 +236,7 @@ def _kind_of(v: object) -> str:
     return type(v).__name__
 
 
-def _h_compare(env: _Env, e: ir.Compare):
+def _h_compare(env: _Env, e: ir.Compare) -> bool:
     left, right = _eval(env, e.left), _eval(env, e.right)
     if e.op is CmpOp.EQ:
         if _kind_of(left) != _kind_of(right):
@@ -237,10 +244,10 @@ def _h_compare(env: _Env, e: ir.Compare):
         return left == right
     if not (_is_num(left) and _is_num(right)):
         raise EvaluationError(f"{to_text(e)} compares non-numbers {fmt(left)} and {fmt(right)}")
-    return _ORDER[e.op](left, right)  # type: ignore[arg-type]
+    return _ORDER[e.op](left, right)
 
 
-def _h_boolop(env: _Env, e: ir.BoolOp):
+def _h_boolop(env: _Env, e: ir.BoolOp) -> bool:
     args = [_bool(env, a) for a in e.args]  # strict
     op = e.op
     if op is BoolOpKind.AND:
@@ -258,13 +265,13 @@ def _h_boolop(env: _Env, e: ir.BoolOp):
     raise EvaluationError(f"unknown boolean operator {op!r}")
 
 
-def _h_ite(env: _Env, e: ir.Ite):
+def _h_ite(env: _Env, e: ir.Ite) -> object:
     cond = _bool(env, e.cond)
     then, orelse = _eval(env, e.then), _eval(env, e.orelse)  # strict: both branches
     return then if cond else orelse
 
 
-def _h_member(env: _Env, e: ir.Member):
+def _h_member(env: _Env, e: ir.Member) -> bool:
     x, s = _eval(env, e.element), _eval(env, e.set)
     if not isinstance(s, frozenset):
         raise EvaluationError(f"{to_text(e.set)} is {fmt(s)}, not a set")
@@ -284,7 +291,7 @@ def _morphism(env: _Env, name: str) -> ir.Morphism:
     return m
 
 
-def _h_total_cost(env: _Env, e: ir.TotalCost):
+def _h_total_cost(env: _Env, e: ir.TotalCost) -> Fraction:
     plan = _need_plan(env, e)
     total = Fraction(0)
     for _, act in plan.activations:
@@ -296,19 +303,19 @@ def _h_total_cost(env: _Env, e: ir.TotalCost):
     return total
 
 
-def _h_total_churn(env: _Env, e: ir.TotalChurn):
+def _h_total_churn(env: _Env, e: ir.TotalChurn) -> Fraction:
     plan = _need_plan(env, e)
     used = {a.morphism for _, a in plan.activations}
     deployed = set(env.instance.problem.deployed)
     return sum((_morphism(env, n).churn for n in sorted(used ^ deployed)), Fraction(0))
 
 
-def _h_uses(env: _Env, e: ir.Uses):
+def _h_uses(env: _Env, e: ir.Uses) -> Fraction:
     plan = _need_plan(env, e)
     return Fraction(sum(1 for _, a in plan.activations if a.morphism == e.morphism))
 
 
-def _h_param_value(env: _Env, e: ir.ParamValue):
+def _h_param_value(env: _Env, e: ir.ParamValue) -> object:
     plan = _need_plan(env, e)
     values = [_norm(a.params[e.param]) for _, a in plan.activations if a.morphism == e.morphism and e.param in a.params]
     uses = sum(1 for _, a in plan.activations if a.morphism == e.morphism)
@@ -319,7 +326,9 @@ def _h_param_value(env: _Env, e: ir.ParamValue):
     return values[0]
 
 
-_HANDLERS: dict[type, Callable[[_Env, ir.Expr], object]] = {
+# Each handler takes the class it is keyed by, a dependent type mypy cannot express: the
+# table's handlers take Any, and every entry is checked where it is written.
+_HANDLERS: dict[type[ir.Expr], Callable[[_Env, Any], object]] = {
     ir.Const: _h_const,
     ir.ResourceRef: _h_resource,
     ir.ParamRef: _h_param,
@@ -361,6 +370,7 @@ def objective_value(
     ``(param m p)``.  None when the term is undefined (a parameter of an unused morphism,
     a zero divisor, an unknown morphism in the plan)."""
     try:
+        # an objective term is numeric (checked by the front end's sort rules)
         return _eval(_Env(instance, final_state, {}, plan), term)  # type: ignore[return-value]
     except EvaluationError:
         return None
@@ -459,9 +469,9 @@ def _resource_value_problem(instance: ir.Instance, r: ir.Resource, v: object) ->
     if k in (SortKind.INT, SortKind.REAL):
         if not _is_num(v):
             return f"{fmt(v)} is not a number"
-        if k is SortKind.INT and v.denominator != 1:  # type: ignore[union-attr]
+        if k is SortKind.INT and v.denominator != 1:
             return f"{fmt(v)} is not an integer"
-        return _bounds_problem(r.lower, r.upper, v)  # type: ignore[arg-type]
+        return _bounds_problem(r.lower, r.upper, v)
     if k is SortKind.BOOL:
         return None if isinstance(v, bool) else f"{fmt(v)} is not true or false"
     if k is SortKind.SET:
@@ -472,7 +482,9 @@ def _resource_value_problem(instance: ir.Instance, r: ir.Resource, v: object) ->
 # ====================================================================== validation
 
 
-def _sort_problem(instance: ir.Instance, sort: ir.Sort, v: object, fresh: Mapping[str, str], constants) -> str | None:
+def _sort_problem(
+    instance: ir.Instance, sort: ir.Sort, v: object, fresh: Mapping[str, str], constants: Mapping[str, ir.Constant]
+) -> str | None:
     """Why ``v`` is not a value of ``sort`` (None when it is)."""
     k = sort.kind
     if k is SortKind.BOOL:
@@ -482,7 +494,7 @@ def _sort_problem(instance: ir.Instance, sort: ir.Sort, v: object, fresh: Mappin
             return f"{v!r} is a float; numbers must be exact (Fraction)"
         if not _is_num(v):
             return f"{fmt(v)} is not a number"
-        if k is SortKind.INT and v.denominator != 1:  # type: ignore[union-attr]
+        if k is SortKind.INT and v.denominator != 1:
             return f"{fmt(v)} is not an integer"
         return None
     if k is SortKind.ENUM:
@@ -520,7 +532,7 @@ def _first_reader(m: ir.Morphism, r: str) -> str | None:
     return None
 
 
-def _first_effect(m: ir.Morphism, r: str, kinds) -> str | None:
+def _first_effect(m: ir.Morphism, r: str, kinds: tuple[EffectKind, ...]) -> str | None:
     for eff in m.effects:
         if eff.resource == r and eff.kind in kinds:
             return eff.label
@@ -535,7 +547,7 @@ class _Live:
 
     __slots__ = ("act", "m", "params", "values")
 
-    def __init__(self, act: Activation, m: ir.Morphism, params: dict[str, object]):
+    def __init__(self, act: Activation, m: ir.Morphism, params: dict[str, object]) -> None:
         self.act = act
         self.m = m
         self.params = params
@@ -555,7 +567,7 @@ class _Live:
 
 
 class _Validator:
-    def __init__(self, instance: ir.Instance, plan: Plan, horizon: int | None, sequential: bool):
+    def __init__(self, instance: ir.Instance, plan: Plan, horizon: int | None, sequential: bool) -> None:
         self.inst = instance
         self.plan = plan
         self.horizon = horizon if horizon is not None else instance.problem.horizon
@@ -601,7 +613,9 @@ class _Validator:
             live_steps.append(live)
         return live_steps
 
-    def activation(self, i: int, act: Activation, fixed_seen) -> _Live | None:
+    def activation(
+        self, i: int, act: Activation, fixed_seen: dict[tuple[str, str], tuple[int, object]]
+    ) -> _Live | None:
         m = self.inst.morphisms.get(act.morphism)
         if m is None:
             self.add("unknown-morphism", f"step {i}: unknown morphism '{act.morphism}'", i, act.morphism)
@@ -637,8 +651,8 @@ class _Validator:
                     m.name,
                 )
                 usable = False
-            elif p.sort.is_numeric:
-                out = _bounds_problem(p.lower, p.upper, v)  # type: ignore[arg-type]
+            elif p.sort.is_numeric and _is_num(v):  # (no sort problem: a number)
+                out = _bounds_problem(p.lower, p.upper, v)
                 if out:
                     self.add("parameter-bounds", f"step {i}: parameter '{p.name}' of '{m.name}': {out}", i, m.name)
             if p.fixed:
@@ -668,7 +682,14 @@ class _Validator:
 
     # -------------------------------------------------------------- replay
     def literal(
-        self, i: int | None, lit: ir.Literal, state, params, morphism: str | None, kind: str, where: str
+        self,
+        i: int | None,
+        lit: ir.Literal,
+        state: Mapping[str, object],
+        params: Mapping[str, object],
+        morphism: str | None,
+        kind: str,
+        where: str,
     ) -> bool:
         try:
             ok = _bool(_Env(self.inst, state, params), lit.expr)
@@ -798,8 +819,8 @@ class _Validator:
         new = dict(state)
         assigned: dict[str, object] = {}
         delta: dict[str, Fraction] = defaultdict(Fraction)
-        added: dict[str, set] = defaultdict(set)
-        removed: dict[str, set] = defaultdict(set)
+        added: dict[str, set[object]] = defaultdict(set)
+        removed: dict[str, set[object]] = defaultdict(set)
         writer: dict[str, tuple[str, str]] = {}
         for a in live:
             for eff, v in zip(a.m.effects, a.values):
@@ -807,6 +828,8 @@ class _Validator:
                 k = eff.kind
                 if k is EffectKind.ASSIGN:
                     assigned[eff.resource] = v
+                # the value of an increase/decrease is a number (the front end's sort rules;
+                # one that could not be evaluated stopped the replay before this step)
                 elif k is EffectKind.INCREASE:
                     delta[eff.resource] += v  # type: ignore[operator]
                 elif k is EffectKind.DECREASE:
@@ -817,13 +840,15 @@ class _Validator:
                     removed[eff.resource].add(v)
         try:
             for r, d in delta.items():
-                if not _is_num(state.get(r)):
+                number = state.get(r)
+                if not _is_num(number):
                     raise MissingValue(f"resource '{r}' has no value")
-                new[r] = state[r] + d  # type: ignore[operator]
+                new[r] = number + d
             for r in set(added) | set(removed):
-                if not isinstance(state.get(r), frozenset):
+                members = state.get(r)
+                if not isinstance(members, frozenset):
                     raise MissingValue(f"resource '{r}' has no value")
-                new[r] = frozenset((state[r] - removed[r]) | added[r])  # type: ignore[operator]
+                new[r] = frozenset((members - removed[r]) | added[r])
         except EvaluationError as exc:
             self.add("initial-state", f"step {i}: {exc}", i)
             return None
@@ -869,7 +894,7 @@ class _Validator:
             for lit in self.inst.problem.goal:
                 self.literal(None, lit, state, {}, None, "goal", "goal ")
 
-        def rank(iv: tuple[int, Violation]):
+        def rank(iv: tuple[int, Violation]) -> tuple[float, int]:
             n, v = iv
             if v.step is not None:
                 return (v.step, n)

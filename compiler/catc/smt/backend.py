@@ -171,4 +171,6 @@ def open_backend(
     if missing:
         what = ", ".join(sorted(c.value for c in missing))
         raise BackendError(f"the {name} backend has no {what} support")
+    # the registered backends take these keywords (Backend declares no __init__: an
+    # SmtlibWriter is made with others)
     return cls(optimize=optimize, logic=logic, share_with=share_with)  # type: ignore[call-arg]

@@ -31,7 +31,8 @@ core removes exactly that effect.
 from __future__ import annotations
 
 from collections import defaultdict
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
+from typing import Any, TypeAlias
 
 from catc import ir
 from catc.ir import SortKind
@@ -43,13 +44,30 @@ from catgrammar.record import Record, set_field
 
 # A term is SMT-LIB text (a Symbol is one); a symbol may also be a known universe index
 # (int); a set is a mapping universe index → Bool text.
-Term = str | int | dict
+Term: TypeAlias = str | int | dict[int, str]
+#: The effects of one step on one resource, as :meth:`Encoder.add_step` gathers them (and
+#: hands them to ``step_hook``): assignments (guard, value), increments (text),
+#: set additions and removals (morphism, guard, element).
+Assigns: TypeAlias = list[tuple[str, Term]]
+Deltas: TypeAlias = list[str]
+SetChanges: TypeAlias = list[tuple[str, str, Term]]
+StepHook: TypeAlias = Callable[
+    [int, dict[str, Symbol], dict[str, Assigns], dict[str, Deltas], dict[str, SetChanges], dict[str, SetChanges]],
+    None,
+]
+
+
+def _text(t: Term) -> str:
+    """A term that is SMT-LIB text: Boolean and numeric terms are (symbols may be known
+    universe indices, sets are mappings)."""
+    assert isinstance(t, str), t
+    return t
 
 
 class _Ctx:
     __slots__ = ("t", "params", "guards")
 
-    def __init__(self, t: int, params: dict, guards: list) -> None:
+    def __init__(self, t: int, params: dict[str, Term], guards: list[str]) -> None:
         self.t = t
         self.params = params
         self.guards = guards
@@ -74,14 +92,14 @@ class Encoder:
         track: bool = False,
         slack: dict[str, str] | None = None,
         extra_written: frozenset[str] = frozenset(),
-    ):
+    ) -> None:
         """``slack`` maps labels of relaxable requirements (numeric initial values and
         order comparisons) to the name of a slack term that weakens them (``catc relax``).
         ``extra_written`` names resources something besides the morphisms may write (a hole
         μ, ``catc synthesize``), which then add their effects through ``step_hook``."""
         self.inst = inst
         self.slack = slack or {}
-        self.step_hook = None  # called as hook(t, actions, assigns, deltas, adds, removes)
+        self.step_hook: StepHook | None = None  # called as hook(t, actions, assigns, deltas, adds, removes)
         self.horizon = horizon
         self.sequential = sequential
         self.track = track
@@ -96,7 +114,9 @@ class Encoder:
         self.indicators: dict[str, Symbol] = {}  # effect label → indicator (tracking)
         #: resources no morphism writes keep one variable for every state
         self.written = frozenset(e.resource for m in self.morphisms for e in m.effects) | extra_written
-        self._dispatch: dict[type, Callable] = {
+        # Each handler takes the class it is keyed by, a dependent type mypy cannot express: the
+        # table's handlers take Any, and every entry is checked where it is written.
+        self._dispatch: dict[type[ir.Expr | Encoded], Callable[[Any, _Ctx], Term]] = {
             ir.Const: self._const,
             ir.ResourceRef: self._resource,
             ir.ParamRef: self._param,
@@ -106,7 +126,7 @@ class Encoder:
             ir.BoolOp: self._boolop,
             ir.Ite: self._ite,
             ir.Member: self._member,
-            Encoded: lambda e, ctx: e.text,
+            Encoded: self._encoded,
         }
         self._classify()
         self._fixed_params()
@@ -116,7 +136,8 @@ class Encoder:
     # ------------------------------------------------------------------ variables
     def _var(self, name: str, sort: ir.Sort) -> Term:
         if sort.kind is SortKind.SET:
-            u = self.grounding.universe(sort.element)  # type: ignore[arg-type]
+            assert sort.element is not None  # a set sort's element sort
+            u = self.grounding.universe(sort.element)
             return {i: self.script.declare(f"{name}.{e}", SmtSort.BOOL) for i, e in enumerate(u.elements)}
         return self.script.declare(name, _SMT_SORT[sort.kind])
 
@@ -156,7 +177,7 @@ class Encoder:
 
     def _param_constraints(self, m: ir.Morphism, p: ir.Param, v: Term) -> None:
         if p.sort.is_symbolic:
-            self.add(None, self.domain_constraint(v, p.sort))  # type: ignore[arg-type]
+            self.add(None, self.domain_constraint(_text(v), p.sort))
         lit = real_literal if p.sort.kind is SortKind.REAL else (lambda f: int_literal(int(f)))
         if p.lower is not None:
             self.add(f"bound/{m.name}/{p.name}", f"(>= {v} {lit(p.lower)})")
@@ -213,13 +234,13 @@ class Encoder:
                 body = self._literal(lit, ctx)
                 self.add(lit.label, f"(=> {b[m.name]} {_and([body] + ctx.guards)})")
 
-        assigns: dict[str, list[tuple[str, Term]]] = defaultdict(list)
-        deltas: dict[str, list[str]] = defaultdict(list)
-        adds: dict[str, list[tuple[str, str, Term]]] = defaultdict(list)
-        removes: dict[str, list[tuple[str, str, Term]]] = defaultdict(list)
+        assigns: dict[str, Assigns] = defaultdict(list)
+        deltas: dict[str, Deltas] = defaultdict(list)
+        adds: dict[str, SetChanges] = defaultdict(list)
+        removes: dict[str, SetChanges] = defaultdict(list)
         for m in self.morphisms:
             params = {p.name: theta[(m.name, p.name)] for p in m.params}
-            on = b[m.name]
+            on: str = b[m.name]
             for e in m.effects:
                 res = self.inst.resources[e.resource]
                 ctx = _Ctx(t, params, [])
@@ -263,7 +284,16 @@ class Encoder:
             q = self.indicators[e.label] = self.script.declare(f"L:{e.label}", SmtSort.BOOL)
         return f"(and {on} {q})"
 
-    def _successor(self, r: ir.Resource, cur: Term, nxt: Term, assigns, deltas, adds, removes) -> None:
+    def _successor(
+        self,
+        r: ir.Resource,
+        cur: Term,
+        nxt: Term,
+        assigns: Assigns,
+        deltas: Deltas,
+        adds: SetChanges,
+        removes: SetChanges,
+    ) -> None:
         if r.sort.kind is SortKind.SET:
             assert isinstance(cur, dict) and isinstance(nxt, dict)
             for i in cur:
@@ -275,17 +305,20 @@ class Encoder:
                 if added and _or(added) != "false":
                     value = _or([_or(added), value])
                 for on, whole in reversed(assigns):
+                    assert isinstance(whole, dict)  # a set's value
                     value = f"(ite {on} {whole[i]} {value})"
                 self.add(None, f"(= {nxt[i]} {value})")
             return
-        value = cur
+        term: Term = cur
         if deltas:
-            value = f"(+ {cur} {' '.join(deltas)})"
+            term = f"(+ {cur} {' '.join(deltas)})"
         for on, v in reversed(assigns):
-            value = f"(ite {on} {v} {value})"
-        self.add(None, f"(= {nxt} {value})")
+            term = f"(ite {on} {v} {term})"
+        self.add(None, f"(= {nxt} {term})")
 
-    def _interference(self, b: dict[str, str], adds, removes) -> None:
+    def _interference(
+        self, b: Mapping[str, str], adds: Mapping[str, SetChanges], removes: Mapping[str, SetChanges]
+    ) -> None:
         if self.sequential:
             self.add(None, self._at_most_one(list(b.values())))
             return
@@ -330,20 +363,20 @@ class Encoder:
 
     # ------------------------------------------------------------------ goal, uses
     def goal_constraints(self, t: int) -> list[tuple[str, str]]:
-        out = []
+        out: list[tuple[str, str]] = []
         for lit in self.inst.problem.goal:
             ctx = _Ctx(t, {}, [])
             body = self._literal(lit, ctx)
             out.append((lit.label, _and([body] + ctx.guards)))
         return out
 
-    def _literal(self, lit: ir.Literal, ctx: _Ctx) -> Term:
+    def _literal(self, lit: ir.Literal, ctx: _Ctx) -> str:
         """A labelled literal, weakened by its slack when it has one:
         (>= a b) → (>= (+ a δ) b) and (<= a b) → (<= a (+ b δ)) (likewise > and <)."""
         delta = self.slack.get(lit.label)
         e = lit.expr
         if delta is None or not isinstance(e, ir.Compare) or e.op is ir.CmpOp.EQ:
-            return self.term(e, ctx)
+            return _text(self.term(e, ctx))
         both = ir.REAL if ir.REAL in (e.left.sort, e.right.sort) else ir.INT
         left = self._as(self.term(e.left, ctx), e.left.sort, both)
         right = self._as(self.term(e.right, ctx), e.right.sort, both)
@@ -366,7 +399,7 @@ class Encoder:
         return self.term(e, _Ctx(t, {}, []))
 
     def uses_constraints(self, steps: int) -> list[tuple[str, str]]:
-        out = []
+        out: list[tuple[str, str]] = []
         for m in self.morphisms:
             if m.uses is not None and steps > m.uses:
                 out.append((f"uses/{m.name}", at_most([self.act[t][m.name] for t in range(steps)], m.uses)))
@@ -384,6 +417,10 @@ class Encoder:
             return self.grounding.universe(e.sort).index(v)
         return int_literal(v.numerator) if e.sort.kind is SortKind.INT else real_literal(v)
 
+    @staticmethod
+    def _encoded(e: Encoded, ctx: _Ctx) -> Term:
+        return e.text
+
     def _resource(self, e: ir.ResourceRef, ctx: _Ctx) -> Term:
         return self.states[ctx.t][e.name]
 
@@ -391,7 +428,8 @@ class Encoder:
         return ctx.params[e.name]
 
     def _setlit(self, e: ir.SetLit, ctx: _Ctx) -> Term:
-        u = self.grounding.universe(e.sort.element)  # type: ignore[arg-type]
+        assert e.sort.element is not None  # a set sort's element sort
+        u = self.grounding.universe(e.sort.element)
         elems = [self.term(x, ctx) for x in e.elements]
         return {i: _or([self._sym_eq(x, i) for x in elems]) for i in range(len(u))}
 
@@ -403,14 +441,16 @@ class Encoder:
 
     def _arith(self, e: ir.Arith, ctx: _Ctx) -> str:
         want = e.sort
-        args = [self._as(self.term(a, ctx), a.sort, want if e.op is not ir.ArithOp.DIV else ir.REAL) for a in e.args]
+        args = [
+            _text(self._as(self.term(a, ctx), a.sort, want if e.op is not ir.ArithOp.DIV else ir.REAL)) for a in e.args
+        ]
         op = e.op
         if op is ir.ArithOp.ADD:
-            return args[0] if len(args) == 1 else f"(+ {' '.join(args)})"  # type: ignore[arg-type]
+            return args[0] if len(args) == 1 else f"(+ {' '.join(args)})"
         if op is ir.ArithOp.SUB:
-            return f"(- {' '.join(args)})"  # type: ignore[arg-type]
+            return f"(- {' '.join(args)})"
         if op is ir.ArithOp.MUL:
-            return args[0] if len(args) == 1 else f"(* {' '.join(args)})"  # type: ignore[arg-type]
+            return args[0] if len(args) == 1 else f"(* {' '.join(args)})"
         if op is ir.ArithOp.DIV:
             num, den = args
             if not isinstance(e.args[1], ir.Const):
@@ -420,7 +460,7 @@ class Encoder:
         out = args[0]
         for a in args[1:]:
             out = f"(ite ({cmp} {out} {a}) {out} {a})"
-        return out  # type: ignore[return-value]
+        return out
 
     def _compare(self, e: ir.Compare, ctx: _Ctx) -> str:
         left, right = self.term(e.left, ctx), self.term(e.right, ctx)
@@ -432,12 +472,12 @@ class Encoder:
         return f"({e.op.value} {left} {right})"
 
     def _boolop(self, e: ir.BoolOp, ctx: _Ctx) -> str:
-        args = [self.term(a, ctx) for a in e.args]
+        args = [_text(self.term(a, ctx)) for a in e.args]
         op = e.op
         if op is ir.BoolOpKind.AND:
-            return _and(args)  # type: ignore[arg-type]
+            return _and(args)
         if op is ir.BoolOpKind.OR:
-            return _or(args)  # type: ignore[arg-type]
+            return _or(args)
         if op is ir.BoolOpKind.NOT:
             return f"(not {args[0]})"
         return f"(=> {args[0]} {args[1]})"
@@ -447,7 +487,8 @@ class Encoder:
         a = self._as(self.term(e.then, ctx), e.then.sort, e.sort)
         b = self._as(self.term(e.orelse, ctx), e.orelse.sort, e.sort)
         if isinstance(a, dict):
-            return {i: f"(ite {c} {a[i]} {b[i]})" for i in a}  # type: ignore[index]
+            assert isinstance(b, dict)  # both branches are sets
+            return {i: f"(ite {c} {a[i]} {b[i]})" for i in a}
         return f"(ite {c} {a} {b})"
 
     def _member(self, e: ir.Member, ctx: _Ctx) -> str:
@@ -466,7 +507,8 @@ class Encoder:
 
     def _equal(self, a: Term, b: Term) -> str:
         if isinstance(a, dict):
-            return _and([f"(= {a[i]} {b[i]})" for i in a])  # type: ignore[index]
+            assert isinstance(b, dict)  # both sides are sets
+            return _and([f"(= {a[i]} {b[i]})" for i in a])
         if isinstance(a, int) or isinstance(b, int):
             return self._sym_eq(a, b)
         return f"(= {a} {b})"
@@ -474,7 +516,7 @@ class Encoder:
     # ------------------------------------------------------------------ objective terms
     def objective(self, e: ir.Expr, steps: int) -> str:
         """An objective term over a composition of ``steps`` steps, as Real-sorted text."""
-        return self._as(self._objective(e, steps), e.sort, ir.REAL)  # type: ignore[return-value]
+        return _text(self._as(self._objective(e, steps), e.sort, ir.REAL))
 
     def _objective(self, e: ir.Expr, steps: int) -> Term:
         acts = [(t, m) for t in range(steps) for m in self.morphisms]
@@ -502,9 +544,11 @@ class Encoder:
             return out
         if isinstance(e, ir.Arith):
             args = tuple(Encoded(self._objective(a, steps), a.sort) for a in e.args)
+            # an Encoded stands in for an expression (``term`` dispatches it to its text)
             return self._arith(ir.Arith(e.op, args, e.sort), _Ctx(steps, {}, []))  # type: ignore[arg-type]
         if isinstance(e, ir.Ite):
             parts = [Encoded(self._objective(x, steps), x.sort) for x in (e.cond, e.then, e.orelse)]
+            # as above: Encoded parts stand in for expressions
             return self._ite(ir.Ite(parts[0], parts[1], parts[2], e.sort), _Ctx(steps, {}, []))  # type: ignore[arg-type]
         return self.term(e, _Ctx(steps, {}, []))
 
@@ -512,7 +556,7 @@ class Encoder:
         if m.cost is None:
             return "1.0"
         params = {p.name: self.theta[t][(m.name, p.name)] for p in m.params}
-        return self._as(self.term(m.cost, _Ctx(t, params, [])), m.cost.sort, ir.REAL)  # type: ignore[return-value]
+        return _text(self._as(self.term(m.cost, _Ctx(t, params, [])), m.cost.sort, ir.REAL))
 
 
 class Encoded(Record):

@@ -28,6 +28,7 @@ class Universe(Record):
     elements: tuple[str, ...]
     fresh: frozenset[str]  # the reserve values
     sort_of: dict[str, str]  # element → its declared sort
+    _index: dict[str, int]  # element → its position (a cache, not a field)
 
     def __init__(
         self,
@@ -52,16 +53,19 @@ class Universe(Record):
 class Grounding:
     """Universes for every symbolic sort of an instance, for horizon ``k``."""
 
-    def __init__(self, inst: ir.Instance, horizon: int):
+    def __init__(self, inst: ir.Instance, horizon: int) -> None:
         self.inst = inst
         sorts = inst.domain.sorts
         self.root: dict[str, str] = {}
         for name in sorts:
             r = name
             seen = set()
-            while sorts[r].parent and r not in seen:
+            while r not in seen:
+                parent = sorts[r].parent
+                if not parent:
+                    break
                 seen.add(r)
-                r = sorts[r].parent  # type: ignore[assignment]
+                r = parent
             self.root[name] = r
         # reserves needed per declared sort
         need: dict[str, int] = {}

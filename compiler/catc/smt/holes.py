@@ -10,11 +10,13 @@ effects back as IR effects.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 from catc import ir
 from catc.ir import SortKind
 from catc.semantics.plan import Activation, Plan
 from catc.smt.backend import Backend
-from catc.smt.encoder import Encoder
+from catc.smt.encoder import Assigns, Deltas, Encoder, SetChanges
 from catc.smt.readback import read_value
 from catc.smt.script import SmtSort, Symbol, at_most, count_text, or_text
 
@@ -24,7 +26,7 @@ class HoleEncoding:
     possible effect.  Create it before the steps are added: it adds μ's effects to every step
     through the encoder's ``step_hook``."""
 
-    def __init__(self, enc: Encoder, hole: ir.Hole):
+    def __init__(self, enc: Encoder, hole: ir.Hole) -> None:
         self.enc, self.hole = enc, hole
         self.acts: list[Symbol] = []
         # (kind, selector, resource, value variable or None)
@@ -38,8 +40,9 @@ class HoleEncoding:
                     value = declare(f"mu.amount.{r.name}", SmtSort.INT if r.sort.kind is SortKind.INT else SmtSort.REAL)
                 elif kind in ("add", "remove", "assign"):
                     sort = r.sort.element if kind != "assign" else r.sort
+                    assert sort is not None  # a set resource's element sort
                     value = declare(f"mu.value.{kind}.{r.name}", SmtSort.INT)
-                    enc.add(None, enc.domain_constraint(value, sort))  # type: ignore[arg-type]
+                    enc.add(None, enc.domain_constraint(value, sort))
                 self.selectors.append((kind, sel, r, value))
         for r in enc.resources:  # set and clear of one bool exclude each other
             if r.sort.kind is SortKind.BOOL:
@@ -48,7 +51,15 @@ class HoleEncoding:
             enc.add(None, f"(<= {count_text([s for _, s, _, _ in self.selectors])} {hole.max_effects})")
         enc.step_hook = self._step
 
-    def _step(self, t: int, b: dict, assigns, deltas, adds, removes) -> None:
+    def _step(
+        self,
+        t: int,
+        b: dict[str, Symbol],
+        assigns: dict[str, Assigns],
+        deltas: dict[str, Deltas],
+        adds: dict[str, SetChanges],
+        removes: dict[str, SetChanges],
+    ) -> None:
         q = self.enc.script.declare(f"b.mu.{t}", SmtSort.BOOL)
         others = list(b.values())
         if others:
@@ -61,15 +72,17 @@ class HoleEncoding:
                 assigns[r.name].append((on, "true"))
             elif kind == "clear":
                 assigns[r.name].append((on, "false"))
-            elif kind == "assign":
-                assigns[r.name].append((on, value))
-            elif kind == "change":
-                zero = "0" if r.sort.kind is SortKind.INT else "0.0"
-                deltas[r.name].append(f"(ite {on} {value} {zero})")
-            elif kind == "add":
-                adds[r.name].append((f"<{self.hole.name}>", on, value))
             else:
-                removes[r.name].append((f"<{self.hole.name}>", on, value))
+                assert value is not None  # every other kind of effect has a value variable
+                if kind == "assign":
+                    assigns[r.name].append((on, value))
+                elif kind == "change":
+                    zero = "0" if r.sort.kind is SortKind.INT else "0.0"
+                    deltas[r.name].append(f"(ite {on} {value} {zero})")
+                elif kind == "add":
+                    adds[r.name].append((f"<{self.hole.name}>", on, value))
+                else:
+                    removes[r.name].append((f"<{self.hole.name}>", on, value))
 
     def once(self) -> str:
         """μ runs at most once (assert after the steps are added)."""
@@ -102,14 +115,15 @@ class HoleEncoding:
                 sort = r.sort if r.sort.kind is SortKind.INT else ir.REAL
                 out.append(ir.Effect(effect, r.name, ir.Const(abs(raw), sort), label))
             else:
-                sort = r.sort.element if kind != "assign" else r.sort  # type: ignore[assignment]
-                universe = self.enc.grounding.universe(sort)  # type: ignore[arg-type]
-                element = ir.Const(universe.elements[int(raw)], sort)  # type: ignore[arg-type]
+                of = r.sort.element if kind != "assign" else r.sort
+                assert of is not None  # a set resource's element sort
+                universe = self.enc.grounding.universe(of)
+                element = ir.Const(universe.elements[int(raw)], of)
                 kinds = {"add": ir.EffectKind.ADD, "remove": ir.EffectKind.REMOVE, "assign": ir.EffectKind.ASSIGN}
                 out.append(ir.Effect(kinds[kind], r.name, element, label))
         return out
 
-    def plan(self, backend: Backend, k: int, fresh: dict[str, str]) -> Plan:
+    def plan(self, backend: Backend, k: int, fresh: Mapping[str, str]) -> Plan:
         """The model's composition with μ's activation in its step."""
         enc = self.enc
         step = self.applied_step(backend)

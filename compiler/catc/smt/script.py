@@ -17,6 +17,7 @@ The helpers below build term text with the small simplifications the encoder rel
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from enum import Enum
 from fractions import Fraction
 
@@ -102,21 +103,21 @@ def quote(name: str) -> str:
     return f"|{name}|"
 
 
-def and_text(parts: list[str]) -> str:
+def and_text(parts: Sequence[str]) -> str:
     parts = [p for p in parts if p != "true"]
     if not parts:
         return "true"
     return parts[0] if len(parts) == 1 else f"(and {' '.join(parts)})"
 
 
-def or_text(parts: list[str]) -> str:
+def or_text(parts: Sequence[str]) -> str:
     parts = [p for p in parts if p != "false"]
     if not parts:
         return "false"
     return parts[0] if len(parts) == 1 else f"(or {' '.join(parts)})"
 
 
-def at_most(bools: list[str], n: int) -> str:
+def at_most(bools: Sequence[str], n: int) -> str:
     """Σ ite(b, 1, 0) ≤ n — plain linear arithmetic, understood by every SMT solver."""
     if len(bools) <= n:
         return "true"
@@ -125,6 +126,6 @@ def at_most(bools: list[str], n: int) -> str:
     return f"(<= (+ {' '.join(f'(ite {b} 1 0)' for b in bools)}) {n})"
 
 
-def count_text(bools: list[str]) -> str:
+def count_text(bools: Sequence[str]) -> str:
     """The number of true ``bools``, as an Int term."""
     return f"(+ 0 {' '.join(f'(ite {b} 1 0)' for b in bools)})"

@@ -69,7 +69,7 @@ class Z3Backend(Backend):
     def __init__(self, *, optimize: bool = False, logic: str | None = None, share_with: Backend | None = None):
         if share_with is not None and not isinstance(share_with, Z3Backend):
             raise TypeError("a Z3 backend can share its context only with another Z3 backend")
-        self.ctx = z3.Context() if share_with is None else share_with.ctx
+        self.ctx: z3.Context = z3.Context() if share_with is None else share_with.ctx
         self.solver: z3.Solver | z3.Optimize
         if optimize:
             self.solver = z3.Optimize(ctx=self.ctx)
@@ -148,7 +148,7 @@ class Z3Backend(Backend):
         return self._failure if self._failure is not None else self.solver.reason_unknown()
 
     def core(self) -> list[Symbol]:
-        names = {c.decl().name() for c in self.solver.unsat_core()}  # type: ignore[union-attr]
+        names = {c.decl().name() for c in self.solver.unsat_core()}
         return [Symbol(n, SmtSort.BOOL) for n in sorted(names)]
 
     def has_model(self) -> bool:
@@ -166,7 +166,7 @@ class Z3Backend(Backend):
     def value(self, term: Term) -> Fraction | bool:
         v = self._current_model().eval(self.expr(term), model_completion=True)
         if z3.is_bool(v):
-            return z3.is_true(v)
+            return bool(z3.is_true(v))
         return to_fraction(v)
 
     # ------------------------------------------------------------ optimisation

@@ -114,7 +114,8 @@ class PlusExporter(_Exporter):
                 else:
                     lock = None
                 fluent = self.names.fresh(f"theta-{m.name}-{p.name}")
-                self.func[("dial", key)] = fluent
+                # targets/pddl.py declares func: dict[str, str], but keys are also tuples
+                self.func[("dial", key)] = fluent  # type: ignore[index]
                 running = self.names.fresh(f"adjusting-{m.name}-{p.name}")
                 self.pred[("dial", key)] = running
                 d = Dial(
@@ -155,12 +156,14 @@ class PlusExporter(_Exporter):
 
     def _theta_values(self, m: ir.Morphism) -> list[list[object]] | None:
         # dial θ stay symbolic: a single placeholder value, stripped in action_text
-        out = []
+        out: list[list[object]] = []
         for p in m.params:
             if self.is_dial(m, p):
                 out.append([_DIAL])
             else:
-                out.append(super()._theta_values(_only(m, p))[0])
+                values = super()._theta_values(_only(m, p))
+                assert values is not None  # the PDDL 2.1 export enumerates every parameter it can
+                out.append(values[0])
         return out
 
     # ---- the ground morphism actions read the dials
