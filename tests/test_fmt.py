@@ -20,9 +20,18 @@ from catgrammar.diagnostics import Diagnostics
 VALID = repo_cat_files()
 ALL = VALID + repo_cat_files(invalid=True)
 
+#: Valid files whose exact layout is a fixture of another test, and so not catc fmt's: the
+#: Vim indenter test re-indents this sample and expects it unchanged (indent/cat.vim's
+#: alignment, not catc fmt's), test.vim quotes its lines, and editors/emacs/cat-mode-tests.el
+#: embeds the same text for the Emacs tests.
+LAYOUT_FIXTURES = {"editors/vim/test/sample.cat"}
+
 
 def _id(p: Path) -> str:
     return p.relative_to(ROOT).as_posix()
+
+
+CANONICAL = [p for p in VALID if _id(p) not in LAYOUT_FIXTURES]
 
 
 def _comments(text: str) -> list[str]:
@@ -66,6 +75,23 @@ def test_fixpoint_and_comments(path: Path) -> None:
     once = format_text(text)
     assert format_text(once) == once
     assert _comments(once) == _comments(text)
+
+
+def test_layout_fixtures_exist() -> None:
+    assert LAYOUT_FIXTURES.issubset(_id(p) for p in VALID)
+
+
+@pytest.mark.parametrize("path", CANONICAL, ids=_id)
+def test_repository_file_is_formatted(path: Path) -> None:
+    """Every .cat file of the repository (but the broken ones and LAYOUT_FIXTURES) is in the
+    canonical layout; CI runs `catc fmt --check` on them too.  Fix with `catc fmt FILE`."""
+    text = path.read_text(encoding="utf-8")
+    formatted = format_text(text)
+    if formatted != text:
+        diff = difflib.unified_diff(
+            text.splitlines(keepends=True), formatted.splitlines(keepends=True), f"a/{_id(path)}", f"b/{_id(path)}"
+        )
+        pytest.fail(f"{_id(path)} is not formatted (run `catc fmt {_id(path)}`):\n{''.join(diff)}", pytrace=False)
 
 
 @pytest.mark.parametrize("path", VALID, ids=_id)
