@@ -4,6 +4,7 @@ comments kept, a golden layout, and the --check exit codes.  Also the pre-commit
 from __future__ import annotations
 
 import dataclasses
+import difflib
 import re
 import shutil
 from enum import Enum
@@ -19,9 +20,18 @@ from catgrammar.diagnostics import Diagnostics
 VALID = repo_cat_files()
 ALL = VALID + repo_cat_files(invalid=True)
 
+#: Valid files whose exact layout is a fixture of another test, and so not catc fmt's: the
+#: Vim indenter test re-indents this sample and expects it unchanged (indent/cat.vim's
+#: alignment, not catc fmt's), test.vim quotes its lines, and editors/emacs/cat-mode-tests.el
+#: embeds the same text for the Emacs tests.
+LAYOUT_FIXTURES = {"editors/vim/test/sample.cat"}
+
 
 def _id(p: Path) -> str:
-    return str(p.relative_to(ROOT))
+    return p.relative_to(ROOT).as_posix()
+
+
+CANONICAL = [p for p in VALID if _id(p) not in LAYOUT_FIXTURES]
 
 
 def _comments(text: str) -> list[str]:
@@ -65,6 +75,23 @@ def test_fixpoint_and_comments(path: Path) -> None:
     once = format_text(text)
     assert format_text(once) == once
     assert _comments(once) == _comments(text)
+
+
+def test_layout_fixtures_exist() -> None:
+    assert LAYOUT_FIXTURES.issubset(_id(p) for p in VALID)
+
+
+@pytest.mark.parametrize("path", CANONICAL, ids=_id)
+def test_repository_file_is_formatted(path: Path) -> None:
+    """Every .cat file of the repository (but the broken ones and LAYOUT_FIXTURES) is in the
+    canonical layout; CI runs `catc fmt --check` on them too.  Fix with `catc fmt FILE`."""
+    text = path.read_text(encoding="utf-8")
+    formatted = format_text(text)
+    if formatted != text:
+        diff = difflib.unified_diff(
+            text.splitlines(keepends=True), formatted.splitlines(keepends=True), f"a/{_id(path)}", f"b/{_id(path)}"
+        )
+        pytest.fail(f"{_id(path)} is not formatted (run `catc fmt {_id(path)}`):\n{''.join(diff)}", pytrace=False)
 
 
 @pytest.mark.parametrize("path", VALID, ids=_id)
@@ -127,10 +154,7 @@ GOLDEN_OUT = """\
   ; the only morphism
 
   (:morphism m
-    :kind software
-    :churn 0.50
-    :uses 2
-    :cost 1e2
+    :kind software :churn 0.50 :uses 2 :cost 1e2
     :precondition (and (>= x 1)
                        (<= y 3.0)
                        (>= x 2)
@@ -154,6 +178,164 @@ GOLDEN_OUT = """\
 def test_golden() -> None:
     assert format_text(GOLDEN_IN) == GOLDEN_OUT
     assert format_text(GOLDEN_OUT) == GOLDEN_OUT
+
+
+# ---------------------------------------------------------------- layout rules, one by one
+# Each expected layout is written by hand; each is also a fixpoint.
+
+
+def _formats_to(before: str, after: str) -> None:
+    assert format_text(before) == after
+    assert format_text(after) == after
+
+
+def test_width_counts_the_closing_brackets() -> None:
+    # the (and ...) ends at column 100, and the ")" of its morphism comes after it
+    line = "    :effect (and (decrease budget 20000) (decrease slots 1) (decrease power 12) (add mounted lidar)))"
+    assert len(line) == 101
+    _formats_to(
+        "(define (domain d)\n  (:morphism m\n" + line + "\n  (:morphism n))\n",
+        """\
+(define (domain d)
+  (:morphism m
+    :effect (and (decrease budget 20000)
+                 (decrease slots 1)
+                 (decrease power 12)
+                 (add mounted lidar)))
+  (:morphism n))
+""",
+    )
+    # one column less fits
+    short = line.replace("lidar", "lida")
+    _formats_to(
+        "(define (domain d)\n  (:morphism m\n" + short + "\n  (:morphism n))\n",
+        "(define (domain d)\n  (:morphism m\n" + short + "\n  (:morphism n))\n",
+    )
+
+
+def test_long_lists_are_filled_under_their_first_item() -> None:
+    _formats_to(
+        """\
+(define (domain d)
+  (:requirements :numeric :sets :symbols :free-parameters :views :holes :optimization :recomposition))
+(define (problem p)
+  (:domain d)
+  (:init (= slots 6) (= power 20) (= ram 64) (= disk 1000) (= budget 25000) (= ambient bright) (= range-to-base 4))
+  (:deployed mount-lidar lidar-driver slam explore mount-rgb-camera rgb-driver open-vocab-detector tracker))
+""",
+        """\
+(define (domain d)
+  (:requirements :numeric :sets :symbols :free-parameters :views :holes :optimization
+                 :recomposition))
+
+(define (problem p)
+  (:domain d)
+  (:init (= slots 6) (= power 20) (= ram 64) (= disk 1000) (= budget 25000) (= ambient bright)
+         (= range-to-base 4))
+  (:deployed mount-lidar lidar-driver slam explore mount-rgb-camera rgb-driver open-vocab-detector
+             tracker))
+""",
+    )
+
+
+def test_a_filled_item_that_breaks_has_its_lines_to_itself() -> None:
+    _formats_to(
+        "(define (problem p) (:domain d) (:init (= x 1) (= mounted {alpha-one beta-two gamma-three "
+        "delta-four epsilon-five zeta-six eta-seven theta-eight iota-nine}) (= y 2)))\n",
+        """\
+(define (problem p)
+  (:domain d)
+  (:init (= x 1)
+         (= mounted
+            {alpha-one beta-two gamma-three delta-four epsilon-five zeta-six eta-seven theta-eight
+             iota-nine})
+         (= y 2)))
+""",
+    )
+
+
+def test_name_lists_are_filled_not_one_per_line() -> None:
+    # :keep/:drop names, {set} literals and (enum ...) values: lists of like items
+    _formats_to(
+        """\
+(define (domain d)
+  (:sorts level - (enum very-low low medium-low medium medium-high high very-high extreme off unknown broken))
+  (:view behavior :keep (slam-running tracking speech-in speech-out scene-understanding explored at-victim interacted)))
+(define (problem p) (:domain d) (:init (= seen {north-east north-west south-east south-west centre dock-a dock-b dock-c dock-d dock-e dock-f dock-g dock-h})))
+""",
+        """\
+(define (domain d)
+  (:sorts
+    level - (enum very-low low medium-low medium medium-high high very-high extreme off unknown
+                  broken))
+  (:view behavior :keep (slam-running tracking speech-in speech-out scene-understanding explored
+                         at-victim interacted)))
+
+(define (problem p)
+  (:domain d)
+  (:init (= seen
+            {north-east north-west south-east south-west centre dock-a dock-b dock-c dock-d dock-e
+             dock-f dock-g dock-h})))
+""",
+    )
+
+
+def test_a_long_typed_group_is_filled_and_keeps_its_sort() -> None:
+    _formats_to(
+        """\
+(define (domain d)
+  (:constants rgb-camera rgb-camera-lite thermal-camera lidar speaker-mic external-battery long-range-radio - module
+              scan - topic))
+""",
+        """\
+(define (domain d)
+  (:constants
+    rgb-camera rgb-camera-lite thermal-camera lidar speaker-mic external-battery
+      long-range-radio - module
+    scan - topic))
+""",
+    )
+
+
+def test_short_morphism_options_share_a_line() -> None:
+    # :kind :churn :uses :cost with a plain value; :doc and expressions get a line each
+    _formats_to(
+        """\
+(define (domain d)
+  (:morphism m :kind hardware :churn 1 :uses 1 :cost 150 :doc "a camera" :precondition ok
+     :effect (assign ok true))
+  (:morphism n :cost (* 2 x) :kind software :uses 2))
+""",
+        """\
+(define (domain d)
+  (:morphism m
+    :kind hardware :churn 1 :uses 1 :cost 150
+    :doc "a camera"
+    :precondition ok
+    :effect (assign ok true))
+  (:morphism n
+    :cost (* 2 x)
+    :kind software :uses 2))
+""",
+    )
+
+
+def test_comments_in_a_filled_list_stay_put() -> None:
+    _formats_to(
+        """\
+(define (problem p) (:domain d)
+  (:init (= a 1) ; the first
+         ; before b
+         (= b 2) (= c 3)))
+""",
+        """\
+(define (problem p)
+  (:domain d)
+  (:init (= a 1) ; the first
+         ; before b
+         (= b 2) (= c 3)))
+""",
+    )
 
 
 def test_awkward_comments_are_kept() -> None:
@@ -189,6 +371,30 @@ def test_check_exit_codes(tmp_path: Path) -> None:
     assert res.exit_code == 0
     assert bad.read_text() == GOLDEN_OUT
     assert run_catc("fmt", "--check", tmp_path).exit_code == 0
+
+
+def test_diff_prints_a_unified_diff_and_writes_nothing(tmp_path: Path) -> None:
+    good = tmp_path / "good.cat"
+    good.write_text(GOLDEN_OUT)
+    bad = tmp_path / "bad.cat"
+    bad.write_text(GOLDEN_IN)
+    res = run_catc("fmt", "--diff", good)
+    assert (res.exit_code, res.stdout) == (0, "")
+    res = run_catc("fmt", "--check", good)
+    assert (res.exit_code, res.stdout) == (0, "")
+    res = run_catc("fmt", "--diff", good, bad)
+    assert res.exit_code == 1
+    assert bad.read_text() == GOLDEN_IN  # --diff writes nothing
+    expected = difflib.unified_diff(
+        GOLDEN_IN.splitlines(keepends=True), GOLDEN_OUT.splitlines(keepends=True), f"a/{bad}", f"b/{bad}"
+    )
+    assert res.stdout == "".join(expected)
+    assert res.stdout.startswith(f"--- a/{bad}\n+++ b/{bad}\n@@ ")
+    assert str(good) not in res.stdout
+    assert "1 file(s) would be reformatted" in res.stderr
+    # applying the diff's + side gives the formatted file
+    plus = [ln[1:] for ln in res.stdout.splitlines(keepends=True)[2:] if ln[:1] in " +"]
+    assert "".join(plus) == GOLDEN_OUT
 
 
 def test_bad_input_exits_2(tmp_path: Path) -> None:

@@ -9,12 +9,18 @@ Single blank lines between the items of a broken list are kept.
 
 Layout:
 
-* 2-space indentation; ``(define ...)`` lists one section per line and ``(:morphism ...)``
-  one option per line; ``(:resources ...)`` one resource per line;
-* other lists stay on one line when they fit in :data:`WIDTH` columns and hold no comment;
-  otherwise they break, PDDL style: ``(and (a ...)`` with the other arguments aligned under
-  the first, ``:key value`` pairs kept together, ``(:init ...)`` filled line by line and
-  typed lists (``a b - sort``) one group per line.
+* 2-space indentation; ``(define ...)`` lists one section per line, ``(:resources ...)``
+  one resource per line and ``(:morphism ...)`` one option per line, except that its short
+  options share a line (``:kind hardware :churn 1 :uses 1 :cost 150``);
+* other lists stay on one line when they fit in :data:`WIDTH` columns, closing brackets
+  included, and hold no comment; otherwise they break, PDDL style: ``(and (a ...)`` with the
+  other arguments aligned under the first, ``:key value`` pairs kept together;
+* lists of like items are *filled* (as many per line as fit), continued under their first
+  item: ``(:init ...)``, ``(:requirements ...)``, ``(:import ...)``, ``(:deployed ...)``, the
+  names of ``:keep``/``:drop``, ``{set}`` literals and ``(enum ...)``;
+* typed lists (``(:sorts ...)``, ``(:constants ...)``, ``(:objects ...)``) put one
+  ``names - sort`` group per line; a group too long for a line is filled, its continuation
+  lines two columns further in, and ``- sort`` stays with the last name.
 
 Formatting is idempotent, and :func:`format_text` checks its own output: the tokens and the
 comments must come back identical, or it raises :class:`FormatError`.
@@ -24,9 +30,14 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from catgrammar.symbols import Section
 from catgrammar.tokens import tokenize
+
+if TYPE_CHECKING:
+    from catgrammar._lalr import Token
+    from catgrammar.diagnostics import Diagnostics
 
 WIDTH = 100
 
@@ -34,6 +45,8 @@ _SECTIONS = frozenset(s.value for s in Section)
 _TYPED = frozenset({":sorts", ":constants", ":objects"})
 _FILL = frozenset({":init", ":requirements", ":import", ":deployed"})
 _ALWAYS_BROKEN = frozenset({":morphism", ":resources"})
+_SCALAR_OPTIONS = frozenset({":kind", ":churn", ":uses", ":cost"})  # share a line when atoms
+_NAME_LIST_KEYS = frozenset({":keep", ":drop"})
 _COMMENT = re.compile(r";[^\n]*")
 
 
@@ -64,8 +77,13 @@ class Atom:
 @dataclass
 class Group:
     open: Tok
-    children: list
+    children: list[Node]
     close: Tok
+    names: bool = False  # a list of names or values, filled: {a b}, :keep (a b), (enum a b)
+
+
+Node = Atom | Group
+Unit = list[Node]  # nodes printed together: a ":key value" pair, a "names - sort" group
 
 
 # ---------------------------------------------------------------- tokens + comments
@@ -80,9 +98,9 @@ def scan(text: str) -> tuple[list[Tok], Tok]:
     after the last token."""
     toks: list[Tok] = []
     pos = 0
-    raw = list(tokenize(text)) + [None]
+    raw: list[Token | None] = [*tokenize(text), None]
     for t in raw:
-        start = t.start_pos if t is not None else len(text)
+        start = t.start_pos if t is not None and t.start_pos is not None else len(text)
         gap = text[pos:start]
         tok = Tok(t.type, t.value) if t is not None else Tok("$END", "")
         leading: list[Comment] = []
@@ -103,7 +121,7 @@ def scan(text: str) -> tuple[list[Tok], Tok]:
         else:
             tok.blank_before = _blank(gap)
         toks.append(tok)
-        if t is not None:
+        if t is not None and t.end_pos is not None:
             pos = t.end_pos
     # "x ; a ) ; b )": a comment before closing parentheses ends up after them when printed;
     # attach the comments of a token and the closing parentheses after it to the last ones
@@ -115,28 +133,33 @@ def scan(text: str) -> tuple[list[Tok], Tok]:
         while j < len(body) and body[j].kind in ("RPAR", "RBRACE") and not body[j].leading:
             j += 1
         run = body[i:j]
-        comments = [t.trailing for t in run if t.trailing is not None]
+        comments = [r.trailing for r in run if r.trailing is not None]
         if len(run) > 1 and comments:
-            for t in run:
-                t.trailing = None
-            for t, c in zip(run[len(run) - len(comments) :], comments):
-                t.trailing = c
+            for r in run:
+                r.trailing = None
+            for r, c in zip(run[len(run) - len(comments) :], comments):
+                r.trailing = c
         i = j
     return toks[:-1], toks[-1]
 
 
-def tree(toks: list[Tok]) -> list:
-    stack: list[list] = [[]]
-    opens: list[Tok] = []
+def tree(toks: list[Tok]) -> list[Node]:
+    stack: list[list[Node]] = [[]]
+    opens: list[tuple[Tok, bool]] = []  # an open bracket, and whether a :keep/:drop is before it
+    prev: Tok | None = None
     for tok in toks:
         if tok.kind in ("LPAR", "LBRACE"):
             stack.append([])
-            opens.append(tok)
+            opens.append((tok, prev is not None and prev.text in _NAME_LIST_KEYS))
         elif tok.kind in ("RPAR", "RBRACE"):
             children = stack.pop()
-            stack[-1].append(Group(opens.pop(), children, tok))
+            open_tok, after_key = opens.pop()
+            enum = bool(children) and isinstance(children[0], Atom) and children[0].tok.kind == "_ENUM_WORD"
+            names = open_tok.kind == "LBRACE" or after_key or enum
+            stack[-1].append(Group(open_tok, children, tok, names))
         else:
             stack[-1].append(Atom(tok))
+        prev = tok
     if len(stack) != 1:  # pragma: no cover - the parser rejects unbalanced input first
         raise FormatError("unbalanced parentheses")
     return stack[0]
@@ -145,15 +168,15 @@ def tree(toks: list[Tok]) -> list:
 # ---------------------------------------------------------------- helpers on nodes
 
 
-def first_tok(node) -> Tok:
+def first_tok(node: Node) -> Tok:
     return node.tok if isinstance(node, Atom) else node.open
 
 
-def last_tok(node) -> Tok:
+def last_tok(node: Node) -> Tok:
     return node.tok if isinstance(node, Atom) else node.close
 
 
-def _internal_comments(node, tail_free: bool = True) -> bool:
+def _internal_comments(node: Node, tail_free: bool = True) -> bool:
     """Any comment inside ``node`` that forces it to break.  Leading comments of its first
     token and a trailing comment after its last token are placed by the parent; a trailing
     comment on the last token of its last child moves out after the closing parentheses
@@ -174,7 +197,7 @@ def _internal_comments(node, tail_free: bool = True) -> bool:
     return False
 
 
-def _tail_comment(node) -> str | None:
+def _tail_comment(node: Node) -> str | None:
     """The trailing comment at the end of ``node`` (the innermost one, when it moves out)."""
     while True:
         tok = last_tok(node)
@@ -183,7 +206,7 @@ def _tail_comment(node) -> str | None:
         node = node.children[-1]
 
 
-def flat(node) -> str:
+def flat(node: Node) -> str:
     if isinstance(node, Atom):
         return node.tok.text
     if _head(node) in _TYPED:  # (:constants a b - sort  c - other): two spaces between groups
@@ -193,19 +216,19 @@ def flat(node) -> str:
     return node.open.text + " ".join(flat(c) for c in node.children) + node.close.text
 
 
-def _is_key(node) -> bool:
+def _is_key(node: Node) -> bool:
     return isinstance(node, Atom) and node.tok.text.startswith(":")
 
 
-def _head(node) -> str | None:
+def _head(node: Node) -> str | None:
     if isinstance(node, Group) and node.children and isinstance(node.children[0], Atom):
         return node.children[0].tok.text
     return None
 
 
-def _units(children: list) -> list[list]:
+def _units(children: list[Node]) -> list[Unit]:
     """``:key value`` pairs stay together; everything else is a unit of its own."""
-    units: list[list] = []
+    units: list[Unit] = []
     i = 0
     while i < len(children):
         c = children[i]
@@ -218,10 +241,10 @@ def _units(children: list) -> list[list]:
     return units
 
 
-def _typed_units(children: list) -> list[list]:
+def _typed_units(children: list[Node]) -> list[Unit]:
     """``a b - sort c - (enum x y)`` → ``[a b - sort] [c - (enum x y)]``."""
-    units: list[list] = []
-    cur: list = []
+    units: list[Unit] = []
+    cur: Unit = []
     i = 0
     while i < len(children):
         c = children[i]
@@ -238,11 +261,11 @@ def _typed_units(children: list) -> list[list]:
     return units
 
 
-def _unit_flat(unit: list) -> str:
+def _unit_flat(unit: Unit) -> str:
     return " ".join(flat(n) for n in unit)
 
 
-def _unit_has_comments(unit: list) -> bool:
+def _unit_has_comments(unit: Unit) -> bool:
     for i, n in enumerate(unit):
         if i > 0 and first_tok(n).leading:
             return True
@@ -323,9 +346,12 @@ class Out:
 
 
 # ---------------------------------------------------------------- layout
+#
+# ``tail`` is the number of columns that must follow a node on its last line: the closing
+# brackets of the lists it ends.  A list stays on one line only when it fits with them.
 
 
-def emit(node, out: Out) -> None:
+def emit(node: Node, out: Out, tail: int = 0) -> None:
     """Print ``node`` starting at the current column (its leading comments already done)."""
     if isinstance(node, Atom):
         out.write(node.tok.text)
@@ -335,16 +361,16 @@ def emit(node, out: Out) -> None:
     forced = head == "define" or head in _ALWAYS_BROKEN
     if not forced and not _internal_comments(node):
         text = flat(node)
-        if out.col + len(text) <= WIDTH:
+        if out.col + len(text) + tail <= WIDTH:
             out.write(text)
-            tail = _tail_comment(node)
-            if tail is not None:
-                out.trailing(Tok("", "", trailing=tail))
+            tail_comment = _tail_comment(node)
+            if tail_comment is not None:
+                out.trailing(Tok("", "", trailing=tail_comment))
             return
-    _broken(node, out, head)
+    _broken(node, out, head, tail)
 
 
-def emit_unit(unit: list, out: Out) -> None:
+def emit_unit(unit: Unit, out: Out, tail: int = 0) -> None:
     for i, n in enumerate(unit):
         if i:
             tok = first_tok(n)
@@ -352,25 +378,65 @@ def emit_unit(unit: list, out: Out) -> None:
                 out.comments(tok, out.col + 1 if out.pending is None else out.col)
             else:
                 out.sep()
-        emit(n, out)
+        emit(n, out, tail if i == len(unit) - 1 else 0)
 
 
-def place(unit: list, out: Out, col: int, blank: bool = True) -> None:
+def place(unit: Unit, out: Out, col: int, blank: bool = True, tail: int = 0) -> None:
     """Start ``unit`` on a new line at ``col`` (with its leading comments)."""
     tok = first_tok(unit[0])
     out.nl(col, blank=blank and tok.blank_before)
     out.comments(tok, col)
-    emit_unit(unit, out)
+    emit_unit(unit, out, tail)
 
 
-def inline(unit: list, out: Out) -> None:
+def inline(unit: Unit, out: Out, tail: int = 0) -> None:
     """Continue the current line with ``unit`` (a new line if a comment is in the way)."""
     tok = first_tok(unit[0])
     if tok.leading:
         out.comments(tok, out.col + 1 if out.pending is None else out.col)
     else:
         out.sep()
-    emit_unit(unit, out)
+    emit_unit(unit, out, tail)
+
+
+def start(unit: Unit, out: Out, col: int, tail: int = 0) -> None:
+    """Print the first unit of a list right after the opening bracket (or at ``col`` on the
+    next line when it has leading comments)."""
+    if first_tok(unit[0]).leading:
+        place(unit, out, col, blank=False, tail=tail)
+    else:
+        emit_unit(unit, out, tail)
+
+
+def _flat_at(unit: Unit, col: int, tail: int) -> bool:
+    """Whether ``unit`` prints on one line starting at ``col``."""
+    return not _unit_has_comments(unit) and col + len(_unit_flat(unit)) + tail <= WIDTH
+
+
+def _flow(units: list[Unit], out: Out, col: int, tail: int, after_broken: bool = False) -> None:
+    """Fill: each unit on the current line when it fits there (with ``tail`` after the last
+    one), otherwise on a new line at ``col``.  A comment or a blank line before a unit, a
+    comment inside it, or a unit before it that took several lines also starts a new line."""
+    for i, u in enumerate(units):
+        t = tail if i == len(units) - 1 else 0
+        tok = first_tok(u[0])
+        if (
+            after_broken
+            or tok.leading
+            or tok.blank_before
+            or out.pending is not None
+            or not _flat_at(u, out.col + 1, t)
+        ):
+            place(u, out, col, tail=t)
+            after_broken = not _flat_at(u, col, t)
+        else:
+            inline(u, out, t)
+
+
+def _lines(units: list[Unit], out: Out, col: int, tail: int) -> None:
+    """One unit per line at ``col``."""
+    for i, u in enumerate(units):
+        place(u, out, col, tail=tail if i == len(units) - 1 else 0)
 
 
 def _close(node: Group, out: Out, col: int) -> None:
@@ -382,106 +448,160 @@ def _close(node: Group, out: Out, col: int) -> None:
     out.trailing(node.close)
 
 
-def _broken(node: Group, out: Out, head: str | None) -> None:
+def _broken(node: Group, out: Out, head: str | None, tail: int) -> None:
+    """Print ``node`` over several lines: the layout depends on what kind of list it is."""
     open_col = out.col
     out.write(node.open.text)
     out.trailing(node.open)
     if out.pending is not None:  # "( ; comment": the contents start on the next line
         out.nl(open_col + 1)
-    children = node.children
-    if not children:
+    inner = 0 if node.close.leading else tail + 1  # what follows the last child on its line
+    if not node.children:
         _close(node, out, open_col + 1)
-        return
-    block = open_col + 2
-    if head == "define" or head in _SECTIONS:
-        # (define (domain x) ...) / (:section [name] ...): the rest in a block, one per line
-        n_head = 1
-        if head == "define" or (
-            len(children) > 1
-            and isinstance(children[1], Atom)
-            and not _is_key(children[1])
-            and children[1].tok.kind != "MINUS"
-            and head not in _TYPED
-            and head not in _FILL
-        ):
-            n_head = 2
-        emit_unit(children[:n_head], out) if not first_tok(children[0]).leading else place(
-            children[:n_head], out, open_col + 1, blank=False
-        )
-        rest = children[n_head:]
-        if head in _TYPED:
-            units = _typed_units(rest)
-        elif head == "define":
-            units = [[c] for c in rest]
-        else:
-            units = _units(rest)
-        if head in _FILL:
-            _fill(units, out, block)
-        elif len(units) == 1 and head != "define" and head not in _ALWAYS_BROKEN:
-            inline(units[0], out)
-        else:
-            for u in units:
-                place(u, out, block)
-        _close(node, out, block)
-        return
-    first = children[0]
-    if isinstance(first, Atom) and not _is_key(first):
-        # (op first-arg
-        #     other-args...)
-        if first.tok.leading:
-            place([first], out, open_col + 1, blank=False)
-        else:
-            emit(first, out)
-        units = _units(children[1:])
-        if not units:
-            _close(node, out, open_col + 1)
-            return
-        out.sep() if not first_tok(units[0][0]).leading else None
-        align = out.col
-        if first_tok(units[0][0]).leading:
-            align = open_col + 2
-            place(units[0], out, align, blank=False)
-        else:
-            emit_unit(units[0], out)
-        for u in units[1:]:
-            place(u, out, align)
-        _close(node, out, align)
-        return
-    # ((a b) (c d)) or (:key v :key v): everything aligned after the parenthesis
-    units = _units(children)
-    align = open_col + 1
-    if first_tok(units[0][0]).leading:
-        place(units[0], out, align, blank=False)
+    elif head == "define" or head in _SECTIONS:
+        _close(node, out, _section(node, out, head, open_col, inner))
+    elif node.names:
+        _close(node, out, _names(node, out, open_col, inner))
+    elif isinstance(node.children[0], Atom) and not _is_key(node.children[0]):
+        _close(node, out, _call(node, out, open_col, inner))
     else:
-        emit_unit(units[0], out)
-    for u in units[1:]:
-        place(u, out, align)
-    _close(node, out, align)
+        # ((a b) (c d)) or (:key v :key v): everything aligned after the parenthesis
+        units = _units(node.children)
+        start(units[0], out, open_col + 1, inner if len(units) == 1 else 0)
+        _lines(units[1:], out, open_col + 1, inner)
+        _close(node, out, open_col + 1)
 
 
-def _fill(units: list[list], out: Out, block: int) -> None:
-    """As many units per line as fit (a unit that cannot fit starts its own line)."""
+def _call(node: Group, out: Out, open_col: int, inner: int) -> int:
+    """``(op first-arg`` with the other arguments aligned under the first; returns the
+    column of the closing parenthesis's comments."""
+    first, *rest = node.children
+    start([first], out, open_col + 1)
+    units = _units(rest)
     if not units:
-        return
-    fits_inline = all(not _unit_has_comments(u) for u in units) and not first_tok(units[0][0]).leading
-    text = " ".join(_unit_flat(u) for u in units)
-    if fits_inline and out.col + 1 + len(text) <= WIDTH and out.pending is None:
-        for u in units:
-            inline(u, out)
-        return
-    place(units[0], out, block)
-    for u in units[1:]:
-        tok = first_tok(u[0])
-        if (
-            tok.leading
-            or tok.blank_before
-            or out.pending is not None
-            or _unit_has_comments(u)
-            or out.col + 1 + len(_unit_flat(u)) > WIDTH
-        ):
-            place(u, out, block)
+        return open_col + 1
+    if first_tok(units[0][0]).leading:
+        align = open_col + 2
+        place(units[0], out, align, blank=False, tail=inner if len(units) == 1 else 0)
+    else:
+        out.sep()
+        align = out.col
+        emit_unit(units[0], out, inner if len(units) == 1 else 0)
+    _lines(units[1:], out, align, inner)
+    return align
+
+
+def _names(node: Group, out: Out, open_col: int, inner: int) -> int:
+    """A list of names or values -- ``{a b c}``, ``:keep (a b c)``, ``(enum a b c)`` -- filled
+    line by line, continued under its first element."""
+    units: list[Unit] = [[c] for c in node.children]
+    first = units[0][0]
+    if isinstance(first, Atom) and first.tok.kind == "_ENUM_WORD":
+        start(units[0], out, open_col + 1, inner if len(units) == 1 else 0)
+        return _fill(units[1:], out, open_col + 2, inner)
+    t = inner if len(units) == 1 else 0
+    start(units[0], out, open_col + 1, t)
+    _flow(units[1:], out, open_col + 1, inner, after_broken=not _flat_at(units[0], open_col + 1, t))
+    return open_col + 1
+
+
+def _section_head(node: Group, head: str | None) -> int:
+    """How many children stay on the first line: ``(define (domain d)``, ``(:morphism m``,
+    ``(:metric lex``; one for the sections whose arguments are all alike."""
+    children = node.children
+    if head == "define":
+        return 2
+    second = children[1] if len(children) > 1 else None
+    if (
+        isinstance(second, Atom)
+        and not _is_key(second)
+        and second.tok.kind != "MINUS"
+        and head not in _TYPED
+        and head not in _FILL
+    ):
+        return 2
+    return 1
+
+
+def _section(node: Group, out: Out, head: str | None, open_col: int, inner: int) -> int:
+    """``(define ...)`` and ``(:section ...)``: a head on the first line, the rest in a block
+    two columns in; returns the column of the closing parenthesis's comments."""
+    block = open_col + 2
+    n_head = _section_head(node, head)
+    rest = node.children[n_head:]
+    start(node.children[:n_head], out, open_col + 1, 0 if rest else inner)
+    if not rest:
+        return block
+    if head in _FILL:
+        return _fill(_units(rest), out, block, inner)
+    if head in _TYPED:
+        _typed(_typed_units(rest), out, block, inner)
+    elif head == "define":
+        _lines([[c] for c in rest], out, block, inner)
+    elif head == ":morphism":
+        _options(_units(rest), out, block, inner)
+    else:
+        units = _units(rest)
+        if len(units) == 1 and head not in _ALWAYS_BROKEN:
+            inline(units[0], out, inner)
         else:
-            inline(u, out)
+            _lines(units, out, block, inner)
+    return block
+
+
+def _fill(units: list[Unit], out: Out, block: int, inner: int) -> int:
+    """``(:init a b`` filled line by line, continued under the first unit (at ``block`` when
+    a comment is in the way); returns the continuation column."""
+    if not units:
+        return block
+    t = inner if len(units) == 1 else 0
+    if first_tok(units[0][0]).leading or out.pending is not None:
+        col = block
+        place(units[0], out, col, blank=False, tail=t)
+    else:
+        col = out.col + 1
+        inline(units[0], out, t)
+    _flow(units[1:], out, col, inner, after_broken=not _flat_at(units[0], col, t))
+    return col
+
+
+def _typed(units: list[Unit], out: Out, block: int, inner: int) -> None:
+    """``names - sort`` groups one per line; a group too long for one line is filled, its
+    continuation lines two columns further in (the ``- sort`` stays with the last name)."""
+    for i, u in enumerate(units):
+        t = inner if i == len(units) - 1 else 0
+        words: list[Unit] = [[n] for n in u]
+        if len(u) >= 3 and isinstance(u[-2], Atom) and u[-2].tok.kind == "MINUS":
+            words = [[n] for n in u[:-3]] + [u[-3:]]
+        t0 = t if len(words) == 1 else 0
+        place(words[0], out, block, tail=t0)
+        _flow(words[1:], out, block + 2, t, after_broken=not _flat_at(words[0], block, t0))
+
+
+def _is_scalar_option(unit: Unit) -> bool:
+    """``:kind k``, ``:churn n``, ``:uses n``, ``:cost n``: a morphism's short options."""
+    return (
+        len(unit) == 2
+        and isinstance(unit[0], Atom)
+        and unit[0].tok.text in _SCALAR_OPTIONS
+        and isinstance(unit[1], Atom)
+    )
+
+
+def _options(units: list[Unit], out: Out, block: int, inner: int) -> None:
+    """A morphism's options one per line, except that consecutive short options share a line
+    (filled): ``:kind hardware :churn 1 :uses 1 :cost 150``."""
+    i = 0
+    while i < len(units):
+        j = i + 1
+        if _is_scalar_option(units[i]):
+            while j < len(units) and _is_scalar_option(units[j]):
+                j += 1
+        t = inner if j == len(units) else 0
+        t0 = t if j == i + 1 else 0
+        place(units[i], out, block, tail=t0)
+        _flow(units[i + 1 : j], out, block, t, after_broken=not _flat_at(units[i], block, t0))
+        i = j
 
 
 def format_text(text: str) -> str:
@@ -534,7 +654,7 @@ def _verify(before: str, after: str) -> None:
 # ---------------------------------------------------------------- the command
 
 
-def format_file(path: str, diags) -> tuple[str, str] | None:
+def format_file(path: str, diags: Diagnostics) -> tuple[str, str] | None:
     """(original text, formatted text), or None (diagnostics reported) for bad input."""
     from catgrammar.parser import parse_source, read_source
 
