@@ -243,6 +243,60 @@ class ViewDecl(_Node):
         _set(self, "span", span)
 
 
+class Str(_Node):
+    """A string datum of a grounding block (its text unescaped)."""
+
+    __slots__ = ("text", "span")
+    text: str
+    span: Span
+
+    def __init__(self, text: str, span: Span) -> None:
+        _set(self, "text", text)
+        _set(self, "span", span)
+
+
+class DatumList(_Node):
+    """``(datum ...)`` in a grounding block."""
+
+    __slots__ = ("items", "span")
+    items: tuple[Datum, ...]
+    span: Span
+
+    def __init__(self, items: tuple[Datum, ...], span: Span) -> None:
+        _set(self, "items", items)
+        _set(self, "span", span)
+
+
+Datum = Name | Num | Str | BoolLit | DatumList
+
+
+class Ground(_Node):
+    """``(KIND :key datum ...)``: a morphism's grounding block; ``pairs`` are Opts whose
+    value is a :data:`Datum`."""
+
+    __slots__ = ("kind", "pairs", "span")
+    kind: Name
+    pairs: tuple[Opt, ...]
+    span: Span
+
+    def __init__(self, kind: Name, pairs: tuple[Opt, ...], span: Span) -> None:
+        _set(self, "kind", kind)
+        _set(self, "pairs", pairs)
+        _set(self, "span", span)
+
+
+class DeploymentDecl(_Node):
+    """``(:deployment :project NAME :executor "image")``."""
+
+    __slots__ = ("pairs", "span")
+    pairs: tuple[Opt, ...]
+    span: Span
+
+    def __init__(self, pairs: tuple[Opt, ...], span: Span) -> None:
+        _set(self, "pairs", pairs)
+        _set(self, "span", span)
+
+
 class Requirements(_Node):
     __slots__ = ("flags", "span")
     flags: tuple[Name, ...]
@@ -293,7 +347,9 @@ class Resources(_Node):
         _set(self, "span", span)
 
 
-DomainSection = Requirements | Imports | Sorts | Constants | Resources | MorphismDecl | HoleDecl | ViewDecl
+DomainSection = (
+    Requirements | Imports | Sorts | Constants | Resources | MorphismDecl | HoleDecl | ViewDecl | DeploymentDecl
+)
 
 
 class Domain(_Node):

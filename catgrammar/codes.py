@@ -96,6 +96,20 @@ CODES: dict[str, Code] = {
         Code("E0505", "bad-objective", E, "An objective term is not a number or refers to something undefined."),
         Code("E0506", "bad-view", E, "A view keeps or drops resources inconsistently."),
         Code("E0507", "ambiguous-parameter", E, "A per-activation parameter is referenced where one value is needed."),
+        Code(
+            "E0508",
+            "bad-grounding",
+            E,
+            "A grounding annotation does not fit its morphism: another kind, an option that does not belong, a "
+            "missing one, a value of the wrong shape, or a hole naming no parameter.",
+        ),
+        Code(
+            "E0509",
+            "bad-target-name",
+            E,
+            "A name a grounding target cannot take: a ROS 2 node, parameter or topic name, a container image, a "
+            "BehaviorTree.CPP node ID or port, a Compose project.",
+        ),
         # E07xx — command-line arguments
         Code(
             "E0701",
@@ -140,6 +154,12 @@ CODES: dict[str, Code] = {
         Code("W0103", "unreachable-morphism", W, "A morphism can never apply: something it needs is never produced."),
         Code("W0104", "unwritable-goal", W, "A goal literal reads only resources that no morphism writes."),
         Code("W0105", "unbounded-parameter", W, "A real parameter has no bounds."),
+        Code(
+            "W0106",
+            "ungrounded-morphism",
+            W,
+            "A morphism of a composition being grounded has no (:ground ...) annotation: nothing is written for it.",
+        ),
     )
 }
 
@@ -185,6 +205,8 @@ CLOSED_SORT = "E0504"
 BAD_OBJECTIVE = "E0505"
 BAD_VIEW = "E0506"
 AMBIGUOUS_PARAMETER = "E0507"
+BAD_GROUNDING = "E0508"
+BAD_TARGET_NAME = "E0509"
 BAD_ARGUMENT = "E0701"
 UNKNOWN_COMPONENT = "E0702"
 BAD_WEIGHT = "E0703"
@@ -201,3 +223,4 @@ UNUSED_SORT = "W0102"
 UNREACHABLE_MORPHISM = "W0103"
 UNWRITABLE_GOAL = "W0104"
 UNBOUNDED_PARAMETER = "W0105"
+UNGROUNDED_MORPHISM = "W0106"

@@ -405,6 +405,36 @@ class _Builder:
     weight = _opt(Option.WEIGHT.value, "number")
     del _opt
 
+    # -- grounding
+    def datum_name(self, children: list[Any]) -> ast.Name:
+        return self._name(children[0])
+
+    def datum_number(self, children: list[Any]) -> ast.Num:
+        return self._num(children[0])
+
+    def datum_string(self, children: list[Any]) -> ast.Str:
+        return ast.Str(_unquote(children[0]), self._tok_span(children[0]))
+
+    def datum_list(self, children: list[Any]) -> ast.DatumList:
+        span, items = self._split(children)
+        return ast.DatumList(tuple(items), span)
+
+    def ground_pair(self, children: list[Any]) -> ast.Opt:
+        key, value = children
+        return ast.Opt(str(key), value, self._tok_span(key).cover(value.span))
+
+    def ground(self, children: list[Any]) -> ast.Ground:
+        span, (kind, *pairs) = self._split(children)
+        return ast.Ground(self._name(kind), tuple(pairs), span)
+
+    def ground_option(self, children: list[Any]) -> ast.Opt:
+        key, block = children
+        return ast.Opt(Option.GROUND.value, block, self._tok_span(key).cover(block.span))
+
+    def deployment(self, children: list[Any]) -> ast.DeploymentDecl:
+        span, pairs = self._split(children)
+        return ast.DeploymentDecl(tuple(pairs), span)
+
     def keep(self, children):
         span, names = self._split(children)
         return ast.Opt(Option.KEEP.value, self._names(names), span)

@@ -22,6 +22,7 @@ class Section(str, Enum):
     MORPHISM = ":morphism"
     HOLE = ":hole"
     VIEW = ":view"
+    DEPLOYMENT = ":deployment"
     DOMAIN = ":domain"
     OBJECTS = ":objects"
     INIT = ":init"
@@ -41,6 +42,7 @@ DOMAIN_SECTIONS: tuple[Section, ...] = (
     Section.MORPHISM,
     Section.HOLE,
     Section.VIEW,
+    Section.DEPLOYMENT,
 )
 
 PROBLEM_SECTIONS: tuple[Section, ...] = (
@@ -84,6 +86,21 @@ class Option(str, Enum):
     DROP = ":drop"
     # soft constraint
     WEIGHT = ":weight"
+    # grounding: a morphism's (:ground (KIND ...)) block and the (:deployment ...) section
+    GROUND = ":ground"
+    INSTRUCTION = ":instruction"
+    CHECK = ":check"
+    PARTS = ":parts"
+    IMAGE = ":image"
+    NODE = ":node"
+    PROFILE = ":profile"
+    PARAMS = ":params"
+    REMAP = ":remap"
+    ID = ":id"
+    INPUTS = ":inputs"
+    OUTPUTS = ":outputs"
+    PROJECT = ":project"
+    EXECUTOR = ":executor"
 
 
 MORPHISM_OPTIONS = (
@@ -95,12 +112,23 @@ MORPHISM_OPTIONS = (
     Option.PRECONDITION,
     Option.EFFECT,
     Option.DOC,
+    Option.GROUND,
 )
 RESOURCE_OPTIONS = (Option.GROUP, Option.UNIT, Option.BOUNDS, Option.DOC)
 PARAMETER_OPTIONS = (Option.BOUNDS, Option.FIXED)
 HOLE_OPTIONS = (Option.HOLE_VIEW, Option.MAX_EFFECTS, Option.MAX_PRECONDITIONS)
 VIEW_OPTIONS = (Option.KEEP, Option.DROP)
 SOFT_OPTIONS = (Option.WEIGHT,)
+#: Inside ``(:ground (KIND ...))``, by kind of morphism.
+GROUND_OPTIONS: dict[str, tuple[Option, ...]] = {
+    "hardware": (Option.INSTRUCTION, Option.CHECK, Option.PARTS),
+    "software": (Option.IMAGE, Option.NODE, Option.PROFILE, Option.PARAMS, Option.REMAP),
+    "behavior": (Option.ID, Option.INPUTS, Option.OUTPUTS, Option.IMAGE, Option.PROFILE),
+}
+DEPLOYMENT_OPTIONS = (Option.PROJECT, Option.EXECUTOR)
+#: The keys the grammar accepts in a grounding block or a deployment section (the checker
+#: says which belong where).
+GROUNDING_KEYS = tuple(dict.fromkeys([*(o for opts in GROUND_OPTIONS.values() for o in opts), *DEPLOYMENT_OPTIONS]))
 
 
 class Requirement(str, Enum):
@@ -114,6 +142,7 @@ class Requirement(str, Enum):
     HOLES = ":holes"
     OPTIMIZATION = ":optimization"
     RECOMPOSITION = ":recomposition"
+    GROUNDING = ":grounding"
     ALL = ":robot-circuit"
 
 

@@ -185,12 +185,22 @@ def compose_errors(text: str) -> list[str]:
             errors.append(f"{name}: profiles {profiles} is not one of drivers/skillsets/executors")
         if "PARAMS" not in (service.get("environment") or {}):
             errors.append(f"{name}: no PARAMS")
+        command = service.get("command")
+        if command is not None:  # a ROS 2 node: its name and its parameter file, as rcl reads arguments
+            nodes = [a for a in command if a.startswith("__node:=")]
+            if command[:1] != ["--ros-args"] or len(nodes) != 1 or "--params-file" not in command:
+                errors.append(f"{name}: the command is not --ros-args with one __node:= and a --params-file")
+            for i, arg in enumerate(command):
+                if arg == "-r" and (i + 1 == len(command) or ":=" not in command[i + 1]):
+                    errors.append(f"{name}: -r without FROM:=TO")
     return errors
 
 
 # ---------------------------------------------------------------- BehaviorTree.CPP
 
 _CONTROL = {"Sequence", "Parallel", "Fallback", "ReactiveSequence", "ReactiveFallback", "SequenceWithMemory"}
+# BT.CPP 4's built-in leaves (registered by every BehaviorTreeFactory; never in a TreeNodesModel).
+_BUILTIN_LEAVES = {"AlwaysSuccess", "AlwaysFailure"}
 _KEY = re.compile(r"^\{([A-Za-z_][A-Za-z0-9_]*)\}$")
 
 
@@ -210,7 +220,7 @@ def bt_errors(text: str) -> list[str]:
     written: set[str] = set()
     for tree in trees:
         for node in tree.iter():
-            if node.tag in _CONTROL or node is tree:
+            if node.tag in _CONTROL or node.tag in _BUILTIN_LEAVES or node is tree:
                 continue
             if node.tag not in model:
                 errors.append(f"{node.tag} is not declared in the TreeNodesModel")

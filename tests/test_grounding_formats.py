@@ -131,7 +131,7 @@ def test_compose_passes_the_compose_spec_schema_and_our_checks():
     doc = yaml.safe_load(text)
     driver = doc["services"]["camera-driver"]
     assert driver["profiles"] == ["drivers"] and driver["environment"]["BT_FILE"] == "/catc/bt.xml"
-    assert ["-r", "image_raw:=camera/image"] == driver["command"][-2:]
+    assert driver["command"][-2:] == ["-r", "image_raw:=camera/image"]
     assert doc["services"]["bt-executor"]["profiles"] == ["executors"]
 
 
@@ -141,6 +141,11 @@ def test_compose_checks_catch_what_the_schema_allows():
     assert any("no image" in e for e in errors) and any("profiles" in e for e in errors)
     assert any("host" in e for e in errors) and any("PARAMS" in e for e in errors)
     assert compose_errors("services:\n  x:\n    image: a\n    netwrk_mode: host\n")  # the schema's own
+    base = "services:\n  x:\n    image: a\n    network_mode: host\n    ipc: host\n    profiles: [drivers]\n"
+    base += "    environment: {PARAMS: /p}\n"
+    assert compose_errors(base + "    command: [--ros-args, --params-file, /p]\n")  # no __node:=
+    assert compose_errors(base + "    command: [--ros-args, -r, __node:=n, --params-file, /p, -r]\n")
+    assert compose_errors(base + "    command: [--ros-args, -r, __node:=n, --params-file, /p]\n") == []
 
 
 # ---------------------------------------------------------------- bt.xml

@@ -283,3 +283,18 @@ async def test_every_query_is_a_server_command(client: LanguageClient) -> None:
         types.ExecuteCommandParams(command="catc.validate", arguments=[PROBLEM.resolve().as_uri(), {"plan": plan}])
     )
     assert result["schema"] == "catc.validate/1" and result["valid"] is False
+
+
+def test_hover_says_what_a_morphism_is_grounded_as() -> None:
+    from catc.interfaces.lsp import analyse, hover_text
+
+    path = ROOT / "examples" / "search-and-rescue" / "domain.cat"
+    a = analyse(str(path), path.read_text())
+    driver = hover_text(a, "rgb-driver")  # the file: :image "ghcr.io/catc-examples/usb-cam-driver:1.0" :node rgb_camera
+    assert driver is not None
+    assert "grounded as ROS 2 node `rgb_camera` in image `ghcr.io/catc-examples/usb-cam-driver:1.0`" in driver
+    lidar = hover_text(a, "mount-lidar")
+    assert lidar is not None and "grounded as a hardware step" in lidar
+    every = analyse(str(EVERY), EVERY.read_text())
+    some = next(name for dom in every.domains for name in dom.morphisms)
+    assert "no grounding" in (hover_text(every, some) or "")

@@ -41,13 +41,15 @@
 (defconst cat-keywords
   '((structure "define" "domain" "problem")
     (section ":requirements" ":import" ":sorts" ":constants" ":resources" ":morphism"
-     ":hole" ":view" ":domain" ":objects" ":init" ":goal" ":horizon" ":soft" ":metric"
-     ":deployed")
+     ":hole" ":view" ":deployment" ":domain" ":objects" ":init" ":goal" ":horizon"
+     ":soft" ":metric" ":deployed")
     (option ":kind" ":churn" ":uses" ":cost" ":parameters" ":precondition" ":effect"
      ":doc" ":group" ":unit" ":bounds" ":fixed" ":view" ":max-effects"
-     ":max-preconditions" ":keep" ":drop" ":weight")
+     ":max-preconditions" ":keep" ":drop" ":weight" ":ground" ":instruction" ":check"
+     ":parts" ":image" ":node" ":profile" ":params" ":remap" ":id" ":inputs" ":outputs"
+     ":project" ":executor")
     (requirement ":numeric" ":symbols" ":sets" ":free-parameters" ":views" ":holes"
-     ":optimization" ":recomposition" ":robot-circuit")
+     ":optimization" ":recomposition" ":grounding" ":robot-circuit")
     (operator "and" "or" "not" "imply" "min" "max" "if" "member" "assign" "increase"
      "decrease" "add" "remove" "total-churn" "total-cost" "uses" "param")
     (symbol-operator "=" "<" "<=" ">" ">=" "+" "-" "*" "/")

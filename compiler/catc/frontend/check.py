@@ -13,9 +13,11 @@ from fractions import Fraction
 from typing import TYPE_CHECKING, TypeVar
 
 from catc import ir
+from catc.frontend.check_ground import GroundChecker
 from catc.frontend.typecheck import Context, ExprChecker, Scope, assignable, describe
 from catc.ir import BOOL, INT, REAL, Sort, SortKind
 from catc.ir.fold import FoldError, fold_constant
+from catc.ir.grounding import Deployment
 from catc.ir.numbers import ratio_text
 from catgrammar import ast, codes
 from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
@@ -217,6 +219,7 @@ class DomainChecker:
         for sec in sections:
             if isinstance(sec, ast.HoleDecl):
                 self._hole(sec)
+        deployment = self._deployment([s for s in sections if isinstance(s, ast.DeploymentDecl)])
         if len(self.diags.errors) > before or self.failed:
             return None
         return ir.Domain(
@@ -229,8 +232,23 @@ class DomainChecker:
             holes=ir.frozen(self.holes),
             views=ir.frozen(self.views),
             imports=tuple(self.imported),
+            deployment=deployment,
             span=self.node.span,
         )
+
+    def _deployment(self, decls: list[ast.DeploymentDecl]) -> Deployment | None:
+        """The domain's ``(:deployment ...)``: at most one."""
+        for extra in decls[1:]:
+            self.diags.report(
+                codes.DUPLICATE_OPTION,
+                "(:deployment ...) is given twice in one domain",
+                extra.span,
+                Note("first given here", decls[0].span),
+            )
+        if not decls:
+            return None
+        self.req.need(Requirement.GROUNDING, decls[0].span, "(:deployment ...)")
+        return GroundChecker(self.diags, {}, self.resources, f"domain '{self.node.name.text}'").deployment(decls[0])
 
     def _imported_requirements(self) -> frozenset[str]:
         out: set[str] = set()
@@ -517,6 +535,12 @@ class DomainChecker:
             if isinstance(folded, ir.Const) and folded.value < 0:  # type: ignore[operator]
                 self.diags.report(codes.BAD_VALUE, ":cost must not be negative", node.span)
         doc = opts.get(Option.DOC.value)
+        grounding = None
+        if Option.GROUND.value in opts:
+            ground = opts[Option.GROUND.value]
+            self.req.need(Requirement.GROUNDING, ground.span, "a grounding annotation")
+            checker_g = GroundChecker(self.diags, {p.name: p for p in params}, self.resources, owner)
+            grounding = checker_g.ground(_value(ground, ast.Ground), kind)
         self.morphisms[name] = ir.Morphism(
             name=name,
             kind=kind,
@@ -527,6 +551,7 @@ class DomainChecker:
             uses=uses,
             cost=cost,
             doc=_value(doc, ast.Name).text if doc else None,
+            grounding=grounding,
             span=m.name.span,
         )
 

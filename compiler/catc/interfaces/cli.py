@@ -35,6 +35,7 @@ LAZY_COMMANDS: dict[str, str] = {
     "fmt": "catc.interfaces.fmt_command:fmt_command",
     "lsp": "catc.interfaces.lsp:lsp_command",
     "export": "catc.interfaces.export_cli:export_command",
+    "ground": "catc.interfaces.ground:ground_command",
     "bench": "catc.bench.harness:bench_command",
 }
 

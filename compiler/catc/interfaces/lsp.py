@@ -156,6 +156,21 @@ def lookup(a: Analysis, name: str) -> list[Definition]:
     return found
 
 
+def _grounding_text(g: object) -> str:
+    """One line: what the morphism becomes on the robot (its ``:ground`` block)."""
+    from catc.ir import grounding as gr
+
+    if isinstance(g, gr.HardwareGrounding):
+        text = "".join(p if isinstance(p, str) else "{" + str(p.name) + "}" for p in g.instruction.parts)
+        return f"grounded as a hardware step: “{text}”"
+    if isinstance(g, gr.SoftwareGrounding):
+        return f"grounded as ROS 2 node `{g.node}` in image `{g.image}` ({g.profile.value})"
+    if isinstance(g, gr.BehaviorGrounding):
+        skill = f", skill image `{g.image}`" if g.image else ""
+        return f"grounded as behaviour-tree node `{g.node_id}`{skill}"
+    return "no grounding: `catc ground` writes nothing for it (W0106)"
+
+
 def hover_text(a: Analysis, name: str) -> str | None:
     from catc.ir.numbers import number_text
     from catc.ir.text import effect_text, to_text
@@ -204,6 +219,7 @@ def hover_text(a: Analysis, name: str) -> str | None:
             if m.effects:
                 lines.append("\neffects:")
                 lines += [f"- `{effect_text(e)}`" for e in m.effects]
+            lines.append("\n" + _grounding_text(m.grounding))
             lines.append(f"\n(domain `{dom.name}`)")
             return "\n".join(lines)
     for dom in a.domains:

@@ -17,6 +17,7 @@ from fractions import Fraction
 from types import MappingProxyType
 from typing import Never, TypeVar
 
+from catc.ir.grounding import Deployment, Grounding
 from catgrammar.record import Record
 from catgrammar.record import set_field as _set
 from catgrammar.span import Span
@@ -553,7 +554,7 @@ class MorphismKind(str, Enum):
 class Morphism(Record):
     """A generator of the category: a component with pre- and postconditions."""
 
-    __slots__ = ("name", "kind", "params", "pre", "effects", "churn", "uses", "cost", "doc", "span")
+    __slots__ = ("name", "kind", "params", "pre", "effects", "churn", "uses", "cost", "doc", "grounding", "span")
     name: str
     kind: MorphismKind
     params: tuple[Param, ...]
@@ -563,6 +564,7 @@ class Morphism(Record):
     uses: int | None  # None = unlimited
     cost: Expr | None  # None = 1 per activation
     doc: str | None
+    grounding: Grounding | None  # what it becomes on the robot (catc.ir.grounding)
     span: Span | None
 
     def __init__(
@@ -576,6 +578,7 @@ class Morphism(Record):
         uses: int | None = None,
         cost: Expr | None = None,
         doc: str | None = None,
+        grounding: Grounding | None = None,
         span: Span | None = None,
     ) -> None:
         _set(self, "name", name)
@@ -587,6 +590,7 @@ class Morphism(Record):
         _set(self, "uses", uses)
         _set(self, "cost", cost)
         _set(self, "doc", doc)
+        _set(self, "grounding", grounding)
         _set(self, "span", span)
 
     def param(self, name: str) -> Param | None:
@@ -679,6 +683,7 @@ class Domain(Record):
         "holes",
         "views",
         "imports",
+        "deployment",
         "span",
     )
     name: str
@@ -690,6 +695,7 @@ class Domain(Record):
     holes: Mapping[str, Hole]
     views: Mapping[str, View]
     imports: tuple[str, ...]
+    deployment: Deployment | None  # how compositions are deployed (catc.ir.grounding)
     span: Span | None
 
     def __init__(
@@ -703,6 +709,7 @@ class Domain(Record):
         holes: Mapping[str, Hole] = EMPTY,
         views: Mapping[str, View] = EMPTY,
         imports: tuple[str, ...] = (),
+        deployment: Deployment | None = None,
         span: Span | None = None,
     ) -> None:
         _set(self, "name", name)
@@ -714,6 +721,7 @@ class Domain(Record):
         _set(self, "holes", holes)
         _set(self, "views", views)
         _set(self, "imports", imports)
+        _set(self, "deployment", deployment)
         _set(self, "span", span)
 
 

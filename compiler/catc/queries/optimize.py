@@ -160,6 +160,7 @@ class _Deepening:
         self.start = time.perf_counter()
         self.deadline = self.start + timeout if timeout else None
         self.timings: dict[str, float] = {}
+        self.values0: list[Fraction | None] | None = None  # the first composition's values
 
     def run(self) -> OptResult:
         inst, k = self.inst, self.k
@@ -208,8 +209,18 @@ class _Deepening:
             return whole
         if k0 == k:
             short.timings = self.timings
-            return short
+            return self._same_answer(short)
         return self._race(short, k0)
+
+    def _same_answer(self, best: OptResult) -> OptResult:
+        """The answer, independent of which proof finished first: when the first composition
+        is as good as the optimum, it (the solver's first answer is deterministic); else the
+        optimum over the fewest steps.  Which optimal composition a timed race returns would
+        otherwise depend on the machine's speed, and so would everything grounded from it."""
+        values = [v.value for v in best.values]
+        if self.values0 is not None and values == self.values0:
+            return self._first_plan(OptStatus.OPT)
+        return best
 
     def _args(self, k: int) -> tuple[list[ir.Objective], list[ir.Soft], int, bool]:
         return self.objectives, self.softs, k, self.sequential
@@ -221,6 +232,7 @@ class _Deepening:
         values0 = [v for v in scores if v is not None]
         if len(values0) != len(scores):
             return False
+        self.values0 = scores
         self.say(f"first composition: {k0} steps; is there a better one within {self.k} steps?")
         budget0 = max(0.25, time.perf_counter() - self.start)
         limit = _sooner(self.deadline, budget0)
@@ -254,7 +266,7 @@ class _Deepening:
                 r = _better_exists(inst, self.objectives, self.softs, values, k, self.sequential, limit, self.timings)
                 if r is Check.UNSAT:  # nothing better within the whole horizon: the short optimum is it
                     short.timings = self.timings
-                    return short
+                    return self._same_answer(short)
                 if r is Check.SAT or not _expired(limit):  # something better, or no proof to be had here
                     refute = False
                 budget *= 2
@@ -266,6 +278,9 @@ class _Deepening:
             _add_timings(self.timings, whole.timings)
             if whole.reason != "timeout":  # finished
                 whole.timings = self.timings
+                if whole.plan is not None and _not_worse(values, [v.value for v in whole.values], self.objectives):
+                    short.timings = self.timings
+                    return self._same_answer(short)  # no better than the short optimum: that one, always
                 return whole
             if _expired(deadline):  # the best found wins if it is at least as good as the short optimum
                 if whole.plan is not None and _not_worse([v.value for v in whole.values], values, self.objectives):

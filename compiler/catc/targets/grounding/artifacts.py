@@ -51,17 +51,32 @@ def manifest(grounded: Grounded, files: dict[str, bytes], model_sha256: str) -> 
 
 
 def write(out: Path, files: dict[str, bytes], document: dict, *, durable: bool = False) -> list[Path]:
-    """Write the artifacts and manifest.json into ``out`` (created); ``durable`` syncs each
-    file to disk before returning (the runtime's generations)."""
+    """Write the artifacts, then manifest.json, into ``out`` (created).  Each file is written
+    to a temporary name in ``out`` and renamed over the old one, so a reader sees the old file
+    or the new one, never half of one; the manifest comes last and its hashes say whether the
+    files beside it are the ones it names.  ``durable`` syncs every file, and the folder,
+    before returning (the runtime's generations)."""
     out.mkdir(parents=True, exist_ok=True)
     written = []
     everything = {**files, "manifest.json": (json.dumps(document, indent=2) + "\n").encode("utf-8")}
     for name, data in everything.items():
         path = out / name
-        with open(path, "wb") as fh:
-            fh.write(data)
-            if durable:
-                fh.flush()
-                os.fsync(fh.fileno())
+        tmp = out / f".{name}.tmp-{os.getpid()}"
+        try:
+            with open(tmp, "wb") as fh:
+                fh.write(data)
+                if durable:
+                    fh.flush()
+                    os.fsync(fh.fileno())
+            os.replace(tmp, path)
+        finally:
+            if tmp.exists():
+                tmp.unlink()
         written.append(path)
+    if durable:
+        fd = os.open(out, os.O_RDONLY)
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)
     return written

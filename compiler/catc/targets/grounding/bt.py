@@ -1,7 +1,8 @@
 """bt.xml: the behaviour tree for BehaviorTree.CPP 4.
 
 ``<root BTCPP_format="4" main_tree_to_execute="MainTree">`` holds one ``<BehaviorTree>``
-whose single child is a ``Sequence`` of the composition's behaviour steps in plan order;
+whose single child is a ``Sequence`` of the composition's behaviour steps in plan order (an
+``AlwaysSuccess`` when the composition has no behaviour);
 behaviours that run in one step (⊗) go under a ``Parallel`` that succeeds when all of them
 do.  Ports are attributes, ``{key}`` for a blackboard entry.  A ``<TreeNodesModel>`` comes
 last and declares every node's ports, as Groot2 and BT.CPP's own checks need.  Built with
@@ -38,7 +39,9 @@ def _model(root: ET.Element, grounded: Grounded) -> None:
 def bt_xml(grounded: Grounded) -> str:
     root = ET.Element("root", {"BTCPP_format": "4", "main_tree_to_execute": TREE_ID})
     tree = ET.SubElement(root, "BehaviorTree", {"ID": TREE_ID})
-    sequence = ET.SubElement(tree, "Sequence")
+    if not grounded.behaviours:  # a tree needs one child; nothing to do succeeds at once
+        ET.SubElement(tree, "AlwaysSuccess")
+    sequence = ET.SubElement(tree, "Sequence") if grounded.behaviours else tree
     for step in grounded.behaviours:
         if len(step) == 1:
             _node(sequence, step[0])

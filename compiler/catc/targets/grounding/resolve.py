@@ -28,6 +28,7 @@ from catc.ir.grounding import (
 from catc.ir.numbers import ratio_text
 from catc.semantics.plan import Plan
 from catgrammar.record import Record, set_field
+from catgrammar.span import Span
 
 
 class Real(Fraction):
@@ -134,6 +135,16 @@ class Grounded(Record):
         set_field(self, "plan", plan)
 
 
+class GroundingConflict(ValueError):
+    """Two components of one composition would be the same thing on the robot (one ROS 2
+    node name, one service name).  ``span`` is the second one's grounding, ``first`` the
+    first one's."""
+
+    def __init__(self, message: str, span: Span | None, first: Span | None) -> None:
+        super().__init__(message)
+        self.span, self.first = span, first
+
+
 def fresh_text(symbol: str) -> str:
     """A usable name for a reserve value: ``topic#1`` → ``topic_1``."""
     return symbol.replace("#", "_").replace("-", "_")
@@ -163,7 +174,7 @@ class _Resolver:
                 return int(raw)
             return Real(raw) if sort is None or sort.kind is not ir.SortKind.INT else raw
         if isinstance(raw, frozenset):
-            return [self._typed(e, None) for e in sorted(raw)]  # type: ignore[arg-type]
+            return [self._typed(e, None) for e in sorted(raw)]
         if isinstance(raw, str):
             return fresh_text(raw) if raw in self.plan.fresh else raw
         return raw
@@ -187,6 +198,11 @@ class _Resolver:
             else:
                 out.append(port_text(self.value(part, step, params, self.sort_of(m, part))))
         return "".join(out)
+
+
+def topic_name(text: str) -> str:
+    """A symbol as a ROS 2 topic name: ``image-raw`` → ``image_raw`` ('-' is not allowed)."""
+    return text.replace("-", "_")
 
 
 def port_text(value: Any) -> str:
@@ -234,7 +250,34 @@ def ground(inst: ir.Instance, plan: Plan, states: Sequence[Mapping[str, object]]
     deployment = inst.domain.deployment or Deployment(inst.problem.name)
     if behaviours and deployment.executor is not None:
         services.append(Service("bt-executor", None, deployment.executor, None, Profile.EXECUTORS))
+    _distinct(inst, services)
     return Grounded(deployment.project, tuple(hardware), tuple(services), tuple(behaviours), tuple(missing), plan)
+
+
+def _distinct(inst: ir.Instance, services: Sequence[Service]) -> None:
+    """Every service has its own name and every node its own name, or GroundingConflict."""
+
+    def span(s: Service) -> Span | None:
+        if s.morphism is None:
+            d = inst.domain.deployment
+            return d.span if d is not None else None
+        g = inst.morphisms[s.morphism].grounding
+        return g.span if g is not None else None
+
+    for what, key in (("service", lambda s: s.name), ("ROS 2 node", lambda s: s.node)):
+        seen: dict[str, Service] = {}
+        for s in services:
+            k = key(s)
+            if k is None:
+                continue
+            if k in seen:
+                a, b = seen[k].morphism or "the behaviour-tree executor", s.morphism or "the behaviour-tree executor"
+                raise GroundingConflict(
+                    f"this composition runs two {what}s named '{k}' ({a} and {b}): give one of them another name",
+                    span(s),
+                    span(seen[k]),
+                )
+            seen[k] = s
 
 
 def _hardware(r: _Resolver, g: HardwareGrounding, i: int, params: Mapping[str, object], m: ir.Morphism) -> HardwareStep:
@@ -246,7 +289,7 @@ def _software(
     r: _Resolver, g: SoftwareGrounding, i: int, params: Mapping[str, object], m: ir.Morphism, name: str
 ) -> Service:
     values = tuple((k, r.value(v, i, params, r.sort_of(m, v))) for k, v in g.params)
-    remap = tuple((k, port_text(r.value(v, i, params, r.sort_of(m, v)))) for k, v in g.remap)
+    remap = tuple((k, topic_name(port_text(r.value(v, i, params, r.sort_of(m, v))))) for k, v in g.remap)
     node = g.node or ros_node_name(m.name)
     if name != m.name:
         node = f"{node}_{name.rsplit('-', 1)[1]}"
