@@ -218,6 +218,18 @@ def _lower_bound(e: ir.Expr, params: Mapping[str, ir.Param]) -> Fraction | None:
     return None
 
 
+def _nonnegative_constant(cost: ir.Expr) -> bool:
+    """Whether a ``:cost`` is a constant ≥ 0 (no θ, no resource; folded), as the
+    ``(total-cost)`` metric needs."""
+    if ir.params_in(cost) or ir.resources_in(cost):
+        return False
+    try:
+        folded = fold(cost)
+    except FoldError:
+        return False
+    return isinstance(folded, ir.Const) and not isinstance(folded.value, str) and folded.value >= 0
+
+
 class _Exporter:
     def __init__(self, inst: ir.Instance, grid: Mapping[str, Fraction], horizon: int | None, flavor: str) -> None:
         self.inst = inst
@@ -577,11 +589,7 @@ class _Exporter:
             return None, False
         if isinstance(obj.term, ir.TotalCost):
             for m in self.inst.morphisms.values():
-                if m.cost is None:
-                    continue
-                if not (isinstance(m.cost, ir.Const) and m.cost.value >= 0) and (
-                    ir.params_in(m.cost) or ir.resources_in(m.cost) or m.cost.value < 0
-                ):
+                if m.cost is not None and not _nonnegative_constant(m.cost):
                     self.report.add(
                         "objective",
                         f"cost of '{m.name}' is not a non-negative constant; total-cost metric not exported",
