@@ -35,7 +35,7 @@ LAZY_COMMANDS: dict[str, str] = {
     "fmt": "catc.interfaces.fmt_command:fmt_command",
     "lsp": "catc.interfaces.lsp:lsp_command",
     "export": "catc.interfaces.export_cli:export_command",
-    "bench": "catc.bench.harness:bench_command",
+    "bench": "catc.bench.cli:bench_command",
 }
 
 
