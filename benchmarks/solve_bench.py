@@ -23,8 +23,8 @@ import time
 import tomllib
 from pathlib import Path
 
-from catc.bench.harness import cpu_text as machine  # shared with catc bench
-from catc.bench.harness import quartiles
+from catc.bench.machine import cpu_text as machine  # shared with catc bench
+from catc.bench.stats import quartiles
 
 ROOT = Path(__file__).resolve().parent.parent
 CATC = [sys.executable, "-m", "catc"]

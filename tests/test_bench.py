@@ -15,16 +15,9 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from catc.bench.harness import (
-    LineDiff,
-    expected_for,
-    judge,
-    line_diff,
-    model_lines,
-    quartiles,
-    strip_comment,
-    text_diff,
-)
+from catc.bench.lines import LineDiff, line_diff, model_lines, strip_comment, text_diff
+from catc.bench.problems import expected_for
+from catc.bench.stats import judge, quartiles
 from catc.interfaces.cli import main
 from catc.ir.numbers import decimal_text
 

@@ -37,12 +37,12 @@ def layers() -> list[list[str]]:
     raise SystemExit("no layers contract in pyproject.toml")
 
 
-def job(path: Path) -> str:
+def job(path: Path, name: str | None = None) -> str:
     """The module's job: the first line of its docstring, markup removed, cut at its first
     clause (``name: ...`` prefixes dropped)."""
     doc = ast.get_docstring(ast.parse(path.read_text(encoding="utf-8"))) or ""
     line = re.sub(r":\w+:`~?([^`]+)`", r"\1", doc.strip().split("\n")[0]).replace("``", "")
-    line = re.sub(rf"^(catc )?{re.escape(path.stem)}: ", "", line)
+    line = re.sub(rf"^(catc )?{re.escape(name or path.stem)}: ", "", line, flags=re.IGNORECASE)
     return re.split(r" — |; |: (?=[a-z])", line.rstrip("."))[0]
 
 
@@ -50,8 +50,10 @@ def modules(stage: str) -> list[tuple[str, str]]:
     """(module name, its job) for every module of a stage."""
     path = PACKAGE / stage
     if path.is_dir():
-        files = sorted(p for p in path.glob("*.py") if p.name != "__init__.py")
-        return [(p.stem, job(p)) for p in files]
+        files = [p for p in path.glob("*.py") if p.name != "__init__.py"]
+        files += [p / "__init__.py" for p in path.iterdir() if (p / "__init__.py").is_file()]  # subpackages
+        named = [(p.parent.name + "/" if p.name == "__init__.py" else p.stem, p) for p in files]
+        return [(name, job(p, name.rstrip("/"))) for name, p in sorted(named)]
     return [(stage, job(path.with_suffix(".py")))]
 
 

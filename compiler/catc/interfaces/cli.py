@@ -36,7 +36,7 @@ LAZY_COMMANDS: dict[str, str] = {
     "lsp": "catc.interfaces.lsp:lsp_command",
     "export": "catc.interfaces.export_cli:export_command",
     "ground": "catc.interfaces.ground:ground_command",
-    "bench": "catc.bench.harness:bench_command",
+    "bench": "catc.bench.cli:bench_command",
 }
 
 

@@ -105,7 +105,9 @@ def ground_artifacts(
         files = artifacts(grounded)
     except GroundingConflict as exc:
         diags = Diagnostics()
-        diags.report(codes.BAD_GROUNDING, str(exc), exc.span, *([Note("the other one", exc.first)] if exc.first else []))
+        diags.report(
+            codes.BAD_GROUNDING, str(exc), exc.span, *([Note("the other one", exc.first)] if exc.first else [])
+        )
         command.input_errors(_sourced(diags), as_json)
     except ValueError as exc:  # a value no artifact can carry (a real beyond a double)
         command.argument_error(str(exc), codes.BAD_GROUNDING, as_json)

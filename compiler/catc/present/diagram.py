@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import unicodedata
 import xml.etree.ElementTree as ET
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
@@ -221,14 +221,13 @@ class _Box:
 
 @dataclass
 class _Step:
-    index: int
     boxes: list[_Box] = field(default_factory=list)
     x: float = 0.0
     w: float = 0.0
     header: str = ""
 
 
-def _group_key(group: str) -> tuple:
+def _group_key(group: str) -> tuple[int, int, str]:
     if group in GROUP_ORDER:
         return (0, GROUP_ORDER.index(group), "")
     if group == OTHERS:
@@ -366,6 +365,40 @@ class _Svg:
         )
 
 
+@dataclass
+class _Tags:
+    """The state values written on the wires: wire → (shown text, full text)."""
+
+    initial: dict[str, tuple[str, str]] = field(default_factory=dict)
+    final: dict[str, tuple[str, str]] = field(default_factory=dict)
+    between: list[dict[str, tuple[str, str]]] = field(default_factory=list)  # after step i (not the last)
+
+
+@dataclass
+class _Columns:
+    """The horizontal layout of the wires (the steps' columns lie between ``wire_start`` and ``final``)."""
+
+    label_end: float  # the wire labels at the left end here
+    wire_start: float
+    final: float  # final-value tags start here
+    wire_end: float
+    right_label: float  # the wire names at the right start here
+    right: float  # the diagram's right edge (the legend and title may widen the picture)
+
+
+@dataclass
+class _Rows:
+    """The vertical layout around the wires: title, step headers, legend and footnote."""
+
+    top: float
+    header_y: float
+    title_y: float | None
+    legend_top: float
+    legend_rows: list[list[tuple[str, float]]]
+    foot_lines: list[str]
+    bottom: float
+
+
 def render_svg(
     instance: ir.Instance, plan: Plan, *, states: Sequence[Mapping[str, Any]] | None = None, title: str | None = None
 ) -> str:
@@ -380,9 +413,35 @@ def render_svg(
         )
     wires, omitted = _wires(instance, plan)
     wire_at = {w.name: w for w in wires}
-    rank = {w.name: i for i, w in enumerate(wires)}
+    groups = _place_wires(wires)
+    wires_top = groups[0].top if groups else 0.0
+    wires_bottom = groups[-1].bottom if groups else 0.0
+    steps = _place_boxes(instance, plan, wires, (wires_top + wires_bottom) / 2)
+    tags = _state_tags(wires, len(steps), states)
+    cols = _place_columns(wires, groups, steps, tags)
+    rows = _place_rows(steps, wires_top, wires_bottom, title, cols.right, bool(states), omitted)
 
-    # ---- vertical layout of the wires, group by group
+    svg = _Svg()
+    root = svg.root
+    _frame(svg, instance, steps, wires, cols, rows, title)
+    _draw_groups(svg, root, groups, cols.right)
+    _draw_headers(svg, root, steps, rows.header_y)
+    _draw_wires(svg, root, wires, cols, tags)
+    _draw_between(svg, root, steps, wire_at, tags.between)
+    box_g = svg.el(root, "g", {"class": "activations"})
+    for st in steps:
+        for b in st.boxes:
+            _draw_box(svg, box_g, b, wires, wire_at)
+    _draw_legend(svg, root, rows)
+    ET.indent(root, space=" ")
+    return ET.tostring(root, encoding="unicode") + "\n"
+
+
+# ---------------------------------------------------------------- layout steps
+
+
+def _place_wires(wires: list[_Wire]) -> list[_Group]:
+    """Set each wire's height, group by group; return the groups with their extents."""
     groups: list[_Group] = []
     y = 0.0
     for w in wires:
@@ -396,14 +455,16 @@ def render_svg(
         y += SPACING
     if groups:
         groups[-1].bottom = y - SPACING / 2
-    wires_top = groups[0].top if groups else 0.0
-    wires_bottom = groups[-1].bottom if groups else 0.0
-    mid_y = (wires_top + wires_bottom) / 2
+    return groups
 
-    # ---- boxes: size, vertical extent
+
+def _place_boxes(instance: ir.Instance, plan: Plan, wires: list[_Wire], mid_y: float) -> list[_Step]:
+    """The steps with their boxes: label lines, width, and vertical parts (not yet placed across)."""
+    wire_at = {w.name: w for w in wires}
+    rank = {w.name: i for i, w in enumerate(wires)}
     steps: list[_Step] = []
     for i, step in enumerate(plan.steps):
-        st = _Step(i, header=f"t={i + 1}" + (" ⊗" if len(step) > 1 else ""))
+        st = _Step(header=f"t={i + 1}" + (" ⊗" if len(step) > 1 else ""))
         for act in step:
             m = instance.morphisms.get(act.morphism)
             kind = m.kind.value if m is not None else "unknown"
@@ -417,37 +478,45 @@ def render_svg(
             )
             st.boxes.append(box)
         steps.append(st)
+    return steps
 
-    # ---- state values
-    def tag_text(v: Any) -> tuple[str, str]:
-        full = _clean(format_value(v))
-        return _clip(full, VALUE_CHARS), full
 
-    initial = {w.name: tag_text(states[0][w.name]) for w in wires if states and w.name in states[0]}
-    final = {w.name: tag_text(states[-1][w.name]) for w in wires if states and w.name in states[-1]}
-    between: list[dict[str, tuple[str, str]]] = []  # after step i (not the last): wire → (short, full)
-    if states:
-        for i in range(len(steps) - 1):
-            before, after = states[i], states[i + 1]
-            changed = {}
-            for w in wires:
-                if w.name in after and (w.name not in before or before[w.name] != after[w.name]):
-                    full = _clean(format_value(after[w.name]))
-                    changed[w.name] = (_clip(full, BETWEEN_CHARS), full)
-            between.append(changed)
+def _tag_text(v: Any, chars: int) -> tuple[str, str]:
+    full = _clean(format_value(v))
+    return _clip(full, chars), full
 
-    # ---- horizontal layout
+
+def _state_tags(wires: list[_Wire], n_steps: int, states: Sequence[Mapping[str, Any]] | None) -> _Tags:
+    """The initial and final values of the wires, and the values each step (but the last) changes."""
+    tags = _Tags()
+    if not states:
+        return tags
+    tags.initial = {w.name: _tag_text(states[0][w.name], VALUE_CHARS) for w in wires if w.name in states[0]}
+    tags.final = {w.name: _tag_text(states[-1][w.name], VALUE_CHARS) for w in wires if w.name in states[-1]}
+    for i in range(n_steps - 1):
+        before, after = states[i], states[i + 1]
+        tags.between.append(
+            {
+                w.name: _tag_text(after[w.name], BETWEEN_CHARS)
+                for w in wires
+                if w.name in after and (w.name not in before or before[w.name] != after[w.name])
+            }
+        )
+    return tags
+
+
+def _place_columns(wires: list[_Wire], groups: list[_Group], steps: list[_Step], tags: _Tags) -> _Columns:
+    """Place the steps and their boxes left to right; return where the wires and their labels go."""
     label_w = max(
         [text_width(w.label, FS_WIRE) for w in wires] + [text_width(g.name, FS_SMALL) for g in groups] + [0.0]
     )
-    tag_w = lambda s: text_width(s, FS_SMALL) + 10  # noqa: E731
-    init_w = max([tag_w(s) for s, _ in initial.values()] + [0.0])
-    final_w = max([tag_w(s) for s, _ in final.values()] + [0.0])
+    init_w = max([text_width(s, FS_SMALL) + 10 for s, _ in tags.initial.values()] + [0.0])
+    final_w = max([text_width(s, FS_SMALL) + 10 for s, _ in tags.final.values()] + [0.0])
     right_label_w = max([text_width(w.name, FS_SMALL) for w in wires] + [0.0])
 
-    x_label_end = MARGIN + label_w
-    x_wire_start = x_label_end + 8
-    x = x_wire_start + (init_w + 8 if init_w else 0) + LEAD
+    label_end = MARGIN + label_w
+    wire_start = label_end + 8
+    x = wire_start + (init_w + 8 if init_w else 0) + LEAD
     for i, st in enumerate(steps):
         inner = sum(b.w for b in st.boxes) + SUB_GAP * max(0, len(st.boxes) - 1)
         st.w = max(inner, text_width(st.header, FS_SMALL + 1) + 8, BOX_MIN_W if not st.boxes else 0)
@@ -459,17 +528,27 @@ def render_svg(
         x += st.w
         if i < len(steps) - 1:
             gap = STEP_GAP
-            if between and between[i]:
-                gap = max(gap, max(text_width(s, FS_SMALL - 1) for s, _ in between[i].values()) + 14)
+            if tags.between and tags.between[i]:
+                gap = max(gap, max(text_width(s, FS_SMALL - 1) for s, _ in tags.between[i].values()) + 14)
             x += gap
     if not steps:
         x += 2 * LEAD  # an empty composition: bare identity wires
-    x_final = x + LEAD  # final-value tags start here
-    x_wire_end = x_final + (final_w + 8 if final_w else 0)
-    x_right_label = x_wire_end + 8
-    diagram_right = x_right_label + right_label_w
+    final = x + LEAD
+    wire_end = final + (final_w + 8 if final_w else 0)
+    right_label = wire_end + 8
+    return _Columns(label_end, wire_start, final, wire_end, right_label, right_label + right_label_w)
 
-    # ---- vertical extras: title, headers above, legend and footnote below
+
+def _place_rows(
+    steps: list[_Step],
+    wires_top: float,
+    wires_bottom: float,
+    title: str | None,
+    diagram_right: float,
+    with_states: bool,
+    omitted: list[str],
+) -> _Rows:
+    """The title and step headers above the wires and boxes, the legend and footnote below."""
     content_top = min([wires_top] + [b.top for st in steps for b in st.boxes])
     content_bottom = max([wires_bottom] + [b.bottom for st in steps for b in st.boxes])
     header_y = content_top - 10
@@ -478,35 +557,50 @@ def render_svg(
     if title:
         title_y = top - 6
         top = title_y - FS_TITLE - 4
-
-    svg = _Svg()
-    root = svg.root
-    # ---- legend (laid out first: it may widen the picture)
-    legend_items = _legend_items(bool(states))
-    width_avail = max(diagram_right - MARGIN, 560.0)
-    legend_rows: list[list[tuple[str, float]]] = [[]]
-    row_w = 0.0
-    for item, w in legend_items:
-        if legend_rows[-1] and row_w + w > width_avail:
-            legend_rows.append([])
-            row_w = 0.0
-        legend_rows[-1].append((item, w))
-        row_w += w + 18
+    legend_rows = _legend_rows(_legend_items(with_states), max(diagram_right - MARGIN, 560.0))
     legend_top = content_bottom + 22
     foot_lines = _footnote(omitted)
     if not steps:
         foot_lines.insert(0, "The empty composition: the identity on every resource.")
     bottom = legend_top + 20 * len(legend_rows) + 14 * len(foot_lines) + 6
+    return _Rows(top, header_y, title_y, legend_top, legend_rows, foot_lines, bottom)
 
+
+def _legend_rows(items: list[tuple[str, float]], width_avail: float) -> list[list[tuple[str, float]]]:
+    """The legend items, wrapped into rows no wider than ``width_avail``."""
+    rows: list[list[tuple[str, float]]] = [[]]
+    row_w = 0.0
+    for item, w in items:
+        if rows[-1] and row_w + w > width_avail:
+            rows.append([])
+            row_w = 0.0
+        rows[-1].append((item, w))
+        row_w += w + 18
+    return rows
+
+
+# ---------------------------------------------------------------- drawing steps
+
+
+def _frame(
+    svg: _Svg,
+    instance: ir.Instance,
+    steps: list[_Step],
+    wires: list[_Wire],
+    cols: _Columns,
+    rows: _Rows,
+    title: str | None,
+) -> None:
+    """The document's attributes (viewBox, size, font), its title and description, the background."""
     right = max(
-        diagram_right,
-        MARGIN + max(sum(w + 18 for _, w in row) - 18 for row in legend_rows),
-        MARGIN + max([text_width(t, FS_SMALL) for t in foot_lines] + [0.0]),
+        cols.right,
+        MARGIN + max(sum(w + 18 for _, w in row) - 18 for row in rows.legend_rows),
+        MARGIN + max([text_width(t, FS_SMALL) for t in rows.foot_lines] + [0.0]),
         MARGIN + (text_width(title, FS_TITLE) if title else 0.0),
     )
-    vb_x, vb_y = 0.0, top - MARGIN
-    vb_w, vb_h = right + MARGIN, bottom + MARGIN - vb_y
-
+    vb_x, vb_y = 0.0, rows.top - MARGIN
+    vb_w, vb_h = right + MARGIN, rows.bottom + MARGIN - vb_y
+    root = svg.root
     root.set("xmlns", "http://www.w3.org/2000/svg")
     root.set("viewBox", " ".join(_num(v) for v in (vb_x, vb_y, vb_w, vb_h)))
     root.set("width", _num(vb_w))
@@ -526,10 +620,12 @@ def render_svg(
     svg.el(
         root, "rect", {"class": "background", "x": vb_x, "y": vb_y, "width": vb_w, "height": vb_h, "fill": "#FFFFFF"}
     )
-    if title:
-        svg.text(root, MARGIN, title_y, title, size=FS_TITLE, weight="bold", cls="title")
+    if title and rows.title_y is not None:
+        svg.text(root, MARGIN, rows.title_y, title, size=FS_TITLE, weight="bold", cls="title")
 
-    # ---- group bands and headings
+
+def _draw_groups(svg: _Svg, root: ET.Element, groups: list[_Group], diagram_right: float) -> None:
+    """Every other group on a light band; every group's name above its first wire."""
     bands = svg.el(root, "g", {"class": "groups"})
     for k, g in enumerate(groups):
         if k % 2 == 0:
@@ -548,7 +644,8 @@ def render_svg(
             )
         svg.text(bands, MARGIN, g.top + 12, g.name, size=FS_SMALL, fill=MUTED, style="italic", cls="group-name")
 
-    # ---- step headers
+
+def _draw_headers(svg: _Svg, root: ET.Element, steps: list[_Step], header_y: float) -> None:
     cols = svg.el(root, "g", {"class": "steps"})
     for st in steps:
         cx = st.x + st.w / 2
@@ -564,56 +661,61 @@ def render_svg(
             cls="step-header",
         )
 
-    # ---- wires (drawn first: boxes cover them where they touch or pass over)
+
+def _draw_wires(svg: _Svg, root: ET.Element, wires: list[_Wire], cols: _Columns, tags: _Tags) -> None:
+    """The wires with their labels and initial/final values (drawn first: boxes cover them)."""
     wire_g = svg.el(root, "g", {"class": "wires"})
     for w in wires:
         g = svg.el(wire_g, "g", {"class": "wire", "data-resource": w.name})
         svg.el(
-            g, "line", {"x1": x_wire_start, "y1": w.y, "x2": x_wire_end, "y2": w.y, "stroke": WIRE, "stroke-width": 1.4}
+            g,
+            "line",
+            {"x1": cols.wire_start, "y1": w.y, "x2": cols.wire_end, "y2": w.y, "stroke": WIRE, "stroke-width": 1.4},
         )
-        svg.text(g, x_label_end, w.y + 4, w.label, size=FS_WIRE, anchor="end", cls="wire-label")
-        svg.text(g, x_right_label, w.y + 3.5, w.name, size=FS_SMALL, fill=MUTED, cls="wire-label-right")
-        if w.name in initial:
-            _tag(svg, g, x_wire_start + 4, w.y, *initial[w.name], "state initial")
-        if w.name in final:
-            _tag(svg, g, x_final, w.y, *final[w.name], "state final")
+        svg.text(g, cols.label_end, w.y + 4, w.label, size=FS_WIRE, anchor="end", cls="wire-label")
+        svg.text(g, cols.right_label, w.y + 3.5, w.name, size=FS_SMALL, fill=MUTED, cls="wire-label-right")
+        if w.name in tags.initial:
+            _tag(svg, g, cols.wire_start + 4, w.y, *tags.initial[w.name], "state initial")
+        if w.name in tags.final:
+            _tag(svg, g, cols.final, w.y, *tags.final[w.name], "state final")
 
-    # ---- values after each step (only those that change)
-    if between:
-        bg = svg.el(root, "g", {"class": "between"})
-        for i, changed in enumerate(between):
-            xs = steps[i].x + steps[i].w + 5
-            for wname, (short, full) in changed.items():
-                holder = bg
-                if short != full:  # the full value as a tooltip
-                    holder = svg.el(bg, "g")
-                    svg.el(holder, "title", None, full)
-                t = svg.text(
-                    holder, xs, wire_at[wname].y - 4, short, size=FS_SMALL - 1, fill="#5A3E85", cls="state between"
-                )
-                t.set("data-resource", wname)
 
-    # ---- boxes
-    box_g = svg.el(root, "g", {"class": "activations"})
-    for st in steps:
-        for b in st.boxes:
-            _draw_box(svg, box_g, b, wires, wire_at)
+def _draw_between(
+    svg: _Svg,
+    root: ET.Element,
+    steps: list[_Step],
+    wire_at: dict[str, _Wire],
+    between: list[dict[str, tuple[str, str]]],
+) -> None:
+    """The values after each step (only those that change), the full value as a tooltip when cut."""
+    if not between:
+        return
+    bg = svg.el(root, "g", {"class": "between"})
+    for i, changed in enumerate(between):
+        xs = steps[i].x + steps[i].w + 5
+        for wname, (short, full) in changed.items():
+            holder = bg
+            if short != full:
+                holder = svg.el(bg, "g")
+                svg.el(holder, "title", None, full)
+            t = svg.text(
+                holder, xs, wire_at[wname].y - 4, short, size=FS_SMALL - 1, fill="#5A3E85", cls="state between"
+            )
+            t.set("data-resource", wname)
 
-    # ---- legend and footnote
+
+def _draw_legend(svg: _Svg, root: ET.Element, rows: _Rows) -> None:
     leg = svg.el(root, "g", {"class": "legend"})
-    ly = legend_top
-    for row in legend_rows:
+    ly = rows.legend_top
+    for row in rows.legend_rows:
         lx = MARGIN
         for item, w in row:
             _legend_item(svg, leg, item, lx, ly)
             lx += w + 18
         ly += 20
-    for line in foot_lines:
+    for line in rows.foot_lines:
         svg.text(leg, MARGIN, ly + 4, line, size=FS_SMALL, fill=MUTED, cls="footnote")
         ly += 14
-
-    ET.indent(root, space=" ")
-    return ET.tostring(root, encoding="unicode") + "\n"
 
 
 # ---------------------------------------------------------------- pieces
@@ -643,18 +745,29 @@ def _tag(svg: _Svg, parent: ET.Element, x: float, y: float, text: str, full: str
 
 
 def _draw_box(svg: _Svg, parent: ET.Element, b: _Box, wires: list[_Wire], wire_at: dict[str, _Wire]) -> None:
+    """One activation: its tooltip, the stems between its parts, the parts, its label and its ports."""
     style = KIND_STYLE.get(b.kind, KIND_STYLE["unknown"])
     g = svg.el(parent, "g", {"class": f"activation {b.kind}", "data-step": b.step + 1, "data-morphism": b.act.morphism})
+    svg.el(g, "title", None, _box_tooltip(b, style))
+    _draw_stems(svg, g, b, wires, style)
+    _draw_parts(svg, g, b, wires, style)
+    _draw_label(svg, g, b, style)
+    _draw_ports(svg, g, b, wire_at)
+
+
+def _box_tooltip(b: _Box, style: Mapping[str, str]) -> str:
     tip = [f"{b.act.morphism} ({style['label']}), step t={b.step + 1}"]
     if b.act.params:
         tip.append("θ: " + ", ".join(f"{k}={format_value(v)}" for k, v in b.act.params.items()))
     if b.morphism is not None:
         tip.append("reads: " + (", ".join(b.reads) or "—"))
         tip.append("writes: " + (", ".join(b.writes) or "—"))
-    svg.el(g, "title", None, "\n".join(tip).replace("\n", "; "))
+    return "\n".join(tip).replace("\n", "; ")
+
+
+def _draw_stems(svg: _Svg, g: ET.Element, b: _Box, wires: list[_Wire], style: Mapping[str, str]) -> None:
+    """The stems joining the parts of a broken box, interrupted where a wire crosses in front."""
     cx = b.x + b.w / 2
-    touched = set(b.touched)
-    # stems joining the parts of a broken box, interrupted where a wire crosses in front
     for (_, upper), (lower, _) in zip(b.pieces, b.pieces[1:]):
         y0 = upper
         for w in wires:
@@ -662,6 +775,11 @@ def _draw_box(svg: _Svg, parent: ET.Element, b: _Box, wires: list[_Wire], wire_a
                 _stem(svg, g, cx, y0, w.y - STEM_GAP, style)
                 y0 = w.y + STEM_GAP
         _stem(svg, g, cx, y0, lower, style)
+
+
+def _draw_parts(svg: _Svg, g: ET.Element, b: _Box, wires: list[_Wire], style: Mapping[str, str]) -> None:
+    """The box's parts, and over each the wires it merely passes over, light and dashed."""
+    touched = set(b.touched)
     for top, bottom in b.pieces:
         svg.el(
             g,
@@ -679,7 +797,6 @@ def _draw_box(svg: _Svg, parent: ET.Element, b: _Box, wires: list[_Wire], wire_a
                 "stroke-dasharray": "4 3" if b.kind == "unknown" else None,
             },
         )
-        # wires the box merely passes over: drawn over it, light and dashed
         for w in wires:
             if top < w.y < bottom and w.name not in touched:
                 svg.el(
@@ -698,7 +815,11 @@ def _draw_box(svg: _Svg, parent: ET.Element, b: _Box, wires: list[_Wire], wire_a
                         "stroke-opacity": 0.8,
                     },
                 )
-    # the label, centred in its part, on a patch of the box colour so dashed wires do not cross the text
+
+
+def _draw_label(svg: _Svg, g: ET.Element, b: _Box, style: Mapping[str, str]) -> None:
+    """The label, centred in its part, on a patch of the box colour so dashed wires do not cross the text."""
+    cx = b.x + b.w / 2
     top, bottom = b.pieces[b.label_piece]
     lh = _label_height(b.lines)
     ly = (top + bottom) / 2 - lh / 2
@@ -714,37 +835,26 @@ def _draw_box(svg: _Svg, parent: ET.Element, b: _Box, wires: list[_Wire], wire_a
     for line in b.lines[1:]:
         svg.text(g, cx, ty + 1, line, size=FS_THETA, anchor="middle", fill="#333333", cls="theta")
         ty += LINE_THETA
-    # ports: hollow = read (left edge), filled = write (right edge)
-    for r in b.reads:
-        svg.el(
-            g,
-            "circle",
-            {
-                "class": "port read",
-                "data-resource": r,
-                "cx": b.x,
-                "cy": wire_at[r].y,
-                "r": PORT_R,
-                "fill": "#FFFFFF",
-                "stroke": INK,
-                "stroke-width": 1.4,
-            },
-        )
-    for r in b.writes:
-        svg.el(
-            g,
-            "circle",
-            {
-                "class": "port write",
-                "data-resource": r,
-                "cx": b.x + b.w,
-                "cy": wire_at[r].y,
-                "r": PORT_R,
-                "fill": INK,
-                "stroke": INK,
-                "stroke-width": 1.4,
-            },
-        )
+
+
+def _draw_ports(svg: _Svg, g: ET.Element, b: _Box, wire_at: dict[str, _Wire]) -> None:
+    """The ports: hollow = read (left edge), filled = write (right edge)."""
+    for cls, x, fill, names in (("port read", b.x, "#FFFFFF", b.reads), ("port write", b.x + b.w, INK, b.writes)):
+        for r in names:
+            svg.el(
+                g,
+                "circle",
+                {
+                    "class": cls,
+                    "data-resource": r,
+                    "cx": x,
+                    "cy": wire_at[r].y,
+                    "r": PORT_R,
+                    "fill": fill,
+                    "stroke": INK,
+                    "stroke-width": 1.4,
+                },
+            )
 
 
 def _stem(svg: _Svg, parent: ET.Element, cx: float, y0: float, y1: float, style: Mapping[str, str]) -> None:
@@ -793,118 +903,141 @@ _LEGEND_TEXT = {
 def _legend_item(svg: _Svg, parent: ET.Element, item: str, x: float, y: float) -> None:
     g = svg.el(parent, "g", {"class": f"legend-item {item}"})
     if item in KIND_STYLE:
-        st = KIND_STYLE[item]
+        _legend_kind(svg, g, item, x, y)
+    elif item in _LEGEND_SYMBOLS:
+        _LEGEND_SYMBOLS[item](svg, g, item, x, y)
+    else:
+        svg.text(g, x, y + 4, _LEGEND_TEXT[item], size=FS_SMALL)
+
+
+def _legend_kind(svg: _Svg, g: ET.Element, item: str, x: float, y: float) -> None:
+    st = KIND_STYLE[item]
+    svg.el(
+        g,
+        "rect",
+        {
+            "class": "legend-symbol",
+            "x": x,
+            "y": y - 6,
+            "width": 20,
+            "height": 13,
+            "rx": 3,
+            "fill": st["fill"],
+            "stroke": st["stroke"],
+            "stroke-width": 1.4,
+        },
+    )
+    svg.text(g, x + 26, y + 4, st["label"], size=FS_SMALL)
+
+
+def _legend_port(svg: _Svg, g: ET.Element, item: str, x: float, y: float) -> None:
+    svg.el(
+        g,
+        "line",
+        {"class": "legend-symbol", "x1": x, "y1": y, "x2": x + 20, "y2": y, "stroke": WIRE, "stroke-width": 1.4},
+    )
+    filled = item == "write"
+    svg.el(
+        g,
+        "circle",
+        {
+            "class": "legend-symbol",
+            "cx": x + 10,
+            "cy": y,
+            "r": PORT_R,
+            "fill": INK if filled else "#FFFFFF",
+            "stroke": INK,
+            "stroke-width": 1.4,
+        },
+    )
+    svg.text(g, x + 30, y + 4, _LEGEND_TEXT[item], size=FS_SMALL)
+
+
+def _legend_passover(svg: _Svg, g: ET.Element, item: str, x: float, y: float) -> None:
+    svg.el(
+        g,
+        "rect",
+        {
+            "class": "legend-symbol",
+            "x": x,
+            "y": y - 7,
+            "width": 28,
+            "height": 14,
+            "rx": 3,
+            "fill": "#E6E6E6",
+            "stroke": "#999999",
+            "stroke-width": 1,
+        },
+    )
+    svg.el(
+        g,
+        "line",
+        {
+            "class": "legend-symbol",
+            "x1": x + 1,
+            "y1": y,
+            "x2": x + 27,
+            "y2": y,
+            "stroke": "#7A7A7A",
+            "stroke-width": 1,
+            "stroke-dasharray": "3 3",
+        },
+    )
+    svg.text(g, x + 38, y + 4, _LEGEND_TEXT[item], size=FS_SMALL)
+
+
+def _legend_stem(svg: _Svg, g: ET.Element, item: str, x: float, y: float) -> None:
+    for y0, y1 in ((y - 9, y - 3), (y + 3, y + 9)):
         svg.el(
             g,
             "rect",
             {
                 "class": "legend-symbol",
-                "x": x,
-                "y": y - 6,
-                "width": 20,
-                "height": 13,
-                "rx": 3,
-                "fill": st["fill"],
-                "stroke": st["stroke"],
-                "stroke-width": 1.4,
-            },
-        )
-        svg.text(g, x + 26, y + 4, st["label"], size=FS_SMALL)
-    elif item in ("read", "write"):
-        svg.el(
-            g,
-            "line",
-            {"class": "legend-symbol", "x1": x, "y1": y, "x2": x + 20, "y2": y, "stroke": WIRE, "stroke-width": 1.4},
-        )
-        filled = item == "write"
-        svg.el(
-            g,
-            "circle",
-            {
-                "class": "legend-symbol",
-                "cx": x + 10,
-                "cy": y,
-                "r": PORT_R,
-                "fill": INK if filled else "#FFFFFF",
-                "stroke": INK,
-                "stroke-width": 1.4,
-            },
-        )
-        svg.text(g, x + 30, y + 4, _LEGEND_TEXT[item], size=FS_SMALL)
-    elif item == "passover":
-        svg.el(
-            g,
-            "rect",
-            {
-                "class": "legend-symbol",
-                "x": x,
-                "y": y - 7,
-                "width": 28,
-                "height": 14,
-                "rx": 3,
+                "x": x + 8,
+                "y": y0,
+                "width": STEM_W,
+                "height": y1 - y0,
                 "fill": "#E6E6E6",
                 "stroke": "#999999",
                 "stroke-width": 1,
             },
         )
-        svg.el(
-            g,
-            "line",
-            {
-                "class": "legend-symbol",
-                "x1": x + 1,
-                "y1": y,
-                "x2": x + 27,
-                "y2": y,
-                "stroke": "#7A7A7A",
-                "stroke-width": 1,
-                "stroke-dasharray": "3 3",
-            },
-        )
-        svg.text(g, x + 38, y + 4, _LEGEND_TEXT[item], size=FS_SMALL)
-    elif item == "stem":
-        st = KIND_STYLE["unknown"]
-        for y0, y1 in ((y - 9, y - 3), (y + 3, y + 9)):
-            svg.el(
-                g,
-                "rect",
-                {
-                    "class": "legend-symbol",
-                    "x": x + 8,
-                    "y": y0,
-                    "width": STEM_W,
-                    "height": y1 - y0,
-                    "fill": "#E6E6E6",
-                    "stroke": "#999999",
-                    "stroke-width": 1,
-                },
-            )
-        svg.el(
-            g,
-            "line",
-            {"class": "legend-symbol", "x1": x, "y1": y, "x2": x + 24, "y2": y, "stroke": WIRE, "stroke-width": 1.4},
-        )
-        svg.text(g, x + 32, y + 4, _LEGEND_TEXT[item], size=FS_SMALL)
-    elif item == "states":
-        svg.el(
-            g,
-            "rect",
-            {
-                "class": "legend-symbol",
-                "x": x,
-                "y": y - 7.5,
-                "width": 24,
-                "height": 15,
-                "rx": 3,
-                "fill": "#FFFFFF",
-                "stroke": "#8E7CC3",
-                "stroke-width": 0.9,
-            },
-        )
-        svg.text(g, x + 4, y + 3.5, "v", size=FS_SMALL, fill="#3F2A6B")
-        svg.text(g, x + 34, y + 4, _LEGEND_TEXT[item], size=FS_SMALL)
-    else:
-        svg.text(g, x, y + 4, _LEGEND_TEXT[item], size=FS_SMALL)
+    svg.el(
+        g,
+        "line",
+        {"class": "legend-symbol", "x1": x, "y1": y, "x2": x + 24, "y2": y, "stroke": WIRE, "stroke-width": 1.4},
+    )
+    svg.text(g, x + 32, y + 4, _LEGEND_TEXT[item], size=FS_SMALL)
+
+
+def _legend_states(svg: _Svg, g: ET.Element, item: str, x: float, y: float) -> None:
+    svg.el(
+        g,
+        "rect",
+        {
+            "class": "legend-symbol",
+            "x": x,
+            "y": y - 7.5,
+            "width": 24,
+            "height": 15,
+            "rx": 3,
+            "fill": "#FFFFFF",
+            "stroke": "#8E7CC3",
+            "stroke-width": 0.9,
+        },
+    )
+    svg.text(g, x + 4, y + 3.5, "v", size=FS_SMALL, fill="#3F2A6B")
+    svg.text(g, x + 34, y + 4, _LEGEND_TEXT[item], size=FS_SMALL)
+
+
+#: How each legend item other than the kinds draws its symbol and text (``steps`` has text only).
+_LEGEND_SYMBOLS: dict[str, Callable[[_Svg, ET.Element, str, float, float], None]] = {
+    "read": _legend_port,
+    "write": _legend_port,
+    "passover": _legend_passover,
+    "stem": _legend_stem,
+    "states": _legend_states,
+}
 
 
 def _footnote(omitted: Iterable[str]) -> list[str]:

@@ -28,12 +28,13 @@ import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
+from typing import cast
 
 from catc import ir
 from catc.ir import ArithOp, BoolOpKind, CmpOp, EffectKind, SortKind
 from catc.ir.fold import FoldError, fold
 from catc.ir.numbers import decimal_text, number_text
-from catc.semantics.plan import Activation, Plan
+from catc.semantics.plan import Activation, Plan, Value
 
 #: Words some PDDL planners (ENHSP, the PyPI parser) reject as names.
 RESERVED = frozenset(
@@ -208,13 +209,25 @@ def _lower_bound(e: ir.Expr, params: Mapping[str, ir.Param]) -> Fraction | None:
         p = params.get(e.name)
         return None if p is None or p.lower is None else Fraction(p.lower)
     if isinstance(e, ir.Arith) and e.op is ArithOp.ADD:
-        lows = [_lower_bound(a, params) for a in e.args]
-        return None if any(x is None for x in lows) else sum(lows, Fraction(0))  # type: ignore[arg-type]
+        known = [x for x in (_lower_bound(a, params) for a in e.args) if x is not None]
+        return sum(known, Fraction(0)) if len(known) == len(e.args) else None
     if isinstance(e, ir.Arith) and e.op is ArithOp.MUL and len(e.args) == 2:
-        lows = [_lower_bound(a, params) for a in e.args]
-        if all(x is not None and x >= 0 for x in lows):
-            return lows[0] * lows[1]  # type: ignore[operator]
+        a, b = (_lower_bound(x, params) for x in e.args)
+        if a is not None and a >= 0 and b is not None and b >= 0:
+            return a * b
     return None
+
+
+def _nonnegative_constant(cost: ir.Expr) -> bool:
+    """Whether a ``:cost`` is a constant ≥ 0 (no θ, no resource; folded), as the
+    ``(total-cost)`` metric needs."""
+    if ir.params_in(cost) or ir.resources_in(cost):
+        return False
+    try:
+        folded = fold(cost)
+    except FoldError:
+        return False
+    return isinstance(folded, ir.Const) and not isinstance(folded.value, str) and folded.value >= 0
 
 
 class _Exporter:
@@ -226,8 +239,8 @@ class _Exporter:
         self.report = ExportReport()
         self.names = _Names()
         self.requirements: set[str] = {":strips"}
-        self.pred: dict[tuple, str] = {}  # key → predicate name
-        self.func: dict[str, str] = {}  # resource / counter key → function name
+        self.pred: dict[tuple[object, ...], str] = {}  # key → predicate name
+        self.func: dict[str | tuple[str, str], str] = {}  # resource name / (counter kind, name) → function name
         self.actions: dict[str, Activation] = {}
         self.grid_used: dict[str, Fraction] = {}
         self._drained: str | None = None  # maximize R exported as minimize the total taken from R
@@ -246,11 +259,13 @@ class _Exporter:
             elif k is SortKind.BOOL:
                 self.pred[("bool", r.name)] = self.names.fresh(r.name)
             elif k is SortKind.SET:
-                vals = self._values_of(r.sort.element)
+                element = r.sort.element
+                assert element is not None  # a set sort has an element sort
+                vals = self._values_of(element)
                 self.universe[r.name] = vals
                 for c in vals:
                     self.pred[("mem", r.name, c)] = self.names.fresh(f"{r.name}-{c}")
-                if r.sort.element.kind is SortKind.SYMBOL:
+                if element.kind is SortKind.SYMBOL:
                     self.report.add(
                         "reserve values",
                         f"set resource '{r.name}': only the {len(vals)} known constant(s) of sort '{r.sort.element}' are grounded; PDDL has no fresh (reserve) values",
@@ -293,7 +308,7 @@ class _Exporter:
         """A θ left symbolic by :meth:`_fold` (only the PDDL+ flavour has such θ)."""
         raise Unsupported(f"parameter {getattr(e, 'name', getattr(e, 'param', '?'))} as a numeric term")
 
-    def _sym_atom(self, res: str, value: str) -> str:
+    def _sym_atom(self, res: str, value: object) -> str:
         key = ("is", res, value)
         if key not in self.pred:
             return self.false()  # a value the resource can never take (e.g. a fresh one)
@@ -363,19 +378,19 @@ class _Exporter:
 
     # ---- actions
     def _theta_values(self, m: ir.Morphism) -> list[list[object]] | None:
-        out = []
+        out: list[list[object]] = []
         for p in m.params:
             k = p.sort.kind
             if k is SortKind.BOOL:
                 out.append([False, True])
             elif k in (SortKind.SYMBOL, SortKind.ENUM):
-                vals = self._values_of(p.sort)
+                symbols = self._values_of(p.sort)
                 if k is SortKind.SYMBOL:
                     self.report.add(
                         "reserve values",
-                        f"{m.name}.{p.name} ranges over the {len(vals)} known constant(s) of sort '{p.sort}' only; catc may also use fresh (reserve) values, PDDL has no fresh constants",
+                        f"{m.name}.{p.name} ranges over the {len(symbols)} known constant(s) of sort '{p.sort}' only; catc may also use fresh (reserve) values, PDDL has no fresh constants",
                     )
-                out.append(vals)
+                out.append(list(symbols))
             elif k is SortKind.INT:
                 if p.lower is None or p.upper is None:
                     raise ExportError(
@@ -396,13 +411,13 @@ class _Exporter:
                     )
                 if step <= 0:
                     raise ExportError(f"grid step for {key} must be positive, got {step}")
-                vals = _grid_values(p.lower, p.upper, step)
+                grid = _grid_values(p.lower, p.upper, step)
                 self.grid_used[key] = step
                 self.report.add(
                     "continuous parameters",
-                    f"{key} ∈ [{decimal_text(p.lower)}, {decimal_text(p.upper)}] discretised with step {decimal_text(step)} ({len(vals)} values); solutions off the grid are lost",
+                    f"{key} ∈ [{decimal_text(p.lower)}, {decimal_text(p.upper)}] discretised with step {decimal_text(step)} ({len(grid)} values); solutions off the grid are lost",
                 )
-                out.append(vals)
+                out.append(list(grid))
             else:
                 raise ExportError(f"parameter {m.name}.{p.name} of sort {p.sort} cannot be grounded")
         return out
@@ -452,7 +467,7 @@ class _Exporter:
                         raise Unsupported(f"element '{v.value}' of '{r.name}' is not a known constant")
                     effs.append(f"({self.pred[key]})" if eff.kind is EffectKind.ADD else f"(not ({self.pred[key]}))")
                 elif isinstance(v, ir.SetLit) and all(isinstance(x, ir.Const) for x in v.elements):
-                    members = {x.value for x in v.elements}
+                    members = {x.value for x in v.elements if isinstance(x, ir.Const)}
                     for c in self.universe[r.name]:
                         a = f"({self.pred[('mem', r.name, c)]})"
                         effs.append(a if c in members else f"(not {a})")
@@ -500,7 +515,7 @@ class _Exporter:
             c = self._action_cost(m, theta)
             if c is not None:
                 effs.append(f"(increase (total-cost) {self.num(c)})")
-        self.actions[name] = Activation(m.name, theta)
+        self.actions[name] = Activation(m.name, cast(Mapping[str, Value], theta))
         pre = [p for p in pre if p != "(and)"]
         pre_text = "(and " + " ".join(pre) + ")" if pre else "(and)"
         return (
@@ -574,11 +589,7 @@ class _Exporter:
             return None, False
         if isinstance(obj.term, ir.TotalCost):
             for m in self.inst.morphisms.values():
-                if m.cost is None:
-                    continue
-                if not (isinstance(m.cost, ir.Const) and m.cost.value >= 0) and (
-                    ir.params_in(m.cost) or ir.resources_in(m.cost) or m.cost.value < 0
-                ):
+                if m.cost is not None and not _nonnegative_constant(m.cost):
                     self.report.add(
                         "objective",
                         f"cost of '{m.name}' is not a non-negative constant; total-cost metric not exported",
@@ -596,9 +607,22 @@ class _Exporter:
 
     # ---- whole export
     def run(self) -> Export:
+        self.declare()
+        self._report_unexpressed()
+        self._declare_counters()
+        metric, with_cost = self.metric()
+        actions = self._ground_actions(with_cost)
+        goal = self._goal()
+        init = self._init()
+        prob_text = self._problem_text(init, goal, metric)
+        dom_text = self._domain_text(actions, with_cost)
+        return Export(dom_text, prob_text, self.report, self.actions, self.grid_used, self.flavor)
+
+    def _report_unexpressed(self) -> None:
+        """Report what the model has and the PDDL files leave out: view, holes, soft constraints,
+        the deployed composition, the horizon, parallel steps."""
         inst = self.inst
         d, p = inst.domain, inst.problem
-        self.declare()
         if inst.view is not None:
             v = d.views.get(inst.view)
             dropped = ", ".join(sorted(v.dropped)) if v else "?"
@@ -634,56 +658,96 @@ class _Exporter:
             "semantics",
             "PDDL plans are sequential (one action per step): compare with `catc solve --sequential`; catc's parallel steps (⊗ with non-interference) are not expressed",
         )
-        for m in d.morphisms.values():
+
+    def _declare_counters(self) -> None:
+        """A ``(used-m)`` counter for every morphism with a ``:uses`` limit, a ``(fixed-m-p)`` flag
+        for every ``:fixed`` θ (not a dial)."""
+        for m in self.inst.domain.morphisms.values():
             if m.uses is not None:
                 self.func[("uses", m.name)] = self.names.fresh(f"used-{m.name}")
                 self.requirements.add(":numeric-fluents")
             for prm in m.params:
                 if prm.fixed and not self.is_dial(m, prm):
                     self.pred[("fixed", m.name, prm.name)] = self.names.fresh(f"fixed-{m.name}-{prm.name}")
-        metric, with_cost = self.metric()
+
+    def _ground_actions(self, with_cost: bool) -> list[str]:
+        """The text of every ground action, morphism by morphism (at most ``MAX_GROUND_ACTIONS``
+        assignments of θ tried in all)."""
         actions: list[str] = []
         count = 0
-        for m in d.morphisms.values():
+        for m in self.inst.domain.morphisms.values():
             values = self._theta_values(m)
-            for prm, vals in zip(m.params, values):
-                if prm.fixed and not self.is_dial(m, prm):
-                    for v in vals:
-                        self.pred[("fixval", m.name, prm.name, value_suffix(v))] = self.names.fresh(
-                            f"fixed-{m.name}-{prm.name}-{value_suffix(v)}"
-                        )
-            n_before = len(actions)
-            for combo in itertools.product(*values):
-                count += 1
-                if count > MAX_GROUND_ACTIONS:
-                    raise ExportError(f"more than {MAX_GROUND_ACTIONS} ground actions; use a coarser --grid")
-                theta = {prm.name: v for prm, v in zip(m.params, combo)}
-                try:
-                    text = self.action_text(m, theta, with_cost)
-                except Unsupported as exc:
-                    self.report.add("components", f"'{m.name}' not exported: {exc}")
-                    actions = actions[:n_before]
-                    for k in [k for k, a in self.actions.items() if a.morphism == m.name]:
-                        del self.actions[k]
-                    break
-                if text is not None:
-                    actions.append(text)
-            else:
-                if m.params and len(actions) == n_before:
-                    self.report.add(
-                        "components",
-                        f"'{m.name}' has no applicable ground action (no parameter value passes its θ-only preconditions)",
+            assert values is not None  # never None (Optional in the signature only)
+            self._declare_fixed_values(m, values)
+            count, texts = self._ground_morphism(m, values, with_cost, count)
+            actions.extend(texts)
+        return actions
+
+    def _declare_fixed_values(self, m: ir.Morphism, values: list[list[object]]) -> None:
+        """A ``(fixed-m-p-v)`` predicate for every value ``v`` of a ``:fixed`` θ ``p`` (not a dial)."""
+        for prm, vals in zip(m.params, values):
+            if prm.fixed and not self.is_dial(m, prm):
+                for v in vals:
+                    self.pred[("fixval", m.name, prm.name, value_suffix(v))] = self.names.fresh(
+                        f"fixed-{m.name}-{prm.name}-{value_suffix(v)}"
                     )
-        # goal
+
+    def _ground_morphism(
+        self, m: ir.Morphism, values: list[list[object]], with_cost: bool, count: int
+    ) -> tuple[int, list[str]]:
+        """(the count of θ tried so far, the texts of ``m``'s ground actions).  A morphism with a
+        construct PDDL cannot express is reported and left out whole."""
+        texts: list[str] = []
+        for combo in itertools.product(*values):
+            count += 1
+            if count > MAX_GROUND_ACTIONS:
+                raise ExportError(f"more than {MAX_GROUND_ACTIONS} ground actions; use a coarser --grid")
+            theta = {prm.name: v for prm, v in zip(m.params, combo)}
+            try:
+                text = self.action_text(m, theta, with_cost)
+            except Unsupported as exc:
+                self.report.add("components", f"'{m.name}' not exported: {exc}")
+                for k in [k for k, a in self.actions.items() if a.morphism == m.name]:
+                    del self.actions[k]
+                return count, []
+            if text is not None:
+                texts.append(text)
+        if m.params and not texts:
+            self.report.add(
+                "components",
+                f"'{m.name}' has no applicable ground action (no parameter value passes its θ-only preconditions)",
+            )
+        return count, texts
+
+    def _goal(self) -> list[str]:
         goal = []
-        for lit in p.goal:
+        for lit in self.inst.problem.goal:
             try:
                 goal.append(self.cond(self._fold(lit.expr, {})))
             except Unsupported as exc:
                 raise ExportError(f"goal literal {lit.label} cannot be exported: {exc}") from None
-        init = self._init()
-        preds = [n for n in self.pred.values()]
-        funcs = [n for n in self.func.values()]
+        return goal
+
+    def _problem_text(self, init: list[str], goal: list[str], metric: str | None) -> str:
+        d, p = self.inst.domain, self.inst.problem
+        prob = [
+            f";; generated by catc export pddl from problem {p.name}",
+            f"(define (problem {sanitize(p.name)})",
+            f"  (:domain {sanitize(d.name)})",
+            "  (:init",
+            *("    " + i for i in init),
+            "  )",
+            "  (:goal (and " + " ".join(g for g in goal if g != "(and)") + "))",
+        ]
+        if metric:
+            prob.append("  " + metric)
+        return "\n".join(prob) + "\n)\n"
+
+    def _domain_text(self, actions: list[str], with_cost: bool) -> str:
+        """The domain: requirements, every predicate and function declared so far, the actions."""
+        d = self.inst.domain
+        preds = list(self.pred.values())
+        funcs = list(self.func.values())
         if self.horizon is not None:
             funcs.append("catc-steps")
         if with_cost:
@@ -698,20 +762,7 @@ class _Exporter:
             dom.append("  (:predicates " + " ".join(f"({x})" for x in preds) + ")")
         if funcs:
             dom.append("  (:functions " + " ".join(f"({x})" for x in funcs) + ")")
-        prob = [
-            f";; generated by catc export pddl from problem {p.name}",
-            f"(define (problem {sanitize(p.name)})",
-            f"  (:domain {sanitize(d.name)})",
-            "  (:init",
-            *("    " + i for i in init),
-            "  )",
-            "  (:goal (and " + " ".join(g for g in goal if g != "(and)") + "))",
-        ]
-        if metric:
-            prob.append("  " + metric)
-        prob_text = "\n".join(prob) + "\n)\n"
-        dom_text = "\n".join(dom) + "\n" + "".join(actions) + self.extra_domain_text() + ")\n"
-        return Export(dom_text, prob_text, self.report, self.actions, self.grid_used, self.flavor)
+        return "\n".join(dom) + "\n" + "".join(actions) + self.extra_domain_text() + ")\n"
 
     def extra_domain_text(self) -> str:
         """Hook for the PDDL+ flavour (dial actions and processes)."""
@@ -734,21 +785,19 @@ class _Exporter:
             v = s0[r.name]
             k = r.sort.kind
             if k in (SortKind.INT, SortKind.REAL):
-                out.append(f"(= ({self.func[r.name]}) {number(v)})")
+                out.append(f"(= ({self.func[r.name]}) {number(cast(Fraction, v))})")
             elif k is SortKind.BOOL:
                 if v:
                     out.append(f"({self.pred[('bool', r.name)]})")
             elif k is SortKind.SET:
-                for c in sorted(v):
+                for c in sorted(cast("frozenset[str]", v)):
                     key = ("mem", r.name, c)
                     if key in self.pred:
                         out.append(f"({self.pred[key]})")
-            else:
-                key = ("is", r.name, v)
-                if key in self.pred:
-                    out.append(f"({self.pred[key]})")
-        for key, f in self.func.items():
-            if isinstance(key, tuple):
+            elif ("is", r.name, v) in self.pred:
+                out.append(f"({self.pred[('is', r.name, v)]})")
+        for fkey, f in self.func.items():
+            if isinstance(fkey, tuple):  # a counter
                 out.append(f"(= ({f}) 0)")
         if self.horizon is not None:
             out.append("(= (catc-steps) 0)")

@@ -114,8 +114,7 @@ class PlusExporter(_Exporter):
                 else:
                     lock = None
                 fluent = self.names.fresh(f"theta-{m.name}-{p.name}")
-                # targets/pddl.py declares func: dict[str, str], but keys are also tuples
-                self.func[("dial", key)] = fluent  # type: ignore[index]
+                self.func[("dial", key)] = fluent
                 running = self.names.fresh(f"adjusting-{m.name}-{p.name}")
                 self.pred[("dial", key)] = running
                 d = Dial(

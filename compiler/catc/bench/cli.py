@@ -1,0 +1,227 @@
+"""``catc bench``: the command line — check the baseline is installed, choose the problems and
+tables, run the session in a work folder, print Markdown or JSON."""
+
+from __future__ import annotations
+
+import json
+import shlex
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, NoReturn
+
+import click
+
+from catc.bench.lifelong import query_rows
+from catc.bench.machine import machine
+from catc.bench.problems import (
+    LIFELONG_BUDGET_CUT,
+    PERTURBATIONS,
+    QUICK_PERTURBATIONS,
+    QUICK_RUNTIME_ROWS,
+    RUNTIME_ROWS,
+    SAR_BUDGET_CUT,
+)
+from catc.bench.runners import BenchInputError
+from catc.bench.session import Bench
+from catc.bench.tables import TABLES, jsonable, markdown
+from catc.interfaces.command import EXIT_INPUT
+
+
+def byte_compile() -> None:
+    """Byte-compile catc's packages first, as ``pip install .`` does, so that the catc
+    processes' start-up matches an installed catc whatever PYTHONDONTWRITEBYTECODE says."""
+    import importlib
+
+    dirs = []
+    for name in ("catc", "catgrammar", "stdlib_domains"):
+        try:
+            mod = importlib.import_module(name)
+        except ImportError:
+            continue
+        file = getattr(mod, "__file__", None)
+        if file:
+            dirs.append(str(Path(file).parent))
+    if dirs:
+        subprocess.run([sys.executable, "-m", "compileall", "-q", *dirs], capture_output=True, check=False)
+
+
+def default_examples() -> Path:
+    return Path(__file__).resolve().parents[3] / "examples"
+
+
+@dataclass
+class _Selection:
+    """What to run: the runtime rows, the perturbations, every problem to measure, the queries."""
+
+    runtime_files: list[str]
+    perturbations: list[tuple[str, str, str]]
+    measure: list[str]
+    queries: bool
+    sar_queries: bool
+
+    @classmethod
+    def of(cls, quick: bool, only: tuple[str, ...], tables: tuple[str, ...]) -> _Selection:
+        def keep(f: str) -> bool:
+            return not only or any(t in f for t in only)
+
+        rt_files = [f for f in (QUICK_RUNTIME_ROWS if quick else RUNTIME_ROWS) if keep(f)]
+        perts = [p for p in PERTURBATIONS if (not quick or p[0] in QUICK_PERTURBATIONS) and (keep(p[1]) or keep(p[2]))]
+        measure = list(rt_files) if "runtimes" in tables else []
+        if "perturbations" in tables:
+            measure += [t for _, b, t in perts for t in (b, t) if t not in measure]
+        return cls(
+            rt_files,
+            perts,
+            measure,
+            "queries" in tables and keep(LIFELONG_BUDGET_CUT),
+            not quick and keep(SAR_BUDGET_CUT),
+        )
+
+
+def _command_text(runs: int) -> str:
+    """The command line as typed (``catc bench ...``), for the report's header."""
+    argv = (
+        ["catc", "bench"] + sys.argv[2:]
+        if len(sys.argv) > 1 and sys.argv[1] == "bench"
+        else ["catc", "bench", f"--runs {runs}"]
+    )
+    return " ".join(shlex.quote(a) if " " not in a else a for a in argv)
+
+
+def _input_error(exc: Exception | str) -> NoReturn:
+    click.echo(f"error: {exc}", err=True)
+    sys.exit(EXIT_INPUT)
+
+
+def _log(msg: str) -> None:
+    click.echo(f"[bench] {msg}", err=True)
+
+
+def _document(bench: Bench, sel: _Selection, tables: tuple[str, ...], command: str) -> dict[str, Any]:
+    """Measure, then the catc.bench/1 document (the perturbation and query rows run their own tools)."""
+    bench.measure(sel.measure)
+    return {
+        "schema": "catc.bench/1",
+        "command": command,
+        "machine": machine(),
+        "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
+        "runs": bench.runs,
+        "smtplan": bench.smtplan or "not installed",
+        "runtimes": bench.runtime_rows(sel.runtime_files) if "runtimes" in tables else None,
+        "perturbations": bench.perturbation_rows(sel.perturbations) if "perturbations" in tables else None,
+        "queries": query_rows(bench, include_sar=sel.sar_queries) if sel.queries else None,
+    }
+
+
+def _run(
+    examples: Path, runs: int, timeout: float, keep_dir: str | None, sel: _Selection, tables: tuple[str, ...]
+) -> dict[str, Any]:
+    """The document, measured in ``keep_dir`` (kept) or a temporary folder; input errors exit 2."""
+    from catc.targets.enhsp import BaselineMissing
+    from catc.targets.pddl import ExportError
+
+    command = _command_text(runs)
+    tmp = None
+    if keep_dir:
+        work = Path(keep_dir)
+        work.mkdir(parents=True, exist_ok=True)
+    else:
+        tmp = tempfile.TemporaryDirectory(prefix="catc-bench-")
+        work = Path(tmp.name)
+    try:
+        return _document(Bench(examples, runs, timeout, work, _log), sel, tables, command)
+    except (BenchInputError, ExportError, OSError, BaselineMissing) as exc:
+        _input_error(exc)
+    finally:
+        if tmp is not None:
+            tmp.cleanup()
+
+
+@click.command(name="bench")
+@click.option(
+    "--runs", "-n", type=click.IntRange(min=1), default=5, show_default=True, help="Trials per problem (interleaved)."
+)
+@click.option(
+    "--quick",
+    is_flag=True,
+    help="A small subset: detection, GPU max-confidence, lifelong budget cut; two perturbations.",
+)
+@click.option(
+    "--only",
+    "only",
+    multiple=True,
+    metavar="TEXT",
+    help="Keep the problems whose path contains TEXT (repeatable), e.g. --only gpu --only detection.",
+)
+@click.option(
+    "--table",
+    "tables",
+    multiple=True,
+    type=click.Choice(TABLES),
+    help="Print only these tables (repeatable; default all).",
+)
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0, min_open=True),
+    default=120.0,
+    show_default=True,
+    help="Seconds per tool run.",
+)
+@click.option(
+    "--examples",
+    "examples_dir",
+    type=click.Path(file_okay=False),
+    help="The examples folder (default: the checkout's).",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print a catc.bench/1 JSON document instead of Markdown.")
+@click.option(
+    "--no-compile", is_flag=True, help="Do not byte-compile catc first (by default it is, as `pip install .` does)."
+)
+@click.option(
+    "--save-json", "save_json", type=click.Path(dir_okay=False), help="Also write the JSON document to this file."
+)
+@click.option(
+    "--keep", "keep_dir", type=click.Path(file_okay=False), help="Keep the exported PDDL files in this folder."
+)
+def bench_command(
+    runs: int,
+    quick: bool,
+    only: tuple[str, ...],
+    tables: tuple[str, ...],
+    timeout: float,
+    examples_dir: str | None,
+    as_json: bool,
+    no_compile: bool,
+    save_json: str | None,
+    keep_dir: str | None,
+) -> None:
+    """Run catc and ENHSP on the same example problems and print the comparison tables.
+
+    Needs the baselines extra (up-enhsp) and Java 17.  Markers are judged against the
+    examples' expect.toml.
+    """
+    from catc.targets.enhsp import BaselineMissing, enhsp_jar, java
+
+    try:
+        java()
+        enhsp_jar()
+    except BaselineMissing as exc:
+        _input_error(exc)
+    examples = Path(examples_dir) if examples_dir else default_examples()
+    if not examples.is_dir():
+        _input_error(f"examples folder not found: {examples} (pass --examples DIR)")
+    tables = tuple(tables) or TABLES
+    if not no_compile:
+        byte_compile()
+    doc = _run(examples, runs, timeout, keep_dir, _Selection.of(quick, only, tables), tables)
+    text = json.dumps(jsonable(doc), indent=1, ensure_ascii=False)
+    if save_json:
+        Path(save_json).write_text(text + "\n")
+    if as_json:
+        click.echo(text)
+    else:
+        click.echo(markdown(doc))
