@@ -301,3 +301,17 @@ def test_run_accepts_relative_paths(tmp_path, monkeypatch):
     (tmp_path / "p.pddl").write_text(ex.problem)
     monkeypatch.chdir(tmp_path)
     assert run_enhsp("d.pddl", "p.pddl").status == "sat"
+
+
+def test_a_constant_cost_expression_is_folded_into_the_total_cost(tmp_path):
+    """(:cost (+ 1 2)) is the constant 3: each activation increases total-cost by 3
+    (it crashed the metric check once, exit 70)."""
+    (tmp_path / "c.cat").write_text("""(define (domain c)
+  (:requirements :numeric :optimization)
+  (:resources (done bool))
+  (:morphism work :uses 1 :cost (+ 1 2) :effect (assign done true)))
+(define (problem p) (:domain c) (:init (= done false)) (:goal done) (:metric minimize (total-cost)))
+""")
+    res = run_catc("export", "pddl", str(tmp_path / "c.cat"), "-o", str(tmp_path / "out"), "--no-check")
+    assert res.exit_code == 0, res.output
+    assert "(increase (total-cost) 3)" in _action_block((tmp_path / "out" / "domain.pddl").read_text(), "a-work")
