@@ -8,6 +8,14 @@ The file was recorded on the tree before the architecture change (issue 11) and 
 proof that the move changed no answer: it is never regenerated to make a test pass.  Source
 locations are kept as the text they point at (``{"file", "text"}``), so that reformatting a
 model (``catc fmt``) moves no answer while a location pointing elsewhere still differs.
+
+Deliberate changes, each entry re-recorded alone with its reason:
+
+* ``search-and-rescue/cheaper-camera.cat recompose-stability`` (issue 12): the same optimum
+  (churn 0, budget 4640, same final state) by another composition.  When several compositions
+  are optimal, optimize and recompose now answer the solver's first one if it is optimal,
+  whichever of the timed proofs finishes first, so the answer — and everything `catc ground`
+  writes from it — no longer depends on the machine's speed.
 """
 
 from __future__ import annotations
