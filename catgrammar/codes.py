@@ -148,6 +148,46 @@ CODES: dict[str, Code] = {
         Code(
             "E0903", "baseline-unavailable", E, "The baseline planner cannot be run (Java, ENHSP or SMTPlan+ missing)."
         ),
+        # E10xx — the runtime (catrt)
+        Code(
+            "E1001",
+            "bad-event",
+            E,
+            "An event line is not a catrt event: not JSON, an unknown field, a value of the wrong shape.",
+        ),
+        Code(
+            "E1002",
+            "event-rejected",
+            E,
+            "An event's change would make the model invalid (the checker's errors, located in the event, follow).",
+        ),
+        Code("E1003", "store-locked", E, "Another runtime is running on this state folder (one writer at a time)."),
+        Code("E1004", "store-version", E, "The store was written by another schema version and cannot be migrated."),
+        Code(
+            "E1005", "not-a-store", E, "The state folder holds no catrt store (run catrt init first), or it is damaged."
+        ),
+        Code("E1006", "store-exists", E, "catrt init on a state folder that already holds a store."),
+        Code("E1007", "bad-config", E, "The runtime configuration (STATE/config.toml) is malformed."),
+        Code(
+            "E1008",
+            "shell-not-allowed",
+            E,
+            "The configuration declares shell sensors but the runtime was not started with --allow-shell.",
+        ),
+        Code(
+            "E1009", "sensor-failed", E, "A shell sensor timed out, failed, or printed something that is not a value."
+        ),
+        Code("E1010", "unknown-approval", E, "An approval names no pending request."),
+        Code(
+            "E1011", "enact-failed", E, "The enactor could not enact a generation (the deployed composition is kept)."
+        ),
+        Code(
+            "E1012",
+            "store-inconsistent",
+            E,
+            "verify found a problem: a failed integrity check, a gap in the journal, a replay that differs from the "
+            "stored state, or an artifact whose hash differs from its manifest.",
+        ),
         # W01xx — lints (errors under --strict)
         Code("W0101", "unused-resource", W, "A resource is declared but nothing reads or writes it."),
         Code("W0102", "unused-sort", W, "A sort is declared but never used."),
@@ -218,6 +258,18 @@ BAD_PLAN = "E0802"
 EXPORT_UNSUPPORTED = "E0901"
 EXPORT_REJECTED = "E0902"
 BASELINE_UNAVAILABLE = "E0903"
+BAD_EVENT = "E1001"
+EVENT_REJECTED = "E1002"
+STORE_LOCKED = "E1003"
+STORE_VERSION = "E1004"
+NOT_A_STORE = "E1005"
+STORE_EXISTS = "E1006"
+BAD_CONFIG = "E1007"
+SHELL_NOT_ALLOWED = "E1008"
+SENSOR_FAILED = "E1009"
+UNKNOWN_APPROVAL = "E1010"
+ENACT_FAILED = "E1011"
+STORE_INCONSISTENT = "E1012"
 UNUSED_RESOURCE = "W0101"
 UNUSED_SORT = "W0102"
 UNREACHABLE_MORPHISM = "W0103"

@@ -194,6 +194,36 @@ def test_the_sar_diff_for_the_cheaper_camera(tmp_path):
     assert "docker compose -p search-and-rescue -f compose.yaml up -d --remove-orphans" in text
 
 
+def _grounded_of(case: str):
+    """The resolved grounding of a golden case's composition (its manifest's plan)."""
+    from catc.api import load
+    from catc.queries.validate import param_sorts
+    from catc.semantics.plan import plan_from_json
+    from catc.targets.grounding.resolve import ground
+
+    model = load(EX / f"{case}.cat")
+    manifest = json.loads((GOLDEN / case.replace("/", "_") / "manifest.json").read_text())
+    plan = plan_from_json(manifest["plan"], param_sorts(model.instance))
+    return ground(model.instance, plan, model.validate(plan).report.states)
+
+
+@pytest.mark.parametrize(
+    "old, new", [(CASES[1], CASES[2]), (CASES[1], CASES[3]), (CASES[3], CASES[2]), (CASES[2], CASES[2])]
+)
+def test_the_diff_of_written_artifacts_is_the_diff_of_the_compositions(old, new):
+    """A runtime diffs what it has on disk (diff_artifacts); catc ground --diff diffs two
+    compositions (ground_diff).  On every pair of the SAR events they must agree."""
+    from catc.targets.grounding.diff import diff_artifacts, ground_diff
+
+    files = [{n: (GOLDEN / c.replace("/", "_") / n).read_bytes() for n in FILES} for c in (old, new)]
+    by_files = diff_artifacts(files[0], files[1])
+    by_plans = ground_diff(_grounded_of(old), _grounded_of(new))
+    assert by_files == by_plans
+    assert by_files.empty if old == new else True
+    if {old, new} == {CASES[1], CASES[2]}:  # event II adds return-to-range, a behaviour: the tree changes
+        assert by_files.tree_changed and "return-to-range" in by_files.added + by_files.removed
+
+
 # ---------------------------------------------------------------- annotations checked
 
 

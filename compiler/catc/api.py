@@ -4,6 +4,6 @@ Everything lives in :mod:`catc.interfaces.api`; this module names what programs 
 (docs/api.md).
 """
 
-from catc.interfaces.api import CatError, Model, load
+from catc.interfaces.api import CatError, Model, load, loads
 
-__all__ = ["CatError", "Model", "load"]
+__all__ = ["CatError", "Model", "load", "loads"]

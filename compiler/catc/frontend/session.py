@@ -4,7 +4,7 @@ files → checked IR, with every error and lint in a :class:`Diagnostics`."""
 from __future__ import annotations
 
 import os
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 
 from catc import ir
@@ -68,6 +68,33 @@ def check_parsed(
     for inst in checked:
         lint_instance(inst, diags, is_user_file)
     return domains, instances
+
+
+def load_texts(
+    texts: Mapping[str, str],
+    problem: str,
+    diags: Diagnostics,
+    *,
+    view: str | None = None,
+    problem_name: str | None = None,
+    search_paths: Iterable[str | os.PathLike[str]] = (),
+) -> ir.Instance | None:
+    """Files given as text (path → text; imports not among them come from the disk) → the
+    checked instance of the problem in ``texts[problem]``, or None with errors in ``diags``.
+    Every given file is loaded first, so a domain among them is found by name wherever its
+    path points (the runtime checks candidate models this way before it writes them)."""
+    ws = Workspace(diags, tuple(str(p) for p in search_paths), texts)
+    for path in texts:
+        if path != problem:
+            ws.load(path)
+    _, inst = load_instance(None, problem, diags, problem_name=problem_name, workspace=ws)
+    if inst is None or diags.has_errors:
+        return None
+    try:
+        return apply_view(inst, view)
+    except ViewError as exc:
+        diags.report(codes.BAD_VIEW, str(exc), exc.span)
+        return None
 
 
 def load_checked(

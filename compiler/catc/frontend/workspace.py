@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import os
 import re
+from collections.abc import Mapping
 from pathlib import Path
 
 from catc import ir
@@ -17,7 +18,7 @@ from catc.frontend.check import DomainChecker, ProblemChecker
 from catgrammar import ast, codes
 from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
 from catgrammar.parser import parse_source, read_source
-from catgrammar.span import Span
+from catgrammar.span import Source, Span
 
 STDLIB_DIR = Path(__file__).resolve().parents[3] / "stdlib_domains"
 
@@ -60,10 +61,17 @@ def _domain_pattern(name: str) -> re.Pattern[str]:
 
 
 class Workspace:
-    def __init__(self, diags: Diagnostics, search_paths: list[str] | tuple[str, ...] = ()):
+    def __init__(
+        self,
+        diags: Diagnostics,
+        search_paths: list[str] | tuple[str, ...] = (),
+        texts: Mapping[str, str] | None = None,
+    ):
         """``search_paths``: extra folders to look for domains in, in order (the interfaces
-        add ``--path`` and ``CATC_PATH``; nothing here reads the environment)."""
+        add ``--path`` and ``CATC_PATH``; nothing here reads the environment).  ``texts``:
+        files given as text (path → text), read instead of the disk (the runtime's model)."""
         self.diags = diags
+        self.texts = {normalise_path(k): v for k, v in (texts or {}).items()}
         self.search_paths = [Path(p) for p in search_paths]
         self.files: dict[str, ast.SourceFile | None] = {}
         #: every loaded definition by name: several when unrelated folders reuse a name
@@ -79,7 +87,7 @@ class Workspace:
         if key in self.files:
             return self.files[key]
         self.files[key] = None
-        src = read_source(path, self.diags)
+        src = Source(path, self.texts[key]) if key in self.texts else read_source(path, self.diags)
         parsed = parse_source(src, self.diags) if src is not None else None
         self.files[key] = parsed
         if parsed is not None:
@@ -215,9 +223,11 @@ def load_instance(
     diags: Diagnostics,
     search_paths: list[str] | tuple[str, ...] = (),
     problem_name: str | None = None,
+    workspace: Workspace | None = None,
 ) -> tuple[Workspace, ir.Instance | None]:
-    """The common front end of every query command: files → checked instance."""
-    ws = Workspace(diags, search_paths)
+    """The common front end of every query command: files → checked instance (in
+    ``workspace`` when given: one with files given as text)."""
+    ws = workspace if workspace is not None else Workspace(diags, search_paths)
     if domain_path is not None:
         ws.load(domain_path)
     parsed = ws.load(problem_path)

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import functools
 import os
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Mapping
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any
 
@@ -71,6 +71,33 @@ def load(
     diags = Diagnostics()
     paths = search_path([str(p) for p in search_paths])
     inst = load_checked(problem, domain, diags, view=view, problem_name=problem_name, search_paths=paths)
+    if inst is None:
+        raise CatError(diags)
+    return Model(inst)
+
+
+def loads(
+    sources: Mapping[str, str],
+    problem: str,
+    *,
+    view: str | None = None,
+    problem_name: str | None = None,
+    search_paths: Iterable[PathLike] = (),
+) -> Model:
+    """Load and check a model given as text: ``sources`` maps paths to ``.cat`` texts, and
+    ``problem`` is the path of the one holding the problem.  A domain among the sources is
+    found by name; imports that are not among them come from the disk (the folder of the
+    importing path, ``search_paths``, ``CATC_PATH``, the standard library).  Raises
+    :class:`CatError`, located in the given paths."""
+    from catc.frontend.session import load_texts
+    from catc.interfaces.command import search_path
+    from catgrammar.diagnostics import Diagnostics
+
+    if problem not in sources:
+        raise ValueError(f"{problem!r} is not among the sources")
+    diags = Diagnostics()
+    paths = search_path([str(p) for p in search_paths])
+    inst = load_texts(sources, problem, diags, view=view, problem_name=problem_name, search_paths=paths)
     if inst is None:
         raise CatError(diags)
     return Model(inst)

@@ -46,6 +46,7 @@ def manifest(grounded: Grounded, files: dict[str, bytes], model_sha256: str) -> 
         "artifacts": {name: {"sha256": sha256(data), "bytes": len(data)} for name, data in files.items()},
         "services": [s.name for s in grounded.services],
         "hardware_steps": len(grounded.hardware),
+        "hardware": [{"step": h.step, "morphism": h.morphism, "instruction": h.instruction} for h in grounded.hardware],
         "missing_grounding": list(grounded.missing),
     }
 

@@ -10,6 +10,10 @@ the answer.
 
 from __future__ import annotations
 
+import json
+from collections.abc import Mapping
+from typing import Any
+
 from catc.targets.grounding.bt import bt_xml
 from catc.targets.grounding.resolve import Grounded, Service
 from catgrammar.record import Record, set_field
@@ -83,6 +87,48 @@ def ground_diff(old: Grounded, new: Grounded) -> GroundDiff:
         tuple(sorted((new_hw.keys() - old_hw.keys()) | remount)),
         tuple(sorted(old_sv.keys() - new_sv.keys())),
         tuple(sorted(new_sv.keys() - old_sv.keys())),
+        tuple(sorted(recreate)),
+        tree_changed,
+    )
+
+
+def diff_artifacts(old: Mapping[str, bytes], new: Mapping[str, bytes]) -> GroundDiff:
+    """The same answer as :func:`ground_diff`, from two sets of written artifacts (file name
+    → bytes, ``manifest.json`` among them) — what a runtime has on disk for the generation
+    that is deployed and the one to deploy, with no model needed."""
+    import yaml
+
+    def read(files: Mapping[str, bytes]) -> tuple[dict[str, Any], dict[str, Any], dict[str, Any]]:
+        manifest = json.loads(files["manifest.json"])
+        services = (yaml.safe_load(files["compose.yaml"]) or {}).get("services") or {}
+        params = (yaml.safe_load(files["params.yaml"]) or {}).get("/**") or {}
+        return manifest, services, params
+
+    (m_old, s_old, p_old), (m_new, s_new, p_new) = read(old), read(new)
+    components = [{a["morphism"] for step in m["plan"]["steps"] for a in step} for m in (m_old, m_new)]
+    hw_old = {h["morphism"]: h["instruction"] for h in m_old.get("hardware", [])}
+    hw_new = {h["morphism"]: h["instruction"] for h in m_new.get("hardware", [])}
+    remount = {m for m in hw_old.keys() & hw_new.keys() if hw_old[m] != hw_new[m]}
+    tree_changed = old["bt.xml"] != new["bt.xml"]
+
+    def node(service: Mapping[str, Any]) -> str | None:
+        return next((a.split(":=", 1)[1] for a in service.get("command", []) if a.startswith("__node:=")), None)
+
+    def same(name: str) -> bool:
+        a, b = s_old[name], s_new[name]
+        return a == b and p_old.get(node(a) or "") == p_new.get(node(b) or "")
+
+    recreate = {n for n in s_old.keys() & s_new.keys() if not same(n)}
+    if tree_changed and "bt-executor" in s_old.keys() & s_new.keys():
+        recreate.add("bt-executor")
+    return GroundDiff(
+        m_new["project"],
+        tuple(sorted(components[1] - components[0])),
+        tuple(sorted(components[0] - components[1])),
+        tuple(sorted((hw_old.keys() - hw_new.keys()) | remount)),
+        tuple(sorted((hw_new.keys() - hw_old.keys()) | remount)),
+        tuple(sorted(s_old.keys() - s_new.keys())),
+        tuple(sorted(s_new.keys() - s_old.keys())),
         tuple(sorted(recreate)),
         tree_changed,
     )

@@ -1,0 +1,256 @@
+"""Applying a change event to the model: the new model state, checked by catc's own checker
+before anything is stored, or a rejection that says which field of the event is wrong.
+
+Text an event brings (a goal, a metric, soft constraints, morphisms) becomes part of a
+``.cat`` file, so it is first checked to be what its field says — one balanced expression,
+or ``(:morphism ...)`` declarations — and can never close the section it is put in.  The
+candidate model is then written out and checked in memory (:func:`catc.api.loads`); every
+error is mapped back to the event field whose text it points into.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from catc import ir
+from catc.api import CatError, Model, loads
+from catc.ir.numbers import ratio_text
+from catgrammar.diagnostics import Diagnostic, did_you_mean
+from catgrammar.tokens import tokenize
+from catrt.events import Event, exact
+from catrt.model import ModelState, Region, StoredValue, morphisms_in_sources, texts
+
+
+class Rejection(ValueError):
+    """Why an event cannot be applied: ``details`` are (field, line, column, code, message)
+    — the field of the event an error points into, or ``model`` — each located within that
+    field's text."""
+
+    def __init__(self, message: str, details: list[dict[str, Any]] | None = None) -> None:
+        super().__init__(message)
+        self.message, self.details = message, details or []
+
+    def to_json(self) -> dict[str, Any]:
+        return {"message": self.message, "details": self.details}
+
+    def text(self) -> str:
+        lines = [self.message]
+        for d in self.details:
+            where = d.get("file") or d["field"]
+            if d.get("line"):
+                where += f":{d['line']}:{d['column']}"
+            lines.append(f"  = {where}: {d['severity']}[{d['code']}]: {d['message']}")
+        return "\n".join(lines)
+
+
+@dataclass
+class Candidate:
+    """A model state and its checked instance (with the files it was checked as)."""
+
+    state: ModelState
+    model: Model
+    files: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def instance(self) -> ir.Instance:
+        return self.model.instance
+
+
+# ---------------------------------------------------------------- text fields
+
+
+def _balanced(text: str, what: str) -> list[Any]:
+    """The tokens of ``text`` when it is balanced (never closes more than it opened, closes
+    all it opens), else Rejection."""
+    try:
+        tokens = list(tokenize(text))
+    except Exception as exc:  # UnexpectedCharacters from the tokenizer
+        column = getattr(exc, "column", None)
+        raise Rejection(
+            f"{what}: a character the language does not have" + (f" at column {column}" if column else "")
+        ) from None
+    depth = 0
+    for tok in tokens:
+        if tok.type == "LPAR":
+            depth += 1
+        elif tok.type == "RPAR":
+            depth -= 1
+            if depth < 0:
+                raise Rejection(f"{what}: a ')' at {tok.line}:{tok.column} closes more than the text opened")
+    if depth:
+        raise Rejection(f"{what}: {depth} '(' never closed")
+    if not tokens:
+        raise Rejection(f"{what}: empty")
+    return tokens
+
+
+def _one_expression(text: str, what: str) -> None:
+    tokens = _balanced(text, what)
+    depth, tops = 0, 0
+    for tok in tokens:
+        if depth == 0:
+            tops += 1
+        depth += (tok.type == "LPAR") - (tok.type == "RPAR")
+    if tops != 1:
+        raise Rejection(f"{what}: one condition is expected, {tops} were given (combine them with (and ...))")
+
+
+def _morphisms(text: str) -> list[tuple[str, str]]:
+    """``(:morphism NAME ...) ...`` → [(NAME, its text)], else Rejection."""
+    tokens = _balanced(text, "catalog.add")
+    out: list[tuple[str, str]] = []
+    i = 0
+    while i < len(tokens):
+        tok = tokens[i]
+        if tok.type != "LPAR" or i + 2 >= len(tokens) or tokens[i + 1].value != ":morphism":
+            raise Rejection(
+                f"catalog.add: only (:morphism NAME ...) declarations, found '{tok.value}' at {tok.line}:{tok.column}"
+            )
+        name = tokens[i + 2].value
+        depth, j = 0, i
+        while True:
+            depth += (tokens[j].type == "LPAR") - (tokens[j].type == "RPAR")
+            if depth == 0:
+                break
+            j += 1
+        out.append((name, text[tok.start_pos : tokens[j].end_pos]))
+        i = j + 1
+    return out
+
+
+# ---------------------------------------------------------------- values
+
+
+def _stored(name: str, value: Any, r: ir.Resource) -> StoredValue:
+    kind = r.sort.kind
+    if r.sort.is_numeric:
+        number = exact(value) if isinstance(value, str) else None
+        if number is None:
+            raise Rejection(f"set.{name}: {name} is a number ({kind.value}); {json_text(value)} is not one")
+        if kind is ir.SortKind.INT and number.denominator != 1:
+            raise Rejection(f"set.{name}: {name} is an integer; {value} is not")
+        return ratio_text(number)
+    if kind is ir.SortKind.BOOL:
+        if isinstance(value, bool):
+            return value
+        if value in ("true", "false"):
+            return value == "true"
+        raise Rejection(f"set.{name}: {name} is true or false; {json_text(value)} is not")
+    if kind is ir.SortKind.SET:
+        if not isinstance(value, list):
+            raise Rejection(f"set.{name}: {name} is a set: give a list of symbols, not {json_text(value)}")
+        return sorted(set(value))
+    if not isinstance(value, str) or exact(value) is not None or isinstance(value, bool):
+        raise Rejection(f"set.{name}: {name} holds a symbol of {r.sort.name}; {json_text(value)} is not one")
+    return value
+
+
+def json_text(value: Any) -> str:
+    import json
+
+    return json.dumps(value)
+
+
+# ---------------------------------------------------------------- applying
+
+
+def apply_change(
+    state: ModelState, inst: ir.Instance, sources: Mapping[str, str], event: Event
+) -> tuple[ModelState, dict[str, str]]:
+    """The model state after a change event, and the origins of its generated text
+    (``init.budget`` → ``set.budget``, ...); Rejection when a field cannot apply."""
+    body, origins = event.body, {}
+    if "set" in body:
+        values: dict[str, StoredValue] = {}
+        for name, value in body["set"].items():
+            r = inst.resources.get(name)
+            if r is None:
+                raise Rejection(f"set.{name}: no resource named '{name}'{did_you_mean(name, inst.resources)}")
+            values[name] = _stored(name, value, r)
+            origins[f"init.{name}"] = f"set.{name}"
+        state = state.with_init(values)
+    if "goal" in body:
+        _one_expression(body["goal"], "goal")
+        state, origins["goal"] = state.with_problem(goal=body["goal"]), "goal"
+    if "metric" in body:
+        if body["metric"] is not None:
+            _balanced(body["metric"], "metric")
+        state, origins["metric"] = state.with_problem(metric=body["metric"]), "metric"
+    if "softs" in body:
+        for i, soft in enumerate(body["softs"]):
+            _balanced(soft, f"softs[{i}]")
+            origins[f"softs.{i}"] = f"softs[{i}]"
+        state = state.with_problem(softs=tuple(body["softs"]))
+    if "horizon" in body:
+        state, origins["horizon"] = state.with_problem(horizon=body["horizon"]), "horizon"
+    state = _apply_catalog(state, inst, sources, body, origins)
+    return state, origins
+
+
+def _apply_catalog(
+    state: ModelState, inst: ir.Instance, sources: Mapping[str, str], body: Mapping[str, Any], origins: dict[str, str]
+) -> ModelState:
+    catalog, health = body.get("catalog") or {}, body.get("health") or {}
+    if not catalog and not health:
+        return state
+    known = set(morphisms_in_sources(sources)) | state.catalog_names
+    known -= set(state.removed)
+    for name in catalog.get("remove", []):
+        if name not in known:
+            raise Rejection(f"catalog.remove: no morphism named '{name}'{did_you_mean(name, sorted(known))}")
+    for key in ("failed", "recovered"):
+        for name in health.get(key, []):
+            if name not in known:
+                raise Rejection(f"health.{key}: no morphism named '{name}'{did_you_mean(name, sorted(known))}")
+    for name in health.get("recovered", []):
+        if name not in state.failed:
+            raise Rejection(f"health.recovered: '{name}' is not failed")
+    added = _morphisms(catalog["add"]) if "add" in catalog else []
+    for name, _ in added:
+        origins[f"catalog.{name}"] = "catalog.add"
+    return state.with_catalog(
+        add=added,
+        remove=catalog.get("remove", []),
+        failed=health.get("failed", []),
+        recovered=health.get("recovered", []),
+        sources=sources,
+    )
+
+
+def check(
+    state: ModelState, sources: Mapping[str, str], folder: str, origins: Mapping[str, str] | None = None
+) -> Candidate:
+    """Check a model state as catc would check its files; Rejection (the errors mapped to
+    the event fields behind them) when it does not check."""
+    files, regions = texts(state, sources, folder, origins)
+    problem = next(p for p in files if p.endswith("/problem.cat"))
+    try:
+        model = loads(files, problem)
+    except CatError as exc:
+        details = [_locate(d, files, regions) for d in exc.diagnostics if d.severity.value == "error"]
+        fields = sorted({d["field"] for d in details if d["field"] != "model"})
+        what = f"its {', '.join(fields)} would not check" if fields else "the model would not check"
+        raise Rejection(what, details) from None
+    return Candidate(state, model, files)
+
+
+def _locate(d: Diagnostic, files: Mapping[str, str], regions: list[Region]) -> dict[str, Any]:
+    """A checker error as (field, line, column) within the event field it points into."""
+    out: dict[str, Any] = {"code": d.code, "severity": d.severity.value, "message": d.message, "field": "model"}
+    span = d.span
+    if span is None:
+        return out
+    for region in regions:
+        if region.file == span.file and region.start <= span.start < max(region.end, region.start + 1):
+            if region.origin == "model":
+                break
+            text = files[region.file][region.start : span.start]
+            out["field"] = region.origin
+            out["line"] = text.count("\n") + 1
+            out["column"] = len(text) - (text.rfind("\n") + 1) + 1
+            return out
+    out["field"] = "model"
+    out["line"], out["column"], out["file"] = span.line, span.column, span.file
+    return out

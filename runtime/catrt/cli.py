@@ -1,0 +1,316 @@
+"""``catrt``: the runtime's command line (docs/runtime.md).
+
+    catrt init STATE [DOMAIN] PROBLEM     a new state folder for a model
+    catrt run STATE [--events -|FILE|DIR] the lifelong loop
+    catrt event STATE FILE|-              queue events for the running loop (or the next run)
+    catrt approve STATE ID [--reject]     answer a pending request
+    catrt status STATE                    the model, A₀, pending requests, the last decision
+    catrt journal STATE                   every event and decision
+    catrt replay STATE                    rebuild the state from the journal and compare
+    catrt verify STATE                    integrity, journal, replay, artifacts
+
+Exit codes: 0 done; 1 ``replay``/``verify`` found a problem; 2 input error (a bad argument,
+event file or configuration, no store, a store that is locked or of another version); 130
+interrupted.  Errors are one line ``WHERE: error[CODE]: message``; no traceback.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import sys
+import threading
+import time
+from pathlib import Path
+from typing import Any, NoReturn
+
+import click
+
+EXIT_PROBLEM, EXIT_INPUT = 1, 2
+
+
+def fail(code: str, message: str, where: str = "catrt") -> NoReturn:
+    click.echo(f"{where}: error[{code}]: {message}", err=True)
+    sys.exit(EXIT_INPUT)
+
+
+def _need_extra() -> None:
+    for module in ("yaml", "jsonschema"):
+        try:
+            __import__(module)
+        except ImportError:
+            fail("E0706", "catrt needs the 'runtime' extra: pip install 'catc-lang[runtime]'")
+
+
+def open_store(state: str, write: bool) -> Any:
+    from catrt.store import Store, StoreError
+
+    try:
+        return Store.open(Path(state), write=write)
+    except StoreError as exc:
+        fail(exc.code, str(exc))
+
+
+class _Group(click.Group):
+    def invoke(self, ctx: click.Context) -> Any:
+        try:
+            return super().invoke(ctx)
+        except (click.exceptions.Exit, click.ClickException, click.exceptions.Abort, SystemExit):
+            raise
+        except KeyboardInterrupt:
+            click.echo("interrupted", err=True)
+            sys.exit(130)
+        except Exception as exc:  # a bug: one line, not a traceback (CATRT_DEBUG=1 shows it)
+            if os.environ.get("CATRT_DEBUG"):
+                raise
+            click.echo(f"catrt: internal error: {type(exc).__name__}: {exc}", err=True)
+            sys.exit(70)
+
+
+@click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(package_name="catc-lang", prog_name="catrt")
+def main() -> None:
+    """The catc runtime: a persistent model and the lifelong recomposition loop."""
+
+
+# ---------------------------------------------------------------- init
+
+
+@main.command()
+@click.argument("state", type=click.Path(file_okay=False))
+@click.argument("paths", nargs=-1, required=True, type=click.Path())
+@click.option("--problem", "problem_name", help="The problem to use when the file defines several.")
+@click.option(
+    "--path", "search_paths", multiple=True, type=click.Path(file_okay=False), help="Extra folder for domains."
+)
+@click.option("--config", "config_file", type=click.Path(dir_okay=False, exists=True), help="Use this config.toml.")
+def init(state: str, paths: tuple[str, ...], problem_name: str | None, search_paths: tuple[str, ...],
+         config_file: str | None) -> None:  # fmt: skip
+    """A new state folder for the model in [DOMAIN] PROBLEM."""
+    _need_extra()
+    from catc.api import CatError
+    from catrt.create import create
+    from catrt.store import StoreError
+
+    if len(paths) > 2:
+        raise click.UsageError("give PROBLEM or DOMAIN PROBLEM")
+    problem, domain = (paths[-1], paths[0] if len(paths) == 2 else None)
+    config_text = Path(config_file).read_text(encoding="utf-8") if config_file else None
+    try:
+        store = create(Path(state), problem, domain, problem_name=problem_name, search_paths=search_paths,
+                       config_text=config_text)  # fmt: skip
+    except CatError as exc:
+        click.echo(str(exc), err=True)
+        sys.exit(EXIT_INPUT)
+    except StoreError as exc:
+        fail(exc.code, str(exc))
+    model = store.get("model")
+    store.close()
+    click.echo(f"initialised {state}: problem {model['problem']['name']} of domain {model['problem']['domain']}; "
+               f"start the loop with: catrt run {state}")  # fmt: skip
+
+
+# ---------------------------------------------------------------- run
+
+
+def _say(as_json: bool) -> Any:
+    def say(o: Any) -> None:
+        if as_json:
+            doc = {"status": o.status, "event": o.event_id, "where": o.where, "message": o.message,
+                   "generation": o.generation, "seq": o.seq,
+                   "decision": o.decision.to_json() if o.decision is not None else None}  # fmt: skip
+            click.echo(json.dumps(doc))
+            return
+        took = sum(o.timings.values()) if o.timings else None
+        head = f"{o.where}: " + (f"{o.event_id}: " if o.event_id else "")
+        tail = f"  [{took:.2f} s]" if took is not None and o.decision is not None else ""
+        stream_err = o.status == "rejected"
+        click.echo(f"{head}{o.status}: {o.message}{tail}", err=stream_err)
+
+    return say
+
+
+def _ask(request: dict[str, Any]) -> bool:
+    try:
+        with open("/dev/tty", "r+") as tty:
+            proposal = request["proposal"]
+            said = ", ".join(f"{k} → {v}" for k, v in proposal.get("set", {}).items())
+            tty.write(f"\nrequest {request['id']}: restore the model by {said}? [y/N] ")
+            tty.flush()
+            return tty.readline().strip().lower() in ("y", "yes")
+    except OSError:
+        return False
+
+
+@main.command()
+@click.argument("state", type=click.Path(file_okay=False))
+@click.option("--events", "source", default=None, metavar="-|FILE|DIR",
+              help="Where events come from: - (standard input), a file, or a spool folder (default STATE/spool).")  # fmt: skip
+@click.option("--once", is_flag=True, help="With a spool folder: handle what is there, then stop.")
+@click.option("--approve", "approve", type=click.Choice(["auto", "never", "ask"]), default=None,
+              help="Requests for a person: approve at once, never (wait for an approve event), or ask on the terminal "
+                   "(default: ask on a terminal, else never).")  # fmt: skip
+@click.option(
+    "--enactor", type=click.Choice(["dry", "compose"]), default=None, help="Default: the configuration's (dry)."
+)
+@click.option("--allow-shell", is_flag=True, help="Run the shell sensors the configuration declares.")
+@click.option("--json", "as_json", is_flag=True, help="One JSON document per outcome on standard output.")
+def run(state: str, source: str | None, once: bool, approve: str | None, enactor: str | None, allow_shell: bool,
+        as_json: bool) -> None:  # fmt: skip
+    """The lifelong loop: take events, decide, enact, until the events end (- or FILE) or a
+    signal (a spool folder)."""
+    _need_extra()
+    from catrt.config import ConfigError, load_config
+    from catrt.loop import loop
+    from catrt.runtime import Runtime
+
+    folder = Path(state)
+    store = open_store(state, write=True)
+    try:
+        config = load_config(folder)
+    except ConfigError as exc:
+        store.close()
+        fail("E1007", str(exc))
+    if config.sensors and not allow_shell:
+        store.close()
+        fail("E1008", f"{folder / 'config.toml'} declares {len(config.sensors)} shell sensor(s) "
+                      f"({', '.join(s.name for s in config.sensors)}); they run commands on this machine, so "
+                      "catrt runs them only when started with --allow-shell")  # fmt: skip
+    mode = approve or ("ask" if sys.stdin.isatty() and source != "-" else "never")
+    runtime = Runtime(folder, store, config, enactor=enactor, approve=mode, say=_say(as_json), ask=_ask)
+    stop = threading.Event()
+    try:
+        loop(runtime, source, once=once, stop=stop, sensors=config.sensors if allow_shell else ())
+    finally:
+        runtime.close()
+
+
+# ---------------------------------------------------------------- event, approve
+
+
+@main.command()
+@click.argument("state", type=click.Path(file_okay=False))
+@click.argument("file", type=click.Path(dir_okay=False, allow_dash=True))
+def event(state: str, file: str) -> None:
+    """Queue the events of FILE (one JSON object a line; - for standard input) for the loop:
+    checked first, then put into STATE/spool as one file; none is queued if one is bad."""
+    _need_extra()
+    from catrt.events import EventError, parse_event, read_lines
+    from catrt.spool import drop
+
+    open_store(state, write=False).close()
+    stream = sys.stdin if file == "-" else open(file, encoding="utf-8", errors="surrogateescape")  # noqa: SIM115
+    with stream:
+        lines = list(read_lines(stream, "<stdin>" if file == "-" else file))
+    bad = 0
+    for where, line in lines:
+        try:
+            parse_event(line, where)
+        except EventError as exc:
+            click.echo(f"{exc.where}: error[E1001]: {exc.message}", err=True)
+            bad += 1
+    if bad:
+        click.echo(f"{bad} bad event(s): nothing queued", err=True)
+        sys.exit(EXIT_INPUT)
+    path = drop(Path(state) / "spool", [line for _, line in lines])
+    click.echo(f"queued {len(lines)} event(s) as {path}")
+
+
+@main.command()
+@click.argument("state", type=click.Path(file_okay=False))
+@click.argument("request")
+@click.option("--reject", is_flag=True, help="Reject the request instead.")
+def approve(state: str, request: str, reject: bool) -> None:
+    """Approve (or --reject) the pending request REQUEST (see catrt status)."""
+    from catrt.spool import drop
+
+    store = open_store(state, write=False)
+    pending = {a["id"] for a in store.approvals("pending")}
+    store.close()
+    if request not in pending:
+        fail("E1010", f"no pending request '{request}' (pending: {', '.join(sorted(pending)) or 'none'})")
+    verb = "reject" if reject else "approve"
+    line = json.dumps({"id": f"{verb}-{request}-{time.time_ns()}", verb: request})
+    path = drop(Path(state) / "spool", [line])
+    click.echo(f"queued: {verb} {request} ({path})")
+
+
+# ---------------------------------------------------------------- reading
+
+
+@main.command()
+@click.argument("state", type=click.Path(file_okay=False))
+@click.option("--json", "as_json", is_flag=True, help="Print a catrt.status/1 document.")
+def status(state: str, as_json: bool) -> None:
+    """The model, the deployed composition A₀, pending requests and the last decision."""
+    from catrt.views import status_document, status_text
+
+    store = open_store(state, write=False)
+    doc = status_document(store, Path(state))
+    store.close()
+    click.echo(json.dumps(doc, indent=2) if as_json else status_text(doc))
+
+
+@main.command()
+@click.argument("state", type=click.Path(file_okay=False))
+@click.option("--json", "as_json", is_flag=True, help="One JSON document per entry.")
+@click.option("--since", type=click.IntRange(min=0), default=0, help="Entries after this sequence number.")
+@click.option("--kind", "kinds", multiple=True, help="Only entries of this kind (repeatable).")
+def journal(state: str, as_json: bool, since: int, kinds: tuple[str, ...]) -> None:
+    """Every event, rejection, decision, approval, enactment and sensor run, in order."""
+    from catrt.views import entry_text
+
+    store = open_store(state, write=False)
+    for entry in store.entries(since, kinds):
+        click.echo(json.dumps(entry, sort_keys=True) if as_json else entry_text(entry))
+    store.close()
+
+
+@main.command()
+@click.argument("state", type=click.Path(file_okay=False))
+@click.option("--json", "as_json", is_flag=True)
+def replay(state: str, as_json: bool) -> None:
+    """Rebuild the state from the journal alone; exit 1 when it differs from the stored one."""
+    _need_extra()
+    from catrt.replay import differences
+    from catrt.replay import replay as run_replay
+
+    store = open_store(state, write=False)
+    replayed = run_replay(store, Path(state))
+    problems = replayed.problems + differences(store, replayed)
+    store.close()
+    _report("replay", problems, [f"{replayed.entries} journal entries replayed"], as_json)
+
+
+@main.command()
+@click.argument("state", type=click.Path(file_okay=False))
+@click.option("--json", "as_json", is_flag=True)
+def verify(state: str, as_json: bool) -> None:
+    """SQLite's integrity check, a gap-free journal, the replay, every generation's files
+    against its manifest; exit 1 on any problem."""
+    _need_extra()
+    from catrt.replay import verify as run_verify
+
+    store = open_store(state, write=False)
+    problems, notes = run_verify(store, Path(state))
+    store.close()
+    _report("verify", problems, notes, as_json)
+
+
+def _report(what: str, problems: list[str], notes: list[str], as_json: bool) -> None:
+    if as_json:
+        click.echo(json.dumps({"schema": f"catrt.{what}/1", "ok": not problems, "problems": problems, "notes": notes},
+                              indent=2))  # fmt: skip
+    else:
+        for p in problems:
+            click.echo(f"{what}: error[E1012]: {p}")
+        for n in notes:
+            click.echo(f"{what}: note: {n}")
+        click.echo(f"{what}: {'ok' if not problems else f'{len(problems)} problem(s)'}")
+    sys.exit(EXIT_PROBLEM if problems else 0)
+
+
+def entry() -> None:
+    signal.signal(signal.SIGPIPE, signal.SIG_DFL)
+    main()

@@ -1,0 +1,202 @@
+"""One decision of the lifelong loop (paper Algorithm 1) for the model as it is now.
+
+1. With a deployed composition A₀: replay it on the updated model with the independent
+   validator — cheap, no solver.  Still valid: keep it.
+2. Else (or with nothing deployed) look for a composition: recompose with least churn
+   against A₀ (stability first, then the problem's objective), or, at the start, optimise
+   (a metric or soft constraints) or solve.
+3. None exists: diagnose (an irreducible core, relative to A₀) and compute the least
+   restoration of the world's initial values (relax) — a proposal that waits for approval.
+
+Every answer carries the query's own JSON document, the reason in words and the time each
+phase took.  Solver queries get the configured time limits; a query that runs out of time
+leaves the deployed composition as it is and says so.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+from catc import ir
+from catc.api import Model
+from catc.ir.numbers import ratio_text
+from catc.queries.diagnose import diagnose as run_diagnose
+from catc.queries.recompose import recompose as run_recompose
+from catc.queries.relax import relax as run_relax
+from catc.semantics.plan import Plan, PlanFormatError, plan_from_json, plan_to_json
+from catc.semantics.validate import validate
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Time limits (seconds) of the solver queries a decision may run."""
+
+    compose: float | None = 120.0
+    diagnose: float | None = 30.0
+    relax: float | None = 30.0
+
+
+@dataclass
+class Decision:
+    """``action``: keep | compose | recompose | restore (a proposal waits for approval) |
+    stuck (nothing to propose) | undecided (a query ran out of time)."""
+
+    action: str
+    reason: str
+    plan: Plan | None = None
+    documents: dict[str, Any] = field(default_factory=dict)  # query → its --json document
+    timings: dict[str, float] = field(default_factory=dict)
+    solver_calls: int = 0
+    proposal: dict[str, Any] | None = None
+    churn: str | None = None
+    changes: list[dict[str, Any]] = field(default_factory=list)
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "action": self.action,
+            "reason": self.reason,
+            "plan": plan_to_json(self.plan) if self.plan is not None else None,
+            "churn": self.churn,
+            "changes": self.changes,
+            "proposal": self.proposal,
+            "solver_calls": self.solver_calls,
+            "timings": {k: round(v, 6) for k, v in self.timings.items()},
+            "documents": self.documents,
+        }
+
+
+def incumbent_plan(inst: ir.Instance, doc: dict[str, Any] | None) -> tuple[Plan | None, str | None]:
+    """A₀ read against the model as it is now, or (None, why it cannot be)."""
+    if doc is None:
+        return None, None
+    from catc.queries.validate import param_sorts
+
+    missing = sorted({a["morphism"] for step in doc["steps"] for a in step} - set(inst.morphisms))
+    if missing:
+        return None, f"{', '.join(missing)} {'is' if len(missing) == 1 else 'are'} no longer in the catalogue"
+    try:
+        return plan_from_json(doc, param_sorts(inst)), None
+    except PlanFormatError as exc:
+        return None, str(exc)
+
+
+def decide(model: Model, incumbent: dict[str, Any] | None, limits: Limits) -> Decision:
+    inst = model.instance
+    timings: dict[str, float] = {}
+    if incumbent is not None:
+        t = time.perf_counter()
+        plan, why = incumbent_plan(inst, incumbent)
+        if plan is not None:
+            report = validate(inst, plan)
+            timings["validate"] = time.perf_counter() - t
+            if report.ok:
+                return Decision("keep", "the deployed composition is still valid (replayed step by step)", plan,
+                                timings=timings)  # fmt: skip
+            why = "; ".join(_violation_text(v) for v in report.violations[:3])
+        timings.setdefault("validate", time.perf_counter() - t)
+        decision = _recompose(model, incumbent, limits, why or "it no longer applies")
+    else:
+        decision = _compose(model, limits)
+    decision.timings = {**timings, **decision.timings}
+    if decision.action != "infeasible":
+        return decision
+    restore = _restore(model, incumbent, limits)
+    restore.timings = {**decision.timings, **restore.timings}
+    restore.solver_calls += decision.solver_calls
+    restore.documents = {**decision.documents, **restore.documents}
+    return restore
+
+
+def _violation_text(v: Any) -> str:
+    message = str(v.message)
+    step = getattr(v, "step", None)
+    return message if step is None or message.startswith("step ") else f"step {step}: {message}"
+
+
+def _components(doc: dict[str, Any]) -> list[str]:
+    return sorted({a["morphism"] for step in doc["steps"] for a in step})
+
+
+def _recompose(model: Model, incumbent: dict[str, Any], limits: Limits, why: str) -> Decision:
+    inst = model.instance
+    deployed = _components(incumbent)
+    vanished = [c for c in deployed if c not in inst.morphisms]
+    t = time.perf_counter()
+    rec = run_recompose(inst, deployed=[c for c in deployed if c in inst.morphisms], priority="stability",
+                        timeout=limits.compose)  # fmt: skip
+    took = {"recompose": time.perf_counter() - t}
+    doc = model.to_json(rec)
+    plan = rec.result.plan
+    if plan is not None and rec.status.value in ("opt", "subopt"):
+        changes = doc["changes"] + [
+            {"morphism": c, "change": "removed", "weight": None, "vanished": True} for c in vanished
+        ]
+        churn = ratio_text(rec.churn) if rec.churn is not None else None
+        note = "" if rec.status.value == "opt" else " (the best found in the time limit)"
+        return Decision("recompose", f"the deployed composition no longer holds: {why}; recomposed with least churn"
+                        f" {churn}{note}", plan, {"recompose": doc}, took, 1, churn=churn, changes=changes)  # fmt: skip
+    if rec.status.value == "unsat":
+        return Decision("infeasible", f"the deployed composition no longer holds: {why}; no composition exists",
+                        documents={"recompose": doc}, timings=took, solver_calls=1)  # fmt: skip
+    return Decision("undecided", f"the deployed composition no longer holds: {why}; recomposition ran out of time"
+                    " (the deployed composition stays)", documents={"recompose": doc}, timings=took, solver_calls=1)  # fmt: skip
+
+
+def _compose(model: Model, limits: Limits) -> Decision:
+    inst = model.instance
+    name = "optimize" if inst.problem.metric is not None or inst.problem.softs else "solve"
+    t = time.perf_counter()
+    result = model.query(name, timeout=limits.compose)
+    took = {name: time.perf_counter() - t}
+    doc = model.to_json(result)
+    plan = getattr(result, "plan", None)
+    status = result.status.value
+    if plan is not None and status in ("sat", "opt", "subopt"):
+        return Decision("compose", f"nothing is deployed: composed ({name}, {status})", plan, {name: doc}, took, 1)
+    if status == "unsat":
+        return Decision("infeasible", "nothing is deployed and no composition exists", documents={name: doc},
+                        timings=took, solver_calls=1)  # fmt: skip
+    return Decision("undecided", f"nothing is deployed and {name} ran out of time", documents={name: doc},
+                    timings=took, solver_calls=1)  # fmt: skip
+
+
+def _restore(model: Model, incumbent: dict[str, Any] | None, limits: Limits) -> Decision:
+    """Diagnose, then the least restoration of initial values: a proposal."""
+    inst = model.instance
+    relative = _components(incumbent) if incumbent is not None else []
+    relative = [c for c in relative if c in inst.morphisms]
+    t = time.perf_counter()
+    diag = run_diagnose(inst, relative_to=relative, timeout=limits.diagnose)
+    timings = {"diagnose": time.perf_counter() - t}
+    documents = {"diagnose": model.to_json(diag)}
+    core = diag.cores[0] if diag.cores else []
+    t = time.perf_counter()
+    rel = run_relax(inst, only=["init/"], relative_to=relative, timeout=limits.relax)
+    timings["relax"] = time.perf_counter() - t
+    documents["relax"] = model.to_json(rel)
+    values: dict[str, str] = {}
+    for r in rel.relaxations:
+        resource = r.label.removeprefix("init/")
+        old = inst.problem.init[resource].value
+        values[resource] = ratio_text(Fraction(old.value) + r.delta)  # type: ignore[union-attr]
+    core_text = ", ".join(core) or "none found in the time limit"
+    if not values:
+        return Decision("stuck", f"no composition exists (core: {core_text}) and no change of initial values "
+                        "restores one: waiting for a change of the task or the catalogue", documents=documents,
+                        timings=timings, solver_calls=2)  # fmt: skip
+    proposal = {
+        "set": values,
+        "relaxations": [
+            {"label": r.label, "delta": ratio_text(r.delta), "weight": ratio_text(r.weight)} for r in rel.relaxations
+        ],
+        "cost": ratio_text(rel.cost) if rel.cost is not None else None,
+        "proven": rel.proven,
+        "core": core,
+    }
+    said = ", ".join(f"{k} → {v}" for k, v in values.items())
+    least = "the least" if rel.proven else "the best found in the time limit"
+    return Decision("restore", f"no composition exists (core: {core_text}); {least} restoration: {said}",
+                    documents=documents, timings=timings, solver_calls=2, proposal=proposal)  # fmt: skip

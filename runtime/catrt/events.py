@@ -1,0 +1,163 @@
+"""Events: one JSON object per line, ``catrt.event/1`` (schemas/event-1.json, docs/runtime.md).
+
+Reading an event checks its shape against the JSON schema (with ``jsonschema``) and keeps
+every number exact: a JSON number is read as the decimal it is written as (``22.73`` is
+2273/100, never a float), a string may hold a decimal or a fraction.  What an event *means*
+for the model — a resource that exists, a value of its sort, a goal that type-checks — is
+checked when it is applied (:mod:`catrt.apply`).  Nothing here touches the store.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import uuid
+from collections.abc import Iterator
+from dataclasses import dataclass
+from decimal import Decimal, InvalidOperation
+from fractions import Fraction
+from functools import cache
+from importlib import resources
+from typing import Any
+
+from catc.ir.numbers import ratio_text
+
+SCHEMA = "catrt.event/1"
+CHANGE_KEYS = ("set", "goal", "metric", "softs", "horizon", "catalog", "health")
+APPROVAL_KEYS = ("approve", "reject")
+MAX_LINE = 1_000_000  # bytes: a longer line is rejected unread
+
+_NUMBER = re.compile(r"[+-]?(\d+(\.\d+)?|\.\d+)([eE][+-]?\d{1,4})?|[+-]?\d+/\d+")
+
+
+class EventError(ValueError):
+    """A line that is not an event: ``where`` is ``SOURCE:LINE[:COL]``."""
+
+    def __init__(self, where: str, message: str) -> None:
+        super().__init__(f"{where}: {message}")
+        self.where, self.message = where, message
+
+
+@dataclass(frozen=True)
+class Event:
+    """A well-formed event: ``body`` is canonical JSON (numbers as exact text); ``where``
+    is where it was read (``events.jsonl:4``, ``spool/a.jsonl:1``, ``api``)."""
+
+    id: str
+    body: dict[str, Any]
+    where: str
+    given_id: bool = True
+
+    @property
+    def is_approval(self) -> bool:
+        return any(k in self.body for k in APPROVAL_KEYS)
+
+    def to_json(self) -> dict[str, Any]:
+        return {"v": 1, "id": self.id, **{k: v for k, v in self.body.items() if k not in ("v", "id")}}
+
+
+def exact(text: str) -> Fraction | None:
+    """A decimal or fraction written as text, exactly; None when it is not one."""
+    text = text.strip()
+    if not _NUMBER.fullmatch(text):
+        return None
+    try:
+        if "/" in text:
+            n, d = text.split("/")
+            return None if int(d) == 0 else Fraction(int(n), int(d))
+        return Fraction(Decimal(text))
+    except (InvalidOperation, ValueError, ZeroDivisionError):
+        return None
+
+
+@cache
+def schema() -> dict[str, Any]:
+    return json.loads(resources.files("catrt").joinpath("schemas", "event-1.json").read_text(encoding="utf-8"))
+
+
+@cache
+def _validator() -> Any:
+    try:
+        from jsonschema import Draft202012Validator
+    except ImportError as exc:  # pragma: no cover - the runtime extra brings it
+        raise ImportError("catrt needs the 'runtime' extra: pip install 'catc-lang[runtime]'") from exc
+    return Draft202012Validator(schema())
+
+
+def _reject_constant(name: str) -> Any:
+    raise ValueError(f"{name} is not a number an event can carry")
+
+
+def _exact_text(value: Any) -> Any:
+    """A sensed value as stored: a number as exact text, anything else as it is."""
+    if isinstance(value, bool) or not isinstance(value, (int, Decimal)):
+        return value
+    return ratio_text(Fraction(value))
+
+
+def _shape_error(doc: Any) -> str | None:
+    """The first way ``doc`` breaks the schema, in words."""
+    if not isinstance(doc, dict):
+        return f"an event is a JSON object, not {type(doc).__name__}"
+    unknown = sorted(set(doc) - set(schema()["properties"]))
+    if unknown:
+        from catgrammar.diagnostics import did_you_mean
+
+        hint = did_you_mean(unknown[0], list(schema()["properties"]))
+        return f"unknown field '{unknown[0]}'{hint}; an event has {', '.join(schema()['properties'])}"
+    changes = [k for k in CHANGE_KEYS if k in doc]
+    approvals = [k for k in APPROVAL_KEYS if k in doc]
+    if not changes and not approvals:
+        return f"an event needs one of {', '.join(CHANGE_KEYS + APPROVAL_KEYS)}"
+    if approvals and (changes or len(approvals) > 1):
+        return f"'{approvals[0]}' is an event of its own: it cannot come with {', '.join([*changes, *approvals[1:]])}"
+    errors = sorted(_validator().iter_errors(doc), key=lambda e: (len(list(e.absolute_path)), str(e.message)))
+    if not errors:
+        return None
+    from jsonschema.exceptions import best_match
+
+    e = best_match(errors)
+    path = "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in e.absolute_path).lstrip(".")
+    return f"{path or 'the event'}: {_short(e.message)}"
+
+
+def _short(message: str) -> str:
+    return message if len(message) <= 200 else message[:197] + "..."
+
+
+def parse_event(line: str, where: str) -> Event:
+    """One line → an Event, or EventError saying where and why."""
+    if len(line.encode("utf-8", "surrogatepass")) > MAX_LINE:
+        raise EventError(where, f"the line is longer than {MAX_LINE} bytes")
+    try:
+        doc = json.loads(line, parse_float=Decimal, parse_constant=_reject_constant)
+    except json.JSONDecodeError as exc:
+        raise EventError(f"{where}:{exc.colno}", f"not JSON: {exc.msg}") from None
+    except (ValueError, RecursionError) as exc:
+        raise EventError(where, f"not an event: {exc}") from None
+    problem = _shape_error(doc)
+    if problem is not None:
+        raise EventError(where, problem)
+    for name, value in (doc.get("set") or {}).items():
+        if isinstance(value, str) and value[:1] in "+-.0123456789" and exact(value) is None:
+            raise EventError(where, f"set.{name}: '{value}' is not a number (a decimal such as 22.73, or 1/3)")
+    body = dict(doc)
+    if "set" in body:
+        body["set"] = {name: _exact_text(value) for name, value in body["set"].items()}
+    if isinstance(body.get("horizon"), Decimal):  # 24.0: an integer written as a decimal
+        body["horizon"] = int(body["horizon"])
+    given = "id" in doc
+    event_id = body.get("id") or f"auto-{uuid.uuid4().hex}"
+    body.pop("id", None)
+    body.pop("v", None)
+    return Event(event_id, body, where, given)
+
+
+def read_lines(stream: Any, source: str) -> Iterator[tuple[str, str]]:
+    """(where, line) for each non-blank line of a text stream; a last line without its
+    newline (a torn write) is still yielded, and rejected by :func:`parse_event` unless it
+    is a whole event."""
+    for number, line in enumerate(stream, 1):
+        text = line.rstrip("\n").rstrip("\r")
+        if text.strip():
+            yield f"{source}:{number}", text

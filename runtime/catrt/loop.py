@@ -1,0 +1,89 @@
+"""Driving the runtime: events from standard input, a file or a spool folder; the shell
+sensors when they are due; stop at the end of the events (standard input, a file), or on
+SIGTERM/SIGINT (a spool folder: the event being handled is finished first)."""
+
+from __future__ import annotations
+
+import signal
+import sys
+import threading
+import time
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+from typing import Any
+
+from catrt.config import Sensor
+from catrt.events import read_lines
+from catrt.runtime import Runtime
+from catrt.spool import Watcher, file_lines, finish, pending
+
+
+class _Sensors:
+    def __init__(self, sensors: Sequence[Sensor]) -> None:
+        self.sensors = list(sensors)
+        self.due = {s.name: 0.0 for s in self.sensors}
+
+    def poll(self, runtime: Runtime) -> None:
+        now = time.monotonic()
+        ready = [s for s in self.sensors if self.due[s.name] <= now]
+        for s in ready:
+            self.due[s.name] = now + s.every
+        if ready:
+            runtime.read_sensors(ready)
+
+    def wait(self) -> float:
+        if not self.sensors:
+            return 3600.0
+        return max(0.0, min(self.due.values()) - time.monotonic())
+
+
+def loop(runtime: Runtime, source: str | None, *, once: bool, stop: threading.Event, sensors: Sequence[Sensor]) -> None:
+    clock = _Sensors(sensors)
+    runtime.start()
+    clock.poll(runtime)
+    if source == "-":
+        _lines(runtime, read_lines(sys.stdin, "<stdin>"), clock, stop)
+        return
+    path = Path(source) if source is not None else runtime.folder / "spool"
+    if path.is_file():
+        _lines(runtime, file_lines(path), clock, stop)
+        return
+    path.mkdir(parents=True, exist_ok=True)
+    _spool(runtime, path, clock, stop, once)
+
+
+def _lines(runtime: Runtime, lines: Iterator[tuple[str, str]], clock: _Sensors, stop: threading.Event) -> None:
+    for where, line in lines:
+        if stop.is_set():
+            return
+        runtime.handle_line(line, where)
+        clock.poll(runtime)
+
+
+def _spool(runtime: Runtime, folder: Path, clock: _Sensors, stop: threading.Event, once: bool) -> None:
+    previous = _on_signals(stop)
+    watcher = Watcher(folder)
+    try:
+        while not stop.is_set():
+            for path in pending(folder):
+                for where, line in file_lines(path, f"spool/{path.name}"):
+                    if stop.is_set():
+                        return
+                    runtime.handle_line(line, where)
+                    clock.poll(runtime)
+                finish(path)
+            if once:
+                return
+            watcher.wait(min(clock.wait(), 1.0), stop)
+            clock.poll(runtime)
+    finally:
+        watcher.close()
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
+def _on_signals(stop: threading.Event) -> dict[int, Any]:
+    previous: dict[int, Any] = {}
+    for sig in (signal.SIGTERM, signal.SIGINT):
+        previous[sig] = signal.signal(sig, lambda *_: stop.set())
+    return previous

@@ -1,0 +1,352 @@
+"""The lifelong loop: one process that holds the model, takes events, decides, asks where it
+must, and enacts — one step of paper Algorithm 1 per event, each step one transaction.
+
+For a change event: apply it to the model and check the result (a rejected event changes
+nothing and is journaled with its reason); decide (:mod:`catrt.decide`); then, in one
+transaction, journal the event, the new model, the decision and — when the robot must
+change — ``enact-begin`` for a new generation.  Enacting writes the generation's artifacts
+and runs the enactor; a second transaction journals ``enact-done`` and makes the new
+composition A₀.  A crash between the two leaves ``enact-begin`` without its ``enact-done``:
+the next start reports it and enacts that generation again (idempotent).
+
+A decision that needs a person — the least restoration of the world's initial values when no
+composition exists — becomes a pending approval: approved by an ``approve`` event, at once
+with ``--approve auto``, on the terminal with ``--approve ask``, or never.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import signal
+import time
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from catrt.apply import Candidate, Rejection, apply_change, check
+from catrt.config import Config
+from catrt.decide import Decision, Limits, decide
+from catrt.enact import (
+    ENACTORS,
+    EnactError,
+    Enactor,
+    complete,
+    diff_generations,
+    generation_name,
+    point_current,
+    write_generation,
+)
+from catrt.events import Event, EventError, parse_event
+from catrt.model import ModelState
+from catrt.store import Store, dumps
+
+MODEL_FOLDER = "model"
+GENERATIONS = "generations"
+APPROVE_MODES = ("auto", "never", "ask")
+
+
+class Crash:
+    """Fault injection for the crash tests: ``CATRT_CRASH_AT=POINT[:N]`` kills the process
+    (SIGKILL, no clean-up) the N-th time (default 1st) it reaches POINT."""
+
+    def __init__(self) -> None:
+        spec = os.environ.get("CATRT_CRASH_AT", "")
+        point, _, n = spec.partition(":")
+        self.point, self.n, self.hits = point, int(n or 1), 0
+
+    def __call__(self, point: str) -> None:
+        if point == self.point:
+            self.hits += 1
+            if self.hits == self.n:
+                os.kill(os.getpid(), signal.SIGKILL)
+
+
+@dataclass
+class Outcome:
+    """What became of one event (for the person watching, and the API)."""
+
+    status: str  # accepted | rejected | duplicate
+    event_id: str
+    where: str
+    message: str = ""
+    decision: Decision | None = None
+    generation: int | None = None
+    seq: int | None = None
+    timings: dict[str, float] = field(default_factory=dict)
+
+
+def model_sha(state: ModelState) -> str:
+    return hashlib.sha256(dumps(state.to_json()).encode()).hexdigest()
+
+
+class Runtime:
+    def __init__(
+        self,
+        folder: Path,
+        store: Store,
+        config: Config,
+        *,
+        enactor: str | None = None,
+        approve: str = "never",
+        say: Callable[[Outcome], None] | None = None,
+        ask: Callable[[dict[str, Any]], bool] | None = None,
+    ) -> None:
+        self.folder, self.store, self.config = folder, store, config
+        limits = {**{"compose": 120.0, "diagnose": 30.0, "relax": 30.0}, **config.limits}
+        self.limits = Limits(limits["compose"], limits["diagnose"], limits["relax"])
+        kind = enactor or config.enactor.get("kind", "dry")
+        self.enactor: Enactor = ENACTORS[kind](config.enactor)
+        self.approve, self.say, self.ask = approve, say or (lambda outcome: None), ask
+        self.crash = Crash()
+        self.sources = store.sources()
+        self.state = ModelState.from_json(store.get("model"))
+        self.current: Candidate = check(self.state, self.sources, str(folder / MODEL_FOLDER))
+        self.write_model(self.current)
+
+    # ------------------------------------------------------------ the model on disk
+    def write_model(self, candidate: Candidate) -> None:
+        """``STATE/model/``: the model as files a person can read and give to catc."""
+        from catc.targets.grounding.artifacts import write
+
+        folder = self.folder / MODEL_FOLDER
+        names = {Path(p).name: t.encode("utf-8") for p, t in candidate.files.items()}
+        write(folder, names, {"schema": "catrt.model-files/1", "model_sha256": model_sha(candidate.state)})
+
+    @property
+    def incumbent(self) -> dict[str, Any] | None:
+        return self.store.get("incumbent")
+
+    # ------------------------------------------------------------ start
+    def start(self) -> list[Outcome]:
+        """Finish an enactment a crash interrupted; decide when nothing is deployed yet."""
+        out: list[Outcome] = []
+        enacting = self.store.get("enacting")
+        if enacting is not None:
+            with self.store.transaction():
+                self.store.journal("recovery", {"generation": enacting["generation"],
+                                                "note": "enact-begin without enact-done: enacting again"})  # fmt: skip
+            out.append(self.enact())
+            self.say(out[-1])
+        if self.incumbent is None and not self.store.approvals("pending"):
+            outcome = self._decide_and_commit(Event("start", {}, "start", False), self.current, kind="start")
+            self.say(outcome)
+            out.append(outcome)
+            if outcome.decision is not None and outcome.decision.action == "restore":
+                self._maybe_approve(outcome)
+        return out
+
+    # ------------------------------------------------------------ events
+    def handle_line(self, line: str, where: str) -> Outcome:
+        try:
+            event = parse_event(line, where)
+        except EventError as exc:
+            with self.store.transaction():
+                seq = self.store.journal("rejected", {"where": exc.where, "code": "E1001", "message": exc.message,
+                                                      "line": line[:2000]})  # fmt: skip
+            outcome = Outcome("rejected", "", exc.where, f"error[E1001]: {exc.message}", seq=seq)
+            self.say(outcome)
+            return outcome
+        return self.handle(event)
+
+    def handle(self, event: Event) -> Outcome:
+        if self.store.accepted(event.id):
+            outcome = Outcome("duplicate", event.id, event.where, "already accepted: nothing to do")
+        elif event.is_approval:
+            outcome = self._approval(event)
+        else:
+            outcome = self._change(event)
+        self.say(outcome)
+        if outcome.decision is not None and outcome.decision.action == "restore":
+            self._maybe_approve(outcome)
+        return outcome
+
+    def _reject(self, event: Event, code: str, rejection: Rejection) -> Outcome:
+        with self.store.transaction():
+            seq = self.store.journal("rejected", {"where": event.where, "event": event.to_json(), "code": code,
+                                                  **rejection.to_json()}, event.id)  # fmt: skip
+        return Outcome("rejected", event.id, event.where, f"error[{code}]: {rejection.text()}", seq=seq)
+
+    def _change(self, event: Event) -> Outcome:
+        t = time.perf_counter()
+        try:
+            state, origins = apply_change(self.state, self.current.instance, self.sources, event)
+            candidate = check(state, self.sources, str(self.folder / MODEL_FOLDER), origins)
+        except Rejection as rejection:
+            return self._reject(event, "E1002" if rejection.details else "E1001", rejection)
+        checked = time.perf_counter() - t
+        outcome = self._decide_and_commit(event, candidate)
+        outcome.timings = {"apply": checked, **outcome.timings}
+        return outcome
+
+    def _approval(self, event: Event) -> Outcome:
+        request = str(event.body.get("approve") or event.body.get("reject"))
+        pending = {a["id"]: a for a in self.store.approvals("pending")}
+        if request not in pending:
+            known = {a["id"]: a["status"] for a in self.store.approvals()}
+            why = f"'{request}' is {known[request]}" if request in known else f"no request '{request}'"
+            return self._reject(event, "E1010", Rejection(f"{why}; pending: {', '.join(pending) or 'none'}"))
+        if "reject" in event.body:
+            with self.store.transaction():
+                seq = self.store.journal("event", {"where": event.where, "event": event.to_json(),
+                                                   "model_sha256": model_sha(self.state)}, event.id)  # fmt: skip
+                self.store.journal("approval", {"request": request, "verdict": "rejected", "event": seq})
+                self.store.settle_approval(request, "rejected")
+            return Outcome("accepted", event.id, event.where, f"request {request} rejected", seq=seq)
+        proposal = pending[request]["proposal"]
+        change = Event(event.id, {"set": proposal["set"]}, event.where, event.given_id)
+        try:
+            state, origins = apply_change(self.state, self.current.instance, self.sources, change)
+            candidate = check(state, self.sources, str(self.folder / MODEL_FOLDER), origins)
+        except Rejection as rejection:  # the model moved on since the request
+            return self._reject(event, "E1002", rejection)
+        return self._decide_and_commit(event, candidate, approval=request)
+
+    # ------------------------------------------------------------ decide, commit, enact
+    def _decide_and_commit(self, event: Event, candidate: Candidate, kind: str = "event",
+                           approval: str | None = None) -> Outcome:  # fmt: skip
+        incumbent = self.incumbent
+        decision = decide(candidate.model, incumbent["plan"] if incumbent else None, self.limits)
+        plan = decision.plan if decision.action in ("compose", "recompose", "keep") else None
+        artifacts, why_not = self._artifacts(candidate, plan) if plan is not None else (None, None)
+        enact = artifacts is not None and (decision.action != "keep" or not self._deployed_as(artifacts[0]))
+        with self.store.transaction():
+            cause = self._journal_cause(event, candidate, kind, approval)
+            if approval is not None:
+                self.store.settle_approval(approval, "approved")
+            self.store.put("model", candidate.state.to_json())
+            seq = self.store.journal("decision", {"cause": cause, **decision.to_json()})
+            generation = None
+            superseded = [a["id"] for a in self.store.approvals("pending")] if approval is None else []
+            for request in superseded:  # the world moved on: a new decision replaces the request
+                self.store.settle_approval(request, "superseded")
+                self.store.journal("approval", {"request": request, "verdict": "superseded", "decision": seq})
+            if decision.action == "restore":
+                request = f"r{len(self.store.approvals()) + 1}"  # r1, r2, ...: an events file can name them
+                self.store.add_approval(request, seq, decision.proposal or {})
+                self.store.journal(
+                    "approval-request", {"request": request, "decision": seq, **(decision.proposal or {})}
+                )
+            if why_not is not None:
+                self.store.journal("enact-failed", {"decision": seq, "code": "E1011", "message": why_not})
+            elif enact:
+                generation = int(self.store.get("generation", 0)) + 1
+                self.store.put("generation", generation)
+                self.store.put("enacting", {"generation": generation, "decision": seq,
+                                            "plan": decision.to_json()["plan"]})  # fmt: skip
+                self.store.journal("enact-begin", {"generation": generation, "decision": seq})
+        self.crash("after-journal")
+        self.state, self.current = candidate.state, candidate
+        self.write_model(candidate)
+        outcome = Outcome("accepted", event.id, event.where, decision.reason, decision, generation, cause,
+                          dict(decision.timings))  # fmt: skip
+        if generation is not None:
+            done = self.enact(artifacts)
+            outcome.message += f"; {done.message}"
+            outcome.generation = done.generation
+        return outcome
+
+    def _journal_cause(self, event: Event, candidate: Candidate, kind: str, approval: str | None) -> int:
+        data = {"where": event.where, "event": event.to_json(), "model_sha256": model_sha(candidate.state)}
+        if kind == "start":
+            return self.store.journal("start", {"model_sha256": data["model_sha256"]})
+        seq = self.store.journal("event", data, event.id)
+        if approval is not None:
+            self.store.journal("approval", {"request": approval, "verdict": "approved", "event": seq})
+        return seq
+
+    def _artifacts(self, candidate: Candidate, plan: Any) -> tuple[Any, str | None]:
+        """(files, manifest) of ``plan`` grounded in the candidate model, or (None, why not)."""
+        from catc.semantics.validate import validate
+        from catc.targets.grounding.artifacts import artifacts, manifest
+        from catc.targets.grounding.resolve import ground
+
+        try:
+            states = validate(candidate.instance, plan).states
+            grounded = ground(candidate.instance, plan, states)
+            files = artifacts(grounded)
+        except ValueError as exc:  # GroundingConflict, a real no artifact can carry
+            return None, f"the composition cannot be grounded: {exc}"
+        digest = hashlib.sha256("\n".join(sorted(hashlib.sha256(t.encode()).hexdigest()
+                                                 for t in candidate.files.values())).encode()).hexdigest()  # fmt: skip
+        return (files, manifest(grounded, files, digest)), None
+
+    def _deployed_as(self, files: dict[str, bytes]) -> bool:
+        """The deployed generation has exactly these artifacts."""
+        incumbent = self.incumbent
+        if incumbent is None:
+            return False
+        folder = self.folder / GENERATIONS / generation_name(incumbent["generation"])
+        return complete(folder) and all((folder / n).read_bytes() == data for n, data in files.items())
+
+    def enact(self, artifacts: Any = None) -> Outcome:
+        """Enact the generation in ``enacting`` (after a crash: again)."""
+        enacting = self.store.get("enacting")
+        generation = enacting["generation"]
+        if artifacts is None:  # recovering: the same model and plan ground to the same bytes
+            from catc.queries.validate import param_sorts
+            from catc.semantics.plan import plan_from_json
+
+            plan = plan_from_json(enacting["plan"], param_sorts(self.current.instance))
+            artifacts, why_not = self._artifacts(self.current, plan)
+            if artifacts is None:
+                return self._enact_failed(generation, why_not or "")
+        files, manifest = artifacts
+        root = self.folder / GENERATIONS
+        folder = write_generation(root, generation, files, manifest, {"decision": enacting["decision"]}, self.crash)
+        incumbent = self.incumbent
+        old = root / generation_name(incumbent["generation"]) if incumbent else None
+        diff = diff_generations(old, folder)
+        try:
+            done = self.enactor.enact(manifest["project"], folder, diff)
+        except EnactError as exc:
+            return self._enact_failed(generation, str(exc))
+        self.crash("before-enact-done")
+        point_current(self.folder, folder)
+        with self.store.transaction():
+            seq = self.store.journal("enact-done", {"generation": generation, "enactor": self.enactor.name,
+                                                    **done.to_json()})  # fmt: skip
+            self.store.put("incumbent", {"generation": generation, "plan": enacting["plan"]})
+            self.store.put("enacting", None)
+        what = "enacted" if done.ran else f"written ({self.enactor.name}: nothing run)"
+        return Outcome("accepted", "", "enact", f"generation {generation} {what}", generation=generation, seq=seq)
+
+    def _enact_failed(self, generation: int, why: str) -> Outcome:
+        with self.store.transaction():
+            seq = self.store.journal("enact-failed", {"generation": generation, "code": "E1011", "message": why})
+            self.store.put("enacting", None)
+        return Outcome("rejected", "", "enact", f"error[E1011]: generation {generation}: {why}", seq=seq)
+
+    # ------------------------------------------------------------ approvals
+    def _maybe_approve(self, outcome: Outcome) -> None:
+        pending = self.store.approvals("pending")
+        if not pending:
+            return
+        request = pending[-1]
+        if self.approve == "auto" or (self.approve == "ask" and self.ask is not None and self.ask(request)):
+            by = "auto" if self.approve == "auto" else "terminal"
+            self.handle(Event(f"{by}-approve-{request['id']}", {"approve": request["id"]}, by, False))
+
+    # ------------------------------------------------------------ sensors
+    def read_sensors(self, due: Iterable[Any]) -> list[Outcome]:
+        from catrt.sensors import run_sensor
+
+        out = []
+        for sensor in due:
+            reading = run_sensor(sensor, self.current.instance.resources.get(sensor.resource), self.folder)
+            with self.store.transaction():
+                seq = self.store.journal("sensor", {**reading.to_json(), "argv": list(sensor.argv),
+                                                    **({"code": "E1009"} if reading.error else {})})  # fmt: skip
+            if reading.error is not None:
+                outcome = Outcome("rejected", "", f"sensor {sensor.name}", f"error[E1009]: {reading.error}", seq=seq)
+                self.say(outcome)
+                out.append(outcome)
+            elif self.state.problem.init.get(sensor.resource) != reading.value:
+                event = Event(f"sensor-{sensor.name}-{seq}", {"set": {sensor.resource: reading.value}},
+                              f"sensor {sensor.name}", False)  # fmt: skip
+                out.append(self.handle(event))
+        return out
+
+    def close(self) -> None:
+        self.store.close()

@@ -1,0 +1,111 @@
+"""What ``catrt status`` and ``catrt journal`` show: documents built from the store, and
+their text for people."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+from catrt.store import Store
+
+STATUS_SCHEMA = "catrt.status/1"
+
+
+def _components(plan: dict[str, Any] | None) -> list[str]:
+    if not plan:
+        return []
+    return sorted({a["morphism"] for step in plan["steps"] for a in step})
+
+
+def status_document(store: Store, folder: Path) -> dict[str, Any]:
+    model = store.get("model")
+    incumbent = store.get("incumbent")
+    last = next(iter(reversed(list(store.entries(kinds=("decision",))))), None)
+    p, c = model["problem"], model["catalog"]
+    return {
+        "schema": STATUS_SCHEMA,
+        "state": str(folder),
+        "meta": store.meta(),
+        "model": {
+            "problem": p["name"],
+            "domain": p["domain"],
+            "goal": p["goal"],
+            "metric": p["metric"],
+            "horizon": p["horizon"],
+            "init": p["init"],
+            "catalog": {"added": [a["morphism"] for a in c["added"]], "removed": c["removed"], "failed": c["failed"]},
+        },
+        "deployed": None
+        if incumbent is None
+        else {
+            "generation": incumbent["generation"],
+            "steps": len(incumbent["plan"]["steps"]),
+            "components": _components(incumbent["plan"]),
+            "folder": str(folder / "generations" / f"{incumbent['generation']:06d}"),
+        },
+        "enacting": store.get("enacting"),
+        "pending": [{"id": a["id"], **a["proposal"]} for a in store.approvals("pending")],
+        "last_decision": None
+        if last is None
+        else {
+            "seq": last["seq"],
+            "at": last["at"],
+            "action": last["data"]["action"],
+            "reason": last["data"]["reason"],
+            "timings": last["data"]["timings"],
+            "solver_calls": last["data"]["solver_calls"],
+        },
+        "journal_entries": store.last_seq(),
+    }
+
+
+def status_text(doc: dict[str, Any]) -> str:
+    m = doc["model"]
+    lines = [f"{doc['state']}: problem {m['problem']} of domain {m['domain']}; goal {m['goal']}"]
+    if m["metric"]:
+        lines.append(f"  metric: {m['metric']}")
+    cat = m["catalog"]
+    for key in ("added", "removed", "failed"):
+        if cat[key]:
+            lines.append(f"  catalogue {key}: {', '.join(cat[key])}")
+    d = doc["deployed"]
+    if d is None:
+        lines.append("deployed: nothing yet")
+    else:
+        lines.append(f"deployed: generation {d['generation']}, {d['steps']} steps, {len(d['components'])} components"
+                     f" ({d['folder']})")  # fmt: skip
+    if doc["enacting"]:
+        lines.append(f"enacting: generation {doc['enacting']['generation']} (interrupted: the next run finishes it)")
+    for req in doc["pending"]:
+        said = ", ".join(f"{k} → {v}" for k, v in req.get("set", {}).items())
+        lines.append(f"pending request {req['id']}: restore {said}  (catrt approve {doc['state']} {req['id']})")
+    last = doc["last_decision"]
+    if last is not None:
+        took = sum(last["timings"].values())
+        lines.append(f"last decision ({last['at']}): {last['action']} — {last['reason']} [{took:.2f} s, "
+                     f"{last['solver_calls']} solver call(s)]")  # fmt: skip
+    lines.append(f"journal: {doc['journal_entries']} entries")
+    return "\n".join(lines)
+
+
+def entry_text(entry: dict[str, Any]) -> str:
+    data, kind = entry["data"], entry["kind"]
+    head = f"{entry['seq']:>6}  {entry['at']}  {kind:<16}"
+    if kind == "event":
+        body = {k: v for k, v in data["event"].items() if k not in ("v",)}
+        return f"{head}{data['where']}: {json.dumps(body, ensure_ascii=False)[:160]}"
+    if kind == "rejected":
+        return f"{head}{data['where']}: error[{data['code']}]: {data['message']}"
+    if kind == "decision":
+        took = sum(data["timings"].values())
+        return f"{head}{data['action']}: {data['reason']} [{took:.2f} s]"
+    if kind in ("enact-begin", "enact-done", "enact-failed", "recovery"):
+        extra = data.get("message") or data.get("note") or ""
+        return f"{head}generation {data.get('generation', '?')} {extra}".rstrip()
+    if kind in ("approval-request", "approval"):
+        return f"{head}{data['request']}: {data.get('verdict') or json.dumps(data.get('set'))}"
+    if kind == "sensor":
+        what = data["error"] or f"{data['resource']} = {data['value']}"
+        return f"{head}{data['sensor']}: {what}"
+    return f"{head}{json.dumps(data, ensure_ascii=False)[:160]}"
