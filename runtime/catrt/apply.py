@@ -10,6 +10,7 @@ error is mapped back to the event field whose text it points into.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -80,7 +81,7 @@ def _balanced(text: str, what: str) -> list[Any]:
             if depth < 0:
                 raise Rejection(f"{what}: a ')' at {tok.line}:{tok.column} closes more than the text opened")
     if depth:
-        raise Rejection(f"{what}: {depth} '(' never closed")
+        raise Rejection(f"{what}: {depth} '(' never closed (the text ends at {tokens[-1].line}:{tokens[-1].column})")
     if not tokens:
         raise Rejection(f"{what}: empty")
     return tokens
@@ -141,10 +142,17 @@ def _stored(name: str, value: Any, r: ir.Resource) -> StoredValue:
     if kind is ir.SortKind.SET:
         if not isinstance(value, list):
             raise Rejection(f"set.{name}: {name} is a set: give a list of symbols, not {json_text(value)}")
+        bad = [v for v in value if not isinstance(v, str) or not _SYMBOL.fullmatch(v)]
+        if bad:
+            raise Rejection(f"set.{name}: {json_text(bad[0])} is not a symbol")
         return sorted(set(value))
-    if not isinstance(value, str) or exact(value) is not None or isinstance(value, bool):
+    # a symbol is written into the problem's (:init ...) as it is: one name, nothing else
+    if not isinstance(value, str) or not _SYMBOL.fullmatch(value):
         raise Rejection(f"set.{name}: {name} holds a symbol of {r.sort.name}; {json_text(value)} is not one")
     return value
+
+
+_SYMBOL = re.compile(r"[A-Za-z_][A-Za-z0-9_-]*")  # a name of the language (catgrammar.tokens)
 
 
 def json_text(value: Any) -> str:

@@ -119,14 +119,17 @@ def _say(as_json: bool) -> Any:
         if as_json:
             doc = {"status": o.status, "event": o.event_id, "where": o.where, "message": o.message,
                    "generation": o.generation, "seq": o.seq,
-                   "decision": o.decision.to_json() if o.decision is not None else None}  # fmt: skip
+                   "decision": o.decision.to_json() if o.decision is not None else None,
+                   "enactment_error": o.enactment.message if o.enactment is not None else None}  # fmt: skip
             click.echo(json.dumps(doc))
             return
         took = sum(o.timings.values()) if o.timings else None
-        head = f"{o.where}: " + (f"{o.event_id}: " if o.event_id else "")
+        head = f"{o.where}: " + (f"{o.event_id}: " if o.event_id and o.event_id != o.where else "")
         tail = f"  [{took:.2f} s]" if took is not None and o.decision is not None else ""
         stream_err = o.status == "rejected"
         click.echo(f"{head}{o.status}: {o.message}{tail}", err=stream_err)
+        if o.enactment is not None:
+            click.echo(f"{o.enactment.where}: {o.enactment.message}", err=True)
 
     return say
 

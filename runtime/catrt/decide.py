@@ -136,6 +136,8 @@ def _recompose(model: Model, incumbent: dict[str, Any], limits: Limits, why: str
         ]
         churn = ratio_text(rec.churn) if rec.churn is not None else None
         note = "" if rec.status.value == "opt" else " (the best found in the time limit)"
+        if vanished:
+            note += f", besides removing {', '.join(vanished)}, which must go"
         return Decision("recompose", f"the deployed composition no longer holds: {why}; recomposed with least churn"
                         f" {churn}{note}", plan, {"recompose": doc}, took, 1, churn=churn, changes=changes)  # fmt: skip
     if rec.status.value == "unsat":
@@ -197,6 +199,6 @@ def _restore(model: Model, incumbent: dict[str, Any] | None, limits: Limits) -> 
         "core": core,
     }
     said = ", ".join(f"{k} → {v}" for k, v in values.items())
-    least = "the least" if rel.proven else "the best found in the time limit"
-    return Decision("restore", f"no composition exists (core: {core_text}); {least} restoration: {said}",
+    least = "the least restoration" if rel.proven else "a restoration (the least found in the time limit, not proven least)"
+    return Decision("restore", f"no composition exists (core: {core_text}); {least}: {said}",
                     documents=documents, timings=timings, solver_calls=2, proposal=proposal)  # fmt: skip

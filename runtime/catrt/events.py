@@ -26,8 +26,10 @@ SCHEMA = "catrt.event/1"
 CHANGE_KEYS = ("set", "goal", "metric", "softs", "horizon", "catalog", "health")
 APPROVAL_KEYS = ("approve", "reject")
 MAX_LINE = 1_000_000  # bytes: a longer line is rejected unread
+MAX_DIGITS = 1000  # digits of a number's numerator or denominator (1e9999 is no measurement)
 
-_NUMBER = re.compile(r"[+-]?(\d+(\.\d+)?|\.\d+)([eE][+-]?\d{1,4})?|[+-]?\d+/\d+")
+_NUMBER = re.compile(r"[+-]?(\d+(\.\d+)?|\.\d+)([eE][+-]?\d{1,4})?|[+-]?\d+/\d+", re.ASCII)
+_SURROGATE = re.compile("[\ud800-\udfff]")
 
 
 class EventError(ValueError):
@@ -64,10 +66,23 @@ def exact(text: str) -> Fraction | None:
     try:
         if "/" in text:
             n, d = text.split("/")
-            return None if int(d) == 0 else Fraction(int(n), int(d))
-        return Fraction(Decimal(text))
+            if int(d) == 0 or max(len(n.lstrip("+-")), len(d)) > MAX_DIGITS:
+                return None
+            return Fraction(int(n), int(d))
+        number = Decimal(text)
+        return Fraction(number) if _fits(number) else None
     except (InvalidOperation, ValueError, ZeroDivisionError):
         return None
+
+
+def _fits(number: Decimal) -> bool:
+    """``number`` is finite and, written as a fraction, has at most MAX_DIGITS digits above
+    and below: checked on its exponent, before ``1e99999999`` is expanded."""
+    if not number.is_finite():
+        return False
+    _, digits, exponent = number.as_tuple()
+    assert isinstance(exponent, int)
+    return len(digits) + max(exponent, 0) <= MAX_DIGITS and -exponent <= MAX_DIGITS
 
 
 @cache
@@ -129,18 +144,29 @@ def parse_event(line: str, where: str) -> Event:
     """One line → an Event, or EventError saying where and why."""
     if len(line.encode("utf-8", "surrogatepass")) > MAX_LINE:
         raise EventError(where, f"the line is longer than {MAX_LINE} bytes")
+    bad = _SURROGATE.search(line)
+    if bad is not None:  # a byte that is not UTF-8, read with surrogateescape
+        raise EventError(f"{where}:{bad.start() + 1}", f"not UTF-8 text: the byte {_byte(bad.group())}")
     try:
         doc = json.loads(line, parse_float=Decimal, parse_constant=_reject_constant)
     except json.JSONDecodeError as exc:
         raise EventError(f"{where}:{exc.colno}", f"not JSON: {exc.msg}") from None
     except (ValueError, RecursionError) as exc:
         raise EventError(where, f"not an event: {exc}") from None
+    if _has_surrogate(doc):  # "\ud800": JSON can escape what no text holds
+        raise EventError(where, "a string holds a lone surrogate (\\ud800-\\udfff): not text")
     problem = _shape_error(doc)
     if problem is not None:
         raise EventError(where, problem)
     for name, value in (doc.get("set") or {}).items():
         if isinstance(value, str) and value[:1] in "+-.0123456789" and exact(value) is None:
-            raise EventError(where, f"set.{name}: '{value}' is not a number (a decimal such as 22.73, or 1/3)")
+            raise EventError(
+                where,
+                f"set.{name}: '{value}' is not a number (a decimal such as 22.73, or 1/3, of at most "
+                f"{MAX_DIGITS} digits)",
+            )
+        if isinstance(value, (int, Decimal)) and not isinstance(value, bool) and not _fits(Decimal(value)):
+            raise EventError(where, f"set.{name}: a number of more than {MAX_DIGITS} digits")
     body = dict(doc)
     if "set" in body:
         body["set"] = {name: _exact_text(value) for name, value in body["set"].items()}
@@ -151,6 +177,24 @@ def parse_event(line: str, where: str) -> Event:
     body.pop("id", None)
     body.pop("v", None)
     return Event(event_id, body, where, given)
+
+
+def _byte(char: str) -> str:
+    code = ord(char)
+    return f"0x{code - 0xDC00:02x}" if 0xDC80 <= code <= 0xDCFF else f"U+{code:04X}"
+
+
+def _has_surrogate(doc: Any) -> bool:
+    todo = [doc]
+    while todo:
+        value = todo.pop()
+        if isinstance(value, str) and _SURROGATE.search(value):
+            return True
+        if isinstance(value, dict):
+            todo += [*value.keys(), *value.values()]
+        elif isinstance(value, list):
+            todo += value
+    return False
 
 
 def read_lines(stream: Any, source: str) -> Iterator[tuple[str, str]]:

@@ -75,6 +75,8 @@ class Outcome:
     generation: int | None = None
     seq: int | None = None
     timings: dict[str, float] = field(default_factory=dict)
+    #: A failed enactment of the decision (E1011), reported after it.
+    enactment: Outcome | None = None
 
 
 def model_sha(state: ModelState) -> str:
@@ -211,6 +213,7 @@ class Runtime:
         plan = decision.plan if decision.action in ("compose", "recompose", "keep") else None
         artifacts, why_not = self._artifacts(candidate, plan) if plan is not None else (None, None)
         enact = artifacts is not None and (decision.action != "keep" or not self._deployed_as(artifacts[0]))
+        request: str | None = None
         with self.store.transaction():
             cause = self._journal_cause(event, candidate, kind, approval)
             if approval is not None:
@@ -219,9 +222,9 @@ class Runtime:
             seq = self.store.journal("decision", {"cause": cause, **decision.to_json()})
             generation = None
             superseded = [a["id"] for a in self.store.approvals("pending")] if approval is None else []
-            for request in superseded:  # the world moved on: a new decision replaces the request
-                self.store.settle_approval(request, "superseded")
-                self.store.journal("approval", {"request": request, "verdict": "superseded", "decision": seq})
+            for old in superseded:  # the world moved on: a new decision replaces the request
+                self.store.settle_approval(old, "superseded")
+                self.store.journal("approval", {"request": old, "verdict": "superseded", "decision": seq})
             if decision.action == "restore":
                 request = f"r{len(self.store.approvals()) + 1}"  # r1, r2, ...: an events file can name them
                 self.store.add_approval(request, seq, decision.proposal or {})
@@ -239,11 +242,18 @@ class Runtime:
         self.crash("after-journal")
         self.state, self.current = candidate.state, candidate
         self.write_model(candidate)
-        outcome = Outcome("accepted", event.id, event.where, decision.reason, decision, generation, cause,
+        message = decision.reason + (
+            f"; request {request} waits for approval: catrt approve {self.folder} {request}" if request else ""
+        )
+        outcome = Outcome("accepted", event.id, event.where, message, decision, generation, cause,
                           dict(decision.timings))  # fmt: skip
         if generation is not None:
             done = self.enact(artifacts)
-            outcome.message += f"; {done.message}"
+            if done.status == "rejected":  # the decision stands; enacting it failed (E1011)
+                outcome.message += f"; generation {generation} not enacted (below)"
+                outcome.enactment = done
+            else:
+                outcome.message += f"; {done.message}"
             outcome.generation = done.generation
         return outcome
 

@@ -91,7 +91,7 @@ def status_text(doc: dict[str, Any]) -> str:
 
 def entry_text(entry: dict[str, Any]) -> str:
     data, kind = entry["data"], entry["kind"]
-    head = f"{entry['seq']:>6}  {entry['at']}  {kind:<16}"
+    head = f"{entry['seq']:>6}  {entry['at']}  {kind:<17}"
     if kind == "event":
         body = {k: v for k, v in data["event"].items() if k not in ("v",)}
         return f"{head}{data['where']}: {json.dumps(body, ensure_ascii=False)[:160]}"
