@@ -180,7 +180,7 @@ def test_threads_parse_check_and_solve_at_once_with_the_answers_they_get_alone()
 
 def test_no_function_is_longer_than_80_lines():
     long = []
-    for root in (ROOT / "compiler" / "catc", ROOT / "catgrammar"):
+    for root in (ROOT / "compiler" / "catc", ROOT / "catgrammar", ROOT / "runtime" / "catrt"):
         for path in root.rglob("*.py"):
             if path.name == "_lalr.py":  # generated tables
                 continue

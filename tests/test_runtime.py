@@ -20,7 +20,6 @@ from pathlib import Path
 import pytest
 from conftest import ROOT
 
-pytest.importorskip("jsonschema", reason="the runtime extra")  # installed by the test extra
 
 DETECTION = ROOT / "examples" / "detection" / "person.cat"
 CATRT = [sys.executable, "-c", "from catrt.cli import entry; entry()"]
@@ -531,6 +530,8 @@ def test_the_search_and_rescue_mission(tmp_path: Path):
       composition exists; the least budget is the cheapest hardware set — LiDAR 20,000, lite
       camera 50, speaker-mic 60, battery 90, radio 60: 20,260 — so any proposal is ≥ 20,260;
     * approved: the restoration is applied and a valid composition deployed;
+    * a refurbished RGB camera enters the catalogue: the deployed composition does not use
+      it and stays valid, so it is kept (stability first: churn 0) without a solver call;
     * IV, dark: both RGB drivers need ``(= ambient bright)``, so the deployed composition
       afterwards runs the thermal camera's driver;
     * the LiDAR driver fails: SLAM has no other source of ``scan`` and no initial value gives
@@ -544,17 +545,16 @@ def test_the_search_and_rescue_mission(tmp_path: Path):
     assert res.returncode == 0, res.stderr
     res = catrt("run", folder, "--events", mission / "mission-events.jsonl", "--json")
     assert res.returncode == 0, res.stderr
-    start, out_of_range, cut, approved, dark, failed = (json.loads(line) for line in res.stdout.splitlines())
+    start, out_of_range, cut, approved, catalog, dark, failed = (json.loads(line) for line in res.stdout.splitlines())
     assert start["decision"]["action"] == "compose" and start["generation"] == 1
     assert out_of_range["decision"]["action"] == "recompose" and out_of_range["decision"]["churn"] == "1"
-    assert [(c["morphism"], c["change"]) for c in out_of_range["decision"]["changes"]] == [
-        ("return-to-range", "added")
-    ]
+    assert [(c["morphism"], c["change"]) for c in out_of_range["decision"]["changes"]] == [("return-to-range", "added")]
     assert cut["decision"]["action"] == "restore"
     assert "init/budget" in cut["message"]  # the core names the budget's initial value
     assert set(cut["decision"]["proposal"]["set"]) == {"budget"}
     assert Fraction(cut["decision"]["proposal"]["set"]["budget"]) >= 20260
     assert approved["status"] == "accepted" and approved["decision"]["action"] in ("keep", "recompose")
+    assert catalog["decision"]["action"] == "keep" and catalog["decision"]["solver_calls"] == 0
     deployed = {a["morphism"] for step in stored(folder, "incumbent")["plan"]["steps"] for a in step}
     assert "thermal-driver" in deployed and not deployed & {"rgb-driver", "rgb-lite-driver"}
     assert dark["decision"]["action"] in ("keep", "recompose")

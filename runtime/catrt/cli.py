@@ -148,8 +148,9 @@ def _ask(request: dict[str, Any]) -> bool:
 
 @main.command()
 @click.argument("state", type=click.Path(file_okay=False))
-@click.option("--events", "source", default=None, metavar="-|FILE|DIR",
-              help="Where events come from: - (standard input), a file, or a spool folder (default STATE/spool).")  # fmt: skip
+@click.option("--events", "source", default=None, metavar="-|FILE|DIR|mqtt://HOST[:PORT]/TOPIC",
+              help="Where events come from: - (standard input), a file, a spool folder (default STATE/spool), or an "
+                   "MQTT topic (the 'mqtt' extra).")  # fmt: skip
 @click.option("--once", is_flag=True, help="With a spool folder: handle what is there, then stop.")
 @click.option("--approve", "approve", type=click.Choice(["auto", "never", "ask"]), default=None,
               help="Requests for a person: approve at once, never (wait for an approve event), or ask on the terminal "
@@ -162,10 +163,11 @@ def _ask(request: dict[str, Any]) -> bool:
 def run(state: str, source: str | None, once: bool, approve: str | None, enactor: str | None, allow_shell: bool,
         as_json: bool) -> None:  # fmt: skip
     """The lifelong loop: take events, decide, enact, until the events end (- or FILE) or a
-    signal (a spool folder)."""
+    signal (a spool folder, an MQTT topic)."""
     _need_extra()
     from catrt.config import ConfigError, load_config
     from catrt.loop import loop
+    from catrt.mqtt import MqttError
     from catrt.runtime import Runtime
 
     folder = Path(state)
@@ -185,6 +187,8 @@ def run(state: str, source: str | None, once: bool, approve: str | None, enactor
     stop = threading.Event()
     try:
         loop(runtime, source, once=once, stop=stop, sensors=config.sensors if allow_shell else ())
+    except MqttError as exc:  # no paho-mqtt (E0706), a malformed address or no broker there (E0701)
+        fail(exc.code, str(exc), str(source))
     finally:
         runtime.close()
 
