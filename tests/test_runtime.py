@@ -20,7 +20,6 @@ from pathlib import Path
 import pytest
 from conftest import ROOT
 
-
 DETECTION = ROOT / "examples" / "detection" / "person.cat"
 CATRT = [sys.executable, "-c", "from catrt.cli import entry; entry()"]
 
@@ -464,9 +463,8 @@ def test_any_event_sequence_replays_to_the_stored_state(tmp_path_factory):
         folder = tmp_path_factory.mktemp("prop") / "st"
         init(folder, str(DETECTION))
         with connect(folder) as rt:
-            for i, (event, with_id) in enumerate(events):
-                if isinstance(event, dict) and with_id:
-                    event = {"id": f"e{i % 3}", **event}  # ids repeat: duplicates are no-ops
+            for i, (given, with_id) in enumerate(events):
+                event = {"id": f"e{i % 3}", **given} if isinstance(given, dict) and with_id else given  # ids repeat
                 outcome = rt.submit(event)
                 assert outcome.status in ("accepted", "rejected", "duplicate")
             store = rt.runtime.store
