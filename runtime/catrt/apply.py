@@ -98,10 +98,10 @@ def _one_expression(text: str, what: str) -> None:
         raise Rejection(f"{what}: one condition is expected, {tops} were given (combine them with (and ...))")
 
 
-def _morphisms(text: str) -> list[tuple[str, str]]:
-    """``(:morphism NAME ...) ...`` → [(NAME, its text)], else Rejection."""
+def _morphisms(text: str) -> list[tuple[str, str, int]]:
+    """``(:morphism NAME ...) ...`` → [(NAME, its text, where it starts)], else Rejection."""
     tokens = _balanced(text, "catalog.add")
-    out: list[tuple[str, str]] = []
+    out: list[tuple[str, str, int]] = []
     i = 0
     while i < len(tokens):
         tok = tokens[i]
@@ -116,7 +116,7 @@ def _morphisms(text: str) -> list[tuple[str, str]]:
             if depth == 0:
                 break
             j += 1
-        out.append((name, text[tok.start_pos : tokens[j].end_pos]))
+        out.append((name, text[tok.start_pos : tokens[j].end_pos], tok.start_pos))
         i = j + 1
     return out
 
@@ -216,10 +216,11 @@ def _apply_catalog(
         if name not in state.failed:
             raise Rejection(f"health.recovered: '{name}' is not failed")
     added = _morphisms(catalog["add"]) if "add" in catalog else []
-    for name, _ in added:
-        origins[f"catalog.{name}"] = "catalog.add"
+    for name, _, start in added:  # catalog.add@LINES:COLUMNS: how far into the field its text starts
+        before = catalog["add"][:start]
+        origins[f"catalog.{name}"] = f"catalog.add@{before.count(chr(10))}:{len(before) - before.rfind(chr(10)) - 1}"
     return state.with_catalog(
-        add=added,
+        add=[(name, text) for name, text, _ in added],
         remove=catalog.get("remove", []),
         failed=health.get("failed", []),
         recovered=health.get("recovered", []),
@@ -255,9 +256,12 @@ def _locate(d: Diagnostic, files: Mapping[str, str], regions: list[Region]) -> d
             if region.origin == "model":
                 break
             text = files[region.file][region.start : span.start]
-            out["field"] = region.origin
-            out["line"] = text.count("\n") + 1
-            out["column"] = len(text) - (text.rfind("\n") + 1) + 1
+            out["field"], _, at = region.origin.partition("@")
+            if out["field"].startswith("set."):  # a value, not text: "(= ram -1)" has no column of the event's
+                return out
+            lines, columns = (int(n) for n in at.split(":")) if at else (0, 0)
+            out["line"] = lines + text.count("\n") + 1
+            out["column"] = len(text) - (text.rfind("\n") + 1) + 1 + (0 if "\n" in text else columns)
             return out
     out["field"] = "model"
     out["line"], out["column"], out["file"] = span.line, span.column, span.file

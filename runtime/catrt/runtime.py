@@ -144,9 +144,10 @@ class Runtime:
         try:
             event = parse_event(line, where)
         except EventError as exc:
+            text = line[:2000].encode("utf-8", "backslashreplace").decode()  # a byte not UTF-8 as \udcff: SQLite takes text
             with self.store.transaction():
                 seq = self.store.journal("rejected", {"where": exc.where, "code": "E1001", "message": exc.message,
-                                                      "line": line[:2000]})  # fmt: skip
+                                                      "line": text})  # fmt: skip
             outcome = Outcome("rejected", "", exc.where, f"error[E1001]: {exc.message}", seq=seq)
             self.say(outcome)
             return outcome
