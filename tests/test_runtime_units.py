@@ -252,6 +252,16 @@ def test_a_json_number_as_horizon_must_be_an_integer():
     """E1001 for 24.5 (a horizon counts steps), located at the line."""
     error = refused('{"horizon": 24.5}')
     assert error.where == "ev.jsonl:7" and "horizon" in error.message
+    assert "24.5 is not of type 'integer', 'null'" in error.message  # JSON's words, not Decimal('24.5')
+    assert parse_event('{"horizon": 24.0}', "ev.jsonl:7").body["horizon"] == 24  # a whole number written so
+
+
+def test_a_key_given_twice_is_refused_not_overwritten():
+    """E1001: JSON allows {"set": A, "set": B} and most readers keep B silently."""
+    error = refused('{"set": {"ram": "1"}, "set": {"ram": "64"}}')
+    assert "the key 'set' appears twice" in error.message
+    error = refused('{"set": {"ram": "1", "ram": "64"}}')
+    assert "the key 'ram' appears twice" in error.message
 
 
 @pytest.mark.parametrize(
@@ -670,6 +680,25 @@ def test_catalog_remove_and_health_name_known_morphisms(person: Path):
         assert "(:morphism camera-driver" in (person / "model" / "domain.cat").read_text(encoding="utf-8")
 
 
+def test_adding_a_morphism_the_catalogue_has_is_refused_unless_it_is_replaced(person: Path):
+    """E1001: a catalog.add of a name already known would silently replace a component; the
+    event must say so by removing it in the same event."""
+    text = (
+        "(:morphism camera-driver :kind software :uses 1\n"
+        "  :parameters ((out topic) (ram-req real :bounds (0.5 2)))\n"
+        "  :precondition (and (member rgb-camera mounted) (>= ram ram-req))\n"
+        "  :effect (and (add topics out) (decrease ram ram-req)))"
+    )
+    with runtime(person) as (rt, _):
+        before = snapshot(rt)
+        outcome = rt.handle_line(event_line({"catalog": {"add": text}}), "ev.jsonl:1")
+        assert outcome.message.startswith("error[E1001]: catalog.add: 'camera-driver' is already in the catalogue")
+        assert snapshot(rt) == before
+        both = {"catalog": {"remove": ["camera-driver"], "add": text}}
+        assert rt.handle_line(event_line(both), "ev.jsonl:2").status == "accepted"
+        assert [a["morphism"] for a in rt.store.get("model")["catalog"]["added"]] == ["camera-driver"]
+
+
 # ---------------------------------------------------------------- config
 
 
@@ -978,6 +1007,13 @@ def test_the_spool_is_read_in_name_order_and_handled_files_move_to_done(person: 
     assert stored_model(person)["problem"]["init"]["ram"] == "8"
     assert sorted(p.name for p in (spool / "done").iterdir()) == ["a.jsonl", "b.jsonl"]
     assert sorted(p.name for p in spool.iterdir() if p.is_file()) == [".c.jsonl", ".f.tmp", "d.jsonl.tmp", "e.txt"]
+    # a name used again: the earlier file in done/ is kept
+    (spool / "a.jsonl").write_text('{"id": "again", "set": {"ram": "9"}}\n', encoding="utf-8")
+    assert catrt("run", person, "--once", "--approve", "never").exit_code == 0
+    assert sorted(p.name for p in (spool / "done").iterdir()) == ["a.jsonl", "a.jsonl.1", "b.jsonl"]
+    assert (
+        "from-a" in (spool / "done" / "a.jsonl").read_text() and "again" in (spool / "done" / "a.jsonl.1").read_text()
+    )
 
 
 def test_a_file_being_written_is_not_read_until_it_is_renamed_in(person: Path):

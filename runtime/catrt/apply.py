@@ -216,6 +216,12 @@ def _apply_catalog(
         if name not in state.failed:
             raise Rejection(f"health.recovered: '{name}' is not failed")
     added = _morphisms(catalog["add"]) if "add" in catalog else []
+    for name, _, _ in added:  # replacing is explicit: remove it in the same event
+        if name in known and name not in catalog.get("remove", []):
+            raise Rejection(
+                f"catalog.add: '{name}' is already in the catalogue; to replace it, remove it in the same event "
+                f'({{"catalog": {{"remove": ["{name}"], "add": ...}}}})'
+            )
     for name, _, start in added:  # catalog.add@LINES:COLUMNS: how far into the field its text starts
         before = catalog["add"][:start]
         origins[f"catalog.{name}"] = f"catalog.add@{before.count(chr(10))}:{len(before) - before.rfind(chr(10)) - 1}"

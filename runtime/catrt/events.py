@@ -136,8 +136,23 @@ def _shape_error(doc: Any) -> str | None:
     return f"{path or 'the event'}: {_short(e.message)}"
 
 
+_PYTHON_REPR = re.compile(r"Decimal\('([^']*)'\)|\bNone\b|\bTrue\b|\bFalse\b")
+
+
 def _short(message: str) -> str:
+    """jsonschema's message in JSON's words (``Decimal('24.5')`` → 24.5, None → null), cut to 200."""
+    json_words = {"None": "null", "True": "true", "False": "false"}
+    message = _PYTHON_REPR.sub(lambda m: m.group(1) if m.group(1) is not None else json_words[m.group()], message)
     return message if len(message) <= 200 else message[:197] + "..."
+
+
+def _unique_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in out:
+            raise ValueError(f"the key '{key}' appears twice in one object")
+        out[key] = value
+    return out
 
 
 def parse_event(line: str, where: str) -> Event:
@@ -148,13 +163,16 @@ def parse_event(line: str, where: str) -> Event:
     if bad is not None:  # a byte that is not UTF-8, read with surrogateescape
         raise EventError(f"{where}:{bad.start() + 1}", f"not UTF-8 text: the byte {_byte(bad.group())}")
     try:
-        doc = json.loads(line, parse_float=Decimal, parse_constant=_reject_constant)
+        doc = json.loads(line, parse_float=Decimal, parse_constant=_reject_constant, object_pairs_hook=_unique_keys)
     except json.JSONDecodeError as exc:
         raise EventError(f"{where}:{exc.colno}", f"not JSON: {exc.msg}") from None
     except (ValueError, RecursionError) as exc:
         raise EventError(where, f"not an event: {exc}") from None
     if _has_surrogate(doc):  # "\ud800": JSON can escape what no text holds
         raise EventError(where, "a string holds a lone surrogate (\\ud800-\\udfff): not text")
+    horizon = doc.get("horizon") if isinstance(doc, dict) else None
+    if isinstance(horizon, Decimal) and _fits(horizon) and horizon == int(horizon):
+        doc["horizon"] = int(doc["horizon"])  # 24.0: an integer written as a decimal
     problem = _shape_error(doc)
     if problem is not None:
         raise EventError(where, problem)
@@ -170,8 +188,6 @@ def parse_event(line: str, where: str) -> Event:
     body = dict(doc)
     if "set" in body:
         body["set"] = {name: _exact_text(value) for name, value in body["set"].items()}
-    if isinstance(body.get("horizon"), Decimal):  # 24.0: an integer written as a decimal
-        body["horizon"] = int(body["horizon"])
     given = "id" in doc
     event_id = body.get("id") or f"auto-{uuid.uuid4().hex}"
     body.pop("id", None)

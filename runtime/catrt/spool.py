@@ -50,9 +50,14 @@ def file_lines(path: Path, label: str | None = None) -> Iterator[tuple[str, str]
 
 
 def finish(path: Path) -> None:
+    """Move a handled file to ``done/``; a name handled before keeps its file (``NAME.1``, ``NAME.2``, …)."""
     done = path.parent / DONE
     done.mkdir(exist_ok=True)
-    os.replace(path, done / path.name)
+    target, n = done / path.name, 0
+    while target.exists():
+        n += 1
+        target = done / f"{path.name}.{n}"
+    os.replace(path, target)
 
 
 class Watcher:
