@@ -148,7 +148,7 @@ def _ask(request: dict[str, Any]) -> bool:
 
 @main.command()
 @click.argument("state", type=click.Path(file_okay=False))
-@click.option("--events", "source", default=None, metavar="-|FILE|DIR|mqtt://HOST[:PORT]/TOPIC",
+@click.option("--events", "source", default=None, metavar="-|FILE|DIR|mqtt://[USER@]HOST[:PORT]/TOPIC",
               help="Where events come from: - (standard input), a file, a spool folder (default STATE/spool), or an "
                    "MQTT topic (the 'mqtt' extra).")  # fmt: skip
 @click.option("--once", is_flag=True, help="With a spool folder: handle what is there, then stop.")

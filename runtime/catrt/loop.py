@@ -1,6 +1,6 @@
-"""Driving the runtime: events from standard input, a file or a spool folder; the shell
-sensors when they are due; stop at the end of the events (standard input, a file), or on
-SIGTERM/SIGINT (a spool folder: the event being handled is finished first)."""
+"""Driving the runtime: events from standard input, a file, a spool folder or an MQTT topic;
+the shell sensors when they are due; stop at the end of the events (standard input, a file),
+or on SIGTERM/SIGINT (a spool folder, MQTT: the event being handled is finished first)."""
 
 from __future__ import annotations
 
@@ -14,6 +14,7 @@ from typing import Any
 
 from catrt.config import Sensor
 from catrt.events import read_lines
+from catrt.mqtt import Subscriber, is_address
 from catrt.runtime import Runtime
 from catrt.spool import Watcher, file_lines, finish, pending
 
@@ -39,6 +40,9 @@ class _Sensors:
 
 def loop(runtime: Runtime, source: str | None, *, once: bool, stop: threading.Event, sensors: Sequence[Sensor]) -> None:
     clock = _Sensors(sensors)
+    if is_address(source):  # connected before anything is decided: no broker there changes nothing
+        _mqtt(runtime, Subscriber.open(source, runtime.folder), clock, stop)
+        return
     runtime.start()
     clock.poll(runtime)
     if source == "-":
@@ -78,6 +82,26 @@ def _spool(runtime: Runtime, folder: Path, clock: _Sensors, stop: threading.Even
             clock.poll(runtime)
     finally:
         watcher.close()
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
+def _mqtt(runtime: Runtime, subscriber: Subscriber, clock: _Sensors, stop: threading.Event) -> None:
+    """paho's thread queues the messages; this thread hands each to the runtime, then
+    acknowledges it (one handled but not acknowledged is delivered again: its id makes it a
+    no-op)."""
+    previous = _on_signals(stop)
+    try:
+        runtime.start()
+        clock.poll(runtime)
+        while not stop.is_set():
+            message = subscriber.get(min(clock.wait(), 0.5))
+            if message is not None:
+                runtime.handle_line(message.text, message.where)
+                subscriber.ack(message)
+            clock.poll(runtime)
+    finally:
+        subscriber.close()
         for sig, handler in previous.items():
             signal.signal(sig, handler)
 

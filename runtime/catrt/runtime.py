@@ -144,7 +144,8 @@ class Runtime:
         try:
             event = parse_event(line, where)
         except EventError as exc:
-            text = line[:2000].encode("utf-8", "backslashreplace").decode()  # a byte not UTF-8 as \udcff: SQLite takes text
+            # a byte that is not UTF-8 (read with surrogateescape) kept as the text \udcff: SQLite takes UTF-8 only
+            text = line[:2000].encode("utf-8", "backslashreplace").decode()
             with self.store.transaction():
                 seq = self.store.journal("rejected", {"where": exc.where, "code": "E1001", "message": exc.message,
                                                       "line": text})  # fmt: skip
