@@ -296,7 +296,7 @@ def test_verify_finds_a_tampered_state_and_generation(state: Path):
     compose = state / "generations" / "000001" / "compose.yaml"
     compose.write_text(compose.read_text() + "# edited by hand\n")
     res = catrt("verify", state)
-    assert res.returncode == 1 and "error[E1012]" in res.stdout and "differs from its manifest" in res.stdout
+    assert res.returncode == 1 and "error[E1012]" in res.stderr and "differs from its manifest" in res.stderr
     compose.write_text(compose.read_text().replace("# edited by hand\n", ""))
     assert catrt("verify", state).returncode == 0
     db = sqlite3.connect(state / "catrt.sqlite")  # a state row the journal does not explain
@@ -306,7 +306,7 @@ def test_verify_finds_a_tampered_state_and_generation(state: Path):
     db.commit()
     db.close()
     res = catrt("replay", state)
-    assert res.returncode == 1 and "error[E1012]" in res.stdout and "model" in res.stdout
+    assert res.returncode == 1 and "error[E1012]" in res.stderr and "model" in res.stderr
 
 
 # ---------------------------------------------------------------- enacting with Docker Compose
@@ -334,6 +334,39 @@ def test_the_compose_enactor_runs_docker_compose_on_the_generation(tmp_path: Pat
     assert calls == [f"{gen}|compose -p {project} -f {gen / 'compose.yaml'} up -d --remove-orphans"]
     assert "generation 1 enacted" in res.stdout
     assert_consistent(state)
+
+
+def test_the_compose_files_are_named_absolutely_whatever_the_state_path(tmp_path: Path):
+    """docker compose runs inside the generation folder: a relative STATE must not be
+    resolved twice (rel/generations/1/rel/generations/1/compose.yaml)."""
+    bin_dir = fake_docker(tmp_path)
+    assert catrt("init", "rel", DETECTION, cwd=tmp_path).returncode == 0
+    env = {"PATH": f"{bin_dir}{os.pathsep}{os.environ['PATH']}"}
+    res = catrt("run", "rel", "--events", "-", "--enactor", "compose", stdin="", env=env, cwd=tmp_path)
+    assert res.returncode == 0 and "E1011" not in res.stderr, res.stderr
+    gen = (tmp_path / "rel" / "generations" / "000001").resolve()
+    (call,) = (tmp_path / "docker.log").read_text().splitlines()
+    assert f"-f {gen / 'compose.yaml'} up" in call
+
+
+def test_an_events_path_that_does_not_exist_is_an_error_not_a_new_spool(state: Path, tmp_path: Path):
+    res = catrt("run", state, "--events", tmp_path / "typo.jsonl")
+    assert res.returncode == 2 and "error[E0701]" in res.stderr and "no such file or folder" in res.stderr
+    assert not (tmp_path / "typo.jsonl").exists()
+    assert [e["kind"] for e in journal(state)] == ["init"]  # nothing decided either
+
+
+def test_ask_asks_on_the_terminal(state: Path, tmp_path: Path):
+    """--approve ask: the question on the controlling terminal (a pseudo-terminal here, made by
+    script(1)), answered y: the restoration is applied."""
+    events = tmp_path / "ev.jsonl"
+    events.write_text(lines({"id": "low", "set": {"ram": "1"}}))
+    command = " ".join([*CATRT[:2], repr(CATRT[2]), "run", str(state), "--events", str(events), "--approve", "ask"])
+    res = subprocess.run(["script", "-qec", command, "/dev/null"], input="y\n", capture_output=True, text=True,
+                         timeout=120)  # fmt: skip
+    assert res.returncode == 0, res.stdout + res.stderr
+    assert "request r1: restore the model by ram → 4.5? [y/N]" in res.stdout
+    assert ram_of(state) == Fraction(9, 2)
 
 
 def test_a_failed_enactment_is_journaled_and_the_old_generation_stays(tmp_path: Path):

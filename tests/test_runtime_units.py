@@ -418,12 +418,6 @@ def test_catrt_run_refuses_bytes_that_are_not_utf8(person: Path, tmp_path: Path)
     assert stored_model(person)["problem"]["init"]["ram"] == "8"
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="runtime/catrt/loop.py reads sys.stdin as it is: under a UTF-8 locale such as en_US.UTF-8 its errors are "
-    "'strict', so a stray byte raises UnicodeDecodeError inside read_lines and catrt exits 70 (files and the spool "
-    "are opened with errors='surrogateescape'; cli.py's `catrt event -` has the same problem)",
-)
 def test_catrt_run_refuses_bytes_that_are_not_utf8_on_standard_input(person: Path):
     """E1001 for the line, and the next event is still taken (PYTHONIOENCODING=utf-8:strict is
     what Python does on standard input under en_US.UTF-8)."""

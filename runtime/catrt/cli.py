@@ -16,6 +16,7 @@ interrupted.  Errors are one line ``WHERE: error[CODE]: message``; no traceback.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import signal
@@ -26,6 +27,8 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 import click
+
+from catgrammar import codes
 
 EXIT_PROBLEM, EXIT_INPUT = 1, 2
 
@@ -134,14 +137,24 @@ def _say(as_json: bool) -> Any:
     return say
 
 
+def _live_view() -> Any:
+    """The live view on a terminal (catrt.live)."""
+    from rich.console import Console
+
+    from catrt.live import LiveView
+
+    return LiveView(Console())
+
+
 def _ask(request: dict[str, Any]) -> bool:
+    """y/N on the controlling terminal (standard input may be the events)."""
+    proposal = request["proposal"]
+    said = ", ".join(f"{k} → {v}" for k, v in proposal.get("set", {}).items())
     try:
-        with open("/dev/tty", "r+") as tty:
-            proposal = request["proposal"]
-            said = ", ".join(f"{k} → {v}" for k, v in proposal.get("set", {}).items())
-            tty.write(f"\nrequest {request['id']}: restore the model by {said}? [y/N] ")
-            tty.flush()
-            return tty.readline().strip().lower() in ("y", "yes")
+        with open("/dev/tty", "w", encoding="utf-8") as out, open("/dev/tty", encoding="utf-8") as answer:
+            out.write(f"\nrequest {request['id']}: restore the model by {said}? [y/N] ")
+            out.flush()
+            return answer.readline().strip().lower() in ("y", "yes")
     except OSError:
         return False
 
@@ -183,12 +196,19 @@ def run(state: str, source: str | None, once: bool, approve: str | None, enactor
                       f"({', '.join(s.name for s in config.sensors)}); they run commands on this machine, so "
                       "catrt runs them only when started with --allow-shell")  # fmt: skip
     mode = approve or ("ask" if sys.stdin.isatty() and source != "-" else "never")
-    runtime = Runtime(folder, store, config, enactor=enactor, approve=mode, say=_say(as_json), ask=_ask)
+    view = _live_view() if not as_json and sys.stdout.isatty() else None
+    say, ask = (view.say, view.asking(_ask)) if view is not None else (_say(as_json), _ask)
+    runtime = Runtime(folder, store, config, enactor=enactor, approve=mode, say=say, ask=ask)
     stop = threading.Event()
     try:
-        loop(runtime, source, once=once, stop=stop, sensors=config.sensors if allow_shell else ())
+        if view is not None:
+            view.runtime = runtime
+        with view if view is not None else contextlib.nullcontext():
+            loop(runtime, source, once=once, stop=stop, sensors=config.sensors if allow_shell else ())
     except MqttError as exc:  # no paho-mqtt (E0706), a malformed address or no broker there (E0701)
         fail(exc.code, str(exc), str(source))
+    except FileNotFoundError as exc:  # --events names nothing: a typo, not a new spool folder
+        fail(codes.BAD_ARGUMENT, f"{exc}; give -, an events file, a spool folder or an mqtt:// address")
     finally:
         runtime.close()
 
@@ -207,7 +227,9 @@ def event(state: str, file: str) -> None:
     from catrt.spool import drop
 
     open_store(state, write=False).close()
-    stream = sys.stdin if file == "-" else open(file, encoding="utf-8", errors="surrogateescape")  # noqa: SIM115
+    from catrt.loop import stdin_text
+
+    stream = stdin_text() if file == "-" else open(file, encoding="utf-8", errors="surrogateescape")  # noqa: SIM115
     with stream:
         lines = list(read_lines(stream, "<stdin>" if file == "-" else file))
     bad = 0
@@ -311,7 +333,7 @@ def _report(what: str, problems: list[str], notes: list[str], as_json: bool) -> 
                               indent=2))  # fmt: skip
     else:
         for p in problems:
-            click.echo(f"{what}: error[E1012]: {p}")
+            click.echo(f"{what}: error[E1012]: {p}", err=True)
         for n in notes:
             click.echo(f"{what}: note: {n}")
         click.echo(f"{what}: {'ok' if not problems else f'{len(problems)} problem(s)'}")

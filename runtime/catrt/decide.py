@@ -177,6 +177,8 @@ def _restore(model: Model, incumbent: dict[str, Any] | None, limits: Limits) -> 
     core = diag.cores[0] if diag.cores else []
     t = time.perf_counter()
     rel = run_relax(inst, only=["init/"], relative_to=relative, timeout=limits.relax)
+    if relative and not rel.relaxations:  # nothing restores the deployed composition: any composition
+        rel = run_relax(inst, only=["init/"], relative_to=(), timeout=limits.relax)
     timings["relax"] = time.perf_counter() - t
     documents["relax"] = model.to_json(rel)
     values: dict[str, str] = {}

@@ -140,7 +140,7 @@ class Enactor:
 
     def plan(self, project: str, folder: Path, diff: GroundDiff | None) -> Enacted:
         """The commands that bring the robot to ``folder``'s generation."""
-        compose = str(folder / "compose.yaml")
+        compose = str(folder.resolve() / "compose.yaml")  # absolute: the commands run inside the folder
         base = [self.options.get("docker", "docker"), "compose", "-p", project, "-f", compose]
         commands = [[*base, "up", "-d", "--remove-orphans"]]
         if diff is not None and diff.recreate:

@@ -52,9 +52,10 @@ class LiveView:
 
     def render(self) -> Group:
         table = Table(expand=True, show_edge=False, pad_edge=False)
-        for name, style in (("where", "cyan"), ("event", ""), ("decision", "bold"), ("s", "right"), ("says", "")):
-            table.add_column(name, justify="right" if style == "right" else "left", style=style or None,
-                             overflow="fold", ratio=4 if name == "says" else None)  # fmt: skip
+        for name, style, justify in (("where", "cyan", "left"), ("event", "", "left"), ("decision", "bold", "left"),
+                                     ("s", "", "right"), ("says", "", "left")):  # fmt: skip
+            table.add_column(name, justify=justify, style=style or None, overflow="fold",  # type: ignore[arg-type]
+                             ratio=4 if name == "says" else None)  # fmt: skip
         for o in self.outcomes:
             took = sum(o.timings.values()) if o.timings else None
             action = o.decision.action if o.decision is not None else o.status

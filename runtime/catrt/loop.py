@@ -4,6 +4,7 @@ or on SIGTERM/SIGINT (a spool folder, MQTT: the event being handled is finished 
 
 from __future__ import annotations
 
+import io
 import signal
 import sys
 import threading
@@ -43,12 +44,14 @@ def loop(runtime: Runtime, source: str | None, *, once: bool, stop: threading.Ev
     if is_address(source):  # connected before anything is decided: no broker there changes nothing
         _mqtt(runtime, Subscriber.open(source, runtime.folder), clock, stop)
         return
+    path = Path(source) if source not in (None, "-") else runtime.folder / "spool"
+    if source not in (None, "-") and not path.exists():
+        raise FileNotFoundError(f"no such file or folder: {source}")
     runtime.start()
     clock.poll(runtime)
     if source == "-":
-        _lines(runtime, read_lines(sys.stdin, "<stdin>"), clock, stop)
+        _lines(runtime, read_lines(stdin_text(), "<stdin>"), clock, stop)
         return
-    path = Path(source) if source is not None else runtime.folder / "spool"
     if path.is_file():
         _lines(runtime, file_lines(path), clock, stop)
         return
@@ -56,17 +59,29 @@ def loop(runtime: Runtime, source: str | None, *, once: bool, stop: threading.Ev
     _spool(runtime, path, clock, stop, once)
 
 
+def stdin_text() -> Any:
+    """Standard input as UTF-8 whatever the locale says, a byte that is not UTF-8 kept (as a
+    surrogate) so that the event holding it is rejected where it is, not the whole run."""
+    return io.TextIOWrapper(sys.stdin.buffer, encoding="utf-8", errors="surrogateescape")
+
+
 def _lines(runtime: Runtime, lines: Iterator[tuple[str, str]], clock: _Sensors, stop: threading.Event) -> None:
-    for where, line in lines:
-        if stop.is_set():
-            return
-        runtime.handle_line(line, where)
-        clock.poll(runtime)
+    """Until the lines end, or SIGTERM/SIGINT (the event being handled is finished first)."""
+    previous = _on_signals(stop)
+    try:
+        for where, line in lines:
+            if stop.is_set():
+                return
+            runtime.handle_line(line, where)
+            clock.poll(runtime)
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
 
 
 def _spool(runtime: Runtime, folder: Path, clock: _Sensors, stop: threading.Event, once: bool) -> None:
     previous = _on_signals(stop)
-    watcher = Watcher(folder)
+    watcher = Watcher(folder) if not once else None
     try:
         while not stop.is_set():
             for path in pending(folder):
@@ -76,12 +91,13 @@ def _spool(runtime: Runtime, folder: Path, clock: _Sensors, stop: threading.Even
                     runtime.handle_line(line, where)
                     clock.poll(runtime)
                 finish(path)
-            if once:
+            if watcher is None:  # --once
                 return
             watcher.wait(min(clock.wait(), 1.0), stop)
             clock.poll(runtime)
     finally:
-        watcher.close()
+        if watcher is not None:
+            watcher.close()
         for sig, handler in previous.items():
             signal.signal(sig, handler)
 
