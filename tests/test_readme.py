@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import re
+import sys
+from pathlib import Path
 
+import pytest
 from conftest import ROOT, run_catc, run_catc_process
 
 README = (ROOT / "README.md").read_text()
@@ -47,3 +50,45 @@ def test_error_example_is_real_output():
     args = m.group(1).split()
     res = run_catc(*args)
     assert res.stdout + res.stderr == m.group(2)
+
+
+def _shell_transcripts(tool: str) -> list[list[tuple[str, str, bool]]]:
+    """Each ```text block of the README that starts with `$ TOOL`: (command, output shown,
+    shown output is only the start) for every `$ ` line in it."""
+    out = []
+    for block in re.findall(rf"```text\n(\$ {tool} .*?)```", README, re.S):
+        steps, parts = [], re.split(r"^\$ ", block, flags=re.M)[1:]
+        for part in parts:
+            command, _, shown = part.partition("\n")
+            partial = shown.endswith("...\n")
+            steps.append((command, shown[: -len("...\n")] if partial else shown, partial))
+        out.append(steps)
+    return out
+
+
+def _masked(text: str) -> str:
+    """Timings and clock times vary between runs; nothing else may."""
+    text = re.sub(r"\[\d+\.\d+ s", "[T s", text)
+    return re.sub(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d\.\d+Z", "TIME", text)
+
+
+@pytest.mark.slow
+def test_the_runtime_examples_are_real_output(tmp_path):
+    """The `$ catrt ...` transcripts, run in a fresh folder (examples/ linked in): the same
+    lines, timings aside."""
+    import os
+    import subprocess
+
+    transcripts = _shell_transcripts("catrt")
+    assert len(transcripts) >= 2
+    bin_dir = Path(sys.executable).parent
+    env = {**os.environ, "PATH": f"{bin_dir}{os.pathsep}{os.environ['PATH']}"}
+    for i, steps in enumerate(transcripts):
+        cwd = tmp_path / f"t{i}"
+        cwd.mkdir()
+        (cwd / "examples").symlink_to(ROOT / "examples")
+        for command, shown, partial in steps:
+            res = subprocess.run(["bash", "-c", command], cwd=cwd, env=env, capture_output=True, text=True, timeout=600)
+            assert res.returncode == 0, (command, res.stderr)
+            got, want = _masked(res.stdout + res.stderr), _masked(shown)
+            assert got.startswith(want) if partial else got == want, (command, got)

@@ -22,6 +22,7 @@ def status_document(store: Store, folder: Path) -> dict[str, Any]:
     model = store.get("model")
     incumbent = store.get("incumbent")
     last = next(iter(reversed(list(store.entries(kinds=("decision",))))), None)
+    enacted = next(iter(reversed(list(store.entries(kinds=("enact-done",))))), None)
     p, c = model["problem"], model["catalog"]
     return {
         "schema": STATUS_SCHEMA,
@@ -44,6 +45,9 @@ def status_document(store: Store, folder: Path) -> dict[str, Any]:
             "components": _components(incumbent["plan"]),
             "folder": str(folder / "generations" / f"{incumbent['generation']:06d}"),
         },
+        "last_enactment": None
+        if enacted is None
+        else {k: enacted["data"].get(k) for k in ("generation", "enactor", "ran", "hardware", "diff", "commands")},
         "enacting": store.get("enacting"),
         "pending": [{"id": a["id"], **a["proposal"]} for a in store.approvals("pending")],
         "last_decision": None
@@ -75,6 +79,7 @@ def status_text(doc: dict[str, Any]) -> str:
     else:
         lines.append(f"deployed: generation {d['generation']}, {d['steps']} steps, {len(d['components'])} components"
                      f" ({d['folder']})")  # fmt: skip
+    lines += _enactment_lines(doc["last_enactment"])
     if doc["enacting"]:
         lines.append(f"enacting: generation {doc['enacting']['generation']} (interrupted: the next run finishes it)")
     for req in doc["pending"]:
@@ -87,6 +92,23 @@ def status_text(doc: dict[str, Any]) -> str:
                      f"{last['solver_calls']} solver call(s)]")  # fmt: skip
     lines.append(f"journal: {doc['journal_entries']} entries")
     return "\n".join(lines)
+
+
+def _enactment_lines(done: dict[str, Any] | None) -> list[str]:
+    """What the last enactment changed: hardware for a person, services for the enactor."""
+    if done is None or not done.get("diff"):
+        return []
+    diff, lines = done["diff"], []
+    for key, verb in (("unmount", "unmount"), ("mount", "mount"), ("stop", "stop"), ("start", "start"),
+                      ("recreate", "recreate")):  # fmt: skip
+        if diff.get(key):
+            lines.append(f"  {verb}: {', '.join(diff[key])}")
+    if diff.get("tree_changed"):
+        lines.append("  behaviour tree: changed")
+    head = (
+        f"last enactment: generation {done['generation']} ({done['enactor']}{'' if done['ran'] else ', nothing run'})"
+    )
+    return [head, *lines] if lines else [head + ": no change"]
 
 
 def entry_text(entry: dict[str, Any]) -> str:

@@ -24,7 +24,7 @@ Deliberate changes, each entry re-recorded alone with its reason:
 
 New entries (nothing above changed by them):
 
-* ``search-and-rescue/mission.cat`` (issue 13): the runtime's mission problem, recorded when added.
+* ``search-and-rescue/mission.cat`` (issue 13): the runtime's mission problem, recorded when added (at horizon 12 with the budget as objective).
 """
 
 from __future__ import annotations
