@@ -46,3 +46,15 @@ def test_parse_check_runs():
     out = run("benchmarks/parse_check.py", "--sizes", "200", "--runs", "1")
     assert "200" in out
     assert re.search(r"^\| 200 \| [\d,]+ \| [\d.]+ \| [\d.]+ \| [\d.]+ \| \d+ \| — \|$", out, re.M), out
+
+
+def test_runtime_bench_runs():
+    out = run("benchmarks/runtime_bench.py", "--runs", "1", "--stream", "8")
+    assert "### Search-and-rescue mission" in out and "### Per decision kind" in out
+    # the decisions are those tests/test_runtime.py derives by hand for the mission
+    actions = re.findall(r"^\| ([\w-]+) \| (\w+) \| \d+ \|", out, re.M)
+    assert actions[:8] == [("start", "compose"), ("II-out-of-range", "recompose"), ("III-budget-cut", "restore"),
+                           ("III-approved", "keep"), ("refurbished-camera", "keep"), ("IV-dark", "restore"),
+                           ("IV-approved", "recompose"), ("lidar-failed", "stuck")]  # fmt: skip
+    # a kept composition costs no solver call
+    assert re.search(r"^\| keep \| \d+ \| 0 \|", out, re.M)
