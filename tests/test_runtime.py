@@ -357,15 +357,35 @@ def test_an_events_path_that_does_not_exist_is_an_error_not_a_new_spool(state: P
 
 
 def test_ask_asks_on_the_terminal(state: Path, tmp_path: Path):
-    """--approve ask: the question on the controlling terminal (a pseudo-terminal here, made by
-    script(1)), answered y: the restoration is applied."""
+    """--approve ask: the question on the controlling terminal (a pseudo-terminal made here),
+    answered y: the restoration is applied.  The events come from a file, so only the
+    terminal can answer."""
+    import pty
+    import time
+
     events = tmp_path / "ev.jsonl"
     events.write_text(lines({"id": "low", "set": {"ram": "1"}}))
-    command = " ".join([*CATRT[:2], repr(CATRT[2]), "run", str(state), "--events", str(events), "--approve", "ask"])
-    res = subprocess.run(["script", "-qec", command, "/dev/null"], input="y\n", capture_output=True, text=True,
-                         timeout=120)  # fmt: skip
-    assert res.returncode == 0, res.stdout + res.stderr
-    assert "request r1: restore the model by ram → 4.5? [y/N]" in res.stdout
+    master, slave = pty.openpty()
+    # in a new session, the pty on standard input becomes the child's controlling terminal
+    on_tty = "import fcntl, termios; fcntl.ioctl(0, termios.TIOCSCTTY, 0); from catrt.cli import entry; entry()"
+    proc = subprocess.Popen([sys.executable, "-c", on_tty, "run", str(state), "--events", str(events), "--approve",
+                             "ask"], stdin=slave, stdout=slave, stderr=slave, start_new_session=True)  # fmt: skip
+    os.close(slave)
+    seen, answered, deadline = b"", False, time.monotonic() + 120
+    while time.monotonic() < deadline:
+        try:
+            chunk = os.read(master, 4096)
+        except OSError:  # the child closed the terminal
+            break
+        seen += chunk
+        if not answered and b"[y/N]" in seen:
+            os.write(master, b"y\n")
+            answered = True
+    proc.wait(timeout=60)
+    os.close(master)
+    text = seen.decode("utf-8", "replace")
+    assert proc.returncode == 0, text
+    assert "request r1: restore the model by ram → 4.5? [y/N]" in text
     assert ram_of(state) == Fraction(9, 2)
 
 
