@@ -11,7 +11,7 @@ import pytest
 from conftest import ROOT, run_catc
 
 import catc.interfaces.api
-from catc.api import CatError, Model, load
+from catc.api import CatError, Model, load, loads
 from catc.queries.optimize import OptStatus
 from catc.queries.solve import SolveStatus
 
@@ -97,6 +97,23 @@ def test_errors_are_located_exceptions(tmp_path):
     assert err.value.codes == ["E0506"]
 
 
+def test_a_model_given_as_text_answers_as_its_files_do():
+    """loads: the same answer as load on the same texts; errors located in the given paths,
+    which need not exist; a problem path outside the sources is a ValueError."""
+    domain = (EX / "detection/domain.cat").read_text()
+    problem = (EX / "detection/person.cat").read_text()
+    texts = {"robot/domain.cat": domain, "robot/person.cat": problem}
+    from_text, from_files = loads(texts, "robot/person.cat"), load(EX / "detection/person.cat")
+    assert from_text.instance.problem.name == from_files.instance.problem.name == "detect-person"
+    assert from_text.solve().status is from_files.solve().status is SolveStatus.SAT
+    broken = {**texts, "robot/person.cat": problem.replace("(member person detects)", "(member persn detects)")}
+    with pytest.raises(CatError) as err:
+        loads(broken, "robot/person.cat")
+    assert "E0202" in err.value.codes and "robot/person.cat:" in str(err.value) and "persn" in str(err.value)
+    with pytest.raises(ValueError, match="not among the sources"):
+        loads(texts, "robot/other.cat")
+
+
 def test_views_domains_and_named_problems():
     full = load(EX / "semantics/view.cat", problem_name="shop-full")
     assert full.solve().status is SolveStatus.UNSAT  # semantics/expect.toml
@@ -112,14 +129,15 @@ def test_the_examples_in_docs_api_run(monkeypatch, capsys):
 
     monkeypatch.chdir(ROOT)
     blocks = re.findall(r"```python\n(.*?)```", (ROOT / "docs/api.md").read_text(encoding="utf-8"), re.S)
-    assert len(blocks) == 2
+    assert len(blocks) == 3
     scope: dict = {}
     for block in blocks:
         exec(compile(block, "docs/api.md", "exec"), scope)
     assert scope["answer"].states[-1]["ram"] == Fraction(23, 2)  # 16 - 0.5 - 4 GB, as the comment says
     assert scope["best"].values[0].value == Fraction(57, 4)
     assert scope["doc"]["schema"] == "catc.solve/1"
-    assert capsys.readouterr().out.startswith("sat\nmount-rgb-camera {}\n")
+    out = capsys.readouterr().out
+    assert out.startswith("sat\nmount-rgb-camera {}\n") and out.endswith("SolveStatus.SAT\n")  # loads's example last
 
 
 def test_long_queries_report_progress():

@@ -88,6 +88,11 @@ def load_texts(
         if path != problem:
             ws.load(path)
     _, inst = load_instance(None, problem, diags, problem_name=problem_name, workspace=ws)
+    return _viewed(inst, view, diags)
+
+
+def _viewed(inst: ir.Instance | None, view: str | None, diags: Diagnostics) -> ir.Instance | None:
+    """A loaded instance with its view applied, or None (errors in ``diags``)."""
     if inst is None or diags.has_errors:
         return None
     try:
@@ -119,10 +124,4 @@ def load_checked(
     _, inst = load_instance(
         None if domain is None else str(domain), str(problem), diags, tuple(str(p) for p in search_paths), problem_name
     )
-    if inst is None or diags.has_errors:
-        return None
-    try:
-        return apply_view(inst, view)
-    except ViewError as exc:
-        diags.report(codes.BAD_VIEW, str(exc), exc.span)
-        return None
+    return _viewed(inst, view, diags)
