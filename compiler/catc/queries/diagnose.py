@@ -113,10 +113,11 @@ def diagnose(
             if excluded in seen:
                 continue
             seen.add(excluded)
-            labels = [l for l in model.labels if l not in excluded]
-            r, core = model.check(labels, _remaining(deadline))
-            if r is not Check.UNSAT:
-                continue
+            if excluded:  # the root is the whole set, checked above: its core is at hand
+                labels = [l for l in model.labels if l not in excluded]
+                r, core = model.check(labels, _remaining(deadline))
+                if r is not Check.UNSAT:
+                    continue
             say(f"{len(found)} core(s) found; shrinking a core of {len(core)} requirements")
             mus = _shrink(model, core, deadline)
             if mus is None:
