@@ -18,7 +18,7 @@ from typing import Any, TypeGuard
 from catc import ir
 from catc.ir.labels import LabelInfo, label_index
 from catc.present.composition import print_composition
-from catc.present.console import Console
+from catc.present.console import Console, escape
 from catc.present.labels import describe, label_json, where
 from catc.present.values import show_value, steps_json, timings_json
 from catc.queries.base import ExitCode, Kind, Option, Progress, Query, Result, Status, json_option, timeout_option
@@ -379,10 +379,10 @@ def relaxation_text(inst: ir.Instance, rel: Relaxation, info: LabelInfo) -> str:
         assert isinstance(initial, ir.Const)  # a relaxable initial value is a number
         old = initial.value
         return (
-            f"{name}: {sign}{show_value(abs(rel.delta))}{' ' + unit if unit else ''}"
+            f"{name}: {sign}{show_value(abs(rel.delta))}{' ' + escape(unit) if unit else ''}"
             f"   (initial value {show_value(old)} → {show_value(old + rel.delta)})"  # type: ignore[operator]
         )
-    return f"{info.label}: weaken {info.text} by {show_value(rel.delta)}"
+    return f"{info.label}: weaken {escape(info.text)} by {show_value(rel.delta)}"
 
 
 def relax_json(inst: ir.Instance, result: RelaxResult) -> dict:
@@ -428,12 +428,12 @@ def render(console: Console, inst: ir.Instance, result: RelaxResult, options: Ma
         )
         for label in result.dropped:
             info = index[label]
-            console.print(f"  - {describe(info)}   {where(info)}")
+            console.print(f"  - {escape(describe(info))}   {escape(where(info))}")
         return
     console.print(f"[bold yellow]RELAXED[/]  {_headline(result)} over {len(result.eligible)} eligible requirements:")
     for rel in result.relaxations:
         info = index[rel.label]
-        console.print(f"  {relaxation_text(inst, rel, info)}   {where(info)}")
+        console.print(f"  {relaxation_text(inst, rel, info)}   {escape(where(info))}")
     if result.plan is not None:
         console.print("\nthe composition this makes possible:")
         print_composition(console, result.relaxed_instance or inst, result.plan, result.states)
