@@ -199,7 +199,9 @@ def hover_text(a: Analysis, name: str) -> str | None:
             if m.doc:
                 lines += ["", m.doc, ""]
             extra = [f"churn {number_text(m.churn)}"]
-            if m.uses is not None:
+            if m.uses == 0:
+                extra.append("switched off (:uses 0)")
+            elif m.uses is not None:
                 extra.append(f"uses ≤ {m.uses}")
             if m.cost is not None:
                 extra.append(f"cost {to_text(m.cost)}")
