@@ -22,7 +22,7 @@ import errno
 import os
 import re
 import stat
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from fractions import Fraction
 from typing import Any
 
@@ -564,8 +564,21 @@ def _unquote(tok: Token) -> str:
     return re.sub(r"\\(.)", r"\1", body)
 
 
-def parse_source(src: Source, diags: Diagnostics) -> ast.SourceFile | None:
-    """Parse one file.  On failure, diagnostics are reported and None is returned."""
+class Cancelled(Exception):
+    """A parse abandoned because its caller no longer wants it (``cancelled()`` said so)."""
+
+
+def _watched(tokens: Iterator[Token], cancelled: Callable[[], bool], every: int = 4096) -> Iterator[Token]:
+    for i, tok in enumerate(tokens):
+        if i % every == 0 and cancelled():
+            raise Cancelled
+        yield tok
+
+
+def parse_source(src: Source, diags: Diagnostics, cancelled: Callable[[], bool] | None = None) -> ast.SourceFile | None:
+    """Parse one file.  On failure, diagnostics are reported and None is returned.
+    ``cancelled`` is asked every few thousand tokens; when it says so, :class:`Cancelled` is
+    raised (the language server's check of a text the editor has replaced)."""
     diags.add_source(src)
     stripped = re.sub(r";[^\n]*", "", src.text).strip()
     if not stripped:
@@ -580,7 +593,8 @@ def parse_source(src: Source, diags: Diagnostics) -> ast.SourceFile | None:
     parser = Parser(_Builder(src, diags))
     before = len(diags.errors)
     try:
-        definitions = parser.parse(tokenize(src.text))
+        tokens = tokenize(src.text)
+        definitions = parser.parse(tokens if cancelled is None else _watched(tokens, cancelled))
     except UnexpectedInput as exc:
         _report_syntax(exc, src, parser, diags)
         return None
