@@ -43,7 +43,12 @@ CODES: dict[str, Code] = {
     c.code: c
     for c in (
         # E00xx — reading input
-        Code("E0001", "unreadable-file", E, "The file cannot be read (missing, a directory, or permission denied)."),
+        Code(
+            "E0001",
+            "unreadable-file",
+            E,
+            "The file cannot be read (missing, a folder, a FIFO or device, or permission denied).",
+        ),
         Code("E0002", "binary-file", E, "The file contains NUL bytes; it is not a text file."),
         Code("E0003", "invalid-utf8", E, "The file is not valid UTF-8."),
         Code("E0004", "empty-file", E, "The file holds no definition."),

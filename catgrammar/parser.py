@@ -4,7 +4,8 @@
 ``None`` when no tree could be built.  Three guards run before the parser sees the text, so
 that every later stage can recurse safely and every message can point at the real culprit:
 
-* decoding (binary / non-UTF-8 files) in :func:`read_source`;
+* reading only regular files (a FIFO or a device is never read: it could block or never
+  end) and decoding (binary / non-UTF-8 files) in :func:`read_source`;
 * a parenthesis scan that reports an unmatched ``)`` or an unclosed ``(`` precisely and
   rejects nesting deeper than :data:`MAX_DEPTH`;
 * numeric literals longer than :data:`MAX_LITERAL_DIGITS` digits.
@@ -17,8 +18,11 @@ with ``python -m catgrammar.build_parser``.
 
 from __future__ import annotations
 
+import errno
+import os
 import re
-from collections.abc import Callable
+import stat
+from collections.abc import Callable, Iterator
 from fractions import Fraction
 from typing import Any
 
@@ -62,10 +66,32 @@ def decode_source(path: str, data: bytes, diags: Diagnostics) -> Source | None:
     return Source(path, text)
 
 
+class NotRegularFile(OSError):
+    """A path that names a FIFO, a device or a socket: reading it could block or never end,
+    so it is never read."""
+
+
+def read_regular(path: str, limit: int | None = None) -> bytes:
+    """The bytes of the regular file ``path`` (at most ``limit + 1`` of them, so that a caller
+    can tell a file past its limit).  Opened without blocking and checked on the open
+    descriptor, so a FIFO, ``/dev/zero`` or a link to either raises :class:`NotRegularFile`
+    instead of hanging."""
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
+    with os.fdopen(fd, "rb") as fh:
+        mode = os.fstat(fd).st_mode
+        if stat.S_ISDIR(mode):
+            raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), path)
+        if not stat.S_ISREG(mode):
+            raise NotRegularFile(f"not a regular file: {path}")
+        return fh.read() if limit is None else fh.read(limit + 1)
+
+
 def read_source(path: str, diags: Diagnostics) -> Source | None:
     try:
-        with open(path, "rb") as fh:
-            data = fh.read()
+        data = read_regular(path)
+    except NotRegularFile:
+        diags.report(codes.UNREADABLE_FILE, f"cannot read '{path}': not a regular file (a FIFO or a device)", None)
+        return None
     except OSError as exc:
         diags.report(codes.UNREADABLE_FILE, f"cannot read '{path}': {exc.strerror or exc}", None)
         return None
@@ -538,8 +564,21 @@ def _unquote(tok: Token) -> str:
     return re.sub(r"\\(.)", r"\1", body)
 
 
-def parse_source(src: Source, diags: Diagnostics) -> ast.SourceFile | None:
-    """Parse one file.  On failure, diagnostics are reported and None is returned."""
+class Cancelled(Exception):
+    """A parse abandoned because its caller no longer wants it (``cancelled()`` said so)."""
+
+
+def _watched(tokens: Iterator[Token], cancelled: Callable[[], bool], every: int = 4096) -> Iterator[Token]:
+    for i, tok in enumerate(tokens):
+        if i % every == 0 and cancelled():
+            raise Cancelled
+        yield tok
+
+
+def parse_source(src: Source, diags: Diagnostics, cancelled: Callable[[], bool] | None = None) -> ast.SourceFile | None:
+    """Parse one file.  On failure, diagnostics are reported and None is returned.
+    ``cancelled`` is asked every few thousand tokens; when it says so, :class:`Cancelled` is
+    raised (the language server's check of a text the editor has replaced)."""
     diags.add_source(src)
     stripped = re.sub(r";[^\n]*", "", src.text).strip()
     if not stripped:
@@ -554,7 +593,8 @@ def parse_source(src: Source, diags: Diagnostics) -> ast.SourceFile | None:
     parser = Parser(_Builder(src, diags))
     before = len(diags.errors)
     try:
-        definitions = parser.parse(tokenize(src.text))
+        tokens = tokenize(src.text)
+        definitions = parser.parse(tokens if cancelled is None else _watched(tokens, cancelled))
     except UnexpectedInput as exc:
         _report_syntax(exc, src, parser, diags)
         return None

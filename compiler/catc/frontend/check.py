@@ -520,7 +520,8 @@ class DomainChecker:
             churn = num.value
         uses = None
         if Option.USES.value in opts:
-            uses = _positive_int(_value(opts[Option.USES.value], ast.Num), ":uses", self.diags)
+            # :uses 0 switches a component off (it stays in the model, never activated)
+            uses = _positive_int(_value(opts[Option.USES.value], ast.Num), ":uses", self.diags, allow_zero=True)
 
         params = self._params(m, opts.get(Option.PARAMETERS.value))
         scope = Scope(self.sorts, self.constants, self.resources, {p.name: p for p in params})

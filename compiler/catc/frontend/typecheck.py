@@ -468,7 +468,7 @@ class ExprChecker:
             return None
         p = m.param(pnode.name)
         assert p is not None
-        if not p.fixed and m.uses != 1:
+        if not p.fixed and m.uses not in (0, 1):  # at most one activation: one value (or none)
             self.diags.report(
                 codes.AMBIGUOUS_PARAMETER,
                 f"parameter '{p.name}' of '{m.name}' takes one value per activation; "

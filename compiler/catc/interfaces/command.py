@@ -37,9 +37,12 @@ EXIT_OK, EXIT_FAIL, EXIT_INPUT, EXIT_UNKNOWN, EXIT_INTERNAL = (
 
 
 def echo(text: str = "", err: bool = False) -> None:
-    """``click.echo`` for text: one line to standard output (or error), flushed."""
+    """``click.echo`` for text: one line to standard output (or error), flushed, with
+    control characters shown as escapes (a ``:unit`` or a path cannot drive the terminal)."""
+    from catgrammar.terminal import printable
+
     stream = sys.stderr if err else sys.stdout
-    stream.write(text + "\n")
+    stream.write(printable(text) + "\n")
     stream.flush()
 
 
@@ -243,12 +246,12 @@ def read_plan_file(inst: ir.Instance, path: str) -> Any:
 
 def console(as_json: bool = False) -> Any:
     """Rich on a terminal; plain aligned text when piped (no colour codes, faster start)."""
+    from catc.present.console import PlainConsole, TerminalConsole
+
     if sys.stdout.isatty() and not os.environ.get("NO_COLOR"):
         from rich.console import Console
 
-        return Console(highlight=False)
-    from catc.present.console import PlainConsole
-
+        return TerminalConsole(Console(highlight=False, emoji=False))
     return PlainConsole(echo)
 
 

@@ -19,6 +19,7 @@ import click
 
 from catc.interfaces.command import EXIT_FAIL, EXIT_UNKNOWN, argument_error
 from catgrammar import codes
+from catgrammar.terminal import printable
 
 
 class MissingParser(RuntimeError):
@@ -213,7 +214,7 @@ def _write(out: Path, inst: Any, ex: Any) -> tuple[Path, Path]:
         f"wrote {dom}, {prob} ({len(ex.actions)} ground actions{f', {len(ex.dials)} dials' if ex.dials else ''}), "
         f"{out / 'report.md'}, {out / 'actions.json'}" + (f", {out / 'dials.json'}" if ex.dials else "")
     )
-    click.echo(report.rstrip())
+    click.echo(printable(report.rstrip()))
     return dom, prob
 
 
@@ -252,13 +253,15 @@ def _run_enhsp(inst: Any, ex: Any, dom: Path, prob: Path, planner: str, timeout:
             click.echo(f"  {i:3d}  {name}")
         rep = validate(inst, plan, horizon=len(plan), sequential=True)
         if not rep.ok:
-            click.echo("catc's validator REJECTS the plan: " + "; ".join(str(v) for v in rep.violations[:5]), err=True)
+            click.echo(
+                printable("catc's validator REJECTS the plan: " + "; ".join(map(str, rep.violations[:5]))), err=True
+            )
             sys.exit(EXIT_FAIL)
         click.echo("catc's validator accepts the plan (sequential semantics)")
     elif res.status == "unsat":
         sys.exit(EXIT_FAIL)
     else:
-        click.echo(res.output[-2000:], err=True)
+        click.echo(printable(res.output[-2000:]), err=True)
         sys.exit(EXIT_UNKNOWN)
 
 
@@ -280,17 +283,17 @@ def _run_smtplan(inst, ex, dom: Path, prob: Path, timeout: float) -> None:
     if res.status == "nosolution":
         sys.exit(EXIT_FAIL)
     if res.status != "sat":
-        click.echo(res.output[-2000:], err=True)
+        click.echo(printable(res.output[-2000:]), err=True)
         sys.exit(EXIT_UNKNOWN)
     for a in res.actions:
         click.echo(f"  {a.time}: ({a.name})")
     try:
         plan = parse_timed_plan(ex, res.plan_text)
     except PlanReadError as exc:
-        click.echo(f"error: SMTPlan+'s plan cannot be read back: {exc}", err=True)
+        click.echo(printable(f"error: SMTPlan+'s plan cannot be read back: {exc}"), err=True)
         sys.exit(EXIT_FAIL)
     rep = validate(inst, plan, horizon=max(len(plan), 1), sequential=True)
     if not rep.ok:
-        click.echo("catc's validator REJECTS the plan: " + "; ".join(str(v) for v in rep.violations[:5]), err=True)
+        click.echo(printable("catc's validator REJECTS the plan: " + "; ".join(map(str, rep.violations[:5]))), err=True)
         sys.exit(EXIT_FAIL)
     click.echo("catc's validator accepts the plan (sequential semantics)")

@@ -24,6 +24,7 @@ import click
 
 from catc import ir
 from catc.interfaces import command
+from catc.present.console import escape
 from catc.queries.base import ExitCode
 from catc.semantics.plan import Plan
 from catgrammar import codes
@@ -174,7 +175,7 @@ def ground_command_body(
     )
     for path in written:
         digest = doc["artifacts"].get(path.name, {}).get("sha256", "")
-        console.print(f"  {path}" + (f"  sha256 {digest[:12]}…" if digest else ""))
+        console.print(f"  {escape(str(path))}" + (f"  sha256 {digest[:12]}…" if digest else ""))
 
 
 def _diff(inst: ir.Instance, files: tuple[str, str], strict: bool, as_json: bool) -> None:
@@ -207,8 +208,8 @@ def _print_diff(d: Any) -> None:
     if d.empty:
         console.print("[bold green]NO CHANGE[/]  the two compositions ground to the same robot")
         return
-    console.print(f"[bold yellow]CHANGES[/]  components added: {', '.join(d.added) or 'none'}; "
-                  f"removed: {', '.join(d.removed) or 'none'}")  # fmt: skip
+    console.print(f"[bold yellow]CHANGES[/]  components added: {escape(', '.join(d.added)) or 'none'}; "
+                  f"removed: {escape(', '.join(d.removed)) or 'none'}")  # fmt: skip
     rows = [
         ("unmount", d.unmount),
         ("mount", d.mount),
@@ -218,10 +219,10 @@ def _print_diff(d: Any) -> None:
     ]
     for what, names in rows:
         if names:
-            console.print(f"  {what:9} {', '.join(names)}")
+            console.print(f"  {what:9} {escape(', '.join(names))}")
     console.print(f"  behaviour tree {'changed' if d.tree_changed else 'unchanged'}")
     for argv in d.commands():
-        console.print("  $ " + " ".join(argv))
+        console.print("  $ " + escape(" ".join(argv)))
 
 
 @click.command("ground")

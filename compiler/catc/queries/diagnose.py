@@ -19,7 +19,7 @@ from typing import Any
 
 from catc import ir
 from catc.ir.labels import label_index
-from catc.present.console import Console
+from catc.present.console import Console, escape
 from catc.present.labels import describe, excerpts, label_json, where
 from catc.present.values import timings_json
 from catc.queries.base import ExitCode, Kind, Option, Progress, Query, Result, Status, json_option, timeout_option
@@ -174,10 +174,10 @@ def render(console: Console, inst: ir.Instance, diag: Diagnosis, options: Mappin
         )
         for i, label in enumerate(core, 1):
             info = index[label]
-            console.print(f"  {i}. {describe(info)}")
-            console.print(f"     {where(info)}")
+            console.print(f"  {i}. {escape(describe(info))}")
+            console.print(f"     {escape(where(info))}")
             for line in excerpt(info.span):
-                console.print("     " + line)
+                console.print("     " + escape(line))
     if len(diag.cores) > 1 or not diag.complete:
         more = "" if diag.complete else " (search stopped by --max or --timeout; more may exist)"
         console.print(f"{len(diag.cores)} distinct core{'s' if len(diag.cores) != 1 else ''}{more}")

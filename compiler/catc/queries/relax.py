@@ -18,7 +18,7 @@ from typing import Any, TypeGuard
 from catc import ir
 from catc.ir.labels import LabelInfo, label_index
 from catc.present.composition import print_composition
-from catc.present.console import Console
+from catc.present.console import Console, escape
 from catc.present.labels import describe, label_json, where
 from catc.present.values import show_value, steps_json, timings_json
 from catc.queries.base import ExitCode, Kind, Option, Progress, Query, Result, Status, json_option, timeout_option
@@ -30,7 +30,7 @@ from catc.smt.backend import Check
 from catc.smt.labelled import LabelledModel
 from catc.smt.readback import read_plan
 from catc.smt.script import SmtSort, Symbol, and_text, real_literal
-from catc.smt.terms import Term, eq, lt
+from catc.smt.terms import Term, and_, eq, le, lt, not_
 
 
 @dataclass
@@ -64,7 +64,11 @@ class RelaxResult(Result):
     proven: bool = True  # False: the best relaxation found before the time limit
     relaxations: list[Relaxation] = field(default_factory=list)
     dropped: list[str] = field(default_factory=list)  # discrete variant
-    cost: Fraction | None = None
+    cost: Fraction | None = None  # the weighted total of the relaxations shown
+    #: the least weighted total: ``cost`` when ``attained``; otherwise approached by ever
+    #: smaller relaxations but reached by none (e.g. a goal ``(> x 5)`` from ``x = 5``)
+    infimum: Fraction | None = None
+    attained: bool = True
     plan: Plan | None = None
     states: tuple = ()
     relaxed_instance: ir.Instance | None = None
@@ -151,7 +155,8 @@ def relax(
     if best is None:
         result.status = RelaxStatus.UNSAT if exhausted else RelaxStatus.UNKNOWN
         return _finish(result, start)
-    result.cost, values, plan = best
+    result.cost, result.infimum, result.attained = best.cost, best.infimum, best.attained
+    values, plan = best.values, best.plan
     result.relaxations = [
         Relaxation(req.label, req.kind, values[req.label], req.weight)
         for req in result.eligible
@@ -223,13 +228,13 @@ class _SlackSearch:
         self.feas_cost = self.feas.backend.intern(cost)
         self.acts = [q for step in self.feas.enc.act for q in step.values()]
 
-    def run(
-        self, deadline: float | None, say: Callable[[str], None]
-    ) -> tuple[tuple[Fraction, dict[str, Fraction], Plan] | None, bool, bool]:
-        """(the best relaxation found: cost, slack per label, composition), whether it is
-        proven least, and whether the search space ran out."""
+    def run(self, deadline: float | None, say: Callable[[str], None]) -> tuple[_Found | None, bool, bool]:
+        """The best relaxation found, whether it is proven least, and whether the search space
+        ran out.  A skeleton whose least slack is approached but not reached (an infimum, as
+        for a goal ``(> x 5)`` from ``x = 5``) is blocked, and the search goes on for one that
+        reaches that total or goes below it."""
         feas = self.feas.backend
-        best = None
+        best: _Found | None = None
         while True:
             feas.set_timeout(_remaining(deadline))
             r = feas.check()
@@ -241,17 +246,23 @@ class _SlackSearch:
             found = self._least_slack(skeleton, deadline)
             if found is None:
                 return best, False, False
-            best = found
-            cost = found[0]
-            if cost == 0:
+            if best is None or found.infimum < best.infimum or (found.infimum == best.infimum and found.attained):
+                best = found
+            if best.attained and best.infimum == 0:
                 return best, True, False
-            say(f"best restoration so far: weighted total {cost}; is there a cheaper one?")
-            feas.assert_term(lt(self.feas_cost, cost))
+            if best.attained:
+                say(f"best restoration so far: weighted total {best.infimum}; is there a cheaper one?")
+                feas.assert_term(lt(self.feas_cost, best.infimum))
+            else:
+                say(f"restorations approach weighted total {best.infimum}; does one reach it?")
+                feas.assert_term(le(self.feas_cost, best.infimum))
+            if not found.attained:
+                feas.assert_term(not_(and_(*skeleton)) if skeleton else False)
 
-    def _least_slack(
-        self, skeleton: Sequence[Term], deadline: float | None
-    ) -> tuple[Fraction, dict[str, Fraction], Plan] | None:
-        """The LP for one Boolean skeleton: its least cost, the slack per label, the composition."""
+    def _least_slack(self, skeleton: Sequence[Term], deadline: float | None) -> _Found | None:
+        """The LP for one Boolean skeleton: its least cost (or the infimum it approaches), the
+        slack per label and the composition of the solver's model (when the infimum is not
+        attained, one restoration above it)."""
         lp = self.lp.backend
         lp.push()
         for part in skeleton:
@@ -261,16 +272,31 @@ class _SlackSearch:
             lp.pop()
             return None
         values: dict[str, Fraction] = {}
+        shown = Fraction(0)  # the weighted total of the model's restoration
         for req, vs in self.slack_vars:
             amounts = [a for a in (lp.value(v) for v in vs) if not isinstance(a, bool)]
             assert len(amounts) == len(vs)  # slacks are numbers
             values[req.label] = amounts[0] - amounts[1] if req.kind == "initial value" else amounts[0]
+            shown += req.weight * sum(amounts, Fraction(0))
         bound = lp.bound(self.cost_handle)
-        if not bound.exact:
-            raise ValueError(f"the least restoration is not attained (infimum {bound.value})")
-        found = (bound.value, values, read_plan(lp, self.lp.enc, self.lp.extended))
+        assert bound.infinite == 0  # a sum of non-negative slacks is bounded below by 0
+        cost = bound.value if bound.exact else shown
+        found = _Found(cost, bound.value, bound.exact, values, read_plan(lp, self.lp.enc, self.lp.extended))
         lp.pop()
         return found
+
+
+@dataclass
+class _Found:
+    """One skeleton's least slack: ``cost`` is the weighted total of the restoration shown
+    (``values``, ``plan``); ``infimum`` the least total over the skeleton, ``attained``
+    whether some restoration reaches it (then ``cost == infimum``)."""
+
+    cost: Fraction
+    infimum: Fraction
+    attained: bool
+    values: dict[str, Fraction]
+    plan: Plan
 
 
 def _relax_discrete(
@@ -353,15 +379,18 @@ def relaxation_text(inst: ir.Instance, rel: Relaxation, info: LabelInfo) -> str:
         assert isinstance(initial, ir.Const)  # a relaxable initial value is a number
         old = initial.value
         return (
-            f"{name}: {sign}{show_value(abs(rel.delta))}{' ' + unit if unit else ''}"
+            f"{name}: {sign}{show_value(abs(rel.delta))}{' ' + escape(unit) if unit else ''}"
             f"   (initial value {show_value(old)} → {show_value(old + rel.delta)})"  # type: ignore[operator]
         )
-    return f"{info.label}: weaken {info.text} by {show_value(rel.delta)}"
+    return f"{info.label}: weaken {escape(info.text)} by {show_value(rel.delta)}"
 
 
 def relax_json(inst: ir.Instance, result: RelaxResult) -> dict:
+    """The ``catc.relax/1`` document; ``attained: false`` and the ``infimum`` are added only
+    when no relaxation reaches the least total (the recorded answers of the others stay as
+    they were)."""
     index = label_index(inst)
-    return {
+    doc = {
         "schema": "catc.relax/1",
         "status": result.status.value,
         "problem": inst.problem.name,
@@ -375,6 +404,10 @@ def relax_json(inst: ir.Instance, result: RelaxResult) -> dict:
         "steps": None if result.plan is None else steps_json(inst, result.plan, kinds=False),
         "timings": timings_json(result.timings),
     }
+    if not result.attained and result.infimum is not None:
+        doc["attained"] = False
+        doc["infimum"] = value_to_json(result.infimum)
+    return doc
 
 
 def render(console: Console, inst: ir.Instance, result: RelaxResult, options: Mapping[str, Any] | None = None) -> None:
@@ -395,23 +428,28 @@ def render(console: Console, inst: ir.Instance, result: RelaxResult, options: Ma
         )
         for label in result.dropped:
             info = index[label]
-            console.print(f"  - {describe(info)}   {where(info)}")
+            console.print(f"  - {escape(describe(info))}   {escape(where(info))}")
         return
-    what = (
-        "the least restoration"
-        if result.proven
-        else "the best restoration found before the time limit (not proven least)"
-    )
-    console.print(
-        f"[bold yellow]RELAXED[/]  {what} (weighted total {show_value(result.cost)}) "
-        f"over {len(result.eligible)} eligible requirements:"
-    )
+    console.print(f"[bold yellow]RELAXED[/]  {_headline(result)} over {len(result.eligible)} eligible requirements:")
     for rel in result.relaxations:
         info = index[rel.label]
-        console.print(f"  {relaxation_text(inst, rel, info)}   {where(info)}")
+        console.print(f"  {relaxation_text(inst, rel, info)}   {escape(where(info))}")
     if result.plan is not None:
         console.print("\nthe composition this makes possible:")
         print_composition(console, result.relaxed_instance or inst, result.plan, result.states)
+
+
+def _headline(result: RelaxResult) -> str:
+    """What the relaxations shown are: the least, the best before the time limit, or one
+    above a least total that no relaxation reaches."""
+    total = show_value(result.cost)
+    if not result.attained and result.infimum is not None:
+        proof = "" if result.proven else ", not proven least"
+        limit = f"infimum {show_value(result.infimum)}, not attained{proof}"
+        return f"one restoration (weighted total {total}; no restoration is least: {limit})"
+    if result.proven:
+        return f"the least restoration (weighted total {total})"
+    return f"the best restoration found before the time limit (not proven least) (weighted total {total})"
 
 
 QUERY = Query(

@@ -28,7 +28,7 @@ from catc.ir import SortKind
 from catc.ir.text import effect_text, to_text
 from catc.ir.views import project_instance
 from catc.present.composition import print_composition
-from catc.present.console import Console
+from catc.present.console import Console, escape
 from catc.queries.base import ExitCode, Kind, Option, Query, Result, Status, Use, json_option, timeout_option
 from catc.queries.solve import SolveStatus, solve
 from catc.semantics.compositions import checked
@@ -223,7 +223,9 @@ def synthesize_json(inst: ir.Instance, result: Synthesis) -> dict:
 def render(console: Console, inst: ir.Instance, result: Synthesis, options: Mapping[str, Any]) -> None:
     skeleton = to_cat(result.morphism, result.hole) if result.morphism is not None else None
     if options.get("emit") == "cat":  # only the skeleton, ready to paste into the domain
-        console.print(skeleton.rstrip("\n") if skeleton is not None else f"; no skeleton: {result.status.value}")
+        console.print(
+            escape(skeleton.rstrip("\n")) if skeleton is not None else f"; no skeleton: {result.status.value}"
+        )
         return
     hole = result.hole
     if result.status is SynthesisStatus.NOT_NEEDED:
@@ -235,7 +237,7 @@ def render(console: Console, inst: ir.Instance, result: Synthesis, options: Mapp
             + f": {len(result.morphism.effects)} effect(s) it must provide, "
             f"{len(result.morphism.pre)} precondition(s) it may assume; applied at step {result.step}"
         )
-        console.print(skeleton.rstrip())
+        console.print(escape(skeleton.rstrip()))
         console.print("\nthe composition it completes:")
         assert result.plan is not None and result.instance is not None
         print_composition(console, result.instance, result.plan, result.states)

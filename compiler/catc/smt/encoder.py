@@ -224,7 +224,8 @@ class Encoder:
                 else:
                     v = self._var(f"th.{m.name}.{p.name}.{t}", p.sort)
                     theta[(m.name, p.name)] = v
-                    self._param_constraints(m, p, v)
+                    if m.uses != 0:  # a morphism switched off (:uses 0) has no values to choose
+                        self._param_constraints(m, p, v)
         self.theta.append(theta)
 
         for m in self.morphisms:

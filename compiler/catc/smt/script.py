@@ -121,6 +121,8 @@ def at_most(bools: Sequence[str], n: int) -> str:
     """Σ ite(b, 1, 0) ≤ n — plain linear arithmetic, understood by every SMT solver."""
     if len(bools) <= n:
         return "true"
+    if n == 0:  # none of them (no one-argument '+', which SMT-LIB does not allow)
+        return f"(not {bools[0]})" if len(bools) == 1 else f"(not (or {' '.join(bools)}))"
     if n == 1 and len(bools) == 2:
         return f"(not (and {bools[0]} {bools[1]}))"
     return f"(<= (+ {' '.join(f'(ite {b} 1 0)' for b in bools)}) {n})"
