@@ -199,6 +199,8 @@ def _restore(model: Model, incumbent: dict[str, Any] | None, limits: Limits) -> 
         "core": core,
     }
     said = ", ".join(f"{k} → {v}" for k, v in values.items())
-    least = "the least restoration" if rel.proven else "a restoration (the least found in the time limit, not proven least)"
+    least = (
+        "the least restoration" if rel.proven else "a restoration (the least found in the time limit, not proven least)"
+    )
     return Decision("restore", f"no composition exists (core: {core_text}); {least}: {said}",
                     documents=documents, timings=timings, solver_calls=2, proposal=proposal)  # fmt: skip
