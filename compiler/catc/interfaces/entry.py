@@ -127,13 +127,16 @@ def main(argv: list[str] | None = None) -> None:
             paths = params.pop("paths")
             try:
                 command.guarded(command.run_query, args[0], paths, params)
-            except KeyboardInterrupt:  # as click reports it
-                command.echo(err=True)
-                command.echo("Aborted!", err=True)
-                sys.exit(command.EXIT_FAIL)
+            except KeyboardInterrupt:  # Ctrl-C before the command could take it (exit 130)
+                command.echo("catc: interrupted", err=True)
+                sys.exit(command.ExitCode.INTERRUPTED)
     from catc.interfaces.cli import main as cli
 
-    if argv is None:
-        cli()
-    else:
-        cli(args)
+    try:
+        if argv is None:
+            cli()
+        else:
+            cli(args)
+    except KeyboardInterrupt:  # pragma: no cover - click turns it into Abort; guarded() exits 130 first
+        sys.stderr.write("catc: interrupted\n")
+        sys.exit(130)
