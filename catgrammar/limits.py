@@ -224,9 +224,9 @@ def digits_over(n: int, digits: int) -> bool:
     return abs(n) >= _power_of_ten(digits)
 
 
-def count_text(n: int) -> str:
-    """``1,000,000,000,001``: a count as messages write it."""
-    return f"{n:,}"
+def count_text(n: int, noun: str = "") -> str:
+    """``1,000,000,000,001``, or ``1 step``/``5,000 steps``: a count as messages write it."""
+    return f"{n:,}" if not noun else f"{n:,} {noun}{'' if n == 1 else 's'}"
 
 
 # ---------------------------------------------------------------- time

@@ -401,6 +401,29 @@ def test_a_best_so_far_report_says_interrupted_not_time_limit():
     assert model.to_json(result)["reason"] == "interrupted"
 
 
+@pytest.mark.parametrize("query", sorted(TARGETS))
+def test_every_query_stopped_by_ctrl_c_says_interrupted_and_exits_130(query, monkeypatch):
+    """Item 11, for every query: Ctrl-C after the solver's first check (as Z3 reports it: the
+    check ends "canceled" before its timer) stops the query with what it has; it says
+    "interrupted", never "time limit" or "timeout", and the command exits 130."""
+    from catc.smt import z3backend
+    from catgrammar import limits
+
+    check = z3backend.Z3Backend.check
+
+    def check_then_ctrl_c(self, *args, **kwargs):
+        answer = check(self, *args, **kwargs)
+        limits.interrupt()
+        return answer
+
+    monkeypatch.setattr(z3backend.Z3Backend, "check", check_then_ctrl_c)
+    res = run_catc(query, TARGETS[query])
+    assert res.exit_code == 130, res.output
+    assert "interrupted" in res.output and "time limit" not in res.output and "timeout" not in res.output
+    doc = json.loads(run_catc(query, TARGETS[query], "--json").stdout)
+    assert "timeout" not in json.dumps(doc)
+
+
 # ====================================================================== the limits themselves
 
 

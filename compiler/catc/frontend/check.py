@@ -887,7 +887,7 @@ class ProblemChecker:
                 self.diags.report(
                     limit.code,
                     f"the horizon {horizon_sec.steps.text} is more than the horizon limit "
-                    f"({limits.count_text(limits.current().horizon)} steps); {limit.how_to_raise}",
+                    f"({limits.count_text(limits.current().horizon, 'step')}); {limit.how_to_raise}",
                     horizon_sec.steps.span,
                 )
         softs = self._softs()

@@ -107,9 +107,13 @@ GC_THRESHOLD = 100_000
 
 
 def configure_process() -> None:
-    """What the ``catc`` executable sets for its own process (see :data:`GC_THRESHOLD`)."""
+    """What the ``catc`` executable sets for its own process (see :data:`GC_THRESHOLD`); it
+    also makes the process-wide settings of the limits (:class:`catc.interfaces.guard.Process`)."""
     _, second, third = gc.get_threshold()
     gc.set_threshold(GC_THRESHOLD, second, third)
+    from catc.interfaces.guard import Process
+
+    Process.executable = True
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -25,6 +25,16 @@ from typing import Any
 
 from catgrammar import codes, limits
 
+
+class Process:
+    """Whether this process is the ``catc`` executable (:func:`catc.interfaces.entry.main`
+    started it): only then are the settings of the whole process made — its memory limit, and
+    the watchdog's last resort of ending it.  A program or a test that runs a command in its
+    own process (``main(argv)``) keeps its process as it is."""
+
+    executable = False
+
+
 #: How long past its time limit a command may take to notice it (it then stops with E1109) —
 #: more than the time it has to finish an answer it found (limits.FINISH_GRACE) — and how
 #: much longer before the process ends regardless.
@@ -58,7 +68,9 @@ def command_limits(
 def limit_memory(megabytes: int) -> None:
     """Cap this process at ``megabytes`` of address space (0: no cap) and the solver at as
     much.  The soft limit only: a child process may raise it again (a planner does:
-    :func:`catc.targets.enhsp.lift_memory_limit`)."""
+    :func:`catc.targets.enhsp.lift_memory_limit`).  Only in the executable (:class:`Process`)."""
+    if not Process.executable:
+        return
     try:
         import resource
     except ImportError:  # pragma: no cover - not on POSIX: the solver's limit only
@@ -145,7 +157,7 @@ def _watchdog(run: _Run) -> threading.Thread | None:
             return
         run.timed_out = True  # the SIGINT below is the watchdog's, not the user's
         signal.pthread_kill(threading.main_thread().ident or 0, signal.SIGINT)
-        if run.done.wait(LAST_GRACE):
+        if run.done.wait(LAST_GRACE) or not Process.executable:
             return
         sys.stderr.write(f"catc: error[{codes.TIME_LIMIT}]: {clock_message(run.clock)}\n")
         sys.stderr.flush()

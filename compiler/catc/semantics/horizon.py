@@ -44,8 +44,8 @@ def check_horizon(inst: ir.Instance | None, k: int, given: bool = True) -> None:
     if k <= most:
         return
     limit = limits.BY_NAME["horizon"]
-    steps = f"{limits.count_text(k)} steps"
-    past = f"more than the horizon limit ({limits.count_text(most)} steps); {limit.how_to_raise}"
+    steps = limits.count_text(k, "step")
+    past = f"more than the horizon limit ({limits.count_text(most, 'step')}); {limit.how_to_raise}"
     if given or inst is None:
         raise limits.LimitExceeded(limit.code, f"--horizon {k} is {past}")
     if inst.problem.horizon is not None:
