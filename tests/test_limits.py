@@ -218,6 +218,21 @@ def test_the_timeout_bounds_the_encoding(tmp_path):
     assert res.exit_code == 3 and "error[E1109]" in res.stderr and "encoding" in res.stderr, res.output
 
 
+def test_the_watchdog_stops_a_phase_that_does_not_look_at_the_clock():
+    """Should a phase never check the time (here an encoding step that sleeps ten minutes),
+    the watchdog stops the command two seconds past its --timeout: E1109, exit 3."""
+    code = (
+        "import time\n"
+        "from catc.smt import encoder\n"
+        "encoder.Encoder.add_step = lambda self: time.sleep(600)\n"
+        "from catc.interfaces.entry import main\n"
+        "main(['solve', 'examples/detection/person.cat', '--timeout', '1'])\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 3, (proc.returncode, proc.stdout, proc.stderr)
+    assert "error[E1109]" in proc.stderr and "time limit of 1 s" in proc.stderr and "Traceback" not in proc.stderr
+
+
 def test_a_universe_past_its_limit_is_located(tmp_path):
     text = """(define (domain u)
   (:requirements :numeric :sets :free-parameters)
