@@ -53,7 +53,12 @@ CODES: dict[str, Code] = {
         Code("E0102", "unbalanced-close", E, "A ')' has no matching '('."),
         Code("E0103", "unclosed-paren", E, "A '(' is never closed."),
         Code("E0104", "too-deep", E, "Parentheses nest deeper than the nesting limit (docs/limits.md)."),
-        Code("E0105", "literal-too-long", E, "A numeric literal has more digits than the literal-digits limit (docs/limits.md)."),
+        Code(
+            "E0105",
+            "literal-too-long",
+            E,
+            "A numeric literal has more digits than the literal-digits limit (docs/limits.md).",
+        ),
         Code("E0106", "unknown-section", E, "A section or option keyword is not part of the language."),
         Code("E0107", "bad-character", E, "A character that cannot start any token."),
         # E02xx — names
