@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import sys
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -24,10 +25,11 @@ import click
 
 from catc import ir
 from catc.interfaces import command
+from catc.interfaces.cli import limit_options, limited
 from catc.present.console import escape
 from catc.queries.base import ExitCode
 from catc.semantics.plan import Plan
-from catgrammar import codes
+from catgrammar import codes, limits
 from catgrammar.diagnostics import Diagnostics, Note, format_text
 
 
@@ -241,7 +243,12 @@ def _print_diff(d: Any) -> None:
     "--path", "search_paths", multiple=True, type=click.Path(file_okay=False), help="Extra folder for domains."
 )
 @click.option("--problem", "problem_name", help="The problem to use when the file defines several.")
-@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), help="Give up solving after this many seconds.")
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0, min_open=True),
+    help="Give up after this many seconds (the whole command).",
+)
+@limit_options
 def ground_command(
     paths: tuple[str, ...],
     out: str | None,
@@ -254,6 +261,8 @@ def ground_command(
     search_paths: tuple[str, ...],
     problem_name: str | None,
     timeout: float | None,
+    limit_specs: tuple[str, ...],
+    memory: int | None,
 ) -> None:
     """Write the artifacts a robot runs for a composition (solved, or --plan), or --diff two.
 
@@ -269,6 +278,11 @@ def ground_command(
         command.argument_error(
             "catc ground needs the 'grounding' extra: pip install 'catc-lang[grounding]'", codes.MISSING_EXTRA, as_json
         )
-    ground_command_body(
-        paths, out, plan_file, diff, strict, as_json, horizon, view, search_paths, problem_name, timeout
-    )
+    if timeout is not None and not math.isfinite(timeout):
+        command.argument_error(
+            f"--timeout must be a finite number of seconds, got {timeout}", codes.BAD_ARGUMENT, as_json
+        )
+    with limited(limit_specs, memory), limits.deadline(timeout):
+        ground_command_body(
+            paths, out, plan_file, diff, strict, as_json, horizon, view, search_paths, problem_name, timeout
+        )

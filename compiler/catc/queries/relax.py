@@ -23,7 +23,7 @@ from catc.present.labels import describe, label_json, where
 from catc.present.values import show_value, steps_json, timings_json
 from catc.queries.base import ExitCode, Kind, Option, Progress, Query, Result, Status, json_option, timeout_option
 from catc.semantics.compositions import canonical_fresh, checked
-from catc.semantics.horizon import default_horizon
+from catc.semantics.horizon import horizon_of
 from catc.semantics.plan import Plan, value_to_json
 from catc.semantics.validate import ValidationFailure
 from catc.smt.backend import Check
@@ -31,6 +31,7 @@ from catc.smt.labelled import LabelledModel
 from catc.smt.readback import read_plan
 from catc.smt.script import SmtSort, Symbol, and_text, real_literal
 from catc.smt.terms import Term, and_, eq, le, lt, not_
+from catgrammar import limits
 
 
 @dataclass
@@ -75,6 +76,7 @@ class RelaxResult(Result):
     eligible: list[Requirement] = field(default_factory=list)
     horizon: int = 0
     timings: dict[str, float] = field(default_factory=dict)
+    reason: str | None = None  # why the search stopped early: "timeout" or "interrupted"
 
     @property
     def settled(self) -> bool:
@@ -139,19 +141,40 @@ def relax(
     progress: Progress | None = None,
 ) -> RelaxResult:
     start = time.perf_counter()
-    k = default_horizon(inst) if horizon is None else horizon
+    with limits.deadline(timeout):
+        k = horizon_of(inst, horizon)
+        result = RelaxResult(RelaxStatus.UNKNOWN, horizon=k)
+        try:
+            return _relax(inst, k, sequential, only, weights, discrete, relative_to, progress, result, start)
+        except limits.Stopped as stop:  # encoding or validating when the time ran out
+            result.status, result.reason, result.plan = RelaxStatus.UNKNOWN, stop.reason, None
+            return _finish(result, start)
+
+
+def _relax(
+    inst: ir.Instance,
+    k: int,
+    sequential: bool,
+    only: Iterable[str],
+    weights: dict[str, Fraction] | None,
+    discrete: bool,
+    relative_to: Iterable[str] | None,
+    progress: Progress | None,
+    result: RelaxResult,
+    start: float,
+) -> RelaxResult:
     components = (tuple(relative_to) or None) if relative_to is not None else (inst.problem.deployed or None)
-    result = RelaxResult(RelaxStatus.UNKNOWN, horizon=k)
     say = progress or (lambda message: None)
-    deadline = start + timeout if timeout else None
+    deadline = limits.deadline_at()
     if discrete:
         say("looking for the fewest requirements to drop")
-        return _finish(_relax_discrete(inst, k, sequential, components, timeout, result, start), start)
+        return _finish(_relax_discrete(inst, k, sequential, components, result, start), start)
     result.eligible = eligible_requirements(inst, only, weights)
     search = _SlackSearch(inst, k, sequential, components, result.eligible)
     result.timings["encode"] = time.perf_counter() - start
     say("looking for a restoration")
     best, result.proven, exhausted = search.run(deadline, say)
+    result.reason = None if result.proven or exhausted else limits.stop_reason()
     if best is None:
         result.status = RelaxStatus.UNSAT if exhausted else RelaxStatus.UNKNOWN
         return _finish(result, start)
@@ -304,7 +327,6 @@ def _relax_discrete(
     k: int,
     sequential: bool,
     components: tuple[str, ...] | None,
-    timeout: float | None,
     result: RelaxResult,
     start: float,
 ) -> RelaxResult:
@@ -314,12 +336,14 @@ def _relax_discrete(
     opt = model.backend
     for label in model.labels:
         opt.add_soft(model.indicator[label], Fraction(1))
-    if timeout:
-        opt.set_timeout(timeout)
+    left = limits.remaining()
+    if left is not None:
+        opt.set_timeout(max(0.001, left))
     result.timings["encode"] = time.perf_counter() - start
     r = opt.check()
     if r is not Check.SAT:
         result.status = RelaxStatus.UNSAT if r is Check.UNSAT else RelaxStatus.UNKNOWN
+        result.reason = None if r is Check.UNSAT else limits.stop_reason()
         return result
     dropped = [label for label in model.labels if opt.value(model.indicator[label]) is not True]
     # minimality: putting back any dropped label makes it infeasible again
@@ -333,7 +357,9 @@ def _relax_discrete(
 
 
 def _remaining(deadline: float | None) -> float | None:
-    return None if deadline is None else max(0.001, deadline - time.perf_counter())
+    """Time for the next check: up to ``deadline`` (1 ms once interrupted)."""
+    left = limits.remaining(deadline)
+    return None if left is None else max(0.001, left)
 
 
 def relaxed_instance(inst: ir.Instance, deltas: dict[str, Fraction]) -> ir.Instance:
@@ -407,7 +433,12 @@ def relax_json(inst: ir.Instance, result: RelaxResult) -> dict:
     if not result.attained and result.infimum is not None:
         doc["attained"] = False
         doc["infimum"] = value_to_json(result.infimum)
+    if result.reason is not None:  # why the search stopped early
+        doc["reason"] = result.reason
     return doc
+
+
+_STOPPED = {"timeout": "the time limit", "interrupted": "the run was interrupted"}
 
 
 def render(console: Console, inst: ir.Instance, result: RelaxResult, options: Mapping[str, Any] | None = None) -> None:
@@ -418,7 +449,8 @@ def render(console: Console, inst: ir.Instance, result: RelaxResult, options: Ma
         console.print("[bold red]UNSAT[/]  no relaxation of the eligible requirements restores feasibility")
         return
     if result.status is not RelaxStatus.RELAXED:
-        console.print("[bold yellow]UNKNOWN[/]  the solver gave up")
+        why = "interrupted" if result.reason == "interrupted" else "the solver gave up"
+        console.print(f"[bold yellow]UNKNOWN[/]  {why}")
         return
     index = label_index(inst)
     if result.dropped:
@@ -449,7 +481,8 @@ def _headline(result: RelaxResult) -> str:
         return f"one restoration (weighted total {total}; no restoration is least: {limit})"
     if result.proven:
         return f"the least restoration (weighted total {total})"
-    return f"the best restoration found before the time limit (not proven least) (weighted total {total})"
+    stopped = _STOPPED.get(result.reason or "", "the search stopped")
+    return f"the best restoration found before {stopped} (not proven least) (weighted total {total})"
 
 
 QUERY = Query(
