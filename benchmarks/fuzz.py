@@ -1,0 +1,288 @@
+"""Coverage-guided fuzzing of the whole pipeline with atheris (issue 15, item 2).
+
+Parse → check → fmt → encode → solve → validate → export, on inputs that libFuzzer's
+coverage-guided mutations make from every ``.cat`` file of the repository (and, for a
+problem whose domain lives in another file of its folder, the two files joined, so that
+mutants reach the solver).  What each input must satisfy is :mod:`fuzz_oracle`; a
+dictionary of the language's keywords and operators (from :mod:`catgrammar.symbols`) steers
+the mutations towards the grammar.
+
+    python benchmarks/fuzz.py [--inputs 100000] [--seconds S] [--timeout 2] [--jobs 1] [--state DIR]
+
+Each input's solve runs with ``timeout`` as ``catc solve --timeout`` (a deadline over every
+horizon); the oracle's watchdog stops any stage at ``timeout + 1 + 2`` s, and libFuzzer's
+own ``-timeout`` and ``-rss_limit_mb`` stop a worker stuck in C code or out of memory, which
+this script then records (with the input libFuzzer saved) and restarts.  At the end it
+prints a Markdown summary — inputs, then one row per category, every one of which must be
+0 — the command, and each finding with the file holding its input; it exits 1 when any
+category is not 0.  ``--state`` keeps the corpus, the findings and the worker logs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import hashlib
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+sys.path[:0] = [str(ROOT), str(ROOT / "compiler"), str(HERE)]
+
+SKIP_PARTS = {"node_modules", ".git", "build", "dist", ".pytest_cache", "mutants", ".venv"}
+_DEFINES = re.compile(r"\(\s*define\s*\(\s*(domain|problem)\b")
+
+
+# ---------------------------------------------------------------- seeds and dictionary
+
+
+def seeds() -> dict[str, bytes]:
+    """name → text: every .cat file of the repository, and each problem file joined after
+    the domain files of its folder (a mutant of that reaches the solver on its own)."""
+    out: dict[str, bytes] = {}
+    files = [p for p in sorted(ROOT.rglob("*.cat")) if not SKIP_PARTS & set(p.relative_to(ROOT).parts)]
+    for p in files:
+        out[str(p.relative_to(ROOT))] = p.read_bytes()
+    for p in files:
+        kinds = set(_DEFINES.findall(p.read_text(errors="replace")))
+        if kinds != {"problem"}:
+            continue
+        domains = [q for q in files if q.parent == p.parent and "domain" in _DEFINES.findall(q.read_text())]
+        if domains:
+            name = f"{p.relative_to(ROOT)}+domains"
+            out[name] = b"\n".join(q.read_bytes() for q in domains) + b"\n" + p.read_bytes()
+    return out
+
+
+def dictionary() -> list[str]:
+    """libFuzzer dictionary entries: the language's words, keywords and operators."""
+    from catgrammar import symbols
+
+    words = {"(", ")", "{", "}", "(define", "(domain", "(problem", "1e99", "1e-9", "0.5", "-1", "*", '"', " - "}
+    for group in symbols.all_keywords().values():
+        words.update(group)
+        words.update(f"({w}" for w in group if not w.startswith(":"))
+    return sorted(words)
+
+
+def _dict_file(words: list[str]) -> str:
+    return "".join(f'"{w.replace(chr(92), chr(92) * 2).replace(chr(34), chr(92) + chr(34))}"\n' for w in words)
+
+
+# ---------------------------------------------------------------- the worker (atheris)
+
+
+def worker(state: Path, timeout: float, libfuzzer_args: list[str]) -> None:
+    """The fuzzing process: atheris over catc's instrumented code, writing its counts to
+    ``state/stats.json`` after each input and its findings to ``state/findings.jsonl``."""
+    import atheris
+
+    with atheris.instrument_imports(include=["catc", "catgrammar"]):
+        import fuzz_oracle
+
+        _import_everything()
+    from catc.interfaces.entry import configure_process
+
+    configure_process()
+    stats_path, findings_path = state / "stats.json", state / "findings.jsonl"
+    stats = json.loads(stats_path.read_text()) if stats_path.exists() else {"inputs": 0}
+    work = Path(tempfile.mkdtemp(prefix="catc-fuzz-"))
+
+    def one_input(data: bytes) -> None:
+        (work / "formatted").mkdir(exist_ok=True)
+        reached: list[str] = []
+        findings = fuzz_oracle.examine(data, work, timeout=timeout, reached=reached)
+        stats["inputs"] += 1
+        for what in reached:
+            stats.setdefault("reached", {})[what] = stats.get("reached", {}).get(what, 0) + 1
+        for f in findings:
+            stats[f.category] = stats.get(f.category, 0) + 1
+            _record(state, findings_path, f.category, f.stage, f.detail, data)
+        tmp = stats_path.with_suffix(".tmp")
+        tmp.write_text(json.dumps(stats))
+        os.replace(tmp, stats_path)
+
+    atheris.Setup([sys.argv[0], *libfuzzer_args], one_input)
+    atheris.Fuzz()
+
+
+def _import_everything() -> None:
+    """Import catc's and catgrammar's modules now, so that atheris instruments the ones
+    the pipeline imports lazily (the exporters, the queries)."""
+    import importlib
+    import pkgutil
+
+    import catc
+    import catgrammar
+
+    for package in (catc, catgrammar):
+        for mod in pkgutil.walk_packages(package.__path__, package.__name__ + "."):
+            if mod.name.startswith(("catc.bench", "catc.interfaces.lsp")) or mod.name.endswith("__main__"):
+                continue
+            with contextlib.suppress(ImportError):  # an optional extra that is not installed
+                importlib.import_module(mod.name)
+
+
+def _record(state: Path, log: Path, category: str, stage: str, detail: str, data: bytes) -> None:
+    digest = hashlib.sha1(data).hexdigest()[:12]
+    keep = state / "findings" / f"{digest}.cat"
+    keep.parent.mkdir(exist_ok=True)
+    keep.write_bytes(data)
+    entry = {"category": category, "stage": stage, "detail": detail, "input": str(keep)}
+    with log.open("a") as fh:
+        fh.write(json.dumps(entry) + "\n")
+
+
+# ---------------------------------------------------------------- the orchestrator
+
+
+def _prepare(state: Path) -> tuple[Path, Path, Path]:
+    seed_dir, corpus, dict_path = state / "seeds", state / "corpus", state / "cat.dict"
+    seed_dir.mkdir(parents=True, exist_ok=True)
+    corpus.mkdir(exist_ok=True)
+    for name, data in seeds().items():
+        (seed_dir / name.replace("/", "__")).write_bytes(data)
+    dict_path.write_text(_dict_file(dictionary()))
+    return seed_dir, corpus, dict_path
+
+
+def _libfuzzer_args(
+    args: argparse.Namespace, seed_dir: Path, corpus: Path, dict_path: Path, runs: int, left: float
+) -> list[str]:
+    max_len = max(len(p.read_bytes()) for p in seed_dir.iterdir()) + 1024
+    per_input = int(6 * (args.timeout + 3)) + 10  # every stage at its watchdog, and the start
+    out = [
+        f"-runs={runs}",
+        f"-max_len={max_len}",
+        f"-timeout={per_input}",
+        f"-rss_limit_mb={args.memory}",
+        f"-dict={dict_path}",
+        f"-artifact_prefix={args.state}/artifacts/",
+        "-print_final_stats=1",
+        str(corpus),
+        str(seed_dir),
+    ]
+    if left < float("inf"):
+        out.insert(1, f"-max_total_time={max(1, int(left))}")
+    if args.seed is not None:
+        out.insert(1, f"-seed={args.seed}")
+    return out
+
+
+def _run_worker(args: argparse.Namespace, state: Path, lf_args: list[str], log: Path) -> int:
+    cmd = [sys.executable, __file__, "--worker", "--state", str(state), "--timeout", str(args.timeout), "--", *lf_args]
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), str(ROOT / "compiler"), str(HERE)])}
+    with log.open("ab") as fh:
+        return subprocess.run(cmd, stdout=fh, stderr=subprocess.STDOUT, env=env).returncode
+
+
+def _died(state: Path, log: Path, rc: int) -> None:
+    """Record a worker that libFuzzer stopped (timeout, out of memory) or that crashed."""
+    text = log.read_text(errors="replace")[-20000:]
+    artifacts = re.findall(r"Test unit written to (\S+)", text)
+    reason = re.findall(r"==\d+== ERROR: libFuzzer: ([^\n]+)", text)
+    detail = f"exit {rc}: {reason[-1] if reason else 'no libFuzzer report'}"
+    data = Path(artifacts[-1]).read_bytes() if artifacts and Path(artifacts[-1]).exists() else b""
+    from fuzz_oracle import DIED
+
+    _record(state, state / "findings.jsonl", DIED, "process", detail, data)
+    stats_path = state / "stats.json"
+    stats = json.loads(stats_path.read_text()) if stats_path.exists() else {"inputs": 0}
+    stats[DIED] = stats.get(DIED, 0) + 1
+    stats_path.write_text(json.dumps(stats))
+
+
+def fuzz(args: argparse.Namespace) -> dict:
+    """Run workers until ``args.inputs`` inputs or ``args.seconds`` have gone by."""
+    state = Path(args.state)
+    (state / "artifacts").mkdir(parents=True, exist_ok=True)
+    seed_dir, corpus, dict_path = _prepare(state)
+    start, restarts, before = time.monotonic(), 0, -1
+    stats_path = state / "stats.json"
+    while True:
+        done = json.loads(stats_path.read_text())["inputs"] if stats_path.exists() else 0
+        left = args.seconds - (time.monotonic() - start)
+        if done >= args.inputs or left <= 0 or restarts > args.max_restarts or done == before:
+            break  # (done == before: the last worker died without running an input)
+        before = done
+        lf_args = _libfuzzer_args(args, seed_dir, corpus, dict_path, args.inputs - done, left)
+        rc = _run_worker(args, state, lf_args, state / "worker.log")
+        if rc == 0:
+            break
+        _died(state, state / "worker.log", rc)
+        restarts += 1
+    stats = json.loads(stats_path.read_text()) if stats_path.exists() else {"inputs": 0}
+    stats["seconds"] = time.monotonic() - start
+    return stats
+
+
+def summary(args: argparse.Namespace, stats: dict, command: str) -> str:
+    from fuzz_oracle import CATEGORIES
+    from solve_bench import machine
+
+    lines = [f"command: {command}", f"machine: {machine()}", ""]
+    lines += ["| what | count |", "|---|---:|"]
+    lines.append(f"| inputs (atheris {_atheris_version()}, {stats['seconds']:.0f} s) | {stats['inputs']:,} |")
+    lines += [f"| {c} | {stats.get(c, 0)} |" for c in CATEGORIES]
+    reached = stats.get("reached", {})
+    if reached:
+        lines += ["", "Reached: " + ", ".join(f"{what} {n:,}" for what, n in sorted(reached.items()))]
+    log = Path(args.state) / "findings.jsonl"
+    if log.exists():
+        seen: set[tuple[str, str, str]] = set()
+        lines += ["", "Findings (category, stage, detail, input):"]
+        for line in log.read_text().splitlines():
+            f = json.loads(line)
+            key = (f["category"], f["stage"], re.sub(r"\d+(\.\d+)?", "N", f["detail"]))
+            if key not in seen:
+                seen.add(key)
+                lines.append(f"- {f['category']} in {f['stage']}: {f['detail']} — {f['input']}")
+    return "\n".join(lines)
+
+
+def _atheris_version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("atheris")
+    except PackageNotFoundError:
+        return "not installed"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--inputs", type=int, default=100_000, help="stop after this many inputs")
+    ap.add_argument("--seconds", type=float, default=float("inf"), help="stop after this many seconds")
+    ap.add_argument("--timeout", type=float, default=2.0, help="catc's --timeout for each input's solve")
+    ap.add_argument("--memory", type=int, default=3072, help="libFuzzer's -rss_limit_mb")
+    ap.add_argument("--state", help="folder for the corpus, findings and logs (default: a new temporary one)")
+    ap.add_argument("--seed", type=int, help="libFuzzer's random seed")
+    ap.add_argument("--max-restarts", type=int, default=50, help="give up after this many dead workers")
+    ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
+    ap.add_argument("libfuzzer", nargs="*", help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if args.worker:
+        worker(Path(args.state), args.timeout, args.libfuzzer)
+        return
+    args.state = args.state or tempfile.mkdtemp(prefix="catc-fuzz-state-")
+    stats = fuzz(args)
+    shown = [a for a, prev in zip(sys.argv[1:], ["", *sys.argv[1:]]) if "--state" not in (a.split("=")[0], prev)]
+    print(summary(args, stats, "python benchmarks/fuzz.py " + " ".join(shown)))
+    sys.exit(1 if any(stats.get(c, 0) for c in _categories()) else 0)
+
+
+def _categories() -> tuple[str, ...]:
+    from fuzz_oracle import CATEGORIES
+
+    return CATEGORIES
+
+
+if __name__ == "__main__":
+    main()
