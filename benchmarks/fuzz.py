@@ -25,6 +25,7 @@ import contextlib
 import hashlib
 import json
 import os
+import random
 import re
 import subprocess
 import sys
@@ -109,8 +110,72 @@ def worker(state: Path, timeout: float, libfuzzer_args: list[str]) -> None:
         tmp.write_text(json.dumps(stats))
         os.replace(tmp, stats_path)
 
-    atheris.Setup([sys.argv[0], *libfuzzer_args], one_input)
+    def mutate(data: bytes, max_size: int, seed: int) -> bytes:
+        rng = random.Random(seed)
+        if rng.random() < 0.3:
+            return atheris.Mutate(data, max_size)
+        return structural_mutation(data, rng)[:max_size]
+
+    atheris.Setup([sys.argv[0], *libfuzzer_args], one_input, custom_mutator=mutate)
     atheris.Fuzz()
+
+
+# ---------------------------------------------------------------- structural mutations
+
+_TOKEN = re.compile(rb'\(|\)|"(?:[^"\\]|\\.)*"|;[^\n]*|[^\s()";]+')
+_NUMBER = re.compile(rb"-?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
+#: Operators swapped for one of their own family (a mutant that still parses and often checks).
+_FAMILIES = [
+    [b">=", b"<=", b"<", b">", b"="],
+    [b"increase", b"decrease", b"assign"],
+    [b"add", b"remove"],
+    [b"and", b"or"],
+    [b"+", b"-", b"*", b"min", b"max"],
+    [b"minimize", b"maximize"],
+    [b"int", b"real", b"bool"],
+]
+_NUMBERS = [b"0", b"1", b"-1", b"2", b"3", b"0.5", b"100", b"(/ 1 3)", b"1e-9", b"1e9", b"1e99", b"-0", b"*"]
+
+
+def structural_mutation(data: bytes, rng: random.Random) -> bytes:
+    """One mutation at the level of tokens and balanced parentheses, which keeps most
+    inputs parseable (libFuzzer's byte mutations rarely do): a number, an operator or a
+    name replaced by a sibling of its kind, a balanced expression deleted, duplicated,
+    moved or wrapped in ``(not ...)``."""
+    toks = [(m.start(), m.end()) for m in _TOKEN.finditer(data) if data[m.start()] not in b';"']
+    if not toks:
+        return data
+    i = rng.randrange(len(toks))
+    a, b = toks[i]
+    tok = data[a:b]
+    op = rng.randrange(4)
+    if op == 0 and _NUMBER.fullmatch(tok):
+        return data[:a] + rng.choice(_NUMBERS) + data[b:]
+    if op == 0:
+        family = next((f for f in _FAMILIES if tok in f), None)
+        names = [data[x:y] for x, y in toks if re.fullmatch(rb"[a-zA-Z_][\w-]*", data[x:y])]
+        new = rng.choice(family) if family else (rng.choice(names) if names else tok)
+        return data[:a] + new + data[b:]
+    start, end = _balanced(data, toks, i)
+    if op == 1:
+        return data[:start] + data[end:]
+    if op == 2 or data[a:b] != b"(" or data[b : b + 1] == b":":
+        return data[:end] + b" " + data[start:end] + data[end:]
+    return data[:start] + b"(not " + data[start:end] + b")" + data[end:]
+
+
+def _balanced(data: bytes, toks: list[tuple[int, int]], i: int) -> tuple[int, int]:
+    """The byte range of the balanced expression starting at token ``i`` (the token alone
+    when it is not an opening parenthesis)."""
+    a, b = toks[i]
+    if data[a:b] != b"(":
+        return a, b
+    depth = 0
+    for x, y in toks[i:]:
+        depth += {b"(": 1, b")": -1}.get(data[x:y], 0)
+        if depth == 0:
+            return a, y
+    return a, len(data)
 
 
 def _import_everything() -> None:
