@@ -138,28 +138,35 @@ _NUMBERS = [b"0", b"1", b"-1", b"2", b"3", b"0.5", b"100", b"(/ 1 3)", b"1e-9", 
 
 
 def structural_mutation(data: bytes, rng: random.Random) -> bytes:
-    """One mutation at the level of tokens and balanced parentheses, which keeps most
-    inputs parseable (libFuzzer's byte mutations rarely do): a number, an operator or a
-    name replaced by a sibling of its kind, a balanced expression deleted, duplicated,
-    moved or wrapped in ``(not ...)``."""
+    """One mutation at the level of tokens and balanced parentheses, which keeps many
+    inputs parseable (libFuzzer's byte mutations rarely do): a number or an operator
+    replaced by a sibling of its kind, a name by another name of the file, a balanced
+    expression deleted or duplicated, a comparison wrapped in ``(not ...)``."""
     toks = [(m.start(), m.end()) for m in _TOKEN.finditer(data) if data[m.start()] not in b';"']
-    if not toks:
-        return data
-    i = rng.randrange(len(toks))
-    a, b = toks[i]
-    tok = data[a:b]
-    op = rng.randrange(4)
-    if op == 0 and _NUMBER.fullmatch(tok):
-        return data[:a] + rng.choice(_NUMBERS) + data[b:]
+    op = rng.randrange(6)
     if op == 0:
-        family = next((f for f in _FAMILIES if tok in f), None)
-        names = [data[x:y] for x, y in toks if re.fullmatch(rb"[a-zA-Z_][\w-]*", data[x:y])]
-        new = rng.choice(family) if family else (rng.choice(names) if names else tok)
-        return data[:a] + new + data[b:]
-    start, end = _balanced(data, toks, i)
+        picks = [i for i, (a, b) in enumerate(toks) if _NUMBER.fullmatch(data[a:b])]
+    elif op == 1:
+        picks = [i for i, (a, b) in enumerate(toks) if any(data[a:b] in f for f in _FAMILIES)]
+    elif op == 2:
+        picks = [i for i, (a, b) in enumerate(toks) if re.fullmatch(rb"[a-zA-Z_][\w-]*", data[a:b])]
+    else:  # an expression: "(" not opening a section or a definition
+        picks = [i for i, (a, b) in enumerate(toks[:-1]) if data[a:b] == b"(" and data[toks[i + 1][0]] not in b":("]
+    if not picks:
+        return data
+    i = rng.choice(picks)
+    a, b = toks[i]
+    if op == 0:
+        return data[:a] + rng.choice(_NUMBERS) + data[b:]
     if op == 1:
+        return data[:a] + rng.choice(next(f for f in _FAMILIES if data[a:b] in f)) + data[b:]
+    if op == 2:
+        x, y = toks[rng.choice(picks)]
+        return data[:a] + data[x:y] + data[b:]
+    start, end = _balanced(data, toks, i)
+    if op == 3:
         return data[:start] + data[end:]
-    if op == 2 or data[a:b] != b"(" or data[b : b + 1] == b":":
+    if op == 4:
         return data[:end] + b" " + data[start:end] + data[end:]
     return data[:start] + b"(not " + data[start:end] + b")" + data[end:]
 
