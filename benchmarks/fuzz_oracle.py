@@ -242,3 +242,31 @@ def examine(
         for name in sorted(instances)[:MAX_PROBLEMS]:
             _solve_stage(run, instances[name])
     return run.findings
+
+
+# ---------------------------------------------------------------- replay in a clean process
+
+
+def main() -> None:
+    """``python benchmarks/fuzz_oracle.py FILE... [--timeout T]``: the findings on each file,
+    one JSON object a line, in this (uninstrumented) process; exit 1 when there are any.
+    benchmarks/fuzz.py replays every hang this way before it counts it."""
+    import argparse
+    import json
+    import tempfile
+
+    ap = argparse.ArgumentParser(description=main.__doc__)
+    ap.add_argument("files", nargs="+")
+    ap.add_argument("--timeout", type=float, default=2.0)
+    args = ap.parse_args()
+    found = False
+    for name in args.files:
+        with tempfile.TemporaryDirectory() as work:
+            for f in examine(Path(name).read_bytes(), Path(work), timeout=args.timeout):
+                found = True
+                print(json.dumps({"file": name, "category": f.category, "stage": f.stage, "detail": f.detail}))
+    raise SystemExit(1 if found else 0)
+
+
+if __name__ == "__main__":
+    main()
