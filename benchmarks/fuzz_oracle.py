@@ -201,7 +201,7 @@ def _fmt_stage(
         run.add(MEANING, "fmt", "the checked IR differs after formatting")
 
 
-def _solve_stage(run: _Run, inst: ir.Instance) -> None:
+def _solve_stage(run: _Run, inst: ir.Instance, flavors: tuple[str, ...]) -> None:
     viewed = run.stage("view", apply_view, inst, None)
     if viewed is None:
         return
@@ -213,13 +213,18 @@ def _solve_stage(run: _Run, inst: ir.Instance) -> None:
         report = run.stage("validate", validate, viewed, result.plan, horizon=k)
         if report is not None and not report.ok:
             run.add(REJECTED, "validate", "; ".join(v.message for v in report.violations[:3]))
-    for flavor in ("enhsp", "smtplan"):
+    for flavor in flavors:
         if run.stage(f"export {flavor}", export_pddl, viewed, flavor=flavor, expected=(ExportError,)) is not None:
             run.reached.append(f"exported ({flavor})")
 
 
 def examine(
-    data: bytes, workdir: Path, *, timeout: float | None = 2.0, reached: list[str] | None = None
+    data: bytes,
+    workdir: Path,
+    *,
+    timeout: float | None = 2.0,
+    reached: list[str] | None = None,
+    flavors: tuple[str, ...] = ("enhsp", "smtplan"),
 ) -> list[Finding]:
     """Every finding of the pipeline on ``data`` (the bytes of one .cat file), run in
     ``workdir`` (an empty folder of its own: the loader looks beside the file).  With
@@ -240,7 +245,7 @@ def examine(
     if not diags.has_errors and instances:
         run.reached.append("checked clean")
         for name in sorted(instances)[:MAX_PROBLEMS]:
-            _solve_stage(run, instances[name])
+            _solve_stage(run, instances[name], flavors)
     return run.findings
 
 
