@@ -78,6 +78,20 @@ TALLY = """(define (domain tally) (:requirements :numeric :free-parameters)
 (define (problem tally-p) (:domain tally) (:init (= n 0) (= x 4)) (:goal (and flag (>= n 1))) (:horizon 3))
 """
 
+PAIRS = """(define (domain pairs) (:requirements :numeric :sets :free-parameters)
+  (:sorts item - symbol) (:constants apple - item)
+  (:resources (a real) (b real) (c real) (s (set item)))
+  (:morphism w :effect (and (assign a 1) (assign b 2)))
+  (:morphism r :effect (assign c b))
+  (:morphism u :effect (and (increase c 1) (increase b 1)))
+  (:morphism rm2 :effect (and (increase c 1) (remove s apple)))
+  (:morphism rm :effect (remove s apple))
+  (:morphism grow :effect (and (increase c 1) (add s apple)))
+  (:morphism q :parameters ((d real :bounds (0 2)) (e real :bounds (0 2)))
+    :precondition (> (/ a d) (+ c e)) :effect (assign b 5)))
+(define (problem pairs-p) (:domain pairs) (:init (= a 0) (= b 0) (= c 0)) (:goal (>= a 0)) (:horizon 3))
+"""
+
 SCENARIOS: dict[str, tuple[str, Plan, dict]] = {
     "assign/assign": (INTER, plan([A("set-gauge"), A("reset-gauge")]), {}),
     "assign/read": (INTER, plan([A("set-gauge"), A("watch-gauge")]), {}),
@@ -89,6 +103,13 @@ SCENARIOS: dict[str, tuple[str, Plan, dict]] = {
     "add/remove other": (INTER, plan([A("put", i="apple"), A("take", i="pear")]), {}),
     "sequential": (INTER, plan([A("drain-fixed"), A("set-gauge")]), {"sequential": True}),
     "twice in a step": (INTER, plan([A("drain-fixed"), A("drain-fixed")]), {}),
+    "an assignment twice in a step": (INTER, plan([A("set-gauge"), A("set-gauge")]), {}),
+    "assigns a second effect's resource while another reads it": (PAIRS, plan([A("w"), A("r")]), {}),
+    "assigns a resource another updates second": (PAIRS, plan([A("w"), A("u")]), {}),
+    "updates a resource another reads in an effect": (PAIRS, plan([A("u"), A("r")]), {}),
+    "removes what another removes": (PAIRS, plan([A("rm"), A("rm2")]), {}),
+    "adds in a second effect what another removes": (PAIRS, plan([A("grow"), A("rm")]), {}),
+    "a missing parameter before a bad one": (PARAMS, plan(A("observe", c="red", n=F(3, 2), w=F(1), loud=True)), {}),
     "unknown morphism": (INTER, plan(A("fly")), {}),
     "unknown parameter": (INTER, plan(A("drain-fixed", x=F(1))), {}),
     "missing parameter": (INTER, plan(A("drain-param")), {}),
@@ -138,12 +159,16 @@ def _without_init(inst: ir.Instance, *names: str) -> ir.Instance:
 
 
 def _with_init(inst: ir.Instance, name: str, value: ir.Const | ir.SetLit) -> ir.Instance:
-    init = {**inst.problem.init, name: ir.InitValue(name, value, f"init/{name}")}
+    init = {**inst.problem.init, name: ir.InitValue(name, value, f"init/{name}/by-hand")}
     return replace(inst, problem=replace(inst.problem, init=init))
 
 
+def _with_goal(inst: ir.Instance, expr: ir.Expr) -> ir.Instance:
+    return replace(inst, problem=replace(inst.problem, goal=(ir.Literal(expr, "goal/1"),)))
+
+
 def broken_instances() -> dict[str, tuple[ir.Instance, Plan]]:
-    inter = load(INTER)
+    inter, pairs = load(INTER), text_instance(PAIRS)
     ghost_value = ir.Const(F(1), ir.REAL)
     unreadable = ir.SetLit((ir.Const(F(1), ir.REAL),), inter.resources["basket"].sort)
     return {
@@ -155,6 +180,21 @@ def broken_instances() -> dict[str, tuple[ir.Instance, Plan]]:
         "a symbol for a number": (_with_init(inter, "gauge", ir.Const("apple", ir.REAL)), plan()),
         "a number for a set": (_with_init(inter, "basket", ir.Const(F(1), ir.REAL)), plan()),
         "bools false, sets empty": (_without_init(inter, "alarm", "basket"), plan(A("put", i="pear"))),
+        "the first initial value cannot be evaluated": (_with_init(inter, "tank", unreadable), plan()),
+        "a fraction for an int": (_with_init(inter, "counter", ir.Const(F(1, 2), ir.REAL)), plan()),
+        "a number for an enumeration": (_with_init(load(PARAMS), "paint", ir.Const(F(1), ir.REAL)), plan()),
+        "an update of a set that is not one": (_with_init(inter, "basket", ghost_value), plan(A("put", i="apple"))),
+        "an update of a resource without a value": (_without_init(pairs, "c"), plan(A("u"))),
+        "an effect reads a resource without a value": (_without_init(pairs, "b"), plan(A("r"))),
+        "a zero divisor beside a resource without a value": (
+            _without_init(pairs, "c"),
+            plan(A("q", d=F(0), e=F(1))),
+        ),
+        "a goal without a value after a step out of bounds": (
+            _without_init(text_instance(TALLY), "n"),
+            plan(A("both", w=F(9), v=F(0))),
+        ),
+        "a goal that reads nothing": (_with_goal(pairs, ir.Const(False, ir.BOOL)), plan()),
     }
 
 
@@ -197,6 +237,9 @@ def expressions() -> dict[str, tuple[ir.Expr, dict, dict | None]]:
         "param without a plan": (ir.ParamValue("put", "i", ir.REAL), {}, None),
         "a set literal": (ir.SetLit((apple, ir.Const("pear", ir.REAL)), item_set), {}, None),
         "if false": (ir.Ite(no, one, ir.Const(F(2), ir.INT), ir.INT), {}, None),
+        "a set literal naming a parameter": (ir.SetLit((ir.ParamRef("i", ir.REAL),), item_set), {}, {"i": "pear"}),
+        "an unknown boolean operator": (ir.BoolOp("xor", (yes, no)), {}, None),  # type: ignore[arg-type]
+        "something that is no expression": (object(), {}, None),  # type: ignore[dict-item]
     }
 
 
@@ -292,3 +335,9 @@ def test_violations_come_in_order_initial_state_first():
     assert kinds[0] == "initial-state"
     steps = [v.step for v in report.violations if v.step is not None]
     assert steps == sorted(steps)
+
+
+def test_total_churn_is_an_exact_number_even_when_nothing_changes():
+    inst = text_instance(OBJ)
+    value = V.objective_value(inst, plan(A("c")), ir.TotalChurn(), {"r": F(0)})
+    assert value == 0 and isinstance(value, F)
