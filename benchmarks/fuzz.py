@@ -354,17 +354,44 @@ _HORIZON = re.compile(rb"\(\s*:horizon\s+([-+0-9.eE]+)")
 
 
 def known_class(finding: dict) -> str | None:
-    """The issue-15 class of a finding, when it is one handed to another branch."""
-    if finding["stage"].startswith("export") and "_theta_values" in finding["detail"]:
+    """The issue-15 class of a finding, when it is one handed to the limits branch."""
+    detail, stage = finding["detail"], finding["stage"]
+    if "Exceeds the limit" in detail:
+        return "issue 15 Found #1: a number past Python's int/str digit limit (wt-limits)"
+    if stage.startswith("export") and "_theta_values" in detail:
         return "issue 15 Found #6: no cap on ground actions in the export (wt-limits)"
-    data = Path(finding["input"]).read_bytes() if finding["input"] else b""
-    for text in _HORIZON.findall(data):
-        try:
-            if float(text) >= HUGE_HORIZON:
-                return "issue 15 Found #4: unbounded horizon (wt-limits)"
-        except ValueError:
-            continue
+    if finding["category"] == fuzz_oracle_hang() and "validate.py" in detail:
+        return "issue 15 Found #5: validation outside the timeout (wt-limits)"
+    if finding["input"] and _horizon(Path(finding["input"]).read_bytes()) >= HUGE_HORIZON:
+        return "issue 15 Found #4: unbounded horizon (wt-limits)"
     return None
+
+
+def fuzz_oracle_hang() -> str:
+    from fuzz_oracle import HANG
+
+    return HANG
+
+
+def _horizon(data: bytes) -> float:
+    """The largest horizon of the input's problems: a ``(:horizon k)`` as written, or the
+    horizon catc derives (the sum of the ``:uses`` limits) when the input checks."""
+    best = 0.0
+    for text in _HORIZON.findall(data):
+        with contextlib.suppress(ValueError, OverflowError):
+            best = max(best, float(text))
+    with tempfile.TemporaryDirectory() as work:
+        from catc.frontend.session import check_files
+        from catc.semantics.horizon import default_horizon
+        from catgrammar.diagnostics import Diagnostics
+
+        path = Path(work) / "input.cat"
+        path.write_bytes(data)
+        with contextlib.suppress(Exception):
+            _, instances = check_files([str(path)], Diagnostics())
+            for inst in instances.values():
+                best = max(best, float(default_horizon(inst)))
+    return best
 
 
 def confirm(state: Path, timeout: float) -> dict[str, dict]:
@@ -458,7 +485,8 @@ def main() -> None:
         worker(Path(args.state), args.timeout, args.libfuzzer)
         return
     if args.summarize:
-        stats = {**json.loads((Path(args.state) / "stats.json").read_text()), **gather(Path(args.state))}
+        kept = Path(args.state) / "stats.json"
+        stats = {**(json.loads(kept.read_text()) if kept.exists() else {}), **gather(Path(args.state))}
         command = (
             (Path(args.state) / "command.txt").read_text().strip()
             if (Path(args.state) / "command.txt").exists()
