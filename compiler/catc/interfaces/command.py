@@ -335,15 +335,17 @@ def run_query(name: str, paths: Sequence[str], raw: Mapping[str, Any]) -> NoRetu
     sys.exit(code)
 
 
-def command_limits(specs: Sequence[str], memory: int | None, as_json: bool) -> Any:
-    """The limits of this command (E1111 when malformed), with the process's memory capped."""
+def command_limits(specs: Sequence[str], memory: int | None, as_json: bool, cap_memory: bool = True) -> Any:
+    """The limits of this command (E1111 when malformed), with the process's memory capped
+    (``cap_memory``: the commands that take ``--memory``)."""
     from catc.interfaces import guard
 
     try:
         found = guard.command_limits(specs, memory)
     except guard.LimitArgumentError as exc:
         argument_error(str(exc), exc.code, as_json)
-    guard.limit_memory(found.memory)
+    if cap_memory:
+        guard.limit_memory(found.memory)
     return found
 
 
