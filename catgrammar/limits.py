@@ -350,6 +350,13 @@ def stop_reason() -> str | None:
     return "timeout" if expired() else None
 
 
+def note_phase(phase: str) -> None:
+    """Note what the command is doing (for the message should its time run out there)."""
+    c = _clock.get()
+    if c is not None:
+        c.root.phase = phase
+
+
 #: How long past its time limit a command may go on finishing an answer it has (replaying it
 #: in the validator to show it), and ignore a first Ctrl-C while it does.
 FINISH_GRACE = 1.0

@@ -216,6 +216,7 @@ class DomainChecker:
                 self._view(sec)
         for sec in sections:
             if isinstance(sec, ast.MorphismDecl):
+                limits.check_time("checking")  # a command's --timeout also bounds reading its model
                 self._morphism(sec)
         for sec in sections:
             if isinstance(sec, ast.HoleDecl):

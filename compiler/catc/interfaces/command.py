@@ -328,6 +328,8 @@ def run_query(name: str, paths: Sequence[str], raw: Mapping[str, Any]) -> NoRetu
             code = _answer(query, paths, values, as_json, run)
         except KeyboardInterrupt:
             code = guard.stopped_exit(run, as_json, echo)
+        except limits.TimeLimitReached as exc:  # reading the model, before the query could answer
+            code = guard.time_limit_exit(guard.time_limit_message(exc.seconds, exc.phase), as_json, echo)
         except MemoryError:
             out_of_memory(clock.root.phase, as_json)
         except limits.LimitExceeded as exc:
@@ -381,6 +383,7 @@ def _answer(query: Query, paths: Sequence[str], values: dict[str, Any], as_json:
     """Load, convert the arguments, answer and print; the exit code."""
     from catgrammar import limits
 
+    limits.note_phase("reading the model")
     inst = instance(paths, values.get("view"), values.get("search_paths") or (), values.get("problem_name"), as_json)
     try:
         values = convert(query, inst, values)
