@@ -9,8 +9,8 @@
 * :func:`stoppable` — Ctrl-C and the time limit while a command runs: the first Ctrl-C
   during a query asks it to stop and report what it has ("interrupted", exit 130), a second
   stops at once; and a watchdog that, should some phase not notice its time is up, stops the
-  command one second past its ``--timeout`` (error E1109, exit 3), and ends the process two
-  seconds after that whatever it is doing.
+  command :data:`GRACE` seconds past its ``--timeout`` (error E1109, exit 3), and ends the
+  process :data:`LAST_GRACE` seconds after that whatever it is doing.
 """
 
 from __future__ import annotations
