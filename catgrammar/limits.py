@@ -364,9 +364,9 @@ FINISH_GRACE = 1.0
 
 def check_time(phase: str, finishing: bool = False) -> None:
     """Note that the command is ``phase``; raise :class:`Interrupted` or
-    :class:`TimeLimitReached` when it must stop.  A ``finishing`` phase (the validator's
-    replay of an answer found in time) is not interrupted, and has :data:`FINISH_GRACE`
-    seconds more."""
+    :class:`TimeLimitReached` when it must stop.  A ``finishing`` phase, one the answer
+    needs (reading the model; the validator's replay of an answer found in time), is not
+    interrupted, and has :data:`FINISH_GRACE` seconds more."""
     c = _clock.get()
     if c is None:
         return
