@@ -350,6 +350,13 @@ def stop_reason() -> str | None:
     return "timeout" if expired() else None
 
 
+def note_phase(phase: str) -> None:
+    """Note what the command is doing (for the message should its time run out there)."""
+    c = _clock.get()
+    if c is not None:
+        c.root.phase = phase
+
+
 #: How long past its time limit a command may go on finishing an answer it has (replaying it
 #: in the validator to show it), and ignore a first Ctrl-C while it does.
 FINISH_GRACE = 1.0
@@ -357,9 +364,9 @@ FINISH_GRACE = 1.0
 
 def check_time(phase: str, finishing: bool = False) -> None:
     """Note that the command is ``phase``; raise :class:`Interrupted` or
-    :class:`TimeLimitReached` when it must stop.  A ``finishing`` phase (the validator's
-    replay of an answer found in time) is not interrupted, and has :data:`FINISH_GRACE`
-    seconds more."""
+    :class:`TimeLimitReached` when it must stop.  A ``finishing`` phase, one the answer
+    needs (reading the model; the validator's replay of an answer found in time), is not
+    interrupted, and has :data:`FINISH_GRACE` seconds more."""
     c = _clock.get()
     if c is None:
         return

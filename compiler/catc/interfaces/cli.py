@@ -77,10 +77,11 @@ class _Group(click.Group):
 
     def _invoke_limited(self, ctx: click.Context) -> Any:
         """Every command runs under the limits of the environment (``CATC_LIMIT_*``); those
-        with ``--limit``/``--memory`` refine them (:func:`limited`)."""
+        with ``--limit``/``--memory`` refine them and cap the process's memory (:func:`limited`;
+        ``bench``, ``fmt`` and ``lsp`` leave their process as it is)."""
         from catgrammar import limits
 
-        with limits.using(command.command_limits((), None, False)):
+        with limits.using(command.command_limits((), None, False, cap_memory=False)):
             return super().invoke(ctx)
 
 

@@ -331,6 +331,8 @@ def run_query(name: str, paths: Sequence[str], raw: Mapping[str, Any]) -> NoRetu
             code = _answer(query, paths, values, as_json, run)
         except KeyboardInterrupt:
             code = guard.stopped_exit(run, as_json, echo)
+        except limits.TimeLimitReached as exc:  # reading the model, before the query could answer
+            code = guard.time_limit_exit(guard.time_limit_message(exc.seconds, exc.phase), as_json, echo)
         except MemoryError:
             out_of_memory(clock.root.phase, as_json)
         except limits.LimitExceeded as exc:
@@ -338,15 +340,17 @@ def run_query(name: str, paths: Sequence[str], raw: Mapping[str, Any]) -> NoRetu
     sys.exit(code)
 
 
-def command_limits(specs: Sequence[str], memory: int | None, as_json: bool) -> Any:
-    """The limits of this command (E1111 when malformed), with the process's memory capped."""
+def command_limits(specs: Sequence[str], memory: int | None, as_json: bool, cap_memory: bool = True) -> Any:
+    """The limits of this command (E1111 when malformed), with the process's memory capped
+    (``cap_memory``: the commands that take ``--memory``)."""
     from catc.interfaces import guard
 
     try:
         found = guard.command_limits(specs, memory)
     except guard.LimitArgumentError as exc:
         argument_error(str(exc), exc.code, as_json)
-    guard.limit_memory(found.memory)
+    if cap_memory:
+        guard.limit_memory(found.memory)
     return found
 
 
@@ -382,6 +386,7 @@ def _answer(query: Query, paths: Sequence[str], values: dict[str, Any], as_json:
     """Load, convert the arguments, answer and print; the exit code."""
     from catgrammar import limits
 
+    limits.note_phase("reading the model")
     inst = instance(paths, values.get("view"), values.get("search_paths") or (), values.get("problem_name"), as_json)
     try:
         values = convert(query, inst, values)

@@ -9,8 +9,8 @@
 * :func:`stoppable` — Ctrl-C and the time limit while a command runs: the first Ctrl-C
   during a query asks it to stop and report what it has ("interrupted", exit 130), a second
   stops at once; and a watchdog that, should some phase not notice its time is up, stops the
-  command one second past its ``--timeout`` (error E1109, exit 3), and ends the process two
-  seconds after that whatever it is doing.
+  command :data:`GRACE` seconds past its ``--timeout`` (error E1109, exit 3), and ends the
+  process :data:`LAST_GRACE` seconds after that whatever it is doing.
 """
 
 from __future__ import annotations
@@ -171,15 +171,19 @@ def _watchdog(run: _Run) -> threading.Thread | None:
 def stopped_exit(run: _Run | None, as_json: bool, echo: Any) -> int:
     """After a KeyboardInterrupt: report it (time limit or Ctrl-C) and return the exit code."""
     if run is not None and run.timed_out:
-        message = clock_message(run.clock)
-        if as_json:
-            import json
-
-            echo(json.dumps({"schema": "catc.error/1", "status": "unknown", "diagnostics": [_diag(message)]}))
-        echo(f"catc: error[{codes.TIME_LIMIT}]: {message}", True)
-        return 3
+        return time_limit_exit(clock_message(run.clock), as_json, echo)
     echo("catc: interrupted", True)
     return 130
+
+
+def time_limit_exit(message: str, as_json: bool, echo: Any) -> int:
+    """E1109 (with ``--json`` also a catc.error/1 document); exit 3."""
+    if as_json:
+        import json
+
+        echo(json.dumps({"schema": "catc.error/1", "status": "unknown", "diagnostics": [_diag(message)]}))
+    echo(f"catc: error[{codes.TIME_LIMIT}]: {message}", True)
+    return 3
 
 
 def _diag(message: str) -> dict:

@@ -326,6 +326,9 @@ def render(console: Console, inst: ir.Instance, result: ParetoResult, options: M
         return
     labels = objective_labels(result.objectives)
     done = "complete" if result.complete else f"incomplete: {_STOPPED.get(result.reason or '', result.reason)}"
+    if not result.points and not result.complete:
+        console.print(f"UNKNOWN  no front point found ({done})")
+        return
     console.print(
         f"FRONT  {len(result.points)} non-dominated compositions ({done}) for problem "
         f"{inst.problem.name} of domain {inst.domain.name}"

@@ -149,6 +149,7 @@ class Z3Backend(Backend):
     def check(self, assumptions: Sequence[Symbol] = ()) -> Check:
         self._model = None
         self._failure = None
+        limits.note_phase("solving")
         started = time.perf_counter()
         memory = SolverMemory.megabytes
         try:
