@@ -74,11 +74,11 @@ def stage(target: str, where: Path) -> Path:
     return where
 
 
-def run_mutmut(where: Path, max_children: int) -> str:
+def run_mutmut(where: Path, max_children: int, mutants: list[str] | None = None) -> str:
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     # the staged copy only: mutmut puts mutants/src first; the runtime is not under test
     env["PYTHONPATH"] = str(where / "src")
-    cmd = [sys.executable, "-m", "mutmut", "run", "--max-children", str(max_children)]
+    cmd = [sys.executable, "-m", "mutmut", "run", "--max-children", str(max_children), *(mutants or [])]
     proc = subprocess.run(cmd, cwd=where, env=env, capture_output=True, text=True)
     if proc.returncode != 0:
         raise SystemExit(f"mutmut run failed ({proc.returncode}):\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")
@@ -104,11 +104,18 @@ def main() -> None:
     ap.add_argument("--target", choices=sorted(TARGETS), default="validate")
     ap.add_argument("--stage", help="the staging folder (default: a new temporary one)")
     ap.add_argument("--max-children", type=int, default=2, help="mutants tested at once")
+    ap.add_argument(
+        "--mutants",
+        nargs="+",
+        help="test only these mutants (names as `mutmut results` prints them: the survivors of a full run)",
+    )
     args = ap.parse_args()
     where = Path(args.stage) if args.stage else Path(tempfile.mkdtemp(prefix="catc-mutation-"))
     t0 = time.perf_counter()
-    results = run_mutmut(stage(args.target, where), args.max_children)
+    results = run_mutmut(stage(args.target, where), args.max_children, args.mutants)
     status = dict(re.findall(r"^\s*(\S+): (\w[\w ]*)$", results, re.M))
+    if args.mutants:  # the others were not run
+        status = {name: s for name, s in status.items() if name in set(args.mutants)}
     counts: dict[str, int] = {}
     for s in status.values():
         counts[s] = counts.get(s, 0) + 1

@@ -93,11 +93,25 @@ def resources(draw: st.DrawFn) -> list[Resource]:
 # ---------------------------------------------------------------- terms and literals
 
 
-def _numeric_term(draw: st.DrawFn, params: list[Param], want: str) -> str:
-    """A term of sort ``want`` ("int" or "real": ints promote) from constants and parameters."""
+def _numeric_term(draw: st.DrawFn, params: list[Param], want: str, depth: int = 0) -> str:
+    """A term of sort ``want`` ("int" or "real": ints promote) from constants and parameters,
+    now and then compound — ``+``, ``-``, ``*`` by a constant (linear), ``min``, ``max``,
+    ``if`` on a bool resource, and ``/`` by a constant for reals."""
     usable = [p.name for p in params if p.sort == "int" or (want == "real" and p.sort == "real")]
     consts = ["1", "2"] if want == "int" else ["1", "2", "0.5", "(/ 1 3)"]
-    return draw(st.sampled_from(consts + usable))
+    if depth >= 2 or draw(st.integers(0, 3)) > 0:
+        return draw(st.sampled_from(consts + usable))
+    ops = ["+", "-", "*", "min", "max", "if"] + (["/"] if want == "real" else [])
+    op = draw(st.sampled_from(ops))
+    a = _numeric_term(draw, params, want, depth + 1)
+    b = _numeric_term(draw, params, want, depth + 1)
+    if op == "*":
+        return f"(* {draw(st.sampled_from(['2', '-1', '3']))} {a})"
+    if op == "/":
+        return f"(/ {a} {draw(st.sampled_from(['2', '4']))})"
+    if op == "if":
+        return f"(if b0 {a} {b})"
+    return f"({op} {a} {b})"
 
 
 def _literal(draw: st.DrawFn, res: list[Resource], params: list[Param]) -> str:
@@ -107,7 +121,9 @@ def _literal(draw: st.DrawFn, res: list[Resource], params: list[Param]) -> str:
         return draw(st.sampled_from([r.name, f"(not {r.name})"]))
     if r.sort in ("int", "real"):
         op = draw(st.sampled_from([">=", "<=", "<", ">", "="]))
-        rhs = _numeric_term(draw, params, "real") if r.sort == "real" else draw(st.sampled_from(["0", "1", "2", "3"]))
+        rhs = (
+            _numeric_term(draw, params, r.sort) if draw(st.booleans()) else draw(st.sampled_from(["0", "1", "2", "3"]))
+        )
         if r.sort == "int" and any(p.sort == "int" for p in params) and draw(st.booleans()):
             rhs = f"(+ 1 {next(p.name for p in params if p.sort == 'int')})"
         return f"({op} {r.name} {rhs})"

@@ -321,7 +321,7 @@ def test_division_by_zero_keeps_its_expression():
 
 @pytest.mark.parametrize(
     "value, text",
-    [(True, "true"), (False, "false"), (F(1, 3), "1/3"), (frozenset({"b", "a"}), "{a b}"), (None, "None")],
+    [(True, "true"), (False, "false"), (F(1, 3), "1/3"), (frozenset({"b", "a"}), "{a b}"), (7, "7")],
 )
 def test_values_as_messages_write_them(value, text):
     assert V.fmt(value) == text
