@@ -8,7 +8,7 @@ standard library (``stdlib_domains``).  Each domain is checked once; import cycl
 reported.
 
 Files that were not asked for are read with care: only regular files (a FIFO or a device
-could block or never end) of at most :data:`SCAN_MAX_BYTES`, searched for
+could block or never end) of at most the input-bytes limit (docs/limits.md), searched for
 ``(define (domain NAME`` with the language's own tokenizer (a comment inside the header
 changes nothing), and parsed on their own: one that fails to parse is passed over when
 another file defines the domain, and its errors are shown only when none does.
@@ -22,7 +22,7 @@ from pathlib import Path
 
 from catc import ir
 from catc.frontend.check import DomainChecker, ProblemChecker
-from catgrammar import ast, codes
+from catgrammar import ast, codes, limits
 from catgrammar._lalr import UnexpectedCharacters
 from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
 from catgrammar.parser import decode_source, parse_source, read_regular, read_source
@@ -65,9 +65,6 @@ def _folder(path: str) -> Path:
     return Path(path).resolve().parent
 
 
-#: The largest file read while looking for a domain among files nobody asked for (the
-#: folder of a problem, ``--path``, the standard library); larger ones are passed over.
-SCAN_MAX_BYTES = 16 * 1024 * 1024
 
 _HEADER = ("LPAR", "_DEFINE_WORD", "LPAR", "_DOMAIN_WORD")
 
@@ -96,12 +93,13 @@ class Workspace:
         diags: Diagnostics,
         search_paths: list[str] | tuple[str, ...] = (),
         texts: Mapping[str, str] | None = None,
-        scan_max_bytes: int = SCAN_MAX_BYTES,
+        scan_max_bytes: int | None = None,
     ):
         """``search_paths``: extra folders to look for domains in, in order (the interfaces
         add ``--path`` and ``CATC_PATH``; nothing here reads the environment).  ``texts``:
         files given as text (path → text), read instead of the disk (the runtime's model).
-        ``scan_max_bytes``: the largest file read while looking for a domain."""
+        ``scan_max_bytes``: the largest file read while looking for a domain (default: the
+        input-bytes limit in force, :mod:`catgrammar.limits`)."""
         self.diags = diags
         self.texts = {normalise_path(k): v for k, v in (texts or {}).items()}
         self.search_paths = [Path(p) for p in search_paths]
@@ -112,7 +110,7 @@ class Workspace:
         self._checked: dict[int, ir.Domain | None] = {}  # id(ast.Domain) → checked IR
         self._stack: list[tuple[str, int]] = []
         self.stdlib = stdlib_dir()
-        self.scan_max_bytes = scan_max_bytes
+        self.scan_max_bytes = limits.current().input_bytes if scan_max_bytes is None else scan_max_bytes
         #: files loaded while looking for a domain (the others were given)
         self.discovered: set[str] = set()
         self._defines: dict[str, list[str]] = {}  # a file not loaded → the domains it defines
