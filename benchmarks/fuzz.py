@@ -336,7 +336,11 @@ def fuzz(args: argparse.Namespace) -> dict:
 
 
 def gather(state: Path) -> dict:
-    """The counts of every job of ``state`` added up; their findings in ``state/findings.jsonl``."""
+    """The counts of every job of ``state`` added up; their findings in ``state/findings.jsonl``
+    (a state without jobs, from a run of one worker, is left as it is)."""
+    if not any(state.glob("job-*")):
+        kept = state / "stats.json"
+        return json.loads(kept.read_text()) if kept.exists() else {"inputs": 0}
     total: dict = {"inputs": 0, "reached": {}}
     lines: list[str] = []
     for job in sorted(state.glob("job-*")):
@@ -400,6 +404,18 @@ def _horizon(data: bytes) -> float:
     return best
 
 
+def findings_of(state: Path) -> list[dict]:
+    """The findings recorded in ``state``, each input's path found again when the state
+    folder was moved since."""
+    log = state / "findings.jsonl"
+    entries = [json.loads(line) for line in log.read_text().splitlines()] if log.exists() else []
+    for f in entries:
+        if f["input"] and not Path(f["input"]).exists():
+            found = sorted(state.rglob(Path(f["input"]).name))
+            f["input"] = str(found[0]) if found else ""
+    return entries
+
+
 def confirm(state: Path, timeout: float) -> dict[str, dict]:
     """Replay every input with a hang in an uninstrumented process (atheris's instrumentation
     slows Python code down many times): input → {"confirmed": bool, "known": label}.  A hang
@@ -407,8 +423,7 @@ def confirm(state: Path, timeout: float) -> dict[str, dict]:
     docs/benchmarks.md, hang outside the fuzzer too)."""
     from fuzz_oracle import HANG
 
-    log = state / "findings.jsonl"
-    entries = [json.loads(line) for line in log.read_text().splitlines()] if log.exists() else []
+    entries = findings_of(state)
     out: dict[str, dict] = {}
     for f in entries:
         if f["category"] != HANG or f["input"] in out:
@@ -431,8 +446,7 @@ def summary(args: argparse.Namespace, stats: dict, command: str) -> str:
 
     state = Path(args.state)
     replays = confirm(state, args.timeout)
-    log = state / "findings.jsonl"
-    entries = [json.loads(line) for line in log.read_text().splitlines()] if log.exists() else []
+    entries = findings_of(state)
     kept = [f for f in entries if f["category"] != HANG or replays[f["input"]]["confirmed"]]
     counts = {c: sum(1 for f in kept if f["category"] == c) for c in CATEGORIES}
     slow_only = len({f["input"] for f in entries if f["category"] == HANG and not replays[f["input"]]["confirmed"]})
