@@ -6,7 +6,7 @@ Codes are never reused; a retired code stays listed.  docs/errors.md lists them 
 (``tests/test_symbols.py`` checks that, and that every code is exercised by a test).
 Ranges: E00xx reading input, E01xx syntax, E02xx names, E03xx types, E04xx requirements,
 E05xx semantics, E07xx command-line arguments, E08xx plan files, E09xx exports, E10xx the
-runtime, W01xx lints.
+runtime, E11xx limits, W01xx lints.
 """
 
 from __future__ import annotations
@@ -43,7 +43,12 @@ CODES: dict[str, Code] = {
     c.code: c
     for c in (
         # E00xx — reading input
-        Code("E0001", "unreadable-file", E, "The file cannot be read (missing, a directory, or permission denied)."),
+        Code(
+            "E0001",
+            "unreadable-file",
+            E,
+            "The file cannot be read (missing, a folder, a FIFO or device, or permission denied).",
+        ),
         Code("E0002", "binary-file", E, "The file contains NUL bytes; it is not a text file."),
         Code("E0003", "invalid-utf8", E, "The file is not valid UTF-8."),
         Code("E0004", "empty-file", E, "The file holds no definition."),
@@ -52,8 +57,13 @@ CODES: dict[str, Code] = {
         Code("E0101", "syntax", E, "The text does not follow the grammar."),
         Code("E0102", "unbalanced-close", E, "A ')' has no matching '('."),
         Code("E0103", "unclosed-paren", E, "A '(' is never closed."),
-        Code("E0104", "too-deep", E, "Parentheses nest deeper than the supported limit."),
-        Code("E0105", "literal-too-long", E, "A numeric literal has more digits than the supported limit."),
+        Code("E0104", "too-deep", E, "Parentheses nest deeper than the nesting limit (docs/limits.md)."),
+        Code(
+            "E0105",
+            "literal-too-long",
+            E,
+            "A numeric literal has more digits than the literal-digits limit (docs/limits.md).",
+        ),
         Code("E0106", "unknown-section", E, "A section or option keyword is not part of the language."),
         Code("E0107", "bad-character", E, "A character that cannot start any token."),
         # E02xx — names
@@ -188,6 +198,50 @@ CODES: dict[str, Code] = {
             "verify found a problem: a failed integrity check, a gap in the journal, a replay that differs from the "
             "stored state, or an artifact whose hash differs from its manifest.",
         ),
+        # E11xx — limits (docs/limits.md)
+        Code("E1101", "input-too-large", E, "An input file is larger than the input-bytes limit."),
+        Code("E1102", "too-many-tokens", E, "An input file has more tokens than the tokens limit."),
+        Code(
+            "E1103",
+            "constant-too-large",
+            E,
+            "A constant the checker computes has a numerator or denominator of more digits than the constant-digits "
+            "limit.",
+        ),
+        Code("E1104", "too-many-resources", E, "A domain declares more resources than the resources limit."),
+        Code("E1105", "too-many-morphisms", E, "A domain declares more morphisms than the morphisms limit."),
+        Code(
+            "E1106",
+            "universe-too-large",
+            E,
+            "A symbolic sort would be grounded with more values than the universe limit (its constants and the "
+            "reserve values the horizon needs).",
+        ),
+        Code(
+            "E1107",
+            "horizon-too-large",
+            E,
+            "A horizon (:horizon, -k, or the sum of use limits) past the horizon limit.",
+        ),
+        Code(
+            "E1108",
+            "too-many-ground-actions",
+            E,
+            "A PDDL export would write more ground actions than the ground-actions limit.",
+        ),
+        Code(
+            "E1109",
+            "time-limit",
+            E,
+            "The command reached its --timeout in a phase that has no partial answer (encoding, export); exit 3.",
+        ),
+        Code("E1110", "out-of-memory", E, "The command reached its memory limit (--memory); exit 3."),
+        Code(
+            "E1111",
+            "bad-limit",
+            E,
+            "A --limit, --memory or CATC_LIMIT_* value is not a known limit and a whole number.",
+        ),
         # W01xx — lints (errors under --strict)
         Code("W0101", "unused-resource", W, "A resource is declared but nothing reads or writes it."),
         Code("W0102", "unused-sort", W, "A sort is declared but never used."),
@@ -270,6 +324,17 @@ SENSOR_FAILED = "E1009"
 UNKNOWN_APPROVAL = "E1010"
 ENACT_FAILED = "E1011"
 STORE_INCONSISTENT = "E1012"
+INPUT_TOO_LARGE = "E1101"
+TOO_MANY_TOKENS = "E1102"
+CONSTANT_TOO_LARGE = "E1103"
+TOO_MANY_RESOURCES = "E1104"
+TOO_MANY_MORPHISMS = "E1105"
+UNIVERSE_TOO_LARGE = "E1106"
+HORIZON_TOO_LARGE = "E1107"
+TOO_MANY_GROUND_ACTIONS = "E1108"
+TIME_LIMIT = "E1109"
+OUT_OF_MEMORY = "E1110"
+BAD_LIMIT = "E1111"
 UNUSED_RESOURCE = "W0101"
 UNUSED_SORT = "W0102"
 UNREACHABLE_MORPHISM = "W0103"

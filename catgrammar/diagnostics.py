@@ -13,6 +13,7 @@ from collections.abc import Iterable, Iterator
 from catgrammar.codes import CODES, Code, Severity  # noqa: F401 - part of the diagnostics API
 from catgrammar.record import Record, set_field
 from catgrammar.span import Source, Span
+from catgrammar.terminal import printable
 
 
 def suggest(word: str, candidates: Iterable[str]) -> str | None:
@@ -158,12 +159,14 @@ def excerpt_lines(source: Source | None, span: Span, label: str = "", highlight=
     colours from the Pygments lexer) is applied to the source line only."""
     if source is None or span.line > source.line_count:
         return []
-    text = source.line_text(span.line).expandtabs(1)
-    shown = text if len(text) <= 200 else text[: max(200, span.column + 20)] + " …"
+    raw = source.line_text(span.line).expandtabs(1)
+    text = printable(raw)  # control characters shown as escapes: the caret follows them
+    column = len(printable(raw[: span.column - 1])) + 1
+    end_col = len(printable(raw[: span.end_column - 1])) + 1 if span.end_line == span.line else len(text) + 1
+    shown = text if len(text) <= 200 else text[: max(200, column + 20)] + " …"
     width = len(str(span.line))
-    end_col = span.end_column if span.end_line == span.line else len(text) + 1
-    caret_len = max(1, min(end_col, len(shown) + 1) - span.column)
-    caret = " " * (span.column - 1) + "^" + "~" * (caret_len - 1)
+    caret_len = max(1, min(end_col, len(shown) + 1) - column)
+    caret = " " * (column - 1) + "^" + "~" * (caret_len - 1)
     gutter = " " * width
     if highlight is not None:
         shown = highlight(shown)
@@ -172,17 +175,18 @@ def excerpt_lines(source: Source | None, span: Span, label: str = "", highlight=
 
 
 def format_text(diags: Diagnostics, *, excerpts: bool = True, highlight=None) -> str:
-    """Compiler-style text: ``file:line:col: error[CODE]: message`` plus excerpt and notes.
+    """Compiler-style text: ``file:line:col: error[CODE]: message`` plus excerpt and notes,
+    with control characters shown as escapes (:func:`catgrammar.terminal.printable`).
     ``highlight`` colours the excerpts' source lines (see :func:`catgrammar.lexer.terminal_highlighter`)."""
     out: list[str] = []
     for d in diags.sorted():
         where = f"{d.span}: " if d.span else ""
-        out.append(f"{where}{d.severity.value}[{d.code}]: {d.message}")
+        out.append(printable(f"{where}{d.severity.value}[{d.code}]: {d.message}"))
         if excerpts and d.span:
             out.extend(excerpt_lines(diags.sources.get(d.span.file), d.span, highlight=highlight))
         for n in d.notes:
             nwhere = f"{n.span}: " if n.span else ""
-            out.append(f"  = note: {nwhere}{n.message}")
+            out.append(printable(f"  = note: {nwhere}{n.message}"))
             if excerpts and n.span and n.span != d.span:
                 out.extend(
                     "  " + line for line in excerpt_lines(diags.sources.get(n.span.file), n.span, highlight=highlight)
@@ -212,7 +216,7 @@ def format_json(diags: Diagnostics, files: list[str]) -> str:
 
 
 def _gh_escape(text: str, prop: bool = False) -> str:
-    text = text.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
+    text = printable(text).replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
     if prop:
         text = text.replace(":", "%3A").replace(",", "%2C")
     return text

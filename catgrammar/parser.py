@@ -4,10 +4,13 @@
 ``None`` when no tree could be built.  Three guards run before the parser sees the text, so
 that every later stage can recurse safely and every message can point at the real culprit:
 
-* decoding (binary / non-UTF-8 files) in :func:`read_source`;
+* reading only regular files (a FIFO or a device is never read: it could block or never
+  end), the size of the input, and decoding (binary / non-UTF-8 files) in :func:`read_source`;
 * a parenthesis scan that reports an unmatched ``)`` or an unclosed ``(`` precisely and
-  rejects nesting deeper than :data:`MAX_DEPTH`;
-* numeric literals longer than :data:`MAX_LITERAL_DIGITS` digits.
+  rejects nesting deeper than the nesting limit;
+* the number of tokens, and numeric literals longer than the literal-digits limit.
+
+The limits are those in force (:mod:`catgrammar.limits`).
 
 The parser is the LALR(1) automaton of ``cat.lark`` as computed by Lark, but run by
 :mod:`catgrammar._lalr` from pre-generated tables: importing Lark costs ~40 ms per process,
@@ -17,23 +20,20 @@ with ``python -m catgrammar.build_parser``.
 
 from __future__ import annotations
 
+import errno
+import os
 import re
-from collections.abc import Callable
+import stat
+from collections.abc import Callable, Iterator
 from fractions import Fraction
 from typing import Any
 
-from catgrammar import ast, codes
+from catgrammar import ast, codes, limits
 from catgrammar._lalr import Parser, Token, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
 from catgrammar.span import Source, Span
 from catgrammar.symbols import Option, Section
-from catgrammar.tokens import TERMINAL_TEXT, tokenize
-
-MAX_DEPTH = 128
-
-
-MAX_LITERAL_DIGITS = 4000
-
+from catgrammar.tokens import TERMINAL_TEXT, TooManyTokens, tokenize
 
 # ---------------------------------------------------------------- reading
 
@@ -62,14 +62,55 @@ def decode_source(path: str, data: bytes, diags: Diagnostics) -> Source | None:
     return Source(path, text)
 
 
+class NotRegularFile(OSError):
+    """A path that names a FIFO, a device or a socket: reading it could block or never end,
+    so it is never read."""
+
+
+def read_regular(path: str, limit: int | None = None) -> bytes:
+    """The bytes of the regular file ``path`` (at most ``limit + 1`` of them, so that a caller
+    can tell a file past its limit).  Opened without blocking and checked on the open
+    descriptor, so a FIFO, ``/dev/zero`` or a link to either raises :class:`NotRegularFile`
+    instead of hanging."""
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
+    with os.fdopen(fd, "rb") as fh:
+        mode = os.fstat(fd).st_mode
+        if stat.S_ISDIR(mode):
+            raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), path)
+        if not stat.S_ISREG(mode):
+            raise NotRegularFile(f"not a regular file: {path}")
+        return fh.read() if limit is None else fh.read(limit + 1)
+
+
 def read_source(path: str, diags: Diagnostics) -> Source | None:
+    """The text of the file ``path`` (never more than the input-bytes limit is read)."""
+    most = limits.current().input_bytes
     try:
-        with open(path, "rb") as fh:
-            data = fh.read()
+        data = read_regular(path, most)
+    except NotRegularFile:
+        diags.report(codes.UNREADABLE_FILE, f"cannot read '{path}': not a regular file (a FIFO or a device)", None)
+        return None
     except OSError as exc:
         diags.report(codes.UNREADABLE_FILE, f"cannot read '{path}': {exc.strerror or exc}", None)
         return None
+    if len(data) > most:
+        _too_large(path, data, most, diags)
+        return None
     return decode_source(path, data, diags)
+
+
+def _too_large(path: str, data: bytes, most: int, diags: Diagnostics) -> None:
+    """E1101 at the first character past the input-bytes limit."""
+    head = data[:most].decode("utf-8", errors="ignore")
+    src = Source(path, head)
+    diags.add_source(src)
+    limit = limits.BY_NAME["input-bytes"]
+    diags.report(
+        limit.code,
+        f"the file is larger than the input-bytes limit ({limits.count_text(most)} bytes; it is read no further); "
+        f"{limit.how_to_raise}",
+        src.span(len(head), len(head)),
+    )
 
 
 # ---------------------------------------------------------------- the parenthesis scan
@@ -80,6 +121,7 @@ _SCAN = re.compile(r'[()]|;[^\n]*|"(?:[^"\\\n]|\\.)*(?P<close>")?')
 def scan_parentheses(src: Source, diags: Diagnostics) -> bool:
     """Report unmatched/unclosed parentheses and excessive depth.  True when clean."""
     stack: list[int] = []
+    deepest = limits.current().nesting
     for m in _SCAN.finditer(src.text):
         tok = m.group()
         if tok[0] == '"' and m.group("close") is None:
@@ -91,10 +133,11 @@ def scan_parentheses(src: Source, diags: Diagnostics) -> bool:
             return False
         if tok == "(":
             stack.append(m.start())
-            if len(stack) > MAX_DEPTH:
+            if len(stack) > deepest:
                 diags.report(
                     codes.TOO_DEEP,
-                    f"parentheses nest more than {MAX_DEPTH} deep; split the expression",
+                    f"parentheses nest more than {deepest} deep (the nesting limit); split the expression, or "
+                    f"{limits.BY_NAME['nesting'].how_to_raise}",
                     src.span(m.start()),
                 )
                 return False
@@ -223,6 +266,7 @@ class _Builder:
         # None only in a builder that never parses (one made to check the callbacks)
         self.src: Source = src  # type: ignore[assignment]
         self.diags: Diagnostics = diags  # type: ignore[assignment]
+        self.max_digits = limits.current().literal_digits
 
     # -- helpers
     def _tok_span(self, tok: Token) -> Span:
@@ -260,15 +304,17 @@ class _Builder:
         span = self._tok_span(tok)
         digits = sum(c.isdigit() for c in text)
         exponent = _EXPONENT.search(text)
-        if digits > MAX_LITERAL_DIGITS:
+        most = self.max_digits
+        if digits > most:
             problem = f"has {digits} digits"
-        elif exponent and abs(int(exponent.group(1)[:8])) > MAX_LITERAL_DIGITS:
+        elif exponent and abs(int(exponent.group(1)[:8])) > most:
             problem = f"has an exponent of {exponent.group(1)}"
         else:
             return ast.Num(Fraction(text), text, span)
         self.diags.report(
             codes.LITERAL_TOO_LONG,
-            f"numeric literal {problem}; at most {MAX_LITERAL_DIGITS} digits are supported",
+            f"numeric literal {problem}; at most {most} digits are supported (the literal-digits limit; "
+            f"{limits.BY_NAME['literal-digits'].how_to_raise})",
             span,
         )
         return ast.Num(Fraction(0), "0", span)
@@ -538,9 +584,26 @@ def _unquote(tok: Token) -> str:
     return re.sub(r"\\(.)", r"\1", body)
 
 
-def parse_source(src: Source, diags: Diagnostics) -> ast.SourceFile | None:
-    """Parse one file.  On failure, diagnostics are reported and None is returned."""
+class Cancelled(Exception):
+    """A parse abandoned because its caller no longer wants it (``cancelled()`` said so)."""
+
+
+def _watched(tokens: Iterator[Token], cancelled: Callable[[], bool], every: int = 4096) -> Iterator[Token]:
+    for i, tok in enumerate(tokens):
+        if i % every == 0 and cancelled():
+            raise Cancelled
+        yield tok
+
+
+def parse_source(src: Source, diags: Diagnostics, cancelled: Callable[[], bool] | None = None) -> ast.SourceFile | None:
+    """Parse one file.  On failure, diagnostics are reported and None is returned.
+    ``cancelled`` is asked every few thousand tokens; when it says so, :class:`Cancelled` is
+    raised (the language server's check of a text the editor has replaced)."""
     diags.add_source(src)
+    most = limits.current().input_bytes
+    if len(src.text) > most // 4 and len(src.text.encode("utf-8", errors="replace")) > most:
+        _too_large(src.path, src.text.encode("utf-8", errors="replace"), most, diags)
+        return None
     stripped = re.sub(r";[^\n]*", "", src.text).strip()
     if not stripped:
         diags.report(
@@ -554,9 +617,18 @@ def parse_source(src: Source, diags: Diagnostics) -> ast.SourceFile | None:
     parser = Parser(_Builder(src, diags))
     before = len(diags.errors)
     try:
-        definitions = parser.parse(tokenize(src.text))
+        tokens = tokenize(src.text, limits.current().tokens)
+        definitions = parser.parse(tokens if cancelled is None else _watched(tokens, cancelled))
     except UnexpectedInput as exc:
         _report_syntax(exc, src, parser, diags)
+        return None
+    except TooManyTokens as exc:
+        tok, limit = exc.token, limits.BY_NAME["tokens"]
+        diags.report(
+            limit.code,
+            f"more than {limits.count_text(exc.limit)} tokens (the tokens limit); split the file, or {limit.how_to_raise}",
+            src.span(tok.start_pos or 0, tok.end_pos),
+        )
         return None
     if len(diags.errors) > before:
         return None

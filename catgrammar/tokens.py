@@ -77,9 +77,19 @@ _TOKEN = re.compile(
 )
 
 
-def tokenize(text: str) -> Iterator[Token]:
-    """Yield tokens with positions; raise ``UnexpectedCharacters`` on a stray character."""
+class TooManyTokens(Exception):
+    """More tokens than the ``limit`` given to :func:`tokenize`; ``token`` is the first past it."""
+
+    def __init__(self, token: Token, limit: int) -> None:
+        super().__init__(f"more than {limit} tokens")
+        self.token, self.limit = token, limit
+
+
+def tokenize(text: str, limit: int | None = None) -> Iterator[Token]:
+    """Yield tokens with positions; raise ``UnexpectedCharacters`` on a stray character, and
+    :class:`TooManyTokens` at token ``limit + 1``."""
     pos, line, line_start, n = 0, 1, 0, len(text)
+    left = -1 if limit is None else limit
     match = _TOKEN.match
     colon_get, word_get, punct = COLON_KEYWORDS.get, WORDS.get, PUNCTUATION
     while pos < n:
@@ -104,5 +114,9 @@ def tokenize(text: str) -> Iterator[Token]:
         elif kind == "PUNCT":
             kind = punct[value]
         column = pos - line_start + 1
-        yield Token(kind, value, pos, line, column, line, column + (end - pos), end)
+        token = Token(kind, value, pos, line, column, line, column + (end - pos), end)
+        if left == 0:
+            raise TooManyTokens(token, limit or 0)
+        left -= 1
+        yield token
         pos = end

@@ -222,7 +222,7 @@ def test_interrupt_and_internal_errors_are_reported_as_click_does(monkeypatch):
     monkeypatch.setattr(command, "run_query", interrupted)
     for via_click in (False, True):
         res = run_catc("solve", person, via_click=via_click)
-        assert res.exit_code == 1 and res.stderr == "\nAborted!\n"
+        assert res.exit_code == 130 and res.stderr == "catc: interrupted\n"  # not "Aborted!", exit 1 (UNSAT's)
     monkeypatch.setattr(command, "run_query", broken)
     for via_click in (False, True):
         res = run_catc("solve", person, via_click=via_click)

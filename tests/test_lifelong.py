@@ -201,3 +201,44 @@ def test_relax_weights_choose_which_requirement_moves():
 def test_optimize_stopped_early_reports_best_so_far_or_unknown():
     res = run_catc("optimize", str(ROOT / "examples/search-and-rescue/event2-out-of-range.cat"), "--timeout", "0.05")
     assert res.exit_code == 3 and ("SUBOPT" in res.stdout or "UNKNOWN" in res.stdout)
+
+
+_APPROACHED = (
+    "(define (domain approached) (:requirements :numeric) (:resources (x real)))\n"
+    "(define (problem p) (:domain approached) (:init (= x 5)) (:goal (> x 5)))\n"
+)
+
+
+def test_relax_reports_a_least_restoration_that_is_approached_but_not_reached(tmp_path):
+    """Issue 15, Found 2: any x > 5 restores the goal, so the weighted total can come as near 0
+    as wanted but never reach it.  Relax says so (as optimize says 'infimum ..., not
+    attained') in text, JSON and the API, and shows one restoration that works."""
+    from catc.api import load as api_load
+
+    path = tmp_path / "approached.cat"
+    path.write_text(_APPROACHED)
+    r = api_load(path).relax()
+    assert r.status == "relaxed" and r.proven and not r.attained
+    assert r.infimum == 0 and r.cost is not None and r.cost > 0
+    assert r.plan is not None and r.relaxations  # one restoration, replayed by the validator
+    res = run_catc("relax", path)
+    assert res.exit_code == 0, res.output
+    assert "infimum 0, not attained" in res.stdout
+    doc = json.loads(run_catc("relax", path, "--json").stdout)
+    assert doc["status"] == "relaxed" and doc["attained"] is False and doc["infimum"] == 0
+    assert doc["cost"] == r.cost and doc["steps"] is not None
+
+
+def test_relax_prefers_a_restoration_that_reaches_the_least_total(tmp_path):
+    """Without acting, x must rise above 5 (total > 1, approached); with one unit of budget,
+    bump sets x to 6 (total exactly 1): the least restoration is attained, whichever
+    skeleton the search meets first."""
+    path = tmp_path / "both.cat"
+    path.write_text(
+        "(define (domain both) (:requirements :numeric) (:resources (x real) (budget real))\n"
+        " (:morphism bump :uses 1 :precondition (>= budget 1) :effect (assign x 6)))\n"
+        "(define (problem p) (:domain both) (:init (= x 4) (= budget 0)) (:goal (> x 5)) (:horizon 1))\n"
+    )
+    r = relax(apply_view(load_instance(None, str(path), Diagnostics())[1], None), only=["init/"])
+    assert r.status == "relaxed" and r.proven and r.attained and r.cost == 1 == r.infimum
+    assert {x.label: x.delta for x in r.relaxations} == {"init/budget": 1}

@@ -298,3 +298,158 @@ def test_hover_says_what_a_morphism_is_grounded_as() -> None:
     every = analyse(str(EVERY), EVERY.read_text())
     some = next(name for dom in every.domains for name in dom.morphisms)
     assert "no grounding" in (hover_text(every, some) or "")
+
+
+# ---------------------------------------------------------------- hardening (issue 15, Found 8)
+
+EMOJI = (
+    "(define (domain faces) (:requirements :numeric)\n"
+    '  (:resources (mood real :doc "🤖🤖") (battery real))\n'  # two characters beyond the BMP first
+    '  (:morphism smile :doc "😀" :precondition (>= batery 1) :effect (increase battery 1)))\n'
+)
+
+
+def _utf16(line: str, code_points: int) -> int:
+    return len(line[:code_points].encode("utf-16-le")) // 2
+
+
+@needs_lsp
+async def test_positions_are_utf16_after_characters_beyond_the_bmp(client: LanguageClient, tmp_path) -> None:
+    """The server speaks UTF-16 to a client that offers nothing else: a diagnostic after an
+    emoji starts one unit further right than its code-point column, a hover there finds the
+    name and a definition after two emoji is two units further (the server used to count code
+    points both ways: wrong columns and dead hovers)."""
+    path = tmp_path / "faces.cat"
+    path.write_text(EMOJI)
+    uri = _open(client, path)
+    diags = await _diagnostics(client, uri)
+    resources, smile = EMOJI.split("\n")[1:3]
+    (error,) = [d for d in diags if "batery" in d.message]
+    start = smile.index("batery")
+    assert (error.range.start.line, error.range.start.character) == (2, _utf16(smile, start))
+    assert error.range.end.character == _utf16(smile, start + len("batery"))
+    at = types.Position(2, _utf16(smile, smile.index("battery 1") + 2))
+    h = await client.text_document_hover_async(types.HoverParams(types.TextDocumentIdentifier(uri), at))
+    assert h is not None and "**resource** `battery`" in h.contents.value
+    locs = await client.text_document_definition_async(types.DefinitionParams(types.TextDocumentIdentifier(uri), at))
+    assert locs and locs[0].range.start == types.Position(1, _utf16(resources, resources.index("battery")))
+
+
+if MISSING is None:
+
+    @pytest_lsp.fixture(config=ClientServerConfig(server_command=[sys.executable, "-m", "catc", "lsp"]))
+    async def client_utf8(lsp_client: LanguageClient):
+        capabilities = pytest_lsp.client_capabilities("visual-studio-code")
+        capabilities.general.position_encodings = [types.PositionEncodingKind.Utf8, types.PositionEncodingKind.Utf16]
+        result = await lsp_client.initialize_session(types.InitializeParams(capabilities=capabilities))
+        assert result.capabilities.position_encoding == types.PositionEncodingKind.Utf8
+        yield
+        await lsp_client.shutdown_session()
+
+
+@needs_lsp
+async def test_positions_follow_the_negotiated_encoding(client_utf8: LanguageClient, tmp_path) -> None:
+    """A client that prefers UTF-8 (LSP 3.17 general.positionEncodings) gets byte columns."""
+    path = tmp_path / "faces.cat"
+    path.write_text(EMOJI)
+    uri = _open(client_utf8, path)
+    diags = await _diagnostics(client_utf8, uri)
+    smile = EMOJI.split("\n")[2]
+    (error,) = [d for d in diags if "batery" in d.message]
+    assert error.range.start.character == len(smile[: smile.index("batery")].encode())
+
+
+@needs_lsp
+@pytest.mark.parametrize(
+    "position", [(-1, 0), (2**31, 0), (0, -1), (0, 2**31), (2**31 - 1, 0), (0, 2**31 - 1), (10**6, 10**6)]
+)
+async def test_every_request_is_answered_whatever_its_position(client: LanguageClient, position) -> None:
+    """An invalid position (LSP's uinteger is 0 … 2³¹−1) gets an error response, a valid one
+    past the end of the text an empty result; before, neither got any reply and the client
+    waited for ever (the wait below is only a guard against that)."""
+    import asyncio
+
+    from pygls.exceptions import JsonRpcException
+
+    uri = _open(client, PROBLEM)
+    await _diagnostics(client, uri)
+    line, character = position
+    valid = 0 <= line < 2**31 and 0 <= character < 2**31
+    at = types.Position(0, 0)
+    object.__setattr__(at, "line", line)  # past lsprotocol's validators: what a buggy client may send
+    object.__setattr__(at, "character", character)
+    for method, kind in (
+        (types.TEXT_DOCUMENT_HOVER, types.HoverParams),
+        (types.TEXT_DOCUMENT_DEFINITION, types.DefinitionParams),
+    ):
+        params = kind(types.TextDocumentIdentifier(uri), at)
+        try:
+            result = await asyncio.wait_for(client.protocol.send_request_async(method, params), timeout=120)
+        except JsonRpcException as exc:
+            assert not valid and exc.code == -32602  # invalid params
+        else:
+            assert valid and result in (None, [])
+
+
+def _big_domain(morphisms: int) -> str:
+    body = "\n".join(
+        f"  (:morphism m{i} :uses 1 :precondition (>= x {i}) :effect (and (increase x 1) (decrease y 2)))"
+        for i in range(morphisms)
+    )
+    return f"(define (domain big) (:requirements :numeric)\n  (:resources (x real) (y real))\n{body}\n  (:morphism bad :effect (increase z 1)))\n"
+
+
+class _Published(dict):
+    """client.diagnostics that also keeps every publication, in order."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.log: list[tuple[str, list]] = []
+
+    def __setitem__(self, uri, diagnostics) -> None:
+        self.log.append((uri, list(diagnostics)))
+        super().__setitem__(uri, diagnostics)
+
+
+@needs_lsp
+async def test_a_large_document_is_checked_in_the_background(client: LanguageClient, tmp_path) -> None:
+    """While a large document is being checked, a hover on another document is answered (it
+    used to wait for the whole check: 169 s for 5.9 MB).  The order of the events is the
+    assertion: the hover's answer comes before the large document's diagnostics."""
+    client.diagnostics = _Published()
+    small = _open(client, DOMAIN)
+    await _diagnostics(client, small)
+    big = _open(client, tmp_path / "big.cat", _big_domain(6000))  # about half a megabyte: seconds to check
+    text = DOMAIN.read_text()
+    h = await client.text_document_hover_async(
+        types.HoverParams(types.TextDocumentIdentifier(small), _pos(text, "(>= ram", 5))
+    )
+    assert h is not None and "**resource** `ram`" in h.contents.value
+    assert big not in client.diagnostics, "the hover waited for the large document's check"
+    diags = await _diagnostics(client, big)
+    assert any("'z'" in d.message for d in diags)
+
+
+@needs_lsp
+async def test_a_newer_text_makes_the_older_check_stale(client: LanguageClient, tmp_path) -> None:
+    """Edits in a row: the check of a text that has been replaced is never published (it
+    used to run to the end and publish diagnostics of a text the editor no longer has)."""
+    client.diagnostics = _Published()
+    path = tmp_path / "big.cat"
+    uri = _open(client, path, _big_domain(6000))
+
+    def change(version: int, text: str) -> None:
+        client.text_document_did_change(
+            types.DidChangeTextDocumentParams(
+                types.VersionedTextDocumentIdentifier(uri=uri, version=version),
+                [types.TextDocumentContentChangeWholeDocument(text=text)],
+            )
+        )
+
+    change(2, DOMAIN.read_text().replace("(domain detection)", "(domain clean)"))
+    await _diagnostics(client, uri)
+    change(3, "(define (domain late) (:resources (w rea)))\n")
+    await _diagnostics(client, uri)
+    published = [[d.message for d in diags] for u, diags in client.diagnostics.log if u == uri]
+    assert not any("'z'" in m for messages in published for m in messages), published
+    assert len(published) == 2 and "unknown sort 'rea'" in published[1][0]

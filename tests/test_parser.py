@@ -9,7 +9,8 @@ from conftest import ROOT
 
 from catgrammar import ast
 from catgrammar.diagnostics import Diagnostics
-from catgrammar.parser import MAX_DEPTH, parse_text
+from catgrammar.limits import DEFAULT
+from catgrammar.parser import parse_text
 
 
 def parse_ok(text: str) -> ast.SourceFile:
@@ -119,6 +120,7 @@ def test_keywords_need_a_word_boundary():
 
 
 def test_depth_limit_is_exact():
+    MAX_DEPTH = DEFAULT.nesting
     ok = (
         "(define (domain d) (:morphism m :precondition "
         + "(not " * (MAX_DEPTH - 4)

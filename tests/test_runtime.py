@@ -631,3 +631,15 @@ def test_the_search_and_rescue_mission(tmp_path: Path):
     assert (diff["stop"], diff["start"]) == (["rgb-lite-driver"], ["thermal-driver"])
     assert "thermal" in (folder / "current" / "instructions.md").read_text().lower()
     assert_consistent(folder)
+
+
+def test_nothing_an_event_carries_can_drive_the_terminal(state: Path):
+    """An id holding a C1 control sequence introducer (\x9b: colour the terminal) and a
+    right-to-left override (hide text) is echoed with each shown as an escape, never raw."""
+    sneaky = "e\u009b31m\u202eevil"
+    res = catrt("run", state, "--events", "-", stdin=lines({"id": sneaky, "set": {"ram": "8"}}))
+    assert res.returncode == 0, res.stderr
+    assert "e\\x9b31m\\u202eevil: accepted" in res.stdout
+    assert "\u009b" not in res.stdout + res.stderr and "\u202e" not in res.stdout + res.stderr
+    assert "\u202e" not in catrt("journal", state).stdout
+    assert [e["event_id"] for e in journal(state) if e["kind"] == "event"] == [sneaky]  # stored as given

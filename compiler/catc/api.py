@@ -5,5 +5,6 @@ Everything lives in :mod:`catc.interfaces.api`; this module names what programs 
 """
 
 from catc.interfaces.api import CatError, Model, load, loads
+from catgrammar.limits import Limits
 
-__all__ = ["CatError", "Model", "load", "loads"]
+__all__ = ["CatError", "Limits", "Model", "load", "loads"]

@@ -29,12 +29,20 @@ from typing import Any, NoReturn
 import click
 
 from catgrammar import codes
+from catgrammar.terminal import printable
+
+
+def echo(text: str, err: bool = False) -> None:
+    """Print a line with nothing in it that could drive the terminal (an event's text, a
+    path or a message may hold escape sequences); JSON is ASCII already."""
+    click.echo(printable(text), err=err)
+
 
 EXIT_PROBLEM, EXIT_INPUT = 1, 2
 
 
 def fail(code: str, message: str, where: str = "catrt") -> NoReturn:
-    click.echo(f"{where}: error[{code}]: {message}", err=True)
+    echo(f"{where}: error[{code}]: {message}", err=True)
     sys.exit(EXIT_INPUT)
 
 
@@ -62,12 +70,12 @@ class _Group(click.Group):
         except (click.exceptions.Exit, click.ClickException, click.exceptions.Abort, SystemExit):
             raise
         except KeyboardInterrupt:
-            click.echo("interrupted", err=True)
+            echo("interrupted", err=True)
             sys.exit(130)
         except Exception as exc:  # a bug: one line, not a traceback (CATRT_DEBUG=1 shows it)
             if os.environ.get("CATRT_DEBUG"):
                 raise
-            click.echo(f"catrt: internal error: {type(exc).__name__}: {exc}", err=True)
+            echo(f"catrt: internal error: {type(exc).__name__}: {exc}", err=True)
             sys.exit(70)
 
 
@@ -104,13 +112,13 @@ def init(state: str, paths: tuple[str, ...], problem_name: str | None, search_pa
         store = create(Path(state), problem, domain, problem_name=problem_name, search_paths=search_paths,
                        config_text=config_text)  # fmt: skip
     except CatError as exc:
-        click.echo(str(exc), err=True)
+        echo(str(exc), err=True)
         sys.exit(EXIT_INPUT)
     except StoreError as exc:
         fail(exc.code, str(exc))
     model = store.get("model")
     store.close()
-    click.echo(f"initialised {state}: problem {model['problem']['name']} of domain {model['problem']['domain']}; "
+    echo(f"initialised {state}: problem {model['problem']['name']} of domain {model['problem']['domain']}; "
                f"start the loop with: catrt run {state}")  # fmt: skip
 
 
@@ -124,15 +132,15 @@ def _say(as_json: bool) -> Any:
                    "generation": o.generation, "seq": o.seq,
                    "decision": o.decision.to_json() if o.decision is not None else None,
                    "enactment_error": o.enactment.message if o.enactment is not None else None}  # fmt: skip
-            click.echo(json.dumps(doc))
+            echo(json.dumps(doc))
             return
         took = sum(o.timings.values()) if o.timings else None
         head = f"{o.where}: " + (f"{o.event_id}: " if o.event_id and o.event_id != o.where else "")
         tail = f"  [{took:.2f} s]" if took is not None and o.decision is not None else ""
         stream_err = o.status == "rejected"
-        click.echo(f"{head}{o.status}: {o.message}{tail}", err=stream_err)
+        echo(f"{head}{o.status}: {o.message}{tail}", err=stream_err)
         if o.enactment is not None:
-            click.echo(f"{o.enactment.where}: {o.enactment.message}", err=True)
+            echo(f"{o.enactment.where}: {o.enactment.message}", err=True)
 
     return say
 
@@ -237,13 +245,13 @@ def event(state: str, file: str) -> None:
         try:
             parse_event(line, where)
         except EventError as exc:
-            click.echo(f"{exc.where}: error[E1001]: {exc.message}", err=True)
+            echo(f"{exc.where}: error[E1001]: {exc.message}", err=True)
             bad += 1
     if bad:
-        click.echo(f"{bad} bad event(s): nothing queued", err=True)
+        echo(f"{bad} bad event(s): nothing queued", err=True)
         sys.exit(EXIT_INPUT)
     path = drop(Path(state) / "spool", [line for _, line in lines])
-    click.echo(f"queued {len(lines)} event(s) as {path}")
+    echo(f"queued {len(lines)} event(s) as {path}")
 
 
 @main.command()
@@ -262,7 +270,7 @@ def approve(state: str, request: str, reject: bool) -> None:
     verb = "reject" if reject else "approve"
     line = json.dumps({"id": f"{verb}-{request}-{time.time_ns()}", verb: request})
     path = drop(Path(state) / "spool", [line])
-    click.echo(f"queued: {verb} {request} ({path})")
+    echo(f"queued: {verb} {request} ({path})")
 
 
 # ---------------------------------------------------------------- reading
@@ -278,7 +286,7 @@ def status(state: str, as_json: bool) -> None:
     store = open_store(state, write=False)
     doc = status_document(store, Path(state))
     store.close()
-    click.echo(json.dumps(doc, indent=2) if as_json else status_text(doc))
+    echo(json.dumps(doc, indent=2) if as_json else status_text(doc))
 
 
 @main.command()
@@ -292,7 +300,7 @@ def journal(state: str, as_json: bool, since: int, kinds: tuple[str, ...]) -> No
 
     store = open_store(state, write=False)
     for entry in store.entries(since, kinds):
-        click.echo(json.dumps(entry, sort_keys=True) if as_json else entry_text(entry))
+        echo(json.dumps(entry, sort_keys=True) if as_json else entry_text(entry))
     store.close()
 
 
@@ -329,14 +337,14 @@ def verify(state: str, as_json: bool) -> None:
 
 def _report(what: str, problems: list[str], notes: list[str], as_json: bool) -> None:
     if as_json:
-        click.echo(json.dumps({"schema": f"catrt.{what}/1", "ok": not problems, "problems": problems, "notes": notes},
+        echo(json.dumps({"schema": f"catrt.{what}/1", "ok": not problems, "problems": problems, "notes": notes},
                               indent=2))  # fmt: skip
     else:
         for p in problems:
-            click.echo(f"{what}: error[E1012]: {p}", err=True)
+            echo(f"{what}: error[E1012]: {p}", err=True)
         for n in notes:
-            click.echo(f"{what}: note: {n}")
-        click.echo(f"{what}: {'ok' if not problems else f'{len(problems)} problem(s)'}")
+            echo(f"{what}: note: {n}")
+        echo(f"{what}: {'ok' if not problems else f'{len(problems)} problem(s)'}")
     sys.exit(EXIT_PROBLEM if problems else 0)
 
 

@@ -15,6 +15,7 @@ from rich.panel import Panel
 from rich.table import Table
 from rich.text import Text
 
+from catgrammar.terminal import printable
 from catrt.runtime import Outcome, Runtime
 
 STYLE = {"accepted": "green", "rejected": "red", "duplicate": "dim"}
@@ -59,8 +60,9 @@ class LiveView:
         for o in self.outcomes:
             took = sum(o.timings.values()) if o.timings else None
             action = o.decision.action if o.decision is not None else o.status
-            table.add_row(o.where, o.event_id if o.event_id != o.where else "", Text(action, style=STYLE.get(o.status, "")),
-                          f"{took:.2f}" if took is not None else "", o.message)  # fmt: skip
+            table.add_row(Text(printable(o.where)), Text(printable(o.event_id if o.event_id != o.where else "")),
+                          Text(action, style=STYLE.get(o.status, "")), f"{took:.2f}" if took is not None else "",
+                          Text(printable(o.message)))  # fmt: skip
         return Group(Panel(table, title=self._title(), title_align="left"), self._pending())
 
     def _title(self) -> str:
@@ -70,7 +72,7 @@ class LiveView:
         incumbent = rt.incumbent
         deployed = f"generation {incumbent['generation']}" if incumbent else "nothing deployed"
         problem = rt.state.problem
-        return f"catrt {rt.folder} — problem {problem.name} — {deployed}"
+        return printable(f"catrt {rt.folder} — problem {problem.name} — {deployed}").replace("[", "\\[")
 
     def _pending(self) -> Text:
         rt = self.runtime
@@ -81,4 +83,4 @@ class LiveView:
         for p in pending:
             said = ", ".join(f"{k} → {v}" for k, v in p["proposal"].get("set", {}).items())
             lines.append(f"request {p['id']} waits: {said} (catrt approve {rt.folder if rt else 'STATE'} {p['id']})")
-        return Text("\n".join(lines), style="yellow")
+        return Text(printable("\n".join(lines)), style="yellow")

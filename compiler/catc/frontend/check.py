@@ -16,10 +16,10 @@ from catc import ir
 from catc.frontend.check_ground import GroundChecker
 from catc.frontend.typecheck import Context, ExprChecker, Scope, assignable, describe
 from catc.ir import BOOL, INT, REAL, Sort, SortKind
-from catc.ir.fold import FoldError, fold_constant
+from catc.ir.fold import ConstantTooLarge, FoldError, fold_constant
 from catc.ir.grounding import Deployment
 from catc.ir.numbers import ratio_text
-from catgrammar import ast, codes
+from catgrammar import ast, codes, limits
 from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
 from catgrammar.span import Span
 from catgrammar.symbols import (
@@ -163,7 +163,8 @@ class DomainChecker:
         try:
             return fold_constant(expr)
         except FoldError as exc:
-            self.diags.report(codes.DIVISION_BY_ZERO, str(exc), exc.expr.span or expr.span)
+            code = codes.CONSTANT_TOO_LARGE if isinstance(exc, ConstantTooLarge) else codes.DIVISION_BY_ZERO
+            self.diags.report(code, str(exc), exc.expr.span or expr.span)
             return None
 
     def _declare(self, table: dict, name: ast.Name, what: str, existing_span=None) -> bool:
@@ -215,11 +216,16 @@ class DomainChecker:
                 self._view(sec)
         for sec in sections:
             if isinstance(sec, ast.MorphismDecl):
+                # a command's --timeout also bounds reading its model (with the grace of a phase
+                # the answer needs: a query whose time is up still gives its UNKNOWN answer)
+                limits.check_time("checking", finishing=True)
                 self._morphism(sec)
         for sec in sections:
             if isinstance(sec, ast.HoleDecl):
                 self._hole(sec)
         deployment = self._deployment([s for s in sections if isinstance(s, ast.DeploymentDecl)])
+        self._within_limit(self.resources, "resources")
+        self._within_limit(self.morphisms, "morphisms")
         if len(self.diags.errors) > before or self.failed:
             return None
         return ir.Domain(
@@ -234,6 +240,20 @@ class DomainChecker:
             imports=tuple(self.imported),
             deployment=deployment,
             span=self.node.span,
+        )
+
+    def _within_limit(self, table: Mapping[str, ir.Resource] | Mapping[str, ir.Morphism], name: str) -> None:
+        """E1104/E1105 at the first resource or morphism past its limit (imports included)."""
+        limit = limits.BY_NAME[name]
+        most = getattr(limits.current(), limit.field)
+        if len(table) <= most:
+            return
+        first_past = list(table.values())[most]
+        self.diags.report(
+            limit.code,
+            f"domain '{self.node.name.text}' has {limits.count_text(len(table))} {name} (imports included), more "
+            f"than the {name} limit ({limits.count_text(most)}); {limit.how_to_raise}",
+            first_past.span or self.node.span,
         )
 
     def _deployment(self, decls: list[ast.DeploymentDecl]) -> Deployment | None:
@@ -520,7 +540,8 @@ class DomainChecker:
             churn = num.value
         uses = None
         if Option.USES.value in opts:
-            uses = _positive_int(_value(opts[Option.USES.value], ast.Num), ":uses", self.diags)
+            # :uses 0 switches a component off (it stays in the model, never activated)
+            uses = _positive_int(_value(opts[Option.USES.value], ast.Num), ":uses", self.diags, allow_zero=True)
 
         params = self._params(m, opts.get(Option.PARAMETERS.value))
         scope = Scope(self.sorts, self.constants, self.resources, {p.name: p for p in params})
@@ -865,6 +886,14 @@ class ProblemChecker:
         horizon = None
         if horizon_sec is not None:
             horizon = _positive_int(horizon_sec.steps, "the horizon", self.diags, allow_zero=True)
+            if horizon is not None and horizon > limits.current().horizon:
+                limit = limits.BY_NAME["horizon"]
+                self.diags.report(
+                    limit.code,
+                    f"the horizon {horizon_sec.steps.text} is more than the horizon limit "
+                    f"({limits.count_text(limits.current().horizon, 'step')}); {limit.how_to_raise}",
+                    horizon_sec.steps.span,
+                )
         softs = self._softs()
         metric = self._metric()
         deployed = self._deployed()
@@ -1028,7 +1057,8 @@ class ProblemChecker:
         try:
             folded = fold_constant(value)
         except FoldError as exc:
-            self.diags.report(codes.DIVISION_BY_ZERO, str(exc), exc.expr.span or value_node.span)
+            code = codes.CONSTANT_TOO_LARGE if isinstance(exc, ConstantTooLarge) else codes.DIVISION_BY_ZERO
+            self.diags.report(code, str(exc), exc.expr.span or value_node.span)
             return None
         if folded is None:
             self.diags.report(codes.BAD_INIT, "an initial value must be a constant", value_node.span)

@@ -13,6 +13,7 @@ from fractions import Fraction
 
 from catc import ir
 from catc.ir import BOOL, INT, REAL, Sort, SortKind
+from catc.ir.fold import ConstantTooLarge, bounded_arith
 from catgrammar import ast, codes
 from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
 from catgrammar.span import Span
@@ -156,6 +157,9 @@ class ExprChecker:
         self.scope = scope
         self.diags = diags
         self.require = require
+        # every constant arithmetic node made so far, by id, with its value (kept here, so no
+        # id is reused): each value is computed once from its arguments', and bounded
+        self._values: dict[int, tuple[ir.Arith, Fraction]] = {}
 
     # ------------------------------------------------------------ entry points
     def condition(self, node: ast.Expr, ctx: Context = Context.CONDITION) -> ir.Expr | None:
@@ -409,7 +413,26 @@ class ExprChecker:
             sort = REAL
         else:
             sort = numeric_join(args)
-        return ir.Arith(op, tuple(args), sort, node.span)
+        out = ir.Arith(op, tuple(args), sort, node.span)
+        return out if self._bounded(out) else None
+
+    def _bounded(self, e: ir.Arith) -> bool:
+        """Whether ``e``, when all its arguments are constant, has a value within the
+        constant-digits limit (E1103 when not); its value is kept for the nodes above."""
+        values = []
+        for a in e.args:
+            v = a.value if isinstance(a, ir.Const) else self._values.get(id(a), (None, None))[1]
+            if not isinstance(v, Fraction):
+                return True
+            values.append(v)
+        try:
+            self._values[id(e)] = (e, bounded_arith(e.op, values, e))
+        except ZeroDivisionError:  # a divisor that folds to 0: the validator's strict semantics
+            pass
+        except ConstantTooLarge as exc:
+            self.diags.report(codes.CONSTANT_TOO_LARGE, str(exc), e.span)
+            return False
+        return True
 
     def _member(self, node: ast.Call, ctx: Context) -> ir.Expr | None:
         if not self._arity(node, 2, 2):
@@ -468,7 +491,7 @@ class ExprChecker:
             return None
         p = m.param(pnode.name)
         assert p is not None
-        if not p.fixed and m.uses != 1:
+        if not p.fixed and m.uses not in (0, 1):  # at most one activation: one value (or none)
             self.diags.report(
                 codes.AMBIGUOUS_PARAMETER,
                 f"parameter '{p.name}' of '{m.name}' takes one value per activation; "

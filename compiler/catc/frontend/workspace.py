@@ -1,24 +1,33 @@
 """Finding, parsing and checking files: the workspace.
 
 A :class:`Workspace` owns every parsed file of a run.  Domains are found by name, in this
-order: files already loaded, ``.cat`` files in the folder of the file that refers to the
-domain, the extra search paths (``--path`` and ``CATC_PATH``), and the standard library
-(``stdlib_domains``).  Each domain is checked once; import cycles are reported.
+order: a file already loaded from the folder of the file that refers to the domain; a file
+the user gave (on the command line, or as text); the other ``.cat`` files of that folder;
+the other loaded files; the extra search paths (``--path`` and ``CATC_PATH``); and the
+standard library (``stdlib_domains``).  Each domain is checked once; import cycles are
+reported.
+
+Files that were not asked for are read with care: only regular files (a FIFO or a device
+could block or never end) of at most :data:`SCAN_MAX_BYTES`, searched for
+``(define (domain NAME`` with the language's own tokenizer (a comment inside the header
+changes nothing), and parsed on their own: one that fails to parse is passed over when
+another file defines the domain, and its errors are shown only when none does.
 """
 
 from __future__ import annotations
 
 import os
-import re
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 
 from catc import ir
 from catc.frontend.check import DomainChecker, ProblemChecker
 from catgrammar import ast, codes
+from catgrammar._lalr import UnexpectedCharacters
 from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
-from catgrammar.parser import parse_source, read_source
+from catgrammar.parser import decode_source, parse_source, read_regular, read_source
 from catgrammar.span import Source, Span
+from catgrammar.tokens import tokenize
 
 STDLIB_DIR = Path(__file__).resolve().parents[3] / "stdlib_domains"
 
@@ -56,8 +65,29 @@ def _folder(path: str) -> Path:
     return Path(path).resolve().parent
 
 
-def _domain_pattern(name: str) -> re.Pattern[str]:
-    return re.compile(r"\(\s*domain\s+" + re.escape(name) + r"\s*\)")
+#: The largest file read while looking for a domain among files nobody asked for (the
+#: folder of a problem, ``--path``, the standard library); larger ones are passed over.
+SCAN_MAX_BYTES = 16 * 1024 * 1024
+
+_HEADER = ("LPAR", "_DEFINE_WORD", "LPAR", "_DOMAIN_WORD")
+
+
+def defined_domains(text: str) -> list[str]:
+    """The names of the domains ``text`` defines (``(define (domain NAME``), found by the
+    language's tokenizer, so comments and strings never count and a comment inside the
+    header changes nothing; a character no token starts with ends the search."""
+    if "domain" not in text:
+        return []
+    names: list[str] = []
+    window: tuple[str, ...] = ("",) * len(_HEADER)
+    try:
+        for tok in tokenize(text):
+            if tok.type == "NAME" and window == _HEADER:
+                names.append(tok.value)
+            window = (*window[1:], tok.type)
+    except UnexpectedCharacters:
+        pass
+    return names
 
 
 class Workspace:
@@ -66,10 +96,12 @@ class Workspace:
         diags: Diagnostics,
         search_paths: list[str] | tuple[str, ...] = (),
         texts: Mapping[str, str] | None = None,
+        scan_max_bytes: int = SCAN_MAX_BYTES,
     ):
         """``search_paths``: extra folders to look for domains in, in order (the interfaces
         add ``--path`` and ``CATC_PATH``; nothing here reads the environment).  ``texts``:
-        files given as text (path → text), read instead of the disk (the runtime's model)."""
+        files given as text (path → text), read instead of the disk (the runtime's model).
+        ``scan_max_bytes``: the largest file read while looking for a domain."""
         self.diags = diags
         self.texts = {normalise_path(k): v for k, v in (texts or {}).items()}
         self.search_paths = [Path(p) for p in search_paths]
@@ -80,6 +112,10 @@ class Workspace:
         self._checked: dict[int, ir.Domain | None] = {}  # id(ast.Domain) → checked IR
         self._stack: list[tuple[str, int]] = []
         self.stdlib = stdlib_dir()
+        self.scan_max_bytes = scan_max_bytes
+        #: files loaded while looking for a domain (the others were given)
+        self.discovered: set[str] = set()
+        self._defines: dict[str, list[str]] = {}  # a file not loaded → the domains it defines
 
     # -------------------------------------------------------------- files
     def load(self, path: str) -> ast.SourceFile | None:
@@ -119,29 +155,61 @@ class Workspace:
         entries.append((d, path))  # type: ignore[arg-type]
 
     def _scan(self, folder: Path, name: str) -> tuple[ast.Domain, str] | None:
-        """Load the ``.cat`` files of ``folder`` that seem to define domain ``name``."""
+        """Load the ``.cat`` files of ``folder`` that define domain ``name`` (by their
+        tokens), until one parses; the errors of those that do not are reported only when
+        none does."""
         if not folder.is_dir():
             return None
         found = self._in_folder(name, folder)
         if found:
             return found
-        pattern = _domain_pattern(name)
-        preferred = folder / f"{name}.cat"
-        candidates = [preferred] if preferred.is_file() else []
-        candidates += sorted(p for p in folder.glob("*.cat") if p != preferred)
-        for p in candidates:
-            if normalise_path(str(p)) in self.files:
+        failed: Diagnostics | None = None
+        for path, src in self._candidates(folder, name):
+            local = Diagnostics()
+            parsed = parse_source(src, local)
+            self.files[normalise_path(path)] = parsed
+            self.discovered.add(normalise_path(path))
+            if parsed is None:
+                failed = failed or local
                 continue
-            try:
-                head = p.read_bytes()[:1_000_000].decode("utf-8", errors="replace")
-            except OSError:
-                continue
-            if pattern.search(head):
-                self.load(str(p))
-                found = self._in_folder(name, folder)
-                if found:
-                    return found
+            self.diags.extend(local)
+            for d in parsed.definitions:
+                self.index(d, path)
+            found = self._in_folder(name, folder)
+            if found:
+                return found
+        if failed is not None:
+            self.diags.extend(failed)
         return None
+
+    def _candidates(self, folder: Path, name: str) -> Iterator[tuple[str, Source]]:
+        """The files of ``folder`` not loaded yet whose tokens define domain ``name``
+        (``NAME.cat`` first): regular files of at most ``scan_max_bytes``, valid UTF-8."""
+        preferred = folder / f"{name}.cat"
+        for p in [preferred, *sorted(p for p in folder.glob("*.cat") if p != preferred)]:
+            key = normalise_path(str(p))
+            if key in self.files:
+                continue
+            src = self._sibling_source(str(p), key)
+            if src is None:
+                continue
+            if key not in self._defines:
+                self._defines[key] = defined_domains(src.text)
+            if name in self._defines[key]:
+                yield str(p), src
+
+    def _sibling_source(self, path: str, key: str) -> Source | None:
+        """A file nobody asked for, or None when it is not a regular file, is larger than
+        ``scan_max_bytes``, cannot be read or is not UTF-8 text (it is passed over)."""
+        if key in self.texts:
+            return Source(path, self.texts[key])
+        try:
+            data = read_regular(path, self.scan_max_bytes)
+        except OSError:
+            return None
+        if len(data) > self.scan_max_bytes:
+            return None
+        return decode_source(path, data, Diagnostics())
 
     def _in_folder(self, name: str, folder: Path) -> tuple[ast.Domain, str] | None:
         target = folder.resolve()
@@ -151,8 +219,16 @@ class Workspace:
         return None
 
     def find_domain(self, name: str, near: str | None, ref: Span | None = None) -> tuple[ast.Domain, str] | None:
-        """The domain ``name`` as seen from the file ``near``: its own folder first, then the
-        other loaded files (when exactly one folder defines it), ``--path``, the stdlib."""
+        """The domain ``name`` as seen from the file ``near``: a loaded file of its own folder,
+        the one given file that defines it, the other files of that folder, the other loaded
+        files (when exactly one folder defines it), ``--path``, the stdlib."""
+        if near is not None:
+            found = self._in_folder(name, Path(near).parent)
+            if found:
+                return found
+        given = [(d, p) for d, p in self.domains.get(name, []) if normalise_path(p) not in self.discovered]
+        if len(given) == 1:  # a file the user named wins over one beside the problem
+            return given[0]
         if near is not None:
             found = self._scan(Path(near).parent, name)  # unresolved: keep the user's relative paths
             if found:
@@ -237,13 +313,28 @@ def load_instance(
     if problem_name is not None:
         problems = [p for p in problems if p.name.text == problem_name]
     if not problems:
-        what = f"no problem named '{problem_name}'" if problem_name else "no (define (problem ...)) found"
-        diags.report(codes.MISSING_OPTION, f"{what} in {problem_path}", None)
+        _no_problem(ws, parsed, problem_path, problem_name)
         return ws, None
     if len(problems) > 1:
         names = ", ".join(p.name.text for p in problems)
         diags.report(
-            codes.MISSING_OPTION, f"{problem_path} defines several problems ({names}); choose one with --problem", None
+            codes.MISSING_OPTION,
+            f"{problem_path} defines several problems ({names}); choose one with --problem",
+            problems[1].name.span,
         )
         return ws, None
     return ws, ws.check_problem(problems[0], problem_path)
+
+
+def _no_problem(ws: Workspace, parsed: ast.SourceFile, path: str, problem_name: str | None) -> None:
+    """The file holds no (such) problem: check the domains it defines, so that their own
+    errors are shown as ``catc check`` shows them, and say so at its first definition."""
+    domains = [d for d in parsed.definitions if isinstance(d, ast.Domain)]
+    for d in domains:
+        ws.domain_ir(d.name.text, path, d.name.span)
+    what = f"no problem named '{problem_name}'" if problem_name else "no (define (problem ...)) found"
+    defines = ", ".join(
+        f"{'domain' if isinstance(d, ast.Domain) else 'problem'} '{d.name.text}'" for d in parsed.definitions
+    )
+    first = parsed.definitions[0].name.span if parsed.definitions else None
+    ws.diags.report(codes.MISSING_OPTION, f"{what} in {path} (it defines {defines})", first)

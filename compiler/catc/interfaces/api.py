@@ -33,6 +33,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from catc import ir
     from catc.queries.base import Result
     from catgrammar.diagnostics import Diagnostic, Diagnostics
+    from catgrammar.limits import Limits
 
 PathLike = str | os.PathLike[str]
 
@@ -59,21 +60,34 @@ def load(
     view: str | None = None,
     problem_name: str | None = None,
     search_paths: Iterable[PathLike] = (),
+    limits: Limits | None = None,
 ) -> Model:
     """Load and check PROBLEM (or DOMAIN and PROBLEM), as ``catc solve [DOMAIN] PROBLEM``:
     the domain is found by name next to the problem, in ``search_paths``, ``CATC_PATH`` and
     the standard library.  ``view`` overrides the problem's ``(:view ...)``; ``problem_name``
-    picks one problem of a file defining several.  Raises :class:`CatError`."""
+    picks one problem of a file defining several.  ``limits`` (default: the defaults with
+    ``CATC_LIMIT_*`` applied; docs/limits.md) hold for loading and for every query of the
+    model.  Raises :class:`CatError`."""
     from catc.frontend.session import load_checked
     from catc.interfaces.command import search_path
+    from catgrammar import limits as limits_
     from catgrammar.diagnostics import Diagnostics
 
     diags = Diagnostics()
     paths = search_path([str(p) for p in search_paths])
-    inst = load_checked(problem, domain, diags, view=view, problem_name=problem_name, search_paths=paths)
+    found = _limits(limits)
+    with limits_.using(found):
+        inst = load_checked(problem, domain, diags, view=view, problem_name=problem_name, search_paths=paths)
     if inst is None:
         raise CatError(diags)
-    return Model(inst)
+    return Model(inst, found)
+
+
+def _limits(given: Limits | None) -> Limits:
+    """``given``, or the defaults with the environment's ``CATC_LIMIT_*`` applied."""
+    from catgrammar import limits
+
+    return given if given is not None else limits.from_environment(os.environ)
 
 
 def loads(
@@ -83,32 +97,39 @@ def loads(
     view: str | None = None,
     problem_name: str | None = None,
     search_paths: Iterable[PathLike] = (),
+    limits: Limits | None = None,
 ) -> Model:
     """Load and check a model given as text: ``sources`` maps paths to ``.cat`` texts, and
     ``problem`` is the path of the one holding the problem.  A domain among the sources is
     found by name; imports that are not among them come from the disk (the folder of the
-    importing path, ``search_paths``, ``CATC_PATH``, the standard library).  Raises
-    :class:`CatError`, located in the given paths."""
+    importing path, ``search_paths``, ``CATC_PATH``, the standard library).  ``limits`` as
+    for :func:`load`.  Raises :class:`CatError`, located in the given paths."""
     from catc.frontend.session import load_texts
     from catc.interfaces.command import search_path
+    from catgrammar import limits as limits_
     from catgrammar.diagnostics import Diagnostics
 
     if problem not in sources:
         raise ValueError(f"{problem!r} is not among the sources")
     diags = Diagnostics()
     paths = search_path([str(p) for p in search_paths])
-    inst = load_texts(sources, problem, diags, view=view, problem_name=problem_name, search_paths=paths)
+    found = _limits(limits)
+    with limits_.using(found):
+        inst = load_texts(sources, problem, diags, view=view, problem_name=problem_name, search_paths=paths)
     if inst is None:
         raise CatError(diags)
-    return Model(inst)
+    return Model(inst, found)
 
 
 class Model:
     """A checked instance (domain + problem, view applied) and the queries over it: one
     method per query of the registry, with that query's keyword options."""
 
-    def __init__(self, instance: ir.Instance) -> None:
+    def __init__(self, instance: ir.Instance, limits: Limits | None = None) -> None:
+        from catgrammar.limits import DEFAULT
+
         self.instance = instance
+        self.limits = DEFAULT if limits is None else limits
 
     def __repr__(self) -> str:
         view = f", view {self.instance.view}" if self.instance.view else ""
@@ -147,7 +168,16 @@ class Model:
                 options[option.name] = {k: Fraction(v) for k, v in value.items()} if value else None
             elif option.kind is Kind.OBJECTIVES and value is not None:
                 options[option.name] = list(value)
-        return query.run(self.instance, *args, **options)
+        from catgrammar import limits
+        from catgrammar.diagnostics import Diagnostics
+
+        with limits.using(self.limits):
+            try:
+                return query.run(self.instance, *args, **options)
+            except limits.LimitExceeded as exc:  # the horizon, a universe: located
+                diags = Diagnostics()
+                diags.report(exc.code, exc.message, exc.span)
+                raise CatError(diags) from None
 
     def __getattr__(self, name: str) -> Callable[..., Result]:
         from catc.queries import registry

@@ -12,6 +12,7 @@ No command lets a Python traceback reach the user for bad input.
 from __future__ import annotations
 
 import importlib
+import math
 import os
 import re
 import sys
@@ -71,8 +72,17 @@ class _Group(click.Group):
 
     def invoke(self, ctx: click.Context) -> Any:
         return command.guarded(
-            super().invoke, ctx, passthrough=(click.exceptions.Exit, click.exceptions.Abort, click.ClickException)
+            self._invoke_limited, ctx, passthrough=(click.exceptions.Exit, click.exceptions.Abort, click.ClickException)
         )
+
+    def _invoke_limited(self, ctx: click.Context) -> Any:
+        """Every command runs under the limits of the environment (``CATC_LIMIT_*``); those
+        with ``--limit``/``--memory`` refine them and cap the process's memory (:func:`limited`;
+        ``bench``, ``fmt`` and ``lsp`` leave their process as it is)."""
+        from catgrammar import limits
+
+        with limits.using(command.command_limits((), None, False, cap_memory=False)):
+            return super().invoke(ctx)
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
@@ -229,6 +239,32 @@ def _colour(text: str) -> str:
     return re.sub(r"^(\S*: )?(error|warning|note)\[(\w+)\]:", paint, text, flags=re.M)
 
 
+def limit_options(f: Any) -> Any:
+    """``--limit NAME=N`` (repeatable) and ``--memory MB`` on a command (docs/limits.md)."""
+    f = click.option(
+        "--memory",
+        type=click.IntRange(min=0),
+        metavar="MB",
+        help="The most memory the command may use, in MB (0: no limit; default 8192, or CATC_LIMIT_MEMORY).",
+    )(f)
+    return click.option(
+        "--limit",
+        "limit_specs",
+        multiple=True,
+        metavar="NAME=N",
+        help="Set a limit: NAME=N, e.g. horizon=5000 (repeatable; the limits and their defaults: docs/limits.md).",
+    )(f)
+
+
+def limited(specs: tuple[str, ...], memory: int | None) -> Any:
+    """The block runs under the environment's limits with ``--limit`` and ``--memory`` applied
+    (E1111 when malformed), and the process's memory capped."""
+    from catgrammar import limits
+
+    found = command.command_limits(specs, memory, False)
+    return limits.using(found)
+
+
 @main.command()
 @click.argument("paths", nargs=-1, required=True, type=click.Path())
 @click.option(
@@ -248,7 +284,16 @@ def _colour(text: str) -> str:
     help="Extra folder to search for domains (repeatable; also CATC_PATH).",
 )
 @click.option("-q", "--quiet", is_flag=True, help="Do not print the summary line.")
-def check(paths: tuple[str, ...], fmt: str, strict: bool, search_paths: tuple[str, ...], quiet: bool) -> None:
+@limit_options
+def check(
+    paths: tuple[str, ...],
+    fmt: str,
+    strict: bool,
+    search_paths: tuple[str, ...],
+    quiet: bool,
+    limit_specs: tuple[str, ...],
+    memory: int | None,
+) -> None:
     """Type-check .cat files and folders (for CI).
 
     Every domain and problem in the given files is checked; a problem's domain is found by
@@ -260,7 +305,8 @@ def check(paths: tuple[str, ...], fmt: str, strict: bool, search_paths: tuple[st
 
     diags = Diagnostics()
     files = collect_files(paths, diags)
-    check_files(files, diags, command.search_path(search_paths))
+    with limited(limit_specs, memory):
+        check_files(files, diags, command.search_path(search_paths))
     if strict:
         diags.promote_warnings()
     _emit(diags, files, fmt, quiet)
@@ -294,6 +340,12 @@ def check(paths: tuple[str, ...], fmt: str, strict: bool, search_paths: tuple[st
 @click.option(
     "-o", "--output", type=click.Path(dir_okay=False, writable=True), help="Write here instead of standard output."
 )
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0, min_open=True),
+    help="Give up after this many seconds (exit 3, error E1109).",
+)
+@limit_options
 def compile(
     paths: tuple[str, ...],
     horizon: int | None,
@@ -303,19 +355,27 @@ def compile(
     problem_name: str | None,
     emit: str,
     output: str | None,
+    timeout: float | None,
+    limit_specs: tuple[str, ...],
+    memory: int | None,
 ) -> None:
     """Compile a problem to SMT-LIB2 (named assertions map cores back to source).
 
     PATHS is PROBLEM, or DOMAIN PROBLEM.
     """
-    from catc.semantics.horizon import default_horizon
+    from catc.semantics.horizon import horizon_of
     from catc.smt.smtlib import emit_smt2
+    from catgrammar import limits
 
     if len(paths) not in (1, 2):
         raise click.UsageError("give PROBLEM or DOMAIN PROBLEM")
-    inst = command.instance(paths, view, search_paths, problem_name, False)
-    k = default_horizon(inst) if horizon is None else horizon
-    text = emit_smt2(inst, k, sequential=sequential)
+    if timeout is not None and not math.isfinite(timeout):
+        command.argument_error(
+            f"--timeout must be a finite number of seconds, got {timeout}", codes.BAD_ARGUMENT, False
+        )
+    with limited(limit_specs, memory), limits.deadline(timeout):
+        inst = command.instance(paths, view, search_paths, problem_name, False)
+        text = emit_smt2(inst, horizon_of(inst, horizon), sequential=sequential)
     if output:
         Path(output).write_text(text, encoding="utf-8")
     else:

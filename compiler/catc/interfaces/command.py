@@ -37,9 +37,12 @@ EXIT_OK, EXIT_FAIL, EXIT_INPUT, EXIT_UNKNOWN, EXIT_INTERNAL = (
 
 
 def echo(text: str = "", err: bool = False) -> None:
-    """``click.echo`` for text: one line to standard output (or error), flushed."""
+    """``click.echo`` for text: one line to standard output (or error), flushed, with
+    control characters shown as escapes (a ``:unit`` or a path cannot drive the terminal)."""
+    from catgrammar.terminal import printable
+
     stream = sys.stderr if err else sys.stdout
-    stream.write(text + "\n")
+    stream.write(printable(text) + "\n")
     stream.flush()
 
 
@@ -50,6 +53,8 @@ def guarded(
     head``) stops quietly, input nesting too deeply is an input error, and anything else
     unexpected is a one-line internal-error report with exit 70 (``CATC_DEBUG=1`` shows
     the traceback).  ``passthrough`` exceptions (click's own) propagate unchanged."""
+    from catgrammar import limits
+
     reraised: tuple[type[BaseException], ...] = (SystemExit, *passthrough)
     try:
         return call(*args, **kwargs)
@@ -62,6 +67,21 @@ def guarded(
     except RecursionError:
         echo("catc: error: input nests too deeply to process", err=True)
         sys.exit(EXIT_INPUT)
+    except KeyboardInterrupt:  # Ctrl-C (a query reports what it has: run_query)
+        echo("catc: interrupted", err=True)
+        sys.exit(ExitCode.INTERRUPTED)
+    except MemoryError:
+        out_of_memory(None, False)
+    except limits.LimitExceeded as exc:
+        limit_error(exc, False)
+    except limits.Stopped as exc:  # the time limit, in a command with no partial answer
+        if isinstance(exc, limits.Interrupted):
+            echo("catc: interrupted", err=True)
+            sys.exit(ExitCode.INTERRUPTED)
+        from catc.interfaces.guard import time_limit_message
+
+        echo(f"catc: error[{codes.TIME_LIMIT}]: {time_limit_message(exc.seconds, exc.phase)}", err=True)
+        sys.exit(EXIT_UNKNOWN)
     except Exception as exc:  # a bug, reported without a traceback
         if os.environ.get("CATC_DEBUG"):
             raise
@@ -232,6 +252,8 @@ def read_plan_file(inst: ir.Instance, path: str) -> Any:
         raise PlanFileError(path, f"cannot read the plan: {exc}", codes.UNREADABLE_FILE) from None
     except json.JSONDecodeError as exc:
         raise PlanFileError(f"{path}:{exc.lineno}:{exc.colno}", f"not JSON: {exc.msg}", codes.PLAN_NOT_JSON) from None
+    except ValueError as exc:  # a JSON integer of more digits than Python reads
+        raise PlanFileError(path, f"cannot read the plan: {exc}", codes.BAD_PLAN) from None
     try:
         return plan_from_json(doc, param_sorts(inst))
     except PlanFormatError as exc:
@@ -243,12 +265,12 @@ def read_plan_file(inst: ir.Instance, path: str) -> Any:
 
 def console(as_json: bool = False) -> Any:
     """Rich on a terminal; plain aligned text when piped (no colour codes, faster start)."""
+    from catc.present.console import PlainConsole, TerminalConsole
+
     if sys.stdout.isatty() and not os.environ.get("NO_COLOR"):
         from rich.console import Console
 
-        return Console(highlight=False)
-    from catc.present.console import PlainConsole
-
+        return TerminalConsole(Console(highlight=False, emoji=False))
     return PlainConsole(echo)
 
 
@@ -290,13 +312,81 @@ def reporter(status: Any) -> Callable[[str], None] | None:
 
 def run_query(name: str, paths: Sequence[str], raw: Mapping[str, Any]) -> NoReturn:
     """``catc NAME PATHS [options]``: load, check the arguments, answer, print, exit with
-    the answer's exit code.  ``raw`` holds every option's value as the command line gives
-    it (see :func:`convert`)."""
+    the answer's exit code (130 when interrupted).  ``raw`` holds every option's value as the
+    command line gives it (see :func:`convert`).  The limits (``--limit``, ``--memory``,
+    ``CATC_LIMIT_*``) and the time limit (``--timeout``) hold from loading to printing."""
+    from catc.interfaces import guard
     from catc.queries import registry
+    from catgrammar import limits
 
     query = registry.get(name)
     values = {**query.defaults(), **raw}
     as_json = bool(values.get("as_json"))
+    timeout = values.get("timeout")
+    if timeout is not None and not math.isfinite(timeout):
+        argument_error(f"--timeout must be a finite number of seconds, got {timeout}", codes.BAD_ARGUMENT, as_json)
+    found = command_limits(values.get("limits") or (), values.get("memory"), as_json)
+    with limits.using(found), limits.deadline(timeout) as clock, guard.stoppable(clock) as run:
+        try:
+            code = _answer(query, paths, values, as_json, run)
+        except KeyboardInterrupt:
+            code = guard.stopped_exit(run, as_json, echo)
+        except limits.TimeLimitReached as exc:  # reading the model, before the query could answer
+            code = guard.time_limit_exit(guard.time_limit_message(exc.seconds, exc.phase), as_json, echo)
+        except MemoryError:
+            out_of_memory(clock.root.phase, as_json)
+        except limits.LimitExceeded as exc:
+            limit_error(exc, as_json)
+    sys.exit(code)
+
+
+def command_limits(specs: Sequence[str], memory: int | None, as_json: bool, cap_memory: bool = True) -> Any:
+    """The limits of this command (E1111 when malformed), with the process's memory capped
+    (``cap_memory``: the commands that take ``--memory``)."""
+    from catc.interfaces import guard
+
+    try:
+        found = guard.command_limits(specs, memory)
+    except guard.LimitArgumentError as exc:
+        argument_error(str(exc), exc.code, as_json)
+    if cap_memory:
+        guard.limit_memory(found.memory)
+    return found
+
+
+def out_of_memory(phase: str | None, as_json: bool) -> NoReturn:
+    """E1110, exit 3: the memory limit was reached."""
+    from catc.interfaces.guard import out_of_memory_message
+
+    message = out_of_memory_message(phase)
+    if as_json:
+        import json
+
+        doc = {"code": codes.OUT_OF_MEMORY, "name": "out-of-memory", "severity": "error", "message": message}
+        echo(json.dumps({"schema": "catc.error/1", "status": "unknown", "diagnostics": [{**doc, "location": None}]}))
+    echo(f"catc: error[{codes.OUT_OF_MEMORY}]: {message}", err=True)
+    sys.exit(EXIT_UNKNOWN)
+
+
+def limit_error(exc: Any, as_json: bool) -> NoReturn:
+    """A limit crossed after loading (the horizon, a universe, an export): located, exit 2."""
+    from catgrammar.diagnostics import Diagnostics
+
+    if exc.span is None:  # a command-line argument (--horizon)
+        argument_error(exc.message, exc.code, as_json)
+    from catgrammar.parser import read_source
+
+    diags = Diagnostics()
+    read_source(exc.span.file, diags)  # for the excerpt
+    diags.report(exc.code, exc.message, exc.span)
+    input_errors(diags, as_json)
+
+
+def _answer(query: Query, paths: Sequence[str], values: dict[str, Any], as_json: bool, run: Any) -> int:
+    """Load, convert the arguments, answer and print; the exit code."""
+    from catgrammar import limits
+
+    limits.note_phase("reading the model")
     inst = instance(paths, values.get("view"), values.get("search_paths") or (), values.get("problem_name"), as_json)
     try:
         values = convert(query, inst, values)
@@ -313,6 +403,7 @@ def run_query(name: str, paths: Sequence[str], raw: Mapping[str, Any]) -> NoRetu
     with progress(query.progress and not as_json) as status:
         if query.progress:
             kwargs["progress"] = reporter(status)
+        run.soft = True  # from here a first Ctrl-C asks the query to stop and say what it has
         result = query.run(inst, **kwargs)
     try:
         messages = query.artifacts(inst, result, values)
@@ -326,4 +417,4 @@ def run_query(name: str, paths: Sequence[str], raw: Mapping[str, Any]) -> NoRetu
         query.render(console(), inst, result, values)
         for message in messages:
             echo(message, err=True)
-    sys.exit(result.exit_code)
+    return ExitCode.INTERRUPTED if limits.interrupted() else result.exit_code

@@ -107,9 +107,13 @@ GC_THRESHOLD = 100_000
 
 
 def configure_process() -> None:
-    """What the ``catc`` executable sets for its own process (see :data:`GC_THRESHOLD`)."""
+    """What the ``catc`` executable sets for its own process (see :data:`GC_THRESHOLD`); it
+    also makes the process-wide settings of the limits (:class:`catc.interfaces.guard.Process`)."""
     _, second, third = gc.get_threshold()
     gc.set_threshold(GC_THRESHOLD, second, third)
+    from catc.interfaces.guard import Process
+
+    Process.executable = True
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -127,13 +131,16 @@ def main(argv: list[str] | None = None) -> None:
             paths = params.pop("paths")
             try:
                 command.guarded(command.run_query, args[0], paths, params)
-            except KeyboardInterrupt:  # as click reports it
-                command.echo(err=True)
-                command.echo("Aborted!", err=True)
-                sys.exit(command.EXIT_FAIL)
+            except KeyboardInterrupt:  # Ctrl-C before the command could take it (exit 130)
+                command.echo("catc: interrupted", err=True)
+                sys.exit(command.ExitCode.INTERRUPTED)
     from catc.interfaces.cli import main as cli
 
-    if argv is None:
-        cli()
-    else:
-        cli(args)
+    try:
+        if argv is None:
+            cli()
+        else:
+            cli(args)
+    except KeyboardInterrupt:  # pragma: no cover - click turns it into Abort; guarded() exits 130 first
+        sys.stderr.write("catc: interrupted\n")
+        sys.exit(130)

@@ -10,6 +10,7 @@ gave up (``--run``).
 from __future__ import annotations
 
 import json
+import math
 import sys
 from fractions import Fraction
 from pathlib import Path
@@ -17,8 +18,10 @@ from typing import Any
 
 import click
 
+from catc.interfaces.cli import limit_options, limited
 from catc.interfaces.command import EXIT_FAIL, EXIT_UNKNOWN, argument_error
 from catgrammar import codes
+from catgrammar.terminal import printable
 
 
 class MissingParser(RuntimeError):
@@ -134,8 +137,9 @@ def export_command() -> None:
     type=click.FloatRange(min=0, min_open=True),
     default=60.0,
     show_default=True,
-    help="Seconds for the planner (--run).",
+    help="Seconds for the whole command: the export, the parsers' check and the planner (--run).",
 )
+@limit_options
 def pddl_command(
     paths,
     out_dir,
@@ -149,6 +153,8 @@ def pddl_command(
     run_planner,
     planner,
     timeout,
+    limit_specs,
+    memory,
 ) -> None:
     """Write PROBLEM (or DOMAIN PROBLEM) as PDDL planning files.
 
@@ -159,22 +165,27 @@ def pddl_command(
     """
     from catc.interfaces.command import instance
     from catc.targets.pddl import ExportError, export_pddl
+    from catgrammar import limits
 
     grid = _grid(grid_specs)
     if len(paths) not in (1, 2):
         raise click.UsageError("give PROBLEM or DOMAIN PROBLEM")
-    inst = instance(paths, view, search_paths, problem_name, False)
-    try:
-        ex = export_pddl(inst, grid=grid, horizon=horizon, flavor=flavor)
-    except ExportError as exc:
-        argument_error(str(exc), codes.EXPORT_UNSUPPORTED, False)
-    dom, prob = _write(Path(out_dir), inst, ex)
-    if not no_check:
-        _check(flavor, dom, prob)
-    if run_planner and flavor == "smtplan":
-        _run_smtplan(inst, ex, dom, prob, timeout)
-    elif run_planner:
-        _run_enhsp(inst, ex, dom, prob, planner, timeout)
+    if not math.isfinite(timeout):
+        argument_error(f"--timeout must be a finite number of seconds, got {timeout}", codes.BAD_ARGUMENT, False)
+    with limited(limit_specs, memory), limits.deadline(timeout):
+        inst = instance(paths, view, search_paths, problem_name, False)
+        try:
+            ex = export_pddl(inst, grid=grid, horizon=horizon, flavor=flavor)
+        except ExportError as exc:
+            argument_error(str(exc), codes.EXPORT_UNSUPPORTED, False)
+        dom, prob = _write(Path(out_dir), inst, ex)
+        if not no_check:
+            _check(flavor, dom, prob)
+        left = max(0.001, limits.remaining() or timeout)
+        if run_planner and flavor == "smtplan":
+            _run_smtplan(inst, ex, dom, prob, left)
+        elif run_planner:
+            _run_enhsp(inst, ex, dom, prob, planner, left)
 
 
 def _write(out: Path, inst: Any, ex: Any) -> tuple[Path, Path]:
@@ -213,7 +224,7 @@ def _write(out: Path, inst: Any, ex: Any) -> tuple[Path, Path]:
         f"wrote {dom}, {prob} ({len(ex.actions)} ground actions{f', {len(ex.dials)} dials' if ex.dials else ''}), "
         f"{out / 'report.md'}, {out / 'actions.json'}" + (f", {out / 'dials.json'}" if ex.dials else "")
     )
-    click.echo(report.rstrip())
+    click.echo(printable(report.rstrip()))
     return dom, prob
 
 
@@ -252,13 +263,15 @@ def _run_enhsp(inst: Any, ex: Any, dom: Path, prob: Path, planner: str, timeout:
             click.echo(f"  {i:3d}  {name}")
         rep = validate(inst, plan, horizon=len(plan), sequential=True)
         if not rep.ok:
-            click.echo("catc's validator REJECTS the plan: " + "; ".join(str(v) for v in rep.violations[:5]), err=True)
+            click.echo(
+                printable("catc's validator REJECTS the plan: " + "; ".join(map(str, rep.violations[:5]))), err=True
+            )
             sys.exit(EXIT_FAIL)
         click.echo("catc's validator accepts the plan (sequential semantics)")
     elif res.status == "unsat":
         sys.exit(EXIT_FAIL)
     else:
-        click.echo(res.output[-2000:], err=True)
+        click.echo(printable(res.output[-2000:]), err=True)
         sys.exit(EXIT_UNKNOWN)
 
 
@@ -280,17 +293,17 @@ def _run_smtplan(inst, ex, dom: Path, prob: Path, timeout: float) -> None:
     if res.status == "nosolution":
         sys.exit(EXIT_FAIL)
     if res.status != "sat":
-        click.echo(res.output[-2000:], err=True)
+        click.echo(printable(res.output[-2000:]), err=True)
         sys.exit(EXIT_UNKNOWN)
     for a in res.actions:
         click.echo(f"  {a.time}: ({a.name})")
     try:
         plan = parse_timed_plan(ex, res.plan_text)
     except PlanReadError as exc:
-        click.echo(f"error: SMTPlan+'s plan cannot be read back: {exc}", err=True)
+        click.echo(printable(f"error: SMTPlan+'s plan cannot be read back: {exc}"), err=True)
         sys.exit(EXIT_FAIL)
     rep = validate(inst, plan, horizon=max(len(plan), 1), sequential=True)
     if not rep.ok:
-        click.echo("catc's validator REJECTS the plan: " + "; ".join(str(v) for v in rep.violations[:5]), err=True)
+        click.echo(printable("catc's validator REJECTS the plan: " + "; ".join(map(str, rep.violations[:5]))), err=True)
         sys.exit(EXIT_FAIL)
     click.echo("catc's validator accepts the plan (sequential semantics)")

@@ -11,6 +11,7 @@ from catc.frontend.formatter import format_file
 from catc.interfaces.cli import collect_files
 from catgrammar.diagnostics import Diagnostics
 from catgrammar.diagnostics import format_text as diag_text
+from catgrammar.terminal import printable
 
 
 @click.command("fmt")
@@ -39,13 +40,13 @@ def fmt_command(paths: tuple[str, ...], check: bool, diff: bool) -> None:
             lines = difflib.unified_diff(
                 before.splitlines(keepends=True), after.splitlines(keepends=True), f"a/{f}", f"b/{f}"
             )
-            click.echo("".join(lines), nl=False)
+            click.echo(printable("".join(lines)), nl=False)
         elif check:
-            click.echo(f"would reformat {f}")
+            click.echo(printable(f"would reformat {f}"))
         else:
             with open(f, "w", encoding="utf-8", newline="\n") as fh:
                 fh.write(after)
-            click.echo(f"reformatted {f}", err=True)
+            click.echo(printable(f"reformatted {f}"), err=True)
     if diags.has_errors:
         click.echo(diag_text(diags), err=True)
         sys.exit(2)

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import sys
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -24,9 +25,11 @@ import click
 
 from catc import ir
 from catc.interfaces import command
+from catc.interfaces.cli import limit_options, limited
+from catc.present.console import escape
 from catc.queries.base import ExitCode
 from catc.semantics.plan import Plan
-from catgrammar import codes
+from catgrammar import codes, limits
 from catgrammar.diagnostics import Diagnostics, Note, format_text
 
 
@@ -174,7 +177,7 @@ def ground_command_body(
     )
     for path in written:
         digest = doc["artifacts"].get(path.name, {}).get("sha256", "")
-        console.print(f"  {path}" + (f"  sha256 {digest[:12]}…" if digest else ""))
+        console.print(f"  {escape(str(path))}" + (f"  sha256 {digest[:12]}…" if digest else ""))
 
 
 def _diff(inst: ir.Instance, files: tuple[str, str], strict: bool, as_json: bool) -> None:
@@ -207,8 +210,8 @@ def _print_diff(d: Any) -> None:
     if d.empty:
         console.print("[bold green]NO CHANGE[/]  the two compositions ground to the same robot")
         return
-    console.print(f"[bold yellow]CHANGES[/]  components added: {', '.join(d.added) or 'none'}; "
-                  f"removed: {', '.join(d.removed) or 'none'}")  # fmt: skip
+    console.print(f"[bold yellow]CHANGES[/]  components added: {escape(', '.join(d.added)) or 'none'}; "
+                  f"removed: {escape(', '.join(d.removed)) or 'none'}")  # fmt: skip
     rows = [
         ("unmount", d.unmount),
         ("mount", d.mount),
@@ -218,10 +221,10 @@ def _print_diff(d: Any) -> None:
     ]
     for what, names in rows:
         if names:
-            console.print(f"  {what:9} {', '.join(names)}")
+            console.print(f"  {what:9} {escape(', '.join(names))}")
     console.print(f"  behaviour tree {'changed' if d.tree_changed else 'unchanged'}")
     for argv in d.commands():
-        console.print("  $ " + " ".join(argv))
+        console.print("  $ " + escape(" ".join(argv)))
 
 
 @click.command("ground")
@@ -240,7 +243,12 @@ def _print_diff(d: Any) -> None:
     "--path", "search_paths", multiple=True, type=click.Path(file_okay=False), help="Extra folder for domains."
 )
 @click.option("--problem", "problem_name", help="The problem to use when the file defines several.")
-@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), help="Give up solving after this many seconds.")
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0, min_open=True),
+    help="Give up after this many seconds (the whole command).",
+)
+@limit_options
 def ground_command(
     paths: tuple[str, ...],
     out: str | None,
@@ -253,6 +261,8 @@ def ground_command(
     search_paths: tuple[str, ...],
     problem_name: str | None,
     timeout: float | None,
+    limit_specs: tuple[str, ...],
+    memory: int | None,
 ) -> None:
     """Write the artifacts a robot runs for a composition (solved, or --plan), or --diff two.
 
@@ -268,6 +278,11 @@ def ground_command(
         command.argument_error(
             "catc ground needs the 'grounding' extra: pip install 'catc-lang[grounding]'", codes.MISSING_EXTRA, as_json
         )
-    ground_command_body(
-        paths, out, plan_file, diff, strict, as_json, horizon, view, search_paths, problem_name, timeout
-    )
+    if timeout is not None and not math.isfinite(timeout):
+        command.argument_error(
+            f"--timeout must be a finite number of seconds, got {timeout}", codes.BAD_ARGUMENT, as_json
+        )
+    with limited(limit_specs, memory), limits.deadline(timeout):
+        ground_command_body(
+            paths, out, plan_file, diff, strict, as_json, horizon, view, search_paths, problem_name, timeout
+        )

@@ -4,6 +4,14 @@ Features: the diagnostics of ``catc check`` on open/change (computed from the ed
 in-memory text), hover (resources, morphisms, sorts, constants, views, holes), go to
 definition, completion (keywords and names in scope) and document symbols.
 
+Documents are checked in the background (one worker thread), so the server answers other
+requests while a large document is checked; a newer text of a document makes the check of
+the older one stale (dropped before it starts, abandoned while it parses or between phases,
+never published).  Positions are in the encoding negotiated with the client (LSP 3.17
+``general.positionEncodings``; UTF-16 unless the client offers UTF-8 or UTF-32 first), while
+catc's spans count code points; every position crossing the wire is converted.  A request
+whose parameters cannot be read (a position of -1 or 2³¹) is answered with an error.
+
 The analysis (:func:`analyse`) does not depend on pygls; the server part imports pygls only
 when the command runs, so the rest of catc works without the ``lsp`` extra.
 """
@@ -13,6 +21,7 @@ from __future__ import annotations
 import os
 import re
 import sys
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 from urllib.parse import unquote, urlparse
@@ -50,6 +59,7 @@ class Analysis:
     definitions: list[Definition] = field(default_factory=list)  # this file and the domains it sees
     domains: list = field(default_factory=list)  # checked ir.Domain objects
     problems: list = field(default_factory=list)  # checked ir.Problem objects
+    sources: dict = field(default_factory=dict)  # path → text of every file read (for positions)
 
 
 def _same(a: str, b: str) -> bool:
@@ -106,16 +116,20 @@ def definitions_of(tree: ast.SourceFile) -> list[Definition]:
     return out
 
 
-def analyse(path: str, text: str, search_paths: tuple[str, ...] = ()) -> Analysis:
-    """``catc check`` on one document's in-memory text (its imports come from disk)."""
+def analyse(
+    path: str, text: str, search_paths: tuple[str, ...] = (), cancelled: Callable[[], bool] | None = None
+) -> Analysis:
+    """``catc check`` on one document's in-memory text (its imports come from disk).
+    ``cancelled`` is asked while parsing and between the phases; when it says so,
+    :class:`catgrammar.parser.Cancelled` is raised."""
     from catc.frontend.session import check_parsed
     from catc.frontend.workspace import Workspace, normalise_path
     from catgrammar.diagnostics import Diagnostics
-    from catgrammar.parser import parse_source
+    from catgrammar.parser import Cancelled, parse_source
 
     result = Analysis(path, text)
     diags = Diagnostics()
-    tree = parse_source(Source(path, text), diags)
+    tree = parse_source(Source(path, text), diags, cancelled)
     result.tree = tree
     ws = Workspace(diags, search_paths)
     ws.files[normalise_path(path)] = tree
@@ -123,7 +137,10 @@ def analyse(path: str, text: str, search_paths: tuple[str, ...] = ()) -> Analysi
     if tree is not None:
         for d in tree.definitions:
             ws.index(d, path)
+        if cancelled is not None and cancelled():
+            raise Cancelled
         _, instances = check_parsed(ws, [(path, tree)], diags)
+    result.sources = {p: src.text for p, src in diags.sources.items()}
     result.diagnostics = [d for d in diags if d.span is None or _same(d.span.file, path)]
     result.domains = ws.checked_domains()
     result.problems = [i.problem for i in instances.values()]
@@ -138,15 +155,42 @@ def analyse(path: str, text: str, search_paths: tuple[str, ...] = ()) -> Analysi
 
 
 def word_at(text: str, line: int, character: int) -> str | None:
-    """The name (or :keyword) under a 0-based position."""
+    """The name (or :keyword) under a 0-based position (``character`` in code points)."""
     lines = text.split("\n")
-    if line >= len(lines):
+    if not 0 <= line < len(lines):
         return None
     s = lines[line]
     for m in _WORD.finditer(s):
         if m.start() <= character <= m.end():
             return m.group()
     return None
+
+
+def code_units(text: str, encoding: str) -> int:
+    """The length of ``text`` in a position encoding's units ("utf-8", "utf-16", "utf-32")."""
+    if encoding == "utf-32":
+        return len(text)
+    if encoding == "utf-8":
+        return len(text.encode("utf-8", "surrogatepass"))
+    return len(text.encode("utf-16-le", "surrogatepass")) // 2
+
+
+def client_column(line: str, column: int, encoding: str) -> int:
+    """A 0-based code-point column of ``line`` as the client counts it."""
+    return code_units(line[:column], encoding)
+
+
+def server_column(line: str, character: int, encoding: str) -> int:
+    """A 0-based column as the client counts it → code points (inside a character: that
+    character; past the end of the line: its end)."""
+    if encoding == "utf-32":
+        return min(character, len(line))
+    units = 0
+    for i, c in enumerate(line):
+        units += code_units(c, encoding)
+        if units > character:
+            return i
+    return len(line)
 
 
 def lookup(a: Analysis, name: str) -> list[Definition]:
@@ -199,7 +243,9 @@ def hover_text(a: Analysis, name: str) -> str | None:
             if m.doc:
                 lines += ["", m.doc, ""]
             extra = [f"churn {number_text(m.churn)}"]
-            if m.uses is not None:
+            if m.uses == 0:
+                extra.append("switched off (:uses 0)")
+            elif m.uses is not None:
                 extra.append(f"uses ≤ {m.uses}")
             if m.cost is not None:
                 extra.append(f"cost {to_text(m.cost)}")
@@ -307,6 +353,87 @@ def path_to_uri(path: str) -> str:
 # ---------------------------------------------------------------- the server
 
 
+class Lines:
+    """Positions for the client: catc's spans (1-based, code points) in the negotiated
+    encoding, reading each file's lines once (the document's text as analysed, the other
+    files as read by the analysis)."""
+
+    def __init__(self, encoding: str, texts: Mapping[str, str]) -> None:
+        self.encoding = encoding
+        self.texts = {os.path.normcase(os.path.abspath(k)): v for k, v in texts.items()}
+        self._lines: dict[str, list[str] | None] = {}
+
+    def line(self, path: str, line: int) -> str | None:
+        """Line ``line`` (0-based) of ``path``, or None when it is not known."""
+        key = os.path.normcase(os.path.abspath(path))
+        if key not in self._lines:
+            text = self.texts.get(key)
+            self._lines[key] = text.split("\n") if text is not None else None
+        lines = self._lines[key]
+        return lines[line] if lines is not None and 0 <= line < len(lines) else None
+
+    def position(self, types: Any, path: str, line: int, column: int) -> Any:
+        """A 1-based line and code-point column → an LSP Position."""
+        text = self.line(path, line - 1)
+        character = column - 1 if text is None else client_column(text, column - 1, self.encoding)
+        return types.Position(max(line - 1, 0), max(character, 0))
+
+    def range(self, types: Any, span: Span | None) -> Any:
+        if span is None:
+            return types.Range(types.Position(0, 0), types.Position(0, 0))
+        return types.Range(
+            self.position(types, span.file, span.line, span.column),
+            self.position(types, span.file, span.end_line, span.end_column),
+        )
+
+
+def _encoding(ls: Any) -> str:
+    """The position encoding pygls negotiated with the client ("utf-16" by default)."""
+    value = getattr(ls.workspace, "position_encoding", None)
+    return str(getattr(value, "value", value) or "utf-16")
+
+
+def _lines(ls: Any, a: Analysis) -> Lines:
+    return Lines(_encoding(ls), {**a.sources, a.path: a.text})
+
+
+class Checks:
+    """The background checks of open documents: one worker thread, so that the server
+    answers other requests meanwhile.  Each new text of a document starts a new generation;
+    a check of an older generation is stale: dropped before it starts, abandoned while it
+    parses or between its phases, and its result is never published."""
+
+    def __init__(self) -> None:
+        import threading
+        from concurrent.futures import ThreadPoolExecutor
+
+        self._lock = threading.Lock()
+        self._generation: dict[str, int] = {}
+        self.executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="catc-check")
+        self.tasks: dict[str, Any] = {}  # uri → the asyncio task that checks its latest text
+
+    def next(self, uri: str) -> int:
+        with self._lock:
+            self._generation[uri] = self._generation.get(uri, 0) + 1
+            return self._generation[uri]
+
+    def stale(self, uri: str, generation: int) -> bool:
+        with self._lock:
+            return self._generation.get(uri) != generation
+
+    def run(self, uri: str, generation: int, path: str, text: str, search: tuple[str, ...]) -> Analysis | None:
+        """In the worker: the analysis, or None when it became stale."""
+        from catgrammar.parser import Cancelled
+
+        if self.stale(uri, generation):
+            return None
+        try:
+            a = analyse(path, text, search, cancelled=lambda: self.stale(uri, generation))
+        except Cancelled:
+            return None
+        return None if self.stale(uri, generation) else a
+
+
 def build_server() -> Any:
     """The language server: document sync with diagnostics, navigation, symbols, and one
     ``workspace/executeCommand`` command per query (``catc.solve``, ``catc.diagnose``, ...)."""
@@ -315,8 +442,11 @@ def build_server() -> Any:
 
     from catc import __version__
 
-    server = LanguageServer("catc", __version__, text_document_sync_kind=types.TextDocumentSyncKind.Full)
+    server = LanguageServer(
+        "catc", __version__, text_document_sync_kind=types.TextDocumentSyncKind.Full, protocol_cls=_protocol_class()
+    )
     server.analyses = {}  # type: ignore[attr-defined]  # catc's own: uri → Analysis (the last one)
+    server.checks = Checks()  # type: ignore[attr-defined]
     _register_documents(server, types)
     _register_navigation(server, types)
     _register_symbols(server, types)
@@ -324,46 +454,77 @@ def build_server() -> Any:
     return server
 
 
-def _range(types: Any, span: Span | None) -> Any:
-    if span is None:
-        return types.Range(types.Position(0, 0), types.Position(0, 0))
-    return types.Range(
-        types.Position(span.line - 1, span.column - 1),
-        types.Position(span.end_line - 1, max(span.end_column - 1, 0)),
-    )
+def _protocol_class() -> Any:
+    """pygls's protocol, answering a request whose parameters cannot be read (a position of
+    -1 or 2³¹: LSP's uinteger ends at 2³¹−1) with its error; pygls only logs it, and the
+    client would wait for ever."""
+    from pygls.exceptions import JsonRpcException
+    from pygls.protocol import LanguageServerProtocol
+
+    class Protocol(LanguageServerProtocol):
+        def structure_message(self, data: dict[str, Any]) -> Any:
+            try:
+                return super().structure_message(data)
+            except JsonRpcException as exc:
+                if "method" in data and isinstance(data.get("id"), (int, str)):
+                    self._send_response(data["id"], error=exc.to_response_error())
+                    return _ANSWERED
+                raise
+
+        def handle_message(self, message: Any) -> None:
+            if message is not _ANSWERED:
+                super().handle_message(message)
+
+    return Protocol
 
 
-def _refresh(ls: Any, types: Any, uri: str) -> None:
-    """Analyse the document's text and publish its diagnostics."""
+_ANSWERED = object()  # a request already answered with an error while it was read
+
+
+async def _refresh(ls: Any, types: Any, uri: str, generation: int, text: str) -> None:
+    """Check ``text``, the document's text of ``generation``, in the background and publish
+    its diagnostics (unless a newer text came meanwhile)."""
+    import asyncio
+
     from catc.interfaces.command import search_path
-    from catgrammar.diagnostics import Severity
 
-    doc = ls.workspace.get_text_document(uri)
-    path = uri_to_path(uri)
+    loop = asyncio.get_running_loop()
     try:
-        a = analyse(path, doc.source, search_path())
+        a = await loop.run_in_executor(
+            ls.checks.executor, ls.checks.run, uri, generation, uri_to_path(uri), text, search_path()
+        )
     except Exception as exc:  # never take the editor down with an internal error
         ls.window_log_message(types.LogMessageParams(types.MessageType.Error, f"catc: {exc!r}"))
+        return
+    if a is None or ls.checks.stale(uri, generation):
         return
     previous = ls.analyses.get(uri)
     if a.tree is None and previous is not None:  # keep symbols/definitions of the last good parse
         a.definitions = previous.definitions or a.definitions
         a.domains = a.domains or previous.domains
         a.tree = previous.tree
+        a.sources = {**previous.sources, **a.sources}
     ls.analyses[uri] = a
+    _publish(ls, types, uri, a)
+
+
+def _publish(ls: Any, types: Any, uri: str, a: Analysis) -> None:
+    from catgrammar.diagnostics import Severity
+
+    lines = _lines(ls, a)
     severity = {Severity.ERROR: types.DiagnosticSeverity.Error, Severity.WARNING: types.DiagnosticSeverity.Warning}
     out = []
     for d in a.diagnostics:
         related = [
             types.DiagnosticRelatedInformation(
-                types.Location(path_to_uri(note.span.file), _range(types, note.span)), note.message
+                types.Location(path_to_uri(note.span.file), lines.range(types, note.span)), note.message
             )
             for note in getattr(d, "notes", ()) or ()
             if getattr(note, "span", None) is not None
         ]
         out.append(
             types.Diagnostic(
-                range=_range(types, d.span),
+                range=lines.range(types, d.span),
                 message=d.message,
                 severity=severity.get(d.severity, types.DiagnosticSeverity.Information),
                 code=d.code,
@@ -374,33 +535,52 @@ def _refresh(ls: Any, types: Any, uri: str) -> None:
     ls.text_document_publish_diagnostics(types.PublishDiagnosticsParams(uri=uri, diagnostics=out))
 
 
-def _current(ls: Any, types: Any, uri: str) -> Analysis:
-    a = ls.analyses.get(uri)
-    if a is None:
-        _refresh(ls, types, uri)
-        a = ls.analyses.get(uri) or Analysis(uri_to_path(uri), "")
-    return a
+def _schedule(ls: Any, types: Any, uri: str) -> None:
+    """Start checking the document's current text: a new generation, so that every check
+    of an older text is stale from now on."""
+    import asyncio
+
+    text = ls.workspace.get_text_document(uri).source
+    generation = ls.checks.next(uri)
+    ls.checks.tasks[uri] = asyncio.ensure_future(_refresh(ls, types, uri, generation, text))
+
+
+async def _current(ls: Any, types: Any, uri: str) -> Analysis:
+    """The document's latest analysis; until it has one, its check under way is waited for
+    (a request that comes right after the document was opened)."""
+    import asyncio
+
+    while uri not in ls.analyses:
+        task = ls.checks.tasks.get(uri)
+        if task is None:
+            _schedule(ls, types, uri)
+            continue
+        if task.done():
+            break
+        await asyncio.shield(task)
+    return ls.analyses.get(uri) or Analysis(uri_to_path(uri), "")
 
 
 def _register_documents(server: Any, types: Any) -> None:
     @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
-    def did_open(ls: Any, params: Any) -> None:
-        _refresh(ls, types, params.text_document.uri)
+    async def did_open(ls: Any, params: Any) -> None:
+        _schedule(ls, types, params.text_document.uri)
 
     @server.feature(types.TEXT_DOCUMENT_DID_CHANGE)
-    def did_change(ls: Any, params: Any) -> None:
-        _refresh(ls, types, params.text_document.uri)
+    async def did_change(ls: Any, params: Any) -> None:
+        _schedule(ls, types, params.text_document.uri)
 
     @server.feature(types.TEXT_DOCUMENT_DID_SAVE)
-    def did_save(ls: Any, params: Any) -> None:
-        _refresh(ls, types, params.text_document.uri)
+    async def did_save(ls: Any, params: Any) -> None:
+        _schedule(ls, types, params.text_document.uri)
 
     @server.feature(types.TEXT_DOCUMENT_DID_CLOSE)
-    def did_close(ls: Any, params: Any) -> None:
-        ls.analyses.pop(params.text_document.uri, None)
-        ls.text_document_publish_diagnostics(
-            types.PublishDiagnosticsParams(uri=params.text_document.uri, diagnostics=[])
-        )
+    async def did_close(ls: Any, params: Any) -> None:
+        uri = params.text_document.uri
+        ls.checks.next(uri)  # a check under way is stale
+        ls.checks.tasks.pop(uri, None)
+        ls.analyses.pop(uri, None)
+        ls.text_document_publish_diagnostics(types.PublishDiagnosticsParams(uri=uri, diagnostics=[]))
 
 
 _COMPLETION_KINDS = {
@@ -421,30 +601,35 @@ _COMPLETION_KINDS = {
 def _register_navigation(server: Any, types: Any) -> None:
     from catgrammar.symbols import all_keywords
 
-    def name_at(ls: Any, params: Any) -> tuple[Analysis, str | None]:
-        a = _current(ls, types, params.text_document.uri)
-        doc = ls.workspace.get_text_document(params.text_document.uri)
-        return a, word_at(doc.source, params.position.line, params.position.character)
+    async def name_at(ls: Any, params: Any) -> tuple[Analysis, str | None]:
+        a = await _current(ls, types, params.text_document.uri)
+        text = ls.workspace.get_text_document(params.text_document.uri).source
+        line, character = params.position.line, params.position.character
+        lines = text.split("\n")
+        if not 0 <= line < len(lines):
+            return a, None
+        return a, word_at(text, line, server_column(lines[line], character, _encoding(ls)))
 
     @server.feature(types.TEXT_DOCUMENT_HOVER)
-    def hover(ls: Any, params: Any) -> Any:
-        a, name = name_at(ls, params)
+    async def hover(ls: Any, params: Any) -> Any:
+        a, name = await name_at(ls, params)
         text = hover_text(a, name) if name else None
         if text is None:
             return None
         return types.Hover(contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value=text))
 
     @server.feature(types.TEXT_DOCUMENT_DEFINITION)
-    def definition(ls: Any, params: Any) -> Any:
-        a, name = name_at(ls, params)
+    async def definition(ls: Any, params: Any) -> Any:
+        a, name = await name_at(ls, params)
         defs = lookup(a, name) if name else []
         if not defs:
             return None
-        return [types.Location(path_to_uri(d.span.file), _range(types, d.span)) for d in defs]
+        lines = _lines(ls, a)
+        return [types.Location(path_to_uri(d.span.file), lines.range(types, d.span)) for d in defs]
 
     @server.feature(types.TEXT_DOCUMENT_COMPLETION, types.CompletionOptions(trigger_characters=[":", "("]))
-    def completion(ls: Any, params: Any) -> Any:
-        a = _current(ls, types, params.text_document.uri)
+    async def completion(ls: Any, params: Any) -> Any:
+        a = await _current(ls, types, params.text_document.uri)
         kinds = {k: getattr(types.CompletionItemKind, v) for k, v in _COMPLETION_KINDS.items()}
         items = [
             types.CompletionItem(label=k, kind=types.CompletionItemKind.Keyword, detail="keyword")
@@ -470,8 +655,9 @@ _SYMBOL_KINDS = {
 
 def _register_symbols(server: Any, types: Any) -> None:
     @server.feature(types.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
-    def document_symbol(ls: Any, params: Any) -> Any:
-        a = _current(ls, types, params.text_document.uri)
+    async def document_symbol(ls: Any, params: Any) -> Any:
+        a = await _current(ls, types, params.text_document.uri)
+        lines = _lines(ls, a)
         sk = types.SymbolKind
         top: list = []
         by_owner: dict[str, list] = {}
@@ -487,8 +673,8 @@ def _register_symbols(server: Any, types: Any) -> None:
                         name=d.name,
                         detail=d.kind,
                         kind=kind,
-                        range=_range(types, d.whole),
-                        selection_range=_range(types, d.span),
+                        range=lines.range(types, d.whole),
+                        selection_range=lines.range(types, d.span),
                         children=children,
                     )
                 )
@@ -498,8 +684,8 @@ def _register_symbols(server: Any, types: Any) -> None:
                         name=d.name,
                         detail=d.kind,
                         kind=getattr(sk, _SYMBOL_KINDS[d.kind]),
-                        range=_range(types, d.whole),
-                        selection_range=_range(types, d.span),
+                        range=lines.range(types, d.whole),
+                        selection_range=lines.range(types, d.span),
                     )
                 )
         return top
@@ -542,8 +728,8 @@ def _register_queries(server: Any, types: Any) -> None:
 
         return handler
 
-    for name in registry.names():
-        server.command(f"catc.{name}")(command_for(name))
+    for name in registry.names():  # in pygls's threads: a long query never blocks the server
+        server.command(f"catc.{name}")(server.thread()(command_for(name)))
 
 
 @click.command("lsp")

@@ -7,11 +7,17 @@ else who needs an expression simplified.  :func:`arith` is the arithmetic of the
 exact rationals: ``(- x)`` negates, ``(- a b c)`` is a − b − c, ``(/ a b)`` is exact division,
 ``min``/``max`` take any number of arguments.  Division by zero is a :class:`FoldError`,
 never a Python exception escaping to the user.
+
+Every value :func:`fold` computes is bounded: a numerator or denominator of more digits than
+the constant-digits limit (:mod:`catgrammar.limits`), also in a partial result of an n-ary
+operation, is a :class:`ConstantTooLarge` — so a checked model holds no constant that the
+writers of SMT-LIB2 and PDDL, or Python's own integer conversions, cannot take.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import operator
+from collections.abc import Callable, Mapping
 from fractions import Fraction
 
 from catc.ir.nodes import (
@@ -29,6 +35,7 @@ from catc.ir.nodes import (
     ParamRef,
     SetLit,
 )
+from catgrammar import limits
 
 
 class FoldError(ValueError):
@@ -37,6 +44,48 @@ class FoldError(ValueError):
     def __init__(self, message: str, expr: Expr) -> None:
         super().__init__(message)
         self.expr = expr
+
+
+class ConstantTooLarge(FoldError):
+    """A constant whose numerator or denominator has more digits than the constant-digits limit."""
+
+    def __init__(self, expr: Expr, digits: int) -> None:
+        limit = limits.BY_NAME["constant-digits"]
+        super().__init__(
+            f"the value of this constant expression has more than {digits} digits in its numerator or denominator "
+            f"(the constant-digits limit); {limit.how_to_raise}",
+            expr,
+        )
+
+
+def _too_large(v: Fraction, digits: int) -> bool:
+    return limits.digits_over(v.numerator, digits) or limits.digits_over(v.denominator, digits)
+
+
+def bounded_arith(op: ArithOp, values: list[Fraction], expr: Expr) -> Fraction:
+    """:func:`arith`, one operand at a time, raising :class:`ConstantTooLarge` as soon as a
+    partial result is larger than the constant-digits limit allows (never computing a
+    product of thousands of digits first); ``ZeroDivisionError`` for a zero divisor."""
+    if op in (ArithOp.MIN, ArithOp.MAX):
+        return arith(op, values)
+    digits = limits.current().constant_digits
+    out = -values[0] if op is ArithOp.SUB and len(values) == 1 else values[0]
+    step = _STEP[op]
+    for x in values[1:]:
+        out = step(out, x)
+        if _too_large(out, digits):
+            raise ConstantTooLarge(expr, digits)
+    if _too_large(out, digits):
+        raise ConstantTooLarge(expr, digits)
+    return out
+
+
+_STEP: dict[ArithOp, Callable[[Fraction, Fraction], Fraction]] = {
+    ArithOp.ADD: operator.add,
+    ArithOp.SUB: operator.sub,
+    ArithOp.MUL: operator.mul,
+    ArithOp.DIV: operator.truediv,
+}
 
 
 def arith(op: ArithOp, values: list[Fraction]) -> Fraction:
@@ -68,7 +117,8 @@ _ORDER = {
 
 def fold(e: Expr, theta: Mapping[str, object] | None = None) -> Expr:
     """``e`` with the parameters in ``theta`` replaced by their values and every constant
-    subexpression evaluated.  Raises :class:`FoldError` on division by zero."""
+    subexpression evaluated.  Raises :class:`FoldError` on division by zero, and
+    :class:`ConstantTooLarge` for a value past the constant-digits limit."""
     theta = theta or {}
     if isinstance(e, ParamRef):
         # a value of theta is a parameter's value, or a placeholder a caller carries through
@@ -103,7 +153,7 @@ def _fold_arith(e: Arith, theta: Mapping[str, object]) -> Expr:
         return Arith(e.op, args, e.sort, e.span)
     try:
         # every argument is a Const (checked above) of a numeric sort
-        value = arith(e.op, [a.value for a in args])  # type: ignore[union-attr,misc]
+        value = bounded_arith(e.op, [a.value for a in args], e)  # type: ignore[union-attr,misc]
     except ZeroDivisionError:
         raise FoldError("division by zero", e) from None
     return Const(Fraction(value), e.sort, e.span)

@@ -13,7 +13,7 @@ from fractions import Fraction
 from typing import Any
 
 from catc import ir
-from catc.ir.numbers import decimal_text
+from catc.ir.numbers import decimal_text, fraction_text
 from catc.semantics.plan import Activation, Plan, value_to_json
 
 
@@ -23,7 +23,7 @@ def show_value(v: Any, fresh: Mapping[str, str] | None = None, unit: str | None 
         text = "true" if v else "false"
     elif isinstance(v, Fraction):
         dec = decimal_text(v)
-        text = dec if not dec.startswith("≈") else f"{v.numerator}/{v.denominator} ({dec})"
+        text = dec if not dec.startswith("≈") else f"{fraction_text(v)} ({dec})"
     elif isinstance(v, frozenset):
         text = "{" + " ".join(f"{e} (fresh)" if e in fresh else e for e in sorted(v)) + "}"
     elif isinstance(v, str):

@@ -177,6 +177,31 @@ def common_options() -> tuple[Option, ...]:
         Option(
             "problem_name", ("--problem",), Kind.NAME, "The problem to use when the file defines several.", use=Use.LOAD
         ),
+        *limit_options(),
+    )
+
+
+def limit_options() -> tuple[Option, ...]:
+    """``--limit NAME=N`` and ``--memory MB`` (docs/limits.md): read by the command line
+    before loading, never passed to ``run``."""
+    return (
+        Option(
+            "limits",
+            ("--limit",),
+            Kind.TEXTS,
+            "Set a limit: NAME=N, e.g. horizon=5000 (repeatable; the limits and their defaults: docs/limits.md).",
+            default=(),
+            metavar="NAME=N",
+            use=Use.LOAD,
+        ),
+        Option(
+            "memory",
+            ("--memory",),
+            Kind.COUNT,
+            "The most memory the command may use, in MB (0: no limit; default 8192, or CATC_LIMIT_MEMORY).",
+            metavar="MB",
+            use=Use.LOAD,
+        ),
     )
 
 

@@ -19,14 +19,15 @@ from typing import Any
 
 from catc import ir
 from catc.ir.labels import label_index
-from catc.present.console import Console
+from catc.present.console import Console, escape
 from catc.present.labels import describe, excerpts, label_json, where
 from catc.present.values import timings_json
 from catc.queries.base import ExitCode, Kind, Option, Progress, Query, Result, Status, json_option, timeout_option
-from catc.semantics.horizon import default_horizon
+from catc.semantics.horizon import horizon_of
 from catc.semantics.validate import ValidationFailure
 from catc.smt.backend import BACKENDS, DEFAULT_BACKEND, Check
 from catc.smt.labelled import LabelledModel
+from catgrammar import limits
 
 
 class DiagnoseStatus(Status):
@@ -46,6 +47,7 @@ class Diagnosis(Result):
     checks: int = 0
     complete: bool = True  # --all: the search ended (not cut by count or time)
     timings: dict[str, float] = field(default_factory=dict)
+    reason: str | None = None  # why it stopped early: "max", "timeout", "interrupted" (or unknown)
 
 
 def _shrink(model: LabelledModel, core: list[str], deadline: float | None) -> list[str] | None:
@@ -73,7 +75,9 @@ def _irreducible(model: LabelledModel, core: list[str], deadline: float | None) 
 
 
 def _remaining(deadline: float | None) -> float | None:
-    return None if deadline is None else max(0.001, deadline - time.perf_counter())
+    """Time for the next check: up to the command's time limit (1 ms once interrupted)."""
+    left = limits.remaining(deadline)
+    return None if left is None else max(0.001, left)
 
 
 def diagnose(
@@ -89,51 +93,60 @@ def diagnose(
     backend: str = DEFAULT_BACKEND,
 ) -> Diagnosis:
     start = time.perf_counter()
-    deadline = start + timeout if timeout else None
-    k = default_horizon(inst) if horizon is None else horizon
-    components = (tuple(relative_to) or None) if relative_to is not None else (inst.problem.deployed or None)
-    model = LabelledModel(inst, k, sequential=sequential, components=components, backend=backend)
-    result = Diagnosis(DiagnoseStatus.UNKNOWN, total=len(model.labels), relative_to=components, horizon=k)
-    result.timings["encode"] = time.perf_counter() - start
-    say = progress or (lambda message: None)
-    say(f"checking {len(model.labels)} requirements together")
-    r, core = model.check(model.labels, _remaining(deadline))
-    if r is Check.SAT:
-        result.status = DiagnoseStatus.SAT
-    elif r is Check.UNSAT:
-        found: list[list[str]] = []
-        # Hitting-set tree: every further core must avoid one member of each core found.
-        frontier: list[frozenset[str]] = [frozenset()]
-        seen: set[frozenset[str]] = set()
-        while frontier and len(found) < (max_cores if all_cores else 1):
-            if deadline is not None and time.perf_counter() > deadline:
-                result.complete = False
-                break
-            excluded = frontier.pop(0)
-            if excluded in seen:
-                continue
-            seen.add(excluded)
-            labels = [l for l in model.labels if l not in excluded]
-            r, core = model.check(labels, _remaining(deadline))
-            if r is not Check.UNSAT:
-                continue
-            say(f"{len(found)} core(s) found; shrinking a core of {len(core)} requirements")
-            mus = _shrink(model, core, deadline)
-            if mus is None:
-                result.complete = False
-                break
-            if not _irreducible(model, mus, deadline):  # pragma: no cover - _shrink guarantees it
-                raise ValidationFailure(f"the core {mus} is not irreducible")
-            if sorted(mus) not in [sorted(c) for c in found]:
-                found.append(mus)
-            frontier.extend(excluded | {x} for x in mus)
-        if all_cores and frontier and len(found) >= max_cores:
-            result.complete = False
-        result.cores = found
-        result.status = DiagnoseStatus.UNSAT if found else DiagnoseStatus.UNKNOWN
-    result.checks = model.checks
+    with limits.deadline(timeout):
+        k = horizon_of(inst, horizon)
+        components = (tuple(relative_to) or None) if relative_to is not None else (inst.problem.deployed or None)
+        result = Diagnosis(DiagnoseStatus.UNKNOWN, relative_to=components, horizon=k)
+        try:
+            model = LabelledModel(inst, k, sequential=sequential, components=components, backend=backend)
+            result.total = len(model.labels)
+            result.timings["encode"] = time.perf_counter() - start
+            _cores(model, result, max_cores if all_cores else 1, all_cores, progress or (lambda message: None))
+            result.checks = model.checks
+        except limits.Stopped as stop:  # encoding when the time ran out
+            result.complete, result.reason = False, stop.reason
     result.timings["total"] = time.perf_counter() - start
     return result
+
+
+def _cores(model: LabelledModel, result: Diagnosis, wanted: int, all_cores: bool, say: Progress) -> None:
+    """Irreducible cores, up to ``wanted``: a hitting-set tree, where every further core must
+    avoid one member of each core found."""
+    say(f"checking {len(model.labels)} requirements together")
+    r, core = model.check(model.labels, _remaining(None))
+    if r is not Check.UNSAT:
+        result.status = DiagnoseStatus.SAT if r is Check.SAT else DiagnoseStatus.UNKNOWN
+        result.reason = None if r is Check.SAT else limits.stop_reason()
+        return
+    found: list[list[str]] = []
+    frontier: list[frozenset[str]] = [frozenset()]
+    seen: set[frozenset[str]] = set()
+    while frontier and len(found) < wanted:
+        if limits.expired():
+            result.complete, result.reason = False, limits.stop_reason()
+            break
+        excluded = frontier.pop(0)
+        if excluded in seen:
+            continue
+        seen.add(excluded)
+        if excluded:  # the root is the whole set, checked above: its core is at hand
+            r, core = model.check([l for l in model.labels if l not in excluded], _remaining(None))
+            if r is not Check.UNSAT:
+                continue
+        say(f"{len(found)} core(s) found; shrinking a core of {len(core)} requirements")
+        mus = _shrink(model, core, None)
+        if mus is None:
+            result.complete, result.reason = False, limits.stop_reason()
+            break
+        if not _irreducible(model, mus, None):  # pragma: no cover - _shrink guarantees it
+            raise ValidationFailure(f"the core {mus} is not irreducible")
+        if sorted(mus) not in [sorted(c) for c in found]:
+            found.append(mus)
+        frontier.extend(excluded | {x} for x in mus)
+    if all_cores and frontier and len(found) >= wanted:
+        result.complete, result.reason = False, "max"
+    result.cores = found
+    result.status = DiagnoseStatus.UNSAT if found else DiagnoseStatus.UNKNOWN
 
 
 # ====================================================================== output
@@ -141,7 +154,7 @@ def diagnose(
 
 def diagnosis_json(inst: ir.Instance, diag: Diagnosis) -> dict:
     index = label_index(inst)
-    return {
+    doc = {
         "schema": "catc.diagnose/1",
         "status": diag.status.value,
         "problem": inst.problem.name,
@@ -152,6 +165,9 @@ def diagnosis_json(inst: ir.Instance, diag: Diagnosis) -> dict:
         "complete": diag.complete,
         "timings": timings_json(diag.timings),
     }
+    if diag.reason is not None:  # why the search stopped early
+        doc["reason"] = diag.reason
+    return doc
 
 
 def render(console: Console, inst: ir.Instance, diag: Diagnosis, options: Mapping[str, Any] | None = None) -> None:
@@ -159,7 +175,8 @@ def render(console: Console, inst: ir.Instance, diag: Diagnosis, options: Mappin
         console.print(f"[bold green]SAT[/]  nothing to diagnose: a composition exists within {diag.horizon} steps")
         return
     if diag.status is not DiagnoseStatus.UNSAT:
-        console.print("[bold yellow]UNKNOWN[/]  the solver gave up before finding a core")
+        why = "interrupted" if diag.reason == "interrupted" else "the solver gave up"
+        console.print(f"[bold yellow]UNKNOWN[/]  {why} before finding a core")
         return
     index, excerpt = label_index(inst), excerpts()
     rel = ""
@@ -173,13 +190,20 @@ def render(console: Console, inst: ir.Instance, diag: Diagnosis, options: Mappin
         )
         for i, label in enumerate(core, 1):
             info = index[label]
-            console.print(f"  {i}. {describe(info)}")
-            console.print(f"     {where(info)}")
+            console.print(f"  {i}. {escape(describe(info))}")
+            console.print(f"     {escape(where(info))}")
             for line in excerpt(info.span):
-                console.print("     " + line)
+                console.print("     " + escape(line))
     if len(diag.cores) > 1 or not diag.complete:
-        more = "" if diag.complete else " (search stopped by --max or --timeout; more may exist)"
+        more = "" if diag.complete else f" ({_STOPPED.get(diag.reason or '', 'search stopped')}; more may exist)"
         console.print(f"{len(diag.cores)} distinct core{'s' if len(diag.cores) != 1 else ''}{more}")
+
+
+_STOPPED = {
+    "max": "search stopped by --max",
+    "timeout": "search stopped by the time limit",
+    "interrupted": "interrupted",
+}
 
 
 QUERY = Query(

@@ -18,7 +18,7 @@ from fractions import Fraction
 from typing import Any
 
 from catc import ir
-from catc.ir.numbers import decimal_text, number_text
+from catc.ir.numbers import decimal_text, fraction_text, number_text, ratio_text
 from catc.ir.text import to_text
 from catc.present.composition import print_composition, where_text
 from catc.present.console import Console, Table
@@ -38,7 +38,7 @@ from catc.queries.base import (
 )
 from catc.queries.solve import SolveStatus, solve
 from catc.semantics.compositions import canonical_fresh, prune_plan
-from catc.semantics.horizon import default_horizon
+from catc.semantics.horizon import horizon_of
 from catc.semantics.plan import Plan, value_to_json
 from catc.semantics.validate import ValidationFailure, evaluate, objective_value, validate
 from catc.smt.backend import DEFAULT_BACKEND, Backend, Bound, Check, open_backend
@@ -46,6 +46,7 @@ from catc.smt.encoder import Encoder
 from catc.smt.readback import read_plan
 from catc.smt.script import real_literal
 from catc.smt.terms import Term, and_, better, eq, or_
+from catgrammar import limits
 
 
 class OptStatus(Status):
@@ -131,13 +132,16 @@ def optimize(
         raise ValueError("nothing to optimise: the problem has no (:metric ...) and no soft constraints")
     if strategy not in STRATEGIES:
         raise ValueError(f"unknown strategy {strategy!r}; expected 'deepen' or 'single'")
-    k = default_horizon(inst) if horizon is None else horizon
     start = time.perf_counter()
-    deadline = start + timeout if timeout else None
-    if strategy == "single" or k < (DEEPEN_FROM if deepen_from is None else deepen_from):
-        say(f"optimising over {k} steps")
-        return _done(_optimize_at(inst, objectives, softs, k, sequential, deadline, prune), start)
-    return _done(_Deepening(inst, objectives, softs, k, sequential, prune, timeout, say).run(), start)
+    with limits.deadline(timeout):
+        k = horizon_of(inst, horizon)
+        try:
+            if strategy == "single" or k < (DEEPEN_FROM if deepen_from is None else deepen_from):
+                say(f"optimising over {k} steps")
+                return _done(_optimize_at(inst, objectives, softs, k, sequential, limits.deadline_at(), prune), start)
+            return _done(_Deepening(inst, objectives, softs, k, sequential, prune, say).run(), start)
+        except limits.Stopped as stop:  # encoding or validating when the time ran out
+            return _done(OptResult(OptStatus.UNKNOWN, k, reason=stop.reason), start)
 
 
 class _Deepening:
@@ -152,15 +156,15 @@ class _Deepening:
         k: int,
         sequential: bool,
         prune: bool,
-        timeout: float | None,
         say: Progress,
     ) -> None:
         self.inst, self.objectives, self.softs, self.k = inst, objectives, softs, k
-        self.sequential, self.prune, self.timeout, self.say = sequential, prune, timeout, say
+        self.sequential, self.prune, self.say = sequential, prune, say
         self.start = time.perf_counter()
-        self.deadline = self.start + timeout if timeout else None
+        self.deadline = limits.deadline_at()
         self.timings: dict[str, float] = {}
         self.values0: list[Fraction | None] | None = None  # the first composition's values
+        self.short: OptResult | None = None  # the optimum over the first composition's length
 
     def run(self) -> OptResult:
         inst, k = self.inst, self.k
@@ -168,7 +172,6 @@ class _Deepening:
             inst,
             horizon=k,
             sequential=self.sequential,
-            timeout=self.timeout,
             validate_answer=False,
             prune=False,
             progress=self.say,
@@ -180,19 +183,32 @@ class _Deepening:
         if first.status is not SolveStatus.SAT or first.plan is None:
             return OptResult(OptStatus.UNKNOWN, k, reason=first.reason, timings=self.timings)
         self.first = first.plan
-        k0 = len(first.plan.steps)
         report0 = validate(inst, first.plan, horizon=k, sequential=self.sequential)
         if not report0.ok:
             raise ValidationFailure("the independent validator rejected the solver's first composition")
+        try:
+            return self._improve(len(first.plan.steps), report0)
+        except limits.Stopped as stop:  # encoding when the time ran out: the best so far
+            if self.short is not None and self.short.plan is not None:
+                self.short.status, self.short.reason, self.short.timings = OptStatus.SUBOPT, stop.reason, self.timings
+                return self.short
+            return self._first_plan(OptStatus.SUBOPT, stop.reason)
+
+    def _improve(self, k0: int, report0: Any) -> OptResult:
+        """From the first composition (of ``k0`` steps) to the optimum."""
+        inst, k = self.inst, self.k
         if k0 < k and self._first_is_optimal(k0, report0):
             return self._first_plan(OptStatus.OPT)
         self.say(f"optimising over {k0} steps")
         expired = _expired(self.deadline)
         short = None if expired else _optimize_at(inst, *self._args(k0), self.deadline, self.prune)
         if short is None or (short.plan is None and _expired(self.deadline)):
-            return self._first_plan(OptStatus.SUBOPT, "timeout")  # out of time: the first composition is the best known
+            # out of time: the first composition is the best known
+            return self._first_plan(OptStatus.SUBOPT, limits.stop_reason() or "timeout")
         _add_timings(self.timings, short.timings)
         short.horizon = k
+        if short.plan is not None:
+            self.short = short
         exact = (
             short.status is OptStatus.OPT
             and short.plan is not None
@@ -276,7 +292,7 @@ class _Deepening:
             self.say(f"optimum over {k0} steps: {_values_text(values)}; optimising over all {k} steps")
             whole = _optimize_at(inst, *self._args(k), limit, self.prune)
             _add_timings(self.timings, whole.timings)
-            if whole.reason != "timeout":  # finished
+            if whole.reason not in _STOPPED:  # finished
                 whole.timings = self.timings
                 if whole.plan is not None and _not_worse(values, [v.value for v in whole.values], self.objectives):
                     short.timings = self.timings
@@ -288,12 +304,12 @@ class _Deepening:
                     return whole
                 break
             budget *= 2
-        short.status, short.reason, short.timings = OptStatus.SUBOPT, "timeout", self.timings
+        short.status, short.reason, short.timings = OptStatus.SUBOPT, limits.stop_reason() or "timeout", self.timings
         return short
 
 
 def _values_text(values: list[Fraction]) -> str:
-    return ", ".join(str(v) for v in values)
+    return ", ".join(ratio_text(v) for v in values)
 
 
 def _sooner(deadline: float | None, budget: float | None) -> float | None:
@@ -305,8 +321,21 @@ def _sooner(deadline: float | None, budget: float | None) -> float | None:
 
 
 def _expired(deadline: float | None) -> bool:
-    """Past the deadline — with 50 ms of slack, as Z3's timer may stop a check a little early."""
-    return deadline is not None and time.perf_counter() >= deadline - 0.05
+    """Interrupted, or past the deadline — with 50 ms of slack, as Z3's timer may stop a check
+    a little early."""
+    return limits.interrupted() or (deadline is not None and time.perf_counter() >= deadline - 0.05)
+
+
+#: The reasons of a run that stopped before its end (its best so far is not proven).
+_STOPPED = ("timeout", "interrupted")
+
+
+def _budget(solver: Backend, deadline: float | None) -> None:
+    """The solver's time for its next check: until ``deadline`` or the command's time limit,
+    whichever comes first (1 ms once interrupted)."""
+    left = limits.remaining(deadline)
+    if left is not None:
+        solver.set_timeout(max(0.001, left))
 
 
 def _add_timings(total: dict[str, float], part: dict[str, float]) -> None:
@@ -367,8 +396,7 @@ def _better_exists(
         ties.append(eq(term, v))
     solver.assert_term(or_(*improvements))
     timings["encode"] += time.perf_counter() - t0
-    if deadline is not None:
-        solver.set_timeout(max(0.001, deadline - time.perf_counter()))
+    _budget(solver, deadline)
     t1 = time.perf_counter()
     r = solver.check()  # UNKNOWN also when the configuration refuses the formula: no proof from it
     timings["solve"] += time.perf_counter() - t1
@@ -393,8 +421,7 @@ def _optimize_at(
         handles.append(solver.minimize(term) if obj.sense is ir.Sense.MINIMIZE else solver.maximize(term))
     timings["encode"] = time.perf_counter() - start
 
-    if deadline is not None:
-        solver.set_timeout(max(0.001, deadline - time.perf_counter()))
+    _budget(solver, deadline)
     t1 = time.perf_counter()
     r = solver.check()
     timings["solve"] = time.perf_counter() - t1
@@ -405,7 +432,7 @@ def _optimize_at(
     if r is Check.UNKNOWN:
         result.reason = solver.reason_unknown()
         if _expired(deadline) or (deadline is not None and result.reason in ("canceled", "timeout")):
-            result.reason = "timeout"
+            result.reason = limits.stop_reason() or "timeout"
         if not solver.has_model():
             return result
         result.status = OptStatus.SUBOPT
@@ -592,13 +619,17 @@ def _objective_rows(inst: ir.Instance, result: OptResult) -> list[tuple[str, str
         else:
             value = show_value(ov.value)
             if ov.value.denominator != 1:
-                value += f"  [{ov.value.numerator}/{ov.value.denominator}]"
+                value += f"  [{fraction_text(ov.value)}]"
         rows.append((str(i), ov.objective.sense.value, term, value))
     return rows
 
 
 _COLOUR = {"OPT": "green", "SUBOPT": "yellow", "UNSAT": "red", "UNKNOWN": "yellow", "UNBOUNDED": "red"}
 _WHAT = {"OPT": "proven optimal", "UNBOUNDED": "the objective is unbounded"}
+_BEST_SO_FAR = {
+    "timeout": "best found before the time limit (not proven optimal)",
+    "interrupted": "best found before the run was interrupted (not proven optimal)",
+}
 
 
 def render(console: Console, inst: ir.Instance, result: OptResult, options: Mapping[str, Any] | None = None) -> None:
@@ -609,9 +640,16 @@ def render(console: Console, inst: ir.Instance, result: OptResult, options: Mapp
         console.print(f"{head}  no composition within {result.horizon} steps ({where})")
         return
     if result.plan is None:
-        console.print(f"{head}  the solver gave up ({result.reason}) for {where}")
+        why = (
+            "interrupted before a composition was found"
+            if result.reason == "interrupted"
+            else f"the solver gave up ({result.reason})"
+        )
+        console.print(f"{head}  {why} for {where}")
         return
-    what = _WHAT.get(status, f"best found before the solver stopped ({result.reason})")
+    what = _WHAT.get(status) or _BEST_SO_FAR.get(
+        result.reason or "", f"best found before the solver stopped ({result.reason})"
+    )
     console.print(f"{head}  {what} for {where}")
     table = Table("#", "sense", "objective", "value", right=(0,))
     for row in _objective_rows(inst, result):

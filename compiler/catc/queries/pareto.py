@@ -42,14 +42,14 @@ from catc.queries.base import (
     timeout_option,
 )
 from catc.semantics.compositions import canonical_fresh
-from catc.semantics.horizon import default_horizon
+from catc.semantics.horizon import horizon_of
 from catc.semantics.plan import Plan, value_to_json
 from catc.semantics.validate import ValidationFailure, objective_value, validate
 from catc.smt.backend import DEFAULT_BACKEND, Check, open_backend
 from catc.smt.encoder import Encoder
 from catc.smt.readback import read_plan
 from catc.smt.terms import App, and_, better, or_
-from catgrammar import codes
+from catgrammar import codes, limits
 
 
 @dataclass
@@ -57,6 +57,9 @@ class ParetoPoint:
     values: tuple[Fraction, ...]
     plan: Plan
     states: tuple = ()
+    #: False for a supremum (maximising) or infimum (minimising) that no composition
+    #: reaches: ``values`` are the solver's bounds, ``plan`` a composition close to them
+    attained: bool = True
 
 
 class ParetoStatus(Status):
@@ -75,10 +78,19 @@ class ParetoResult(Result):
     horizon: int = 0
     checks: int = 0
     timings: dict[str, float] = field(default_factory=dict)
+    #: why the front is incomplete: "max-points", "timeout", "interrupted", "unbounded" or
+    #: the solver's reason; None when complete
+    reason: str | None = None
 
     @property
     def settled(self) -> bool:
         return self.complete
+
+
+#: Improvements of one point by plain checks before the optimiser is asked for the best point
+#: that dominates it: a front point that is a supremum no composition reaches would otherwise
+#: be approached for ever (every composition near it is dominated by a nearer one).
+CLIMBS = 24
 
 
 def pareto(
@@ -96,29 +108,13 @@ def pareto(
     if len(objectives) < 2:
         raise ValueError("a Pareto front needs at least two objectives")
     start = time.perf_counter()
-    k = default_horizon(inst) if horizon is None else horizon
-    search = _Guided(inst, objectives, k, sequential, start + timeout if timeout else None)
-    result = search.result
-    result.timings["encode"] = time.perf_counter() - start
-    while len(result.points) < max_points:
-        found = search.next_point()
-        if found is None:
-            break
-        values, plan = found
-        report = validate(inst, plan, horizon=k, sequential=sequential)
-        if not report.ok:
-            raise ValidationFailure(
-                "the independent validator rejected a Pareto point: "
-                + "; ".join(v.message for v in report.violations[:5])
-            )
-        recomputed = tuple(objective_value(inst, plan, o.term, report.states[-1]) for o in objectives)
-        if recomputed != values:
-            raise ValidationFailure(f"Pareto point values {values} differ from the composition's {recomputed}")
-        result.points.append(ParetoPoint(values, canonical_fresh(plan), report.states))
-        # Every later answer must be strictly better than this point in some objective.
-        search.solver.assert_term(search.improving(values))
-    else:
-        result.complete = False
+    with limits.deadline(timeout):
+        k = horizon_of(inst, horizon)
+        result = ParetoResult(ParetoStatus.UNKNOWN, objectives, horizon=k)
+        try:
+            _front(inst, objectives, k, sequential, max_points, result, start)
+        except limits.Stopped as stop:  # encoding or validating when the time ran out
+            result.complete, result.reason = False, stop.reason
     if result.points:
         result.status = ParetoStatus.FRONT
     elif result.complete:
@@ -128,14 +124,52 @@ def pareto(
     return result
 
 
+def _front(
+    inst: ir.Instance,
+    objectives: list[ir.Objective],
+    k: int,
+    sequential: bool,
+    max_points: int,
+    result: ParetoResult,
+    start: float,
+) -> None:
+    """Fill ``result`` with front points until the front is complete, ``max_points``, the
+    time limit or an interruption."""
+    search = _Guided(inst, objectives, k, sequential, result)
+    result.timings["encode"] = time.perf_counter() - start
+    while len(result.points) < max_points:
+        found = search.next_point()
+        if found is None:
+            return
+        report = validate(inst, found.plan, horizon=k, sequential=sequential)
+        if not report.ok:
+            raise ValidationFailure(
+                "the independent validator rejected a Pareto point: "
+                + "; ".join(v.message for v in report.violations[:5])
+            )
+        recomputed = tuple(objective_value(inst, found.plan, o.term, report.states[-1]) for o in objectives)
+        if found.attained and recomputed != found.values:
+            raise ValidationFailure(f"Pareto point values {found.values} differ from the composition's {recomputed}")
+        if not found.attained and not _approaches(recomputed, found.values, objectives):
+            raise ValidationFailure(f"Pareto point {recomputed} lies beyond the solver's bound {found.values}")
+        result.points.append(ParetoPoint(found.values, canonical_fresh(found.plan), report.states, found.attained))
+        search.exclude(found.values)
+    result.complete, result.reason = False, "max-points"
+
+
+def _approaches(values: tuple, bound: tuple, objectives: list[ir.Objective]) -> bool:
+    """Whether ``values`` are no better than ``bound`` in every objective."""
+    return all((v >= b) if o.sense is ir.Sense.MINIMIZE else (v <= b) for v, b, o in zip(values, bound, objectives))
+
+
 class _Guided:
     """The guided improvement algorithm over one solver: any composition not dominated by a
     point found so far, then ever better ones until nothing dominates it."""
 
     def __init__(
-        self, inst: ir.Instance, objectives: list[ir.Objective], k: int, sequential: bool, deadline: float | None
+        self, inst: ir.Instance, objectives: list[ir.Objective], k: int, sequential: bool, result: ParetoResult
     ) -> None:
-        self.k, self.deadline = k, deadline
+        self.inst, self.objectives, self.k, self.sequential = inst, objectives, k, sequential
         self.enc = enc = Encoder(inst, k, sequential=sequential)
         enc.unroll(k)
         texts = [enc.objective(o.term, k) for o in objectives]
@@ -143,19 +177,28 @@ class _Guided:
         self.solver.add(*enc.script.take())
         self.terms = [self.solver.intern(t) for t in texts]
         self.minimizing = [o.sense is ir.Sense.MINIMIZE for o in objectives]
-        self.result = ParetoResult(ParetoStatus.UNKNOWN, objectives, horizon=k)
+        self.result = result
+        self.found: list[tuple[Fraction, ...]] = []  # the points so far, each excluded from then on
 
-    def as_good(self, values: tuple[Fraction, ...]) -> App:
+    def as_good(self, values: tuple[Fraction, ...], terms: list[Any] | None = None) -> App:
         """At least as good as ``values`` in every objective."""
-        return and_(*[better(t, v, m, strict=False) for t, v, m in zip(self.terms, values, self.minimizing)])
+        terms = self.terms if terms is None else terms
+        return and_(*[better(t, v, m, strict=False) for t, v, m in zip(terms, values, self.minimizing)])
 
-    def improving(self, values: tuple[Fraction, ...]) -> App:
+    def improving(self, values: tuple[Fraction, ...], terms: list[Any] | None = None) -> App:
         """Strictly better than ``values`` in some objective."""
-        return or_(*[better(t, v, m) for t, v, m in zip(self.terms, values, self.minimizing)])
+        terms = self.terms if terms is None else terms
+        return or_(*[better(t, v, m) for t, v, m in zip(terms, values, self.minimizing)])
+
+    def exclude(self, values: tuple[Fraction, ...]) -> None:
+        """Every later answer must be strictly better than this point in some objective."""
+        self.found.append(values)
+        self.solver.assert_term(self.improving(values))
 
     def check(self) -> Check:
-        if self.deadline is not None:
-            self.solver.set_timeout(max(0.001, self.deadline - time.perf_counter()))
+        left = limits.remaining()
+        if left is not None:
+            self.solver.set_timeout(max(0.001, left))
         self.result.checks += 1
         return self.solver.check()
 
@@ -167,15 +210,21 @@ class _Guided:
             out.append(v)
         return tuple(out)
 
-    def next_point(self) -> tuple[tuple[Fraction, ...], Plan] | None:
+    def stop(self, r: Check) -> None:
+        """The front ends here: complete after UNSAT, else incomplete, and why."""
+        self.result.complete = r is Check.UNSAT
+        if r is not Check.UNSAT:
+            self.result.reason = limits.stop_reason() or self.solver.reason_unknown()
+
+    def next_point(self) -> _Found | None:
         """The next Pareto-optimal point and its composition; None when the front is done
         (or, with ``result.complete`` false, when the solver gave up)."""
         r = self.check()
         if r is not Check.SAT:
-            self.result.complete = r is Check.UNSAT
+            self.stop(r)
             return None
         values, plan = self.values_now(), read_plan(self.solver, self.enc, self.k)
-        while True:  # improve until nothing dominates it
+        for _ in range(CLIMBS):  # improve until nothing dominates it
             self.solver.push()
             self.solver.assert_term(self.as_good(values))  # a point that dominates this one
             self.solver.assert_term(self.improving(values))
@@ -186,9 +235,46 @@ class _Guided:
                 continue
             self.solver.pop()
             if r is Check.UNKNOWN:
-                self.result.complete = False
+                self.stop(r)
                 return None
-            return values, plan
+            return _Found(values, plan)
+        return self.best_dominating(values)
+
+    def best_dominating(self, values: tuple[Fraction, ...]) -> _Found | None:
+        """After :data:`CLIMBS` improvements: the lexicographic optimum among the compositions
+        at least as good as ``values`` (and not excluded), which is Pareto-optimal — or, when
+        the optimiser reports a bound no composition attains, that supremum or infimum."""
+        enc = Encoder(self.inst, self.k, sequential=self.sequential)
+        enc.unroll(self.k)
+        texts = [enc.objective(o.term, self.k) for o in self.objectives]
+        opt = open_backend(DEFAULT_BACKEND, optimize=True)
+        opt.add(*enc.script.take())
+        terms = [opt.intern(t) for t in texts]
+        for point in self.found:
+            opt.assert_term(self.improving(point, terms))
+        opt.assert_term(self.as_good(values, terms))
+        handles = [opt.minimize(t) if m else opt.maximize(t) for t, m in zip(terms, self.minimizing)]
+        left = limits.remaining()
+        if left is not None:
+            opt.set_timeout(max(0.001, left))
+        self.result.checks += 1
+        r = opt.check()
+        bounds = [opt.bound(h) for h in handles] if r is Check.SAT else []
+        if r is not Check.SAT or any(b.infinite for b in bounds):
+            self.result.complete = False
+            self.result.reason = "unbounded" if bounds else limits.stop_reason() or opt.reason_unknown()
+            return None
+        plan = read_plan(opt, enc, self.k)
+        if all(b.exact for b in bounds):
+            return _Found(tuple(opt.value(t) for t in terms), plan)  # type: ignore[misc]
+        return _Found(tuple(b.value for b in bounds), plan, attained=False)
+
+
+@dataclass
+class _Found:
+    values: tuple[Fraction, ...]
+    plan: Plan
+    attained: bool = True
 
 
 def dominates(a: tuple, b: tuple, objectives: list[ir.Objective]) -> bool:
@@ -209,22 +295,29 @@ def objective_labels(objectives: list[ir.Objective]) -> list[str]:
 
 
 def pareto_json(inst: ir.Instance, result: ParetoResult) -> dict:
-    return {
+    doc = {
         "schema": "catc.pareto/1",
         "status": result.status.value,
         "complete": result.complete,
         "objectives": [{"sense": o.sense.value, "term": to_text(o.term)} for o in result.objectives],
-        "points": [
-            {
-                "values": [value_to_json(v) for v in p.values],
-                "decimals": [decimal_text(v) for v in p.values],
-                "components": sorted(p.plan.components),
-                "steps": steps_json(inst, p.plan, kinds=False),
-            }
-            for p in result.points
-        ],
+        "points": [_point_json(inst, p) for p in result.points],
         "timings": timings_json(result.timings),
     }
+    if result.reason is not None:  # why the front is incomplete
+        doc["reason"] = result.reason
+    return doc
+
+
+def _point_json(inst: ir.Instance, p: ParetoPoint) -> dict:
+    doc: dict[str, Any] = {
+        "values": [value_to_json(v) for v in p.values],
+        "decimals": [decimal_text(v) for v in p.values],
+        "components": sorted(p.plan.components),
+        "steps": steps_json(inst, p.plan, kinds=False),
+    }
+    if not p.attained:  # a supremum or infimum: the composition only comes close
+        doc["attained"] = False
+    return doc
 
 
 def render(console: Console, inst: ir.Instance, result: ParetoResult, options: Mapping[str, Any] | None = None) -> None:
@@ -232,7 +325,10 @@ def render(console: Console, inst: ir.Instance, result: ParetoResult, options: M
         console.print(f"UNSAT  no composition within {result.horizon} steps")
         return
     labels = objective_labels(result.objectives)
-    done = "complete" if result.complete else "incomplete: stopped by --max-points or --timeout"
+    done = "complete" if result.complete else f"incomplete: {_STOPPED.get(result.reason or '', result.reason)}"
+    if not result.points and not result.complete:
+        console.print(f"UNKNOWN  no front point found ({done})")
+        return
     console.print(
         f"FRONT  {len(result.points)} non-dominated compositions ({done}) for problem "
         f"{inst.problem.name} of domain {inst.domain.name}"
@@ -241,9 +337,29 @@ def render(console: Console, inst: ir.Instance, result: ParetoResult, options: M
     for n, p in enumerate(result.points, 1):
         table.add_row(str(n), *[show_value(v) for v in p.values], " ".join(sorted(p.plan.components)))
     console.print(table)
+    for n, p in enumerate(result.points, 1):
+        if not p.attained:
+            console.print(
+                f"point {n} is not attained: compositions approach these values (a supremum where maximising, an "
+                f"infimum where minimising) but none reaches them; the composition shown comes close "
+                f"({', '.join(show_value(v) for v in _values_of(inst, p, result.objectives))})"
+            )
     if result.points:
         console.print()
         console.print(ascii_plot([p.values for p in result.points], labels))
+
+
+_STOPPED = {
+    "max-points": "stopped by --max-points",
+    "timeout": "stopped by the time limit",
+    "interrupted": "interrupted",
+    "unbounded": "an objective is unbounded",
+}
+
+
+def _values_of(inst: ir.Instance, p: ParetoPoint, objectives: list[ir.Objective]) -> list[Any]:
+    """The objective values of the composition of ``p`` (in its final state)."""
+    return [objective_value(inst, p.plan, o.term, p.states[-1]) for o in objectives]
 
 
 def check(inst: ir.Instance, options: Mapping[str, Any]) -> str | None:

@@ -18,19 +18,20 @@ from typing import Any, TypeGuard
 from catc import ir
 from catc.ir.labels import LabelInfo, label_index
 from catc.present.composition import print_composition
-from catc.present.console import Console
+from catc.present.console import Console, escape
 from catc.present.labels import describe, label_json, where
 from catc.present.values import show_value, steps_json, timings_json
 from catc.queries.base import ExitCode, Kind, Option, Progress, Query, Result, Status, json_option, timeout_option
 from catc.semantics.compositions import canonical_fresh, checked
-from catc.semantics.horizon import default_horizon
+from catc.semantics.horizon import horizon_of
 from catc.semantics.plan import Plan, value_to_json
 from catc.semantics.validate import ValidationFailure
 from catc.smt.backend import Check
 from catc.smt.labelled import LabelledModel
 from catc.smt.readback import read_plan
 from catc.smt.script import SmtSort, Symbol, and_text, real_literal
-from catc.smt.terms import Term, eq, lt
+from catc.smt.terms import Term, and_, eq, le, lt, not_
+from catgrammar import limits
 
 
 @dataclass
@@ -64,13 +65,18 @@ class RelaxResult(Result):
     proven: bool = True  # False: the best relaxation found before the time limit
     relaxations: list[Relaxation] = field(default_factory=list)
     dropped: list[str] = field(default_factory=list)  # discrete variant
-    cost: Fraction | None = None
+    cost: Fraction | None = None  # the weighted total of the relaxations shown
+    #: the least weighted total: ``cost`` when ``attained``; otherwise approached by ever
+    #: smaller relaxations but reached by none (e.g. a goal ``(> x 5)`` from ``x = 5``)
+    infimum: Fraction | None = None
+    attained: bool = True
     plan: Plan | None = None
     states: tuple = ()
     relaxed_instance: ir.Instance | None = None
     eligible: list[Requirement] = field(default_factory=list)
     horizon: int = 0
     timings: dict[str, float] = field(default_factory=dict)
+    reason: str | None = None  # why the search stopped early: "timeout" or "interrupted"
 
     @property
     def settled(self) -> bool:
@@ -135,23 +141,45 @@ def relax(
     progress: Progress | None = None,
 ) -> RelaxResult:
     start = time.perf_counter()
-    k = default_horizon(inst) if horizon is None else horizon
+    with limits.deadline(timeout):
+        k = horizon_of(inst, horizon)
+        result = RelaxResult(RelaxStatus.UNKNOWN, horizon=k)
+        try:
+            return _relax(inst, k, sequential, only, weights, discrete, relative_to, progress, result, start)
+        except limits.Stopped as stop:  # encoding or validating when the time ran out
+            result.status, result.reason, result.plan = RelaxStatus.UNKNOWN, stop.reason, None
+            return _finish(result, start)
+
+
+def _relax(
+    inst: ir.Instance,
+    k: int,
+    sequential: bool,
+    only: Iterable[str],
+    weights: dict[str, Fraction] | None,
+    discrete: bool,
+    relative_to: Iterable[str] | None,
+    progress: Progress | None,
+    result: RelaxResult,
+    start: float,
+) -> RelaxResult:
     components = (tuple(relative_to) or None) if relative_to is not None else (inst.problem.deployed or None)
-    result = RelaxResult(RelaxStatus.UNKNOWN, horizon=k)
     say = progress or (lambda message: None)
-    deadline = start + timeout if timeout else None
+    deadline = limits.deadline_at()
     if discrete:
         say("looking for the fewest requirements to drop")
-        return _finish(_relax_discrete(inst, k, sequential, components, timeout, result, start), start)
+        return _finish(_relax_discrete(inst, k, sequential, components, result, start), start)
     result.eligible = eligible_requirements(inst, only, weights)
     search = _SlackSearch(inst, k, sequential, components, result.eligible)
     result.timings["encode"] = time.perf_counter() - start
     say("looking for a restoration")
     best, result.proven, exhausted = search.run(deadline, say)
+    result.reason = None if result.proven or exhausted else limits.stop_reason()
     if best is None:
         result.status = RelaxStatus.UNSAT if exhausted else RelaxStatus.UNKNOWN
         return _finish(result, start)
-    result.cost, values, plan = best
+    result.cost, result.infimum, result.attained = best.cost, best.infimum, best.attained
+    values, plan = best.values, best.plan
     result.relaxations = [
         Relaxation(req.label, req.kind, values[req.label], req.weight)
         for req in result.eligible
@@ -223,13 +251,13 @@ class _SlackSearch:
         self.feas_cost = self.feas.backend.intern(cost)
         self.acts = [q for step in self.feas.enc.act for q in step.values()]
 
-    def run(
-        self, deadline: float | None, say: Callable[[str], None]
-    ) -> tuple[tuple[Fraction, dict[str, Fraction], Plan] | None, bool, bool]:
-        """(the best relaxation found: cost, slack per label, composition), whether it is
-        proven least, and whether the search space ran out."""
+    def run(self, deadline: float | None, say: Callable[[str], None]) -> tuple[_Found | None, bool, bool]:
+        """The best relaxation found, whether it is proven least, and whether the search space
+        ran out.  A skeleton whose least slack is approached but not reached (an infimum, as
+        for a goal ``(> x 5)`` from ``x = 5``) is blocked, and the search goes on for one that
+        reaches that total or goes below it."""
         feas = self.feas.backend
-        best = None
+        best: _Found | None = None
         while True:
             feas.set_timeout(_remaining(deadline))
             r = feas.check()
@@ -241,17 +269,23 @@ class _SlackSearch:
             found = self._least_slack(skeleton, deadline)
             if found is None:
                 return best, False, False
-            best = found
-            cost = found[0]
-            if cost == 0:
+            if best is None or found.infimum < best.infimum or (found.infimum == best.infimum and found.attained):
+                best = found
+            if best.attained and best.infimum == 0:
                 return best, True, False
-            say(f"best restoration so far: weighted total {cost}; is there a cheaper one?")
-            feas.assert_term(lt(self.feas_cost, cost))
+            if best.attained:
+                say(f"best restoration so far: weighted total {best.infimum}; is there a cheaper one?")
+                feas.assert_term(lt(self.feas_cost, best.infimum))
+            else:
+                say(f"restorations approach weighted total {best.infimum}; does one reach it?")
+                feas.assert_term(le(self.feas_cost, best.infimum))
+            if not found.attained:
+                feas.assert_term(not_(and_(*skeleton)) if skeleton else False)
 
-    def _least_slack(
-        self, skeleton: Sequence[Term], deadline: float | None
-    ) -> tuple[Fraction, dict[str, Fraction], Plan] | None:
-        """The LP for one Boolean skeleton: its least cost, the slack per label, the composition."""
+    def _least_slack(self, skeleton: Sequence[Term], deadline: float | None) -> _Found | None:
+        """The LP for one Boolean skeleton: its least cost (or the infimum it approaches), the
+        slack per label and the composition of the solver's model (when the infimum is not
+        attained, one restoration above it)."""
         lp = self.lp.backend
         lp.push()
         for part in skeleton:
@@ -261,16 +295,31 @@ class _SlackSearch:
             lp.pop()
             return None
         values: dict[str, Fraction] = {}
+        shown = Fraction(0)  # the weighted total of the model's restoration
         for req, vs in self.slack_vars:
             amounts = [a for a in (lp.value(v) for v in vs) if not isinstance(a, bool)]
             assert len(amounts) == len(vs)  # slacks are numbers
             values[req.label] = amounts[0] - amounts[1] if req.kind == "initial value" else amounts[0]
+            shown += req.weight * sum(amounts, Fraction(0))
         bound = lp.bound(self.cost_handle)
-        if not bound.exact:
-            raise ValueError(f"the least restoration is not attained (infimum {bound.value})")
-        found = (bound.value, values, read_plan(lp, self.lp.enc, self.lp.extended))
+        assert bound.infinite == 0  # a sum of non-negative slacks is bounded below by 0
+        cost = bound.value if bound.exact else shown
+        found = _Found(cost, bound.value, bound.exact, values, read_plan(lp, self.lp.enc, self.lp.extended))
         lp.pop()
         return found
+
+
+@dataclass
+class _Found:
+    """One skeleton's least slack: ``cost`` is the weighted total of the restoration shown
+    (``values``, ``plan``); ``infimum`` the least total over the skeleton, ``attained``
+    whether some restoration reaches it (then ``cost == infimum``)."""
+
+    cost: Fraction
+    infimum: Fraction
+    attained: bool
+    values: dict[str, Fraction]
+    plan: Plan
 
 
 def _relax_discrete(
@@ -278,7 +327,6 @@ def _relax_discrete(
     k: int,
     sequential: bool,
     components: tuple[str, ...] | None,
-    timeout: float | None,
     result: RelaxResult,
     start: float,
 ) -> RelaxResult:
@@ -288,12 +336,14 @@ def _relax_discrete(
     opt = model.backend
     for label in model.labels:
         opt.add_soft(model.indicator[label], Fraction(1))
-    if timeout:
-        opt.set_timeout(timeout)
+    left = limits.remaining()
+    if left is not None:
+        opt.set_timeout(max(0.001, left))
     result.timings["encode"] = time.perf_counter() - start
     r = opt.check()
     if r is not Check.SAT:
         result.status = RelaxStatus.UNSAT if r is Check.UNSAT else RelaxStatus.UNKNOWN
+        result.reason = None if r is Check.UNSAT else limits.stop_reason()
         return result
     dropped = [label for label in model.labels if opt.value(model.indicator[label]) is not True]
     # minimality: putting back any dropped label makes it infeasible again
@@ -307,7 +357,9 @@ def _relax_discrete(
 
 
 def _remaining(deadline: float | None) -> float | None:
-    return None if deadline is None else max(0.001, deadline - time.perf_counter())
+    """Time for the next check: up to ``deadline`` (1 ms once interrupted)."""
+    left = limits.remaining(deadline)
+    return None if left is None else max(0.001, left)
 
 
 def relaxed_instance(inst: ir.Instance, deltas: dict[str, Fraction]) -> ir.Instance:
@@ -353,15 +405,18 @@ def relaxation_text(inst: ir.Instance, rel: Relaxation, info: LabelInfo) -> str:
         assert isinstance(initial, ir.Const)  # a relaxable initial value is a number
         old = initial.value
         return (
-            f"{name}: {sign}{show_value(abs(rel.delta))}{' ' + unit if unit else ''}"
+            f"{name}: {sign}{show_value(abs(rel.delta))}{' ' + escape(unit) if unit else ''}"
             f"   (initial value {show_value(old)} → {show_value(old + rel.delta)})"  # type: ignore[operator]
         )
-    return f"{info.label}: weaken {info.text} by {show_value(rel.delta)}"
+    return f"{info.label}: weaken {escape(info.text)} by {show_value(rel.delta)}"
 
 
 def relax_json(inst: ir.Instance, result: RelaxResult) -> dict:
+    """The ``catc.relax/1`` document; ``attained: false`` and the ``infimum`` are added only
+    when no relaxation reaches the least total (the recorded answers of the others stay as
+    they were)."""
     index = label_index(inst)
-    return {
+    doc = {
         "schema": "catc.relax/1",
         "status": result.status.value,
         "problem": inst.problem.name,
@@ -375,6 +430,15 @@ def relax_json(inst: ir.Instance, result: RelaxResult) -> dict:
         "steps": None if result.plan is None else steps_json(inst, result.plan, kinds=False),
         "timings": timings_json(result.timings),
     }
+    if not result.attained and result.infimum is not None:
+        doc["attained"] = False
+        doc["infimum"] = value_to_json(result.infimum)
+    if result.reason is not None:  # why the search stopped early
+        doc["reason"] = result.reason
+    return doc
+
+
+_STOPPED = {"timeout": "the time limit", "interrupted": "the run was interrupted"}
 
 
 def render(console: Console, inst: ir.Instance, result: RelaxResult, options: Mapping[str, Any] | None = None) -> None:
@@ -385,7 +449,8 @@ def render(console: Console, inst: ir.Instance, result: RelaxResult, options: Ma
         console.print("[bold red]UNSAT[/]  no relaxation of the eligible requirements restores feasibility")
         return
     if result.status is not RelaxStatus.RELAXED:
-        console.print("[bold yellow]UNKNOWN[/]  the solver gave up")
+        why = "interrupted" if result.reason == "interrupted" else "the solver gave up"
+        console.print(f"[bold yellow]UNKNOWN[/]  {why}")
         return
     index = label_index(inst)
     if result.dropped:
@@ -395,23 +460,29 @@ def render(console: Console, inst: ir.Instance, result: RelaxResult, options: Ma
         )
         for label in result.dropped:
             info = index[label]
-            console.print(f"  - {describe(info)}   {where(info)}")
+            console.print(f"  - {escape(describe(info))}   {escape(where(info))}")
         return
-    what = (
-        "the least restoration"
-        if result.proven
-        else "the best restoration found before the time limit (not proven least)"
-    )
-    console.print(
-        f"[bold yellow]RELAXED[/]  {what} (weighted total {show_value(result.cost)}) "
-        f"over {len(result.eligible)} eligible requirements:"
-    )
+    console.print(f"[bold yellow]RELAXED[/]  {_headline(result)} over {len(result.eligible)} eligible requirements:")
     for rel in result.relaxations:
         info = index[rel.label]
-        console.print(f"  {relaxation_text(inst, rel, info)}   {where(info)}")
+        console.print(f"  {relaxation_text(inst, rel, info)}   {escape(where(info))}")
     if result.plan is not None:
         console.print("\nthe composition this makes possible:")
         print_composition(console, result.relaxed_instance or inst, result.plan, result.states)
+
+
+def _headline(result: RelaxResult) -> str:
+    """What the relaxations shown are: the least, the best before the time limit, or one
+    above a least total that no relaxation reaches."""
+    total = show_value(result.cost)
+    if not result.attained and result.infimum is not None:
+        proof = "" if result.proven else ", not proven least"
+        limit = f"infimum {show_value(result.infimum)}, not attained{proof}"
+        return f"one restoration (weighted total {total}; no restoration is least: {limit})"
+    if result.proven:
+        return f"the least restoration (weighted total {total})"
+    stopped = _STOPPED.get(result.reason or "", "the search stopped")
+    return f"the best restoration found before {stopped} (not proven least) (weighted total {total})"
 
 
 QUERY = Query(

@@ -34,11 +34,12 @@ from catc.queries.base import (
     timeout_option,
 )
 from catc.semantics.compositions import canonical_fresh, checked, prune_plan
-from catc.semantics.horizon import default_horizon, use_bound
+from catc.semantics.horizon import horizon_of, use_bound
 from catc.semantics.plan import Plan
 from catc.smt.backend import BACKENDS, DEFAULT_BACKEND, Check, open_backend
 from catc.smt.encoder import Encoder
 from catc.smt.readback import read_plan
+from catgrammar import limits
 
 
 class SolveStatus(Status):
@@ -120,35 +121,46 @@ def solve(
     horizon as it is tried (``"{phase}: horizon t of k"``)."""
     if strategy not in STRATEGIES:
         raise ValueError(f"unknown strategy {strategy!r}; expected 'incremental' or 'single'")
-    k = default_horizon(inst) if horizon is None else horizon
-    search = _Search(inst, k, sequential, timeout, backend)
-    result = search.run(range(k + 1) if strategy == "incremental" else (k,), progress, phase)
+    start = time.perf_counter()
+    with limits.deadline(timeout):
+        k = horizon_of(inst, horizon)
+        timings = {"start": 0.0, "encode": 0.0, "solve": 0.0, "validate": 0.0}
+        try:
+            search = _Search(inst, k, sequential, backend, timings)
+            result = search.run(range(k + 1) if strategy == "incremental" else (k,), progress, phase)
+            if result.status is SolveStatus.SAT and validate_answer:
+                _validated(inst, result, k, sequential, prune, timings)
+        except limits.Stopped as stop:  # encoding or validating when the time ran out
+            result = SolveResult(SolveStatus.UNKNOWN, k, reason=stop.reason, length_bound=use_bound(inst))
     result.sequential, result.strategy, result.backend = sequential, strategy, backend
-    if result.status is SolveStatus.SAT and validate_answer:
-        t0 = time.perf_counter()
-        assert result.plan is not None
-        checked(inst, result.plan, k, sequential, "the solver's composition")
-        plan = prune_plan(inst, result.plan, k, sequential) if prune else result.plan
-        result.plan = canonical_fresh(plan)
-        result.states = checked(inst, result.plan, k, sequential, "the pruned composition")
-        search.timings["validate"] = time.perf_counter() - t0
-    search.timings["total"] = time.perf_counter() - search.start
-    result.timings = search.timings
+    timings["total"] = time.perf_counter() - start
+    result.timings = timings
     return result
+
+
+def _validated(
+    inst: ir.Instance, result: SolveResult, k: int, sequential: bool, prune: bool, timings: dict[str, float]
+) -> None:
+    """Replay the solver's composition, prune it (while there is time) and replay the result."""
+    t0 = time.perf_counter()
+    assert result.plan is not None
+    checked(inst, result.plan, k, sequential, "the solver's composition")
+    plan = prune_plan(inst, result.plan, k, sequential) if prune else result.plan
+    result.plan = canonical_fresh(plan)
+    result.states = checked(inst, result.plan, k, sequential, "the pruned composition")
+    timings["validate"] = time.perf_counter() - t0
 
 
 class _Search:
     """One solver over an encoding that grows a step at a time; the goal and the use limits
     at horizon ``t`` are checked inside a push/pop scope."""
 
-    def __init__(self, inst: ir.Instance, k: int, sequential: bool, timeout: float | None, backend: str) -> None:
+    def __init__(self, inst: ir.Instance, k: int, sequential: bool, backend: str, timings: dict[str, float]) -> None:
         self.k = k
-        self.start = time.perf_counter()
-        self.deadline = self.start + timeout if timeout else None
         self.bound = use_bound(inst)
         # start: creating the solver (the first Z3 context of a process initialises Z3,
         # ~10 ms; a hand-written Z3 script pays it too)
-        self.timings = {"start": 0.0, "encode": 0.0, "solve": 0.0, "validate": 0.0}
+        self.timings = timings
         self.tried = 0
         t0 = time.perf_counter()
         self.enc = Encoder(inst, k, sequential=sequential)
@@ -195,8 +207,9 @@ class _Search:
     def _check(self, extra: list[str]) -> Check:
         """Check ``extra`` in a new scope (the caller pops it); an exhausted budget still
         checks, so push and pop stay paired."""
-        if self.deadline is not None:
-            self.solver.set_timeout(max(0.001, self.deadline - time.perf_counter()))
+        left = limits.remaining()
+        if left is not None:
+            self.solver.set_timeout(max(0.001, left))
         t0 = time.perf_counter()
         self.solver.push()
         self.solver.add((), [(None, c) for c in extra])
@@ -206,9 +219,7 @@ class _Search:
         return r
 
     def _unknown(self) -> SolveResult:
-        reason = self.solver.reason_unknown()
-        if self.deadline is not None and time.perf_counter() >= self.deadline:
-            reason = "timeout"
+        reason = limits.stop_reason() or self.solver.reason_unknown()
         return SolveResult(SolveStatus.UNKNOWN, self.k, reason=reason, length_bound=self.bound)
 
 
@@ -276,6 +287,8 @@ def render(console: Console, inst: ir.Instance, result: SolveResult, options: Ma
         print_composition(console, inst, result.plan, result.states)
     elif result.status is SolveStatus.UNSAT:
         console.print(f"{status}  {unsat_sentence(inst, result)} ({where})")
+    elif result.reason == "interrupted":
+        console.print(f"{status}  interrupted before an answer for {where}")
     else:
         console.print(f"{status}  the solver gave up ({result.reason}) for {where}")
     t = result.timings

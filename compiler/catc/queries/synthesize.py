@@ -28,16 +28,17 @@ from catc.ir import SortKind
 from catc.ir.text import effect_text, to_text
 from catc.ir.views import project_instance
 from catc.present.composition import print_composition
-from catc.present.console import Console
+from catc.present.console import Console, escape
 from catc.queries.base import ExitCode, Kind, Option, Query, Result, Status, Use, json_option, timeout_option
 from catc.queries.solve import SolveStatus, solve
 from catc.semantics.compositions import checked
-from catc.semantics.horizon import default_horizon
+from catc.semantics.horizon import horizon_of
 from catc.semantics.plan import Plan
 from catc.smt.backend import DEFAULT_BACKEND, Backend, Check, open_backend
 from catc.smt.encoder import Encoder
 from catc.smt.holes import HoleEncoding
 from catc.smt.readback import read_plan
+from catgrammar import limits
 
 
 class SynthesisStatus(Status):
@@ -58,6 +59,7 @@ class Synthesis(Result):
     step: int | None = None  # where μ is applied (1-based)
     instance: ir.Instance | None = None  # the view-projected instance, with μ as a morphism
     timings: dict[str, float] = field(default_factory=dict)
+    reason: str | None = None  # why UNKNOWN
 
 
 def synthesize(
@@ -72,13 +74,24 @@ def synthesize(
     mu = inst.domain.holes[pick_hole(inst, hole)]
     if mu.view is not None:
         inst = project_instance(inst, inst.domain.views[mu.view].kept, mu.view)
-    k = default_horizon(inst) if horizon is None else horizon
-    result = Synthesis(SynthesisStatus.UNKNOWN, mu, instance=inst)
+    with limits.deadline(timeout):
+        k = horizon_of(inst, horizon)
+        result = Synthesis(SynthesisStatus.UNKNOWN, mu, instance=inst)
+        try:
+            return _synthesize(inst, mu, k, sequential, result, start)
+        except limits.Stopped as stop:  # encoding or validating when the time ran out
+            result.status, result.reason, result.morphism = SynthesisStatus.UNKNOWN, stop.reason, None
+            return _finish(result, start)
 
-    plain = solve(inst, horizon=k, sequential=sequential, timeout=timeout, strategy="single")
+
+def _synthesize(inst: ir.Instance, mu: ir.Hole, k: int, sequential: bool, result: Synthesis, start: float) -> Synthesis:
+    plain = solve(inst, horizon=k, sequential=sequential, strategy="single")
     if plain.status is SolveStatus.SAT:
         result.status = SynthesisStatus.NOT_NEEDED
         result.plan, result.states = plain.plan, plain.states
+        return _finish(result, start)
+    if limits.expired():  # out of time (or interrupted) before the hole was tried
+        result.reason = limits.stop_reason()
         return _finish(result, start)
 
     enc = Encoder(inst, k, sequential=sequential, extra_written=frozenset(inst.resources))
@@ -93,12 +106,14 @@ def synthesize(
     written = {e.resource for m in inst.morphisms.values() for e in m.effects}
     if any(r.name in written for _, _, r, _ in encoding.selectors):
         solver.minimize(solver.intern(encoding.effects_count(written)))
-    if timeout:
-        solver.set_timeout(timeout)
+    left = limits.remaining()
+    if left is not None:
+        solver.set_timeout(max(0.001, left))
     r = solver.check()
     result.timings["solve"] = time.perf_counter() - start
     if r is not Check.SAT:
         result.status = SynthesisStatus.UNSAT if r is Check.UNSAT else SynthesisStatus.UNKNOWN
+        result.reason = None if r is Check.UNSAT else limits.stop_reason() or solver.reason_unknown()
         return _finish(result, start)
     _read_specification(result, inst, encoding, solver, k, sequential)
     return _finish(result, start)
@@ -223,7 +238,9 @@ def synthesize_json(inst: ir.Instance, result: Synthesis) -> dict:
 def render(console: Console, inst: ir.Instance, result: Synthesis, options: Mapping[str, Any]) -> None:
     skeleton = to_cat(result.morphism, result.hole) if result.morphism is not None else None
     if options.get("emit") == "cat":  # only the skeleton, ready to paste into the domain
-        console.print(skeleton.rstrip("\n") if skeleton is not None else f"; no skeleton: {result.status.value}")
+        console.print(
+            escape(skeleton.rstrip("\n")) if skeleton is not None else f"; no skeleton: {result.status.value}"
+        )
         return
     hole = result.hole
     if result.status is SynthesisStatus.NOT_NEEDED:
@@ -235,14 +252,14 @@ def render(console: Console, inst: ir.Instance, result: Synthesis, options: Mapp
             + f": {len(result.morphism.effects)} effect(s) it must provide, "
             f"{len(result.morphism.pre)} precondition(s) it may assume; applied at step {result.step}"
         )
-        console.print(skeleton.rstrip())
+        console.print(escape(skeleton.rstrip()))
         console.print("\nthe composition it completes:")
         assert result.plan is not None and result.instance is not None
         print_composition(console, result.instance, result.plan, result.states)
     elif result.status is SynthesisStatus.UNSAT:
         console.print(f"UNSAT  even a component in hole '{hole.name}' cannot make the problem feasible")
     else:
-        console.print("UNKNOWN  the solver gave up")
+        console.print("UNKNOWN  " + ("interrupted" if result.reason == "interrupted" else "the solver gave up"))
 
 
 def check(inst: ir.Instance, options: Mapping[str, Any]) -> str | None:

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from catc import ir
-from catc.present.console import Console
+from catc.present.console import Console, escape
 from catc.present.values import state_json
 from catc.queries.base import ExitCode, Kind, Option, Query, Result, Status, json_option
 from catc.semantics.plan import Plan, plan_from_json
@@ -90,7 +90,7 @@ def render(console: Console, inst: ir.Instance, result: Validation, options: Map
     console.print(f"invalid: {n} violation{'s' if n != 1 else ''}")
     for v in report.violations:
         where = f"step {v.step}: " if v.step is not None else ""
-        console.print(f"  {where}{v.kind}: {v.message}")
+        console.print(f"  {where}{v.kind}: {escape(v.message)}")
 
 
 QUERY = Query(

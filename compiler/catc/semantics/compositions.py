@@ -12,6 +12,7 @@ from collections.abc import Callable, Mapping
 from catc import ir
 from catc.semantics.plan import Activation, Plan, fresh_name
 from catc.semantics.validate import ValidationFailure, validate
+from catgrammar import limits
 
 
 def prune_plan(
@@ -27,7 +28,9 @@ def prune_plan(
     driver); each activation, last first, is removed when the validator still accepts the
     composition without it (and ``accept(candidate)`` agrees — optimisation passes a check
     that no objective gets worse), and emptied steps disappear.  The result is valid, no
-    longer than the input, and irredundant: removing any single activation breaks it."""
+    longer than the input, and irredundant: removing any single activation breaks it —
+    unless the command's time is up (or it is interrupted) first: then pruning stops, and the
+    composition pruned so far, still valid, is returned."""
     steps = [list(s) for s in plan.steps]
     changed = True
     while changed:
@@ -37,9 +40,15 @@ def prune_plan(
                 trial = [list(s) for s in steps]
                 del trial[i][j]
                 candidate = Plan(tuple(tuple(s) for s in trial if s), plan.fresh)
-                if validate(inst, candidate, horizon=horizon, sequential=sequential).ok and (
-                    accept is None or accept(candidate)
-                ):
+                if limits.expired():
+                    return Plan(tuple(tuple(s) for s in steps), plan.fresh)
+                try:
+                    fits = validate(inst, candidate, horizon=horizon, sequential=sequential).ok and (
+                        accept is None or accept(candidate)
+                    )
+                except limits.Stopped:
+                    return Plan(tuple(tuple(s) for s in steps), plan.fresh)
+                if fits:
                     steps = [s for s in trial if s]
                     changed = True
                     break

@@ -16,6 +16,7 @@ from fractions import Fraction
 from types import MappingProxyType
 from typing import Any, TypeAlias
 
+from catc.ir.numbers import fraction_text
 from catgrammar.record import Record, set_field
 
 Value: TypeAlias = Fraction | bool | str
@@ -80,10 +81,17 @@ def value_to_json(v: StateValue) -> Any:
     if isinstance(v, bool):
         return v
     if isinstance(v, Fraction):
-        return int(v) if v.denominator == 1 else f"{v.numerator}/{v.denominator}"
+        # an integer is a JSON integer, but for one of more digits than JSON readers take
+        # (Python's: 4,300): that one is a string of digits, as other rationals are strings
+        if v.denominator == 1 and abs(v.numerator) < _JSON_INTEGERS:
+            return int(v)
+        return fraction_text(v)
     if isinstance(v, frozenset):
         return sorted(v)
     return v
+
+
+_JSON_INTEGERS = 10**4000
 
 
 class PlanFormatError(ValueError):

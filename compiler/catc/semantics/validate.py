@@ -39,6 +39,7 @@ from catc.ir.fold import arith
 from catc.ir.numbers import ratio_text
 from catc.ir.text import to_text
 from catc.semantics.plan import Activation, Plan
+from catgrammar.limits import check_time
 from catgrammar.record import Record, set_field
 
 #: Every kind of :class:`Violation`, in the order of the checks.
@@ -587,6 +588,7 @@ class _Validator:
         fixed_seen: dict[tuple[str, str], tuple[int, object]] = {}
         live_steps: list[list[_Live]] = []
         for i, step in enumerate(self.plan.steps, 1):
+            check_time("validating", finishing=True)
             live: list[_Live] = []
             if self.sequential and len(step) > 1:
                 names = ", ".join(a.morphism for a in step)
@@ -689,14 +691,21 @@ class _Validator:
         params: Mapping[str, object],
         morphism: str | None,
         kind: str,
-        where: str,
+        act: Activation | None,
     ) -> bool:
+        """Whether ``lit`` holds (a violation when not).  The message names the activation
+        ``act`` (None: the goal), written out only when there is a violation: its θ may be
+        fractions of thousands of digits, and most literals hold."""
+
+        def where() -> str:
+            return "goal " if act is None else f"step {i}: {_activation_text(act)}: precondition "
+
         try:
             ok = _bool(_Env(self.inst, state, params), lit.expr)
         except DivisionByZero as exc:
             self.add(
                 "division-by-zero",
-                f"{where}{lit.label} {to_text(lit.expr)} is false: {exc} ({_bindings(lit.expr, state, params)})",
+                f"{where()}{lit.label} {to_text(lit.expr)} is false: {exc} ({_bindings(lit.expr, state, params)})",
                 i,
                 morphism,
                 lit.label,
@@ -705,7 +714,7 @@ class _Validator:
         except EvaluationError as exc:
             self.add(
                 "initial-state" if isinstance(exc, MissingValue) else kind,
-                f"{where}{lit.label} {to_text(lit.expr)} cannot be evaluated: {exc}",
+                f"{where()}{lit.label} {to_text(lit.expr)} cannot be evaluated: {exc}",
                 i,
                 morphism,
                 lit.label,
@@ -715,7 +724,7 @@ class _Validator:
             bindings = _bindings(lit.expr, state, params)
             self.add(
                 kind,
-                f"{where}{lit.label} {to_text(lit.expr)} is false" + (f" with {bindings}" if bindings else ""),
+                f"{where()}{lit.label} {to_text(lit.expr)} is false" + (f" with {bindings}" if bindings else ""),
                 i,
                 morphism,
                 lit.label,
@@ -726,9 +735,8 @@ class _Validator:
         """Check one step in ``state``; True when nothing forbids applying it."""
         ok = True
         for a in live:
-            where = f"step {i}: {_activation_text(a.act)}: precondition "
             for lit in a.m.pre:
-                ok &= self.literal(i, lit, state, a.params, a.name, "precondition", where)
+                ok &= self.literal(i, lit, state, a.params, a.name, "precondition", a.act)
             a.values = []
             for eff in a.m.effects:
                 try:
@@ -879,6 +887,7 @@ class _Validator:
         state: Mapping[str, object] = s0
         complete = True
         for i, live in enumerate(live_steps, 1):
+            check_time("validating", finishing=True)
             static_blocked = any(v.step == i and v.kind not in _NON_BLOCKING for v in self.out)
             ok = self.step(i, live, state)
             if static_blocked or not ok:
@@ -892,7 +901,7 @@ class _Validator:
             states.append(MappingProxyType(dict(new)))
         if complete:
             for lit in self.inst.problem.goal:
-                self.literal(None, lit, state, {}, None, "goal", "goal ")
+                self.literal(None, lit, state, {}, None, "goal", None)
 
         def rank(iv: tuple[int, Violation]) -> tuple[float, int]:
             n, v = iv

@@ -135,6 +135,19 @@ class Backend(ABC):
         return BackendError(f"the {self.name} backend cannot do this: no {capability.value} support")
 
 
+class SolverMemory:
+    """The most memory (MB) a solver of this process may allocate during a check (0: no
+    limit).  A setting of the whole process, like the process's own memory limit, so only the
+    ``catc`` executable makes it (``--memory``, docs/limits.md); the library leaves it at 0.
+    Z3 applies it during its checks only: when its parser runs out, Z3 ends the process."""
+
+    megabytes = 0
+
+
+def limit_solver_memory(megabytes: int) -> None:
+    SolverMemory.megabytes = megabytes
+
+
 #: Backend name → "module:class", imported on first use.
 BACKENDS: dict[str, str] = {
     "z3": "catc.smt.z3backend:Z3Backend",

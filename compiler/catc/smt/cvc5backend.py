@@ -13,6 +13,7 @@ from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 
+from catc.ir.numbers import fraction_text, int_value
 from catc.smt.backend import Backend, BackendError, Capability, Check
 from catc.smt.script import Assertion, SmtSort, Symbol, commands_text
 from catc.smt.terms import App, Interned, Term
@@ -102,7 +103,7 @@ class Cvc5Backend(Backend):
             self.parser.setStringInput(cvc5.InputLanguage.SMT_LIB_2_6, term, "catc")
             return self.parser.nextTerm()
         if isinstance(term, Fraction):
-            return self.tm.mkReal(term.numerator, term.denominator)
+            return self.tm.mkReal(fraction_text(term))
         if isinstance(term, App):
             args = [self.term(a) for a in term.args]
             if term.op == "and" and len(args) == 1:  # cvc5 wants two or more conjuncts
@@ -148,11 +149,27 @@ class Cvc5Backend(Backend):
         v = self.solver.getValue(self.term(term))
         if v.getSort().isBoolean():
             return bool(v.getBooleanValue())
-        if v.isIntegerValue():
-            return Fraction(v.getIntegerValue())
-        if v.isRealValue():
-            return Fraction(v.getRealValue())
+        try:
+            if v.isIntegerValue():
+                return Fraction(v.getIntegerValue())
+            if v.isRealValue():
+                return Fraction(v.getRealValue())
+        except ValueError:  # more digits than Python's int(str) reads: from cvc5's text
+            return _numeral(str(v))
         raise ValueError(f"not a number: {v}")
+
+
+def _numeral(text: str) -> Fraction:
+    """An SMT-LIB numeral as cvc5 prints it (``12``, ``(- 12)``, ``(/ 1 3)``, ``2.5``)."""
+    negative, parts = False, []
+    for token in text.replace("(", " ").replace(")", " ").split():
+        if token == "-":
+            negative = not negative
+        elif token != "/":
+            whole, _, decimals = token.partition(".")
+            parts.append(Fraction(int_value(whole + decimals), 10 ** len(decimals)))
+    value = parts[0] / parts[1] if len(parts) == 2 else parts[0]
+    return -value if negative else value
 
 
 def _sort_of(t: Any) -> SmtSort:

@@ -36,10 +36,12 @@ from typing import Any, TypeAlias
 
 from catc import ir
 from catc.ir import SortKind
+from catc.semantics.horizon import check_horizon
 from catc.smt.grounding import Grounding
 from catc.smt.script import Script, SmtSort, Symbol, at_most, int_literal, real_literal
 from catc.smt.script import and_text as _and
 from catc.smt.script import or_text as _or
+from catgrammar import limits
 from catgrammar.record import Record, set_field
 
 # A term is SMT-LIB text (a Symbol is one); a symbol may also be a known universe index
@@ -103,6 +105,7 @@ class Encoder:
         self.horizon = horizon
         self.sequential = sequential
         self.track = track
+        check_horizon(None, horizon)
         self.grounding = Grounding(inst, horizon)
         self.morphisms = list(inst.morphisms.values())
         self.resources = list(inst.resources.values())
@@ -210,7 +213,9 @@ class Encoder:
 
     # ------------------------------------------------------------------ steps
     def add_step(self) -> int:
-        """Add step t (state t → t+1); return t."""
+        """Add step t (state t → t+1); return t.  Stops (:func:`catgrammar.limits.check_time`)
+        when the command's time is up."""
+        limits.check_time("encoding")
         t = len(self.act)
         s, nxt = self.states[t], self._new_state(t + 1)
         self.states.append(nxt)
@@ -224,7 +229,8 @@ class Encoder:
                 else:
                     v = self._var(f"th.{m.name}.{p.name}.{t}", p.sort)
                     theta[(m.name, p.name)] = v
-                    self._param_constraints(m, p, v)
+                    if m.uses != 0:  # a morphism switched off (:uses 0) has no values to choose
+                        self._param_constraints(m, p, v)
         self.theta.append(theta)
 
         for m in self.morphisms:

@@ -16,6 +16,7 @@ from __future__ import annotations
 from catc import ir
 from catc.ir import SortKind
 from catc.semantics.plan import fresh_name
+from catgrammar import limits
 from catgrammar.record import Record, set_field
 
 
@@ -48,6 +49,21 @@ class Universe(Record):
 
     def __len__(self) -> int:
         return len(self.elements)
+
+
+def _within_limit(sort: ir.Sort, size: int, fresh: int, horizon: int) -> None:
+    """E1106 (located at the sort) when a universe is larger than the universe limit."""
+    most = limits.current().universe
+    if size <= most:
+        return
+    limit = limits.BY_NAME["universe"]
+    raise limits.LimitExceeded(
+        limit.code,
+        f"sort '{sort.name}' would be grounded with {limits.count_text(size)} values ({limits.count_text(fresh)} "
+        f"reserve values for a horizon of {horizon}), more than the universe limit ({limits.count_text(most)}); "
+        f"give its morphisms :uses limits or a shorter horizon, or {limit.how_to_raise}",
+        sort.span,
+    )
 
 
 class Grounding:
@@ -87,8 +103,11 @@ class Grounding:
             ]
             elements = [c.name for c in members]
             sort_of = {c.name: c.sort.name for c in members}
+            subs = sorted(n for n in sorts if self.root[n] == name)
+            reserves = sum(need.get(sub, 0) for sub in subs)
+            _within_limit(s, len(elements) + reserves, reserves, horizon)
             fresh = []
-            for sub in sorted(n for n in sorts if self.root[n] == name):
+            for sub in subs:
                 for i in range(1, need.get(sub, 0) + 1):
                     f = fresh_name(sub, i)
                     fresh.append(f)

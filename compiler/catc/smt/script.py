@@ -21,6 +21,8 @@ from collections.abc import Sequence
 from enum import Enum
 from fractions import Fraction
 
+from catc.ir.numbers import int_text
+
 
 class SmtSort(str, Enum):
     BOOL = "Bool"
@@ -88,7 +90,7 @@ def commands_text(decls: list[Symbol], asserts: list[Assertion]) -> str:
 
 def real_literal(v: Fraction) -> str:
     def pos(n: int) -> str:
-        return f"{n}.0"
+        return f"{int_text(n)}.0"
 
     a = abs(v)
     text = pos(a.numerator) if a.denominator == 1 else f"(/ {pos(a.numerator)} {pos(a.denominator)})"
@@ -96,7 +98,7 @@ def real_literal(v: Fraction) -> str:
 
 
 def int_literal(n: int) -> str:
-    return f"(- {-n})" if n < 0 else str(n)
+    return f"(- {int_text(-n)})" if n < 0 else int_text(n)
 
 
 def quote(name: str) -> str:
@@ -121,6 +123,8 @@ def at_most(bools: Sequence[str], n: int) -> str:
     """Σ ite(b, 1, 0) ≤ n — plain linear arithmetic, understood by every SMT solver."""
     if len(bools) <= n:
         return "true"
+    if n == 0:  # none of them (no one-argument '+', which SMT-LIB does not allow)
+        return f"(not {bools[0]})" if len(bools) == 1 else f"(not (or {' '.join(bools)}))"
     if n == 1 and len(bools) == 2:
         return f"(not (and {bools[0]} {bools[1]}))"
     return f"(<= (+ {' '.join(f'(ite {b} 1 0)' for b in bools)}) {n})"

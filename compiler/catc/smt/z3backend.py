@@ -17,17 +17,21 @@ lifelong loop, tests.  A fresh context costs about 1 ms when the previous one ha
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable, Sequence
 from fractions import Fraction
 from typing import Any
 
 import z3
 
-from catc.smt.backend import Backend, Bound, Capability, Check
+from catc.ir.numbers import fraction_text, int_text, int_value
+from catc.smt.backend import Backend, Bound, Capability, Check, SolverMemory
 from catc.smt.script import Assertion, SmtSort, Symbol, commands_text
 from catc.smt.terms import App, Interned, Term
+from catgrammar import limits
 
 _NO_LIMIT_MS = 4294967295  # Z3's largest timeout: none
+_CANCELED = ("interrupted from keyboard", "canceled")
 
 _OPS: dict[str, Callable[..., Any]] = {
     "and": z3.And,
@@ -47,10 +51,11 @@ _OPS: dict[str, Callable[..., Any]] = {
 
 
 def to_fraction(v: z3.ExprRef) -> Fraction:
+    """A numeral of Z3 as an exact number (read from its digits, however many)."""
     if z3.is_int_value(v):
-        return Fraction(v.as_long())
+        return Fraction(int_value(v.as_string()))
     if z3.is_rational_value(v):
-        return Fraction(v.numerator_as_long(), v.denominator_as_long())
+        return Fraction(int_value(v.numerator().as_string()), int_value(v.denominator().as_string()))
     if z3.is_algebraic_value(v):
         raise ValueError(f"the solver returned an irrational value (≈{v.approx(12)}); no exact rational exists")
     raise ValueError(f"not a numeral: {v}")
@@ -58,7 +63,7 @@ def to_fraction(v: z3.ExprRef) -> Fraction:
 
 def _weight_text(w: Fraction) -> str:
     if w.denominator == 1:
-        return str(w.numerator)
+        return int_text(w.numerator)
     return str(w.numerator / w.denominator)  # Z3 reads a decimal weight
 
 
@@ -80,6 +85,7 @@ class Z3Backend(Backend):
         self._model: z3.ModelRef | None = None
         self._failure: str | None = None  # why the last check raised instead of answering
         self._max: dict[int, bool] = {}  # objective handle id → maximise
+        self._timer: float | None = None  # the timeout of each check (seconds), or None
 
     # ------------------------------------------------------------ input
     def add(self, decls: Sequence[Symbol], asserts: Sequence[Assertion]) -> None:
@@ -88,7 +94,12 @@ class Z3Backend(Backend):
             self._decl_text = None
         text = commands_text(list(decls), list(asserts))
         if text:
-            self.solver.from_string(text)
+            try:
+                self.solver.from_string(text)
+            except z3.Z3Exception as exc:
+                if "out of memory" in str(exc):  # the process's memory limit (--memory)
+                    raise MemoryError(f"the solver ran out of memory: {exc}") from None
+                raise
 
     def assert_term(self, term: Term) -> None:
         self.solver.add(self.expr(term))
@@ -114,7 +125,7 @@ class Z3Backend(Backend):
         if isinstance(term, str):
             return self._parse(term)
         if isinstance(term, Fraction):
-            return z3.RealVal(f"{term.numerator}/{term.denominator}", self.ctx)
+            return z3.RealVal(fraction_text(term), self.ctx)
         if isinstance(term, App):
             return _OPS[term.op](*(self.expr(a) for a in term.args))
         raise TypeError(f"not a term: {term!r}")
@@ -133,16 +144,40 @@ class Z3Backend(Backend):
     def set_timeout(self, seconds: float | None) -> None:
         ms = _NO_LIMIT_MS if seconds is None or seconds * 1000 >= _NO_LIMIT_MS else max(1, int(seconds * 1000))
         self.solver.set("timeout", ms)
+        self._timer = None if ms == _NO_LIMIT_MS else ms / 1000
 
     def check(self, assumptions: Sequence[Symbol] = ()) -> Check:
         self._model = None
         self._failure = None
+        limits.note_phase("solving")
+        started = time.perf_counter()
+        memory = SolverMemory.megabytes
         try:
+            if memory:
+                z3.set_param("memory_max_size", memory)
             r = self.solver.check(*[self._const(a) for a in assumptions])
         except z3.Z3Exception as exc:  # e.g. a logic's configuration refusing the formula
+            if "out of memory" in str(exc):
+                raise MemoryError(f"the solver ran out of memory: {exc}") from None
             self._failure = str(exc)
             return Check.UNKNOWN
+        finally:
+            if memory:
+                z3.set_param("memory_max_size", 0)
+        if r == z3.unknown:
+            self._stopped(time.perf_counter() - started)
         return Check.SAT if r == z3.sat else Check.UNSAT if r == z3.unsat else Check.UNKNOWN
+
+    def _stopped(self, took: float) -> None:
+        """After an unknown: tell the command it was interrupted when Z3 caught a Ctrl-C (it
+        handles SIGINT itself during a check, as "interrupted from keyboard" or "canceled",
+        the reason it also gives for a timeout — so canceled well before the timer is Ctrl-C),
+        and say so when Z3 ran out of its memory (``max. memory exceeded``)."""
+        reason = self.solver.reason_unknown()
+        if reason in _CANCELED and (self._timer is None or took < self._timer - 0.05):
+            limits.interrupt()
+        elif "memory" in reason:
+            raise MemoryError(f"the solver ran out of memory ({reason})")
 
     def reason_unknown(self) -> str:
         return self._failure if self._failure is not None else self.solver.reason_unknown()

@@ -17,6 +17,20 @@ from pathlib import Path
 
 from catc.targets import BASELINES_HINT
 
+
+def lift_memory_limit() -> None:
+    """In a planner's process (``preexec_fn``): lift the soft address-space limit the catc
+    process put on itself (``--memory``): a Java virtual machine reserves far more address
+    space than it uses, and the planner's memory is its own option (``-Xmx``)."""
+    try:
+        import resource
+
+        _, hard = resource.getrlimit(resource.RLIMIT_AS)
+        resource.setrlimit(resource.RLIMIT_AS, (hard, hard))
+    except (ImportError, ValueError, OSError):  # pragma: no cover - not POSIX, or nothing to lift
+        pass
+
+
 JAVA_HINT = "install Java 17 (e.g. apt-get install -y openjdk-17-jre-headless)"
 
 
@@ -110,7 +124,9 @@ def run_enhsp(
     ]
     start = time.perf_counter()
     try:
-        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, cwd=jar.parent)
+        proc = subprocess.run(
+            cmd, capture_output=True, text=True, timeout=timeout, cwd=jar.parent, preexec_fn=lift_memory_limit
+        )
     except subprocess.TimeoutExpired as exc:
         out = exc.stdout.decode() if isinstance(exc.stdout, bytes) else (exc.stdout or "")
         return EnhspResult("timeout", wall=time.perf_counter() - start, output=out)

@@ -24,6 +24,7 @@ maps each back to an :class:`catc.semantics.plan.Activation` so that a PDDL plan
 from __future__ import annotations
 
 import itertools
+import math
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -32,9 +33,10 @@ from typing import cast
 
 from catc import ir
 from catc.ir import ArithOp, BoolOpKind, CmpOp, EffectKind, SortKind
-from catc.ir.fold import FoldError, fold
-from catc.ir.numbers import decimal_text, number_text
+from catc.ir.fold import ConstantTooLarge, FoldError, fold
+from catc.ir.numbers import decimal_text, fraction_text, int_text, number_text
 from catc.semantics.plan import Activation, Plan, Value
+from catgrammar import codes, limits
 
 #: Words some PDDL planners (ENHSP, the PyPI parser) reject as names.
 RESERVED = frozenset(
@@ -81,8 +83,6 @@ RESERVED = frozenset(
         "metric",
     ]
 )
-
-MAX_GROUND_ACTIONS = 200_000
 
 
 class ExportError(Exception):
@@ -160,10 +160,10 @@ def value_suffix(v: object) -> str:
         return "true" if v else "false"
     if isinstance(v, Fraction):
         if v.denominator == 1:
-            t = str(v.numerator)
+            t = int_text(v.numerator)
         else:
             d = decimal_text(v)
-            t = d if not d.startswith("≈") else f"{v.numerator}over{v.denominator}"
+            t = d if not d.startswith("≈") else fraction_text(v).replace("/", "over")
         return t.replace("-", "m").replace(".", "p").replace("/", "over")
     return sanitize(str(v))
 
@@ -189,6 +189,17 @@ class _Names:
 
 
 # ---------------------------------------------------------------- the exporter
+
+
+def _nice_step(least: Fraction) -> Fraction:
+    """The smallest of 1, 2, 5 × 10ᵏ that is at least ``least`` (> 0)."""
+    power = Fraction(10) ** (len(int_text(int(least))) - 1) if least >= 1 else Fraction(1)
+    while power > least:
+        power /= 10
+    for mantissa in (1, 2, 5, 10):
+        if mantissa * power >= least:
+            return mantissa * power
+    return 10 * power  # pragma: no cover - 10·power ≥ least by the loops above
 
 
 def _grid_values(lower: Fraction, upper: Fraction, step: Fraction) -> list[Fraction]:
@@ -280,6 +291,9 @@ class _Exporter:
     def _fold(self, e: ir.Expr, theta: Mapping[str, object]) -> ir.Expr:
         try:
             return fold(e, theta)
+        except ConstantTooLarge as exc:  # θ of a grid times the model's constants
+            values = ", ".join(f"{k} = {fraction_text(v)}" for k, v in theta.items() if isinstance(v, Fraction))
+            raise limits.LimitExceeded(codes.CONSTANT_TOO_LARGE, f"with {values}: {exc}", exc.expr.span) from None
         except FoldError:
             raise Unsupported("division by zero") from None
 
@@ -611,6 +625,7 @@ class _Exporter:
         self._report_unexpressed()
         self._declare_counters()
         metric, with_cost = self.metric()
+        self._check_ground_actions()
         actions = self._ground_actions(with_cost)
         goal = self._goal()
         init = self._init()
@@ -670,9 +685,65 @@ class _Exporter:
                 if prm.fixed and not self.is_dial(m, prm):
                     self.pred[("fixed", m.name, prm.name)] = self.names.fresh(f"fixed-{m.name}-{prm.name}")
 
+    def _theta_count(self, m: ir.Morphism, p: ir.Param) -> int:
+        """How many values :meth:`_theta_values` gives θ ``p`` of ``m``, without making them
+        (1 where it will refuse the parameter)."""
+        k = p.sort.kind
+        if self.is_dial(m, p):
+            return 1
+        if k is SortKind.BOOL:
+            return 2
+        if k in (SortKind.SYMBOL, SortKind.ENUM):
+            return len(self._values_of(p.sort))
+        if p.lower is None or p.upper is None:
+            return 1
+        if k is SortKind.INT:
+            return max(0, int(p.upper // 1) - int(-(-p.lower // 1)) + 1)
+        step = self._step_of(m, p)
+        if step is None or step <= 0:
+            return 1
+        n = int((p.upper - p.lower) // step) + 1
+        return n + (1 if p.lower + (n - 1) * step != p.upper else 0)
+
+    def _step_of(self, m: ir.Morphism, p: ir.Param) -> Fraction | None:
+        return self.grid_in.get(f"{m.name}.{p.name}", self.grid_in.get(p.name))
+
+    def _check_ground_actions(self) -> None:
+        """Refuse (E1108, at the morphism) an export of more ground actions than the
+        ground-actions limit, counted before any is made."""
+        most = limits.current().ground_actions
+        counts = {m.name: [self._theta_count(m, p) for p in m.params] for m in self.inst.domain.morphisms.values()}
+        total = sum(math.prod(c) for c in counts.values())
+        if total <= most:
+            return
+        m = max(self.inst.domain.morphisms.values(), key=lambda m: math.prod(counts[m.name]))
+        n = math.prod(counts[m.name])
+        limit = limits.BY_NAME["ground-actions"]
+        per = " × ".join(f"{p.name}: {limits.count_text(c)}" for p, c in zip(m.params, counts[m.name]))
+        raise limits.LimitExceeded(
+            limit.code,
+            f"the export would write {limits.count_text(total)} ground actions, more than the ground-actions limit "
+            f"({limits.count_text(most)}); '{m.name}' alone has {limits.count_text(n)} ({per}); "
+            f"{self._coarser(m, counts[m.name], most - (total - n))}{limit.how_to_raise}",
+            m.span,
+        )
+
+    def _coarser(self, m: ir.Morphism, counts: list[int], room: int) -> str:
+        """A suggestion: the grid step for the real θ of ``m`` with the most values that
+        would bring ``m`` within ``room`` ground actions (with the other θ as they are)."""
+        reals = [(c, p) for p, c in zip(m.params, counts) if p.sort.kind is SortKind.REAL and self._step_of(m, p)]
+        if not reals or room < 2:
+            return ""
+        c, p = max(reals, key=lambda cp: cp[0])
+        assert p.lower is not None and p.upper is not None  # it has a step, so finite bounds
+        others = math.prod(counts) // max(1, c)
+        values = max(2, room // max(1, others))
+        step = _nice_step((p.upper - p.lower) / (values - 1))
+        return f"use a coarser grid, e.g. --grid {m.name}.{p.name}={decimal_text(step)}, or "
+
     def _ground_actions(self, with_cost: bool) -> list[str]:
-        """The text of every ground action, morphism by morphism (at most ``MAX_GROUND_ACTIONS``
-        assignments of θ tried in all)."""
+        """The text of every ground action, morphism by morphism (their number checked first:
+        :meth:`_check_ground_actions`)."""
         actions: list[str] = []
         count = 0
         for m in self.inst.domain.morphisms.values():
@@ -700,8 +771,7 @@ class _Exporter:
         texts: list[str] = []
         for combo in itertools.product(*values):
             count += 1
-            if count > MAX_GROUND_ACTIONS:
-                raise ExportError(f"more than {MAX_GROUND_ACTIONS} ground actions; use a coarser --grid")
+            limits.check_time("exporting")
             theta = {prm.name: v for prm, v in zip(m.params, combo)}
             try:
                 text = self.action_text(m, theta, with_cost)

@@ -39,6 +39,7 @@ from catc import ir
 from catc.ir import SortKind
 from catc.ir.numbers import decimal_text
 from catc.semantics.plan import Activation, Plan
+from catc.targets.enhsp import lift_memory_limit
 from catc.targets.pddl import Export, ExportError, Unsupported, _Exporter, number
 
 #: SMTPlan+'s encoder separates consecutive happenings by at least this much time
@@ -445,7 +446,12 @@ def run_smtplan(domain, problem, *, timeout: float = 60.0) -> SmtplanResult:
     start = time.perf_counter()
     try:
         proc = subprocess.run(
-            [exe, str(domain), str(problem)], capture_output=True, text=True, timeout=timeout, check=False
+            [exe, str(domain), str(problem)],
+            capture_output=True,
+            text=True,
+            timeout=timeout,
+            check=False,
+            preexec_fn=lift_memory_limit,
         )
     except subprocess.TimeoutExpired as exc:
         out = exc.stdout.decode() if isinstance(exc.stdout, bytes) else (exc.stdout or "")

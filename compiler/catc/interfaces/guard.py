@@ -1,0 +1,197 @@
+"""The limits of one ``catc`` command as the executable enforces them (docs/limits.md).
+
+* :func:`command_limits` — the limits in force: the defaults, then ``CATC_LIMIT_*`` (the
+  environment is read here, at the edge), then ``--limit NAME=N`` and ``--memory MB``;
+* :func:`limit_memory` — the memory limit on this process: its address space
+  (``RLIMIT_AS``, soft, so that a planner started by ``export --run`` can lift it for itself)
+  and the solver's own limit, so a run that needs more stops with error E1110 (exit 3)
+  instead of exhausting the machine;
+* :func:`stoppable` — Ctrl-C and the time limit while a command runs: the first Ctrl-C
+  during a query asks it to stop and report what it has ("interrupted", exit 130), a second
+  stops at once; and a watchdog that, should some phase not notice its time is up, stops the
+  command :data:`GRACE` seconds past its ``--timeout`` (error E1109, exit 3), and ends the
+  process :data:`LAST_GRACE` seconds after that whatever it is doing.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import sys
+import threading
+from collections.abc import Iterator, Mapping, Sequence
+from contextlib import contextmanager
+from typing import Any
+
+from catgrammar import codes, limits
+
+
+class Process:
+    """Whether this process is the ``catc`` executable (:func:`catc.interfaces.entry.main`
+    started it): only then are the settings of the whole process made — its memory limit, and
+    the watchdog's last resort of ending it.  A program or a test that runs a command in its
+    own process (``main(argv)``) keeps its process as it is."""
+
+    executable = False
+
+
+#: How long past its time limit a command may take to notice it (it then stops with E1109) —
+#: more than the time it has to finish an answer it found (limits.FINISH_GRACE) — and how
+#: much longer before the process ends regardless.
+GRACE = 2.0
+LAST_GRACE = 2.0
+
+
+class LimitArgumentError(ValueError):
+    """A malformed ``--limit``, ``--memory`` or ``CATC_LIMIT_*`` value (E1111)."""
+
+    code = codes.BAD_LIMIT
+
+
+def command_limits(
+    specs: Sequence[str] = (), memory: int | None = None, environ: Mapping[str, str] | None = None
+) -> limits.Limits:
+    """The defaults, then ``CATC_LIMIT_*`` of ``environ`` (default: the process's), then the
+    ``--limit`` specs, then ``--memory``.  Raises :class:`LimitArgumentError`."""
+    try:
+        found = limits.from_environment(os.environ if environ is None else environ)
+        found = limits.parse_specs(specs, found)
+    except limits.LimitSpecError as exc:
+        raise LimitArgumentError(str(exc)) from None
+    if memory is not None:
+        if memory < 0:
+            raise LimitArgumentError(f"--memory must be a number of megabytes ≥ 0 (0: no limit), got {memory}")
+        found = found.replace(memory=memory)
+    return found
+
+
+def limit_memory(megabytes: int) -> None:
+    """Cap this process at ``megabytes`` of address space (0: no cap) and the solver at as
+    much.  The soft limit only: a child process may raise it again (a planner does:
+    :func:`catc.targets.enhsp.lift_memory_limit`).  Only in the executable (:class:`Process`)."""
+    if not Process.executable:
+        return
+    try:
+        import resource
+    except ImportError:  # pragma: no cover - not on POSIX: the solver's limit only
+        resource = None  # type: ignore[assignment]
+    if resource is not None:
+        _, hard = resource.getrlimit(resource.RLIMIT_AS)
+        soft = resource.RLIM_INFINITY if megabytes == 0 else megabytes * limits.MIB
+        if hard != resource.RLIM_INFINITY and (soft == resource.RLIM_INFINITY or soft > hard):
+            soft = hard
+        resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
+    from catc.smt.backend import limit_solver_memory
+
+    limit_solver_memory(megabytes)
+
+
+def out_of_memory_message(phase: str | None = None) -> str:
+    most = limits.current().memory
+    where = f" while {phase}" if phase else ""
+    limit = limits.BY_NAME["memory"]
+    return (
+        f"out of memory{where}: the memory limit of {most:,} MB was reached; raise it with --memory MB or {limit.env}"
+    )
+
+
+def time_limit_message(seconds: float | None, phase: str | None) -> str:
+    limit = f" of {seconds:g} s" if seconds is not None else ""
+    where = f" while {phase}" if phase else ""
+    return f"the time limit{limit} was reached{where}; no answer (--timeout)"
+
+
+def clock_message(clock: limits.Clock) -> str:
+    return time_limit_message(clock.root.limit, clock.root.phase)
+
+
+# ---------------------------------------------------------------- Ctrl-C and the watchdog
+
+
+class _Run:
+    """What the signal handler and the watchdog know of the running command."""
+
+    def __init__(self, clock: limits.Clock) -> None:
+        self.clock = clock
+        self.soft = False  # a query is running: the first Ctrl-C asks it to stop
+        self.timed_out = False  # the watchdog stopped it
+        self.done = threading.Event()
+
+
+@contextmanager
+def stoppable(clock: limits.Clock) -> Iterator[_Run]:
+    """Within the block: Ctrl-C and the watchdog (main thread only; elsewhere, nothing)."""
+    run = _Run(clock)
+    if threading.current_thread() is not threading.main_thread():
+        yield run
+        return
+    previous = signal.getsignal(signal.SIGINT)
+    signal.signal(signal.SIGINT, lambda signum, frame: _on_sigint(run))
+    watcher = _watchdog(run)
+    try:
+        yield run
+    finally:
+        run.done.set()
+        if watcher is not None:
+            watcher.join(0.1)
+        signal.signal(signal.SIGINT, previous)
+
+
+def _on_sigint(run: _Run) -> None:
+    root = run.clock.root
+    if run.soft and not root.interrupted and not run.timed_out:
+        root.interrupted = True  # the query stops at its next check and reports what it has
+        return
+    raise KeyboardInterrupt
+
+
+def _watchdog(run: _Run) -> threading.Thread | None:
+    import time
+
+    at = run.clock.at
+    if at is None or at - time.perf_counter() > 30 * 24 * 3600:  # none, or as good as none (1e308 s)
+        return None
+
+    def watch() -> None:
+        if run.done.wait(max(0.0, at - time.perf_counter()) + GRACE):
+            return
+        run.timed_out = True  # the SIGINT below is the watchdog's, not the user's
+        signal.pthread_kill(threading.main_thread().ident or 0, signal.SIGINT)
+        if run.done.wait(LAST_GRACE) or not Process.executable:
+            return
+        sys.stderr.write(f"catc: error[{codes.TIME_LIMIT}]: {clock_message(run.clock)}\n")
+        sys.stderr.flush()
+        os._exit(3)
+
+    thread = threading.Thread(target=watch, name="catc-watchdog", daemon=True)
+    thread.start()
+    return thread
+
+
+def stopped_exit(run: _Run | None, as_json: bool, echo: Any) -> int:
+    """After a KeyboardInterrupt: report it (time limit or Ctrl-C) and return the exit code."""
+    if run is not None and run.timed_out:
+        return time_limit_exit(clock_message(run.clock), as_json, echo)
+    echo("catc: interrupted", True)
+    return 130
+
+
+def time_limit_exit(message: str, as_json: bool, echo: Any) -> int:
+    """E1109 (with ``--json`` also a catc.error/1 document); exit 3."""
+    if as_json:
+        import json
+
+        echo(json.dumps({"schema": "catc.error/1", "status": "unknown", "diagnostics": [_diag(message)]}))
+    echo(f"catc: error[{codes.TIME_LIMIT}]: {message}", True)
+    return 3
+
+
+def _diag(message: str) -> dict:
+    return {
+        "code": codes.TIME_LIMIT,
+        "name": codes.CODES[codes.TIME_LIMIT].name,
+        "severity": "error",
+        "message": message,
+        "location": None,
+        "notes": [],
+    }
