@@ -65,7 +65,6 @@ def _folder(path: str) -> Path:
     return Path(path).resolve().parent
 
 
-
 _HEADER = ("LPAR", "_DEFINE_WORD", "LPAR", "_DOMAIN_WORD")
 
 
