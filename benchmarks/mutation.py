@@ -19,6 +19,7 @@ install mutmut`` (3.x).
 from __future__ import annotations
 
 import argparse
+import fnmatch
 import os
 import re
 import shutil
@@ -107,7 +108,7 @@ def main() -> None:
     ap.add_argument(
         "--mutants",
         nargs="+",
-        help="test only these mutants (names as `mutmut results` prints them: the survivors of a full run)",
+        help="test only these mutants (names as `mutmut results` prints them, or fnmatch patterns)",
     )
     args = ap.parse_args()
     where = Path(args.stage) if args.stage else Path(tempfile.mkdtemp(prefix="catc-mutation-"))
@@ -115,7 +116,7 @@ def main() -> None:
     results = run_mutmut(stage(args.target, where), args.max_children, args.mutants)
     status = dict(re.findall(r"^\s*(\S+): (\w[\w ]*)$", results, re.M))
     if args.mutants:  # the others were not run
-        status = {name: s for name, s in status.items() if name in set(args.mutants)}
+        status = {name: s for name, s in status.items() if any(fnmatch.fnmatch(name, m) for m in args.mutants)}
     counts: dict[str, int] = {}
     for s in status.values():
         counts[s] = counts.get(s, 0) + 1
