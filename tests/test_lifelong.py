@@ -43,6 +43,24 @@ def test_diagnose_names_exactly_the_culprits(folder, case):
     assert sorted(d.cores[0]) == sorted(case["diagnose"])
 
 
+@pytest.mark.parametrize("presolve", [True, False], ids=["relaxation", "solver-only"])
+@pytest.mark.parametrize("folder, case", list(cases("diagnose")))
+def test_every_core_is_irreducible_for_a_fresh_solver(folder, case, presolve):
+    """The core is infeasible and each deletion feasible, checked on a new encoding — whether
+    the relaxation proved the infeasible subsets or the solver did."""
+    from catc.smt.labelled import LabelledModel
+
+    inst = load(folder, case)
+    d = diagnose(inst, presolve=presolve)
+    assert d.status == "unsat"
+    assert (d.relaxed > 0) is presolve  # both examples' budget cuts are within the relaxation's sight
+    core = d.cores[0]
+    model = LabelledModel(inst, d.horizon, components=d.relative_to)
+    assert model.check(core)[0] is Check.UNSAT
+    for drop in core:
+        assert model.check([label for label in core if label != drop])[0] is Check.SAT, drop
+
+
 @pytest.mark.parametrize("folder, case", list(cases("relax")))
 def test_relax_gives_the_exact_shortfall(folder, case):
     r = relax(load(folder, case))

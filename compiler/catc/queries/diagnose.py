@@ -1,9 +1,16 @@
 """diagnose: why there is no composition — an irreducible set of conflicting source constructs.
 
 An irreducible unsatisfiable subset (paper eq. diagnose) of the labelled constructs
-(:mod:`catc.smt.labelled`): the solver's core, shrunk by deletion, then checked member by
-member (dropping any one restores feasibility).  ``all_cores`` explores further cores by
-excluding a member of each core found (a hitting-set tree), bounded by count and time.
+(:mod:`catc.smt.labelled`), shrunk by deletion until dropping any one member restores
+feasibility.  ``all_cores`` explores further cores by excluding a member of each core found
+(a hitting-set tree), bounded by count and time.
+
+Most tests of a subset are settled without the solver: the relaxed reachability analysis
+(:mod:`catc.semantics.relaxed`) proves many subsets infeasible in milliseconds, so a core
+it can see is found by QuickXplain over the relaxation (Junker 2004: divide and conquer,
+O(k log n) tests for a core of k among n) and the solver is asked only what the relaxation
+cannot answer — above all that each deletion is feasible, which is what makes the core
+irreducible.  ``presolve=False`` asks the solver everything (docs/benchmarks.md compares).
 
 Diagnoses are *relative to the composition* when the problem has ``(:deployed ...)`` (or one
 is given): the components used are then fixed to exactly the deployed ones, so the core
@@ -13,7 +20,7 @@ names what stops that composition rather than the whole causal chain.
 from __future__ import annotations
 
 import time
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -24,7 +31,7 @@ from catc.present.labels import describe, excerpts, label_json, where
 from catc.present.values import timings_json
 from catc.queries.base import ExitCode, Kind, Option, Progress, Query, Result, Status, json_option, timeout_option
 from catc.semantics.horizon import horizon_of
-from catc.semantics.validate import ValidationFailure
+from catc.semantics.relaxed import refute
 from catc.smt.backend import BACKENDS, DEFAULT_BACKEND, Check
 from catc.smt.labelled import LabelledModel
 from catgrammar import limits
@@ -44,19 +51,77 @@ class Diagnosis(Result):
     total: int = 0  # labelled constraints considered
     relative_to: tuple[str, ...] | None = None
     horizon: int = 0
-    checks: int = 0
+    checks: int = 0  # solver calls
+    relaxed: int = 0  # subsets the relaxation proved infeasible without the solver
     complete: bool = True  # --all: the search ended (not cut by count or time)
     timings: dict[str, float] = field(default_factory=dict)
     reason: str | None = None  # why it stopped early: "max", "timeout", "interrupted" (or unknown)
 
 
-def _shrink(model: LabelledModel, core: list[str], deadline: float | None) -> list[str] | None:
-    """Deletion-based minimisation of an unsat core to an irreducible one."""
+class _Tests:
+    """Infeasibility tests of label subsets: the relaxation first (when on), then the solver."""
+
+    def __init__(self, model: LabelledModel, presolve: bool) -> None:
+        self.model = model
+        self.presolve = presolve
+        self.components = model.components
+        self.relaxed = 0  # subsets the relaxation refuted
+        self._known: dict[frozenset[str], bool] = {}
+
+    def refuted(self, labels: list[str]) -> bool:
+        """The relaxation proves ``labels`` infeasible (never a solver call)."""
+        if not self.presolve:
+            return False
+        key = frozenset(labels)
+        hit = self._known.get(key)
+        if hit is None:
+            limits.check_time("diagnosing")
+            hit = self._known[key] = refute(self.model.inst, key, self.components) is not None
+            self.relaxed += hit
+        return hit
+
+    def check(self, labels: list[str]) -> tuple[Check, list[str]]:
+        if self.refuted(labels):
+            return Check.UNSAT, labels
+        return self.model.check(labels, _remaining(None))
+
+    def core(self, labels: list[str]) -> tuple[Check, list[str]]:
+        """Whether ``labels`` are infeasible, with a core: QuickXplain over the relaxation
+        when it refutes them (a core irreducible for the relaxation), else the solver's."""
+        if not self.refuted(labels):
+            return self.model.check(labels, _remaining(None))
+        return Check.UNSAT, quickxplain(labels, self.refuted)
+
+
+def quickxplain(labels: list[str], refuted: Callable[[list[str]], bool]) -> list[str]:
+    """A subset of ``labels`` that ``refuted`` holds of and no member of which can be left
+    out, for a monotone ``refuted`` that holds of ``labels`` (Junker's QuickXplain)."""
+
+    def qx(background: list[str], added: bool, candidates: list[str]) -> list[str]:
+        if added and refuted(background):
+            return []
+        if len(candidates) == 1:
+            return candidates
+        half = len(candidates) // 2
+        first, second = candidates[:half], candidates[half:]
+        right = qx(background + first, True, second)
+        left = qx(background + right, bool(right), first)
+        return left + right
+
+    if not labels or refuted([]):
+        return []
+    core = qx([], False, labels)
+    return core if refuted(core) else labels  # a non-monotone corner: keep what is proven
+
+
+def _shrink(tests: _Tests, core: list[str]) -> list[str] | None:
+    """Deletion-based minimisation of an unsat core to an irreducible one: a member stays
+    only when the solver finds the core without it feasible."""
     core = list(core)
     i = 0
     while i < len(core):
         trial = core[:i] + core[i + 1 :]
-        r, smaller = model.check(trial, _remaining(deadline))
+        r, smaller = tests.check(trial)
         if r is Check.UNSAT:
             keep = set(smaller)
             core = [l for l in trial if l in keep]
@@ -65,13 +130,6 @@ def _shrink(model: LabelledModel, core: list[str], deadline: float | None) -> li
         else:
             return None
     return core
-
-
-def _irreducible(model: LabelledModel, core: list[str], deadline: float | None) -> bool:
-    r, _ = model.check(core, _remaining(deadline))
-    if r is not Check.UNSAT:
-        return False
-    return all(model.check([l for l in core if l != x], _remaining(deadline))[0] is Check.SAT for x in core)
 
 
 def _remaining(deadline: float | None) -> float | None:
@@ -91,6 +149,7 @@ def diagnose(
     timeout: float | None = None,
     progress: Progress | None = None,
     backend: str = DEFAULT_BACKEND,
+    presolve: bool = True,
 ) -> Diagnosis:
     start = time.perf_counter()
     with limits.deadline(timeout):
@@ -101,19 +160,21 @@ def diagnose(
             model = LabelledModel(inst, k, sequential=sequential, components=components, backend=backend)
             result.total = len(model.labels)
             result.timings["encode"] = time.perf_counter() - start
-            _cores(model, result, max_cores if all_cores else 1, all_cores, progress or (lambda message: None))
-            result.checks = model.checks
+            tests = _Tests(model, presolve)
+            _cores(tests, result, max_cores if all_cores else 1, all_cores, progress or (lambda message: None))
+            result.checks, result.relaxed = model.checks, tests.relaxed
         except limits.Stopped as stop:  # encoding when the time ran out
             result.complete, result.reason = False, stop.reason
     result.timings["total"] = time.perf_counter() - start
     return result
 
 
-def _cores(model: LabelledModel, result: Diagnosis, wanted: int, all_cores: bool, say: Progress) -> None:
+def _cores(tests: _Tests, result: Diagnosis, wanted: int, all_cores: bool, say: Progress) -> None:
     """Irreducible cores, up to ``wanted``: a hitting-set tree, where every further core must
     avoid one member of each core found."""
-    say(f"checking {len(model.labels)} requirements together")
-    r, core = model.check(model.labels, _remaining(None))
+    labels = tests.model.labels
+    say(f"checking {len(labels)} requirements together")
+    r, core = tests.core(labels)
     if r is not Check.UNSAT:
         result.status = DiagnoseStatus.SAT if r is Check.SAT else DiagnoseStatus.UNKNOWN
         result.reason = None if r is Check.SAT else limits.stop_reason()
@@ -130,16 +191,14 @@ def _cores(model: LabelledModel, result: Diagnosis, wanted: int, all_cores: bool
             continue
         seen.add(excluded)
         if excluded:  # the root is the whole set, checked above: its core is at hand
-            r, core = model.check([l for l in model.labels if l not in excluded], _remaining(None))
+            r, core = tests.core([l for l in labels if l not in excluded])
             if r is not Check.UNSAT:
                 continue
         say(f"{len(found)} core(s) found; shrinking a core of {len(core)} requirements")
-        mus = _shrink(model, core, None)
+        mus = _shrink(tests, core)
         if mus is None:
             result.complete, result.reason = False, limits.stop_reason()
             break
-        if not _irreducible(model, mus, None):  # pragma: no cover - _shrink guarantees it
-            raise ValidationFailure(f"the core {mus} is not irreducible")
         if sorted(mus) not in [sorted(c) for c in found]:
             found.append(mus)
         frontier.extend(excluded | {x} for x in mus)

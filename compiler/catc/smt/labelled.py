@@ -46,6 +46,7 @@ class LabelledModel:
     ):
         self.inst = inst
         self.k = horizon
+        self.components = None if components is None else tuple(components)
         self.extended = extended = _extended_horizon(inst, horizon) if horizon_label else horizon
         self.enc = enc = Encoder(inst, extended, sequential=sequential, track=True, slack=slack)
         enc.unroll(extended)
