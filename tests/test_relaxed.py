@@ -114,11 +114,15 @@ def test_a_composition_whose_member_can_never_fire_is_refuted():
 
 
 def test_parameter_bounds_count_only_when_enforced():
-    text = SHOP.replace(
-        ":precondition (and (>= budget 2000) (not (member lidar owned)))\n    :effect (and (decrease budget 2000)",
-        ":parameters ((price real :bounds (2000 3000)))\n"
-        "    :precondition (and (>= budget price) (not (member lidar owned)))\n    :effect (and (decrease budget price)",
-    ).replace("(increase budget 10)", "(increase budget 0)").replace(":numeric :sets)", ":numeric :sets :free-parameters)")
+    text = (
+        SHOP.replace(
+            ":precondition (and (>= budget 2000) (not (member lidar owned)))\n    :effect (and (decrease budget 2000)",
+            ":parameters ((price real :bounds (2000 3000)))\n"
+            "    :precondition (and (>= budget price) (not (member lidar owned)))\n    :effect (and (decrease budget price)",
+        )
+        .replace("(increase budget 10)", "(increase budget 0)")
+        .replace(":numeric :sets)", ":numeric :sets :free-parameters)")
+    )
     inst = loads({"shop.cat": text}, "shop.cat").instance
     labels = set(label_index(inst))
     assert "bound/buy-lidar/price" in labels

@@ -52,7 +52,18 @@ def test_solve_json_schema_and_nothing_else_on_stdout():
 def test_solve_json_unsat():
     res = run_catc("solve", str(NAV / "coarse.cat"), "--json")
     doc = json.loads(res.stdout)
-    assert res.exit_code == 1 and doc["status"] == "unsat" and doc["unsat"] == {"final": True, "length_bound": 1}
+    assert (
+        res.exit_code == 1
+        and doc["status"] == "unsat"
+        and doc["unsat"]
+        == {
+            "final": True,
+            "length_bound": 1,
+            "proof": "solver",  # the relaxation sees no obstacle: only the use limit of 1 step does
+            "why": None,
+            "label": None,
+        }
+    )
 
 
 def test_fresh_values_are_marked():
@@ -134,3 +145,18 @@ def test_solve_in_a_fresh_process_prints_no_progress_when_piped():
     res = run_catc_process("solve", "examples/detection/person.cat", "--json")
     assert res.exit_code == 0 and res.stderr == ""
     json.loads(res.stdout)
+
+
+def test_an_infeasibility_the_relaxation_sees_is_final_without_encoding():
+    """The SAR budget cut: the LiDAR costs 20,000, the budget is 500 and only decreases, and
+    every composition needs the LiDAR (expect.toml) — proved for every horizon, nothing encoded."""
+    sar = ROOT / "examples/search-and-rescue"
+    res = run_catc("solve", str(sar / "domain.cat"), str(sar / "budget-cut.cat"), "--json")
+    doc = json.loads(res.stdout)
+    assert res.exit_code == 1 and doc["unsat"]["proof"] == "relaxation" and doc["unsat"]["final"] is True
+    assert doc["unsat"]["label"] == "goal/1" and doc["timings"]["encode"] == 0
+    res = run_catc("solve", str(sar / "domain.cat"), str(sar / "budget-cut.cat"))
+    assert "no composition of any length" in res.stdout and "relaxed reachability" in res.stdout
+    res = run_catc("solve", str(sar / "domain.cat"), str(sar / "budget-cut.cat"), "--json", "--no-presolve")
+    doc = json.loads(res.stdout)
+    assert res.exit_code == 1 and doc["unsat"]["proof"] == "solver" and doc["timings"]["encode"] > 0

@@ -213,6 +213,17 @@ def json_option(schema: str) -> Option:
     return Option("as_json", ("--json",), Kind.FLAG, f"Print a {schema} JSON document.", default=False, use=Use.OUTPUT)
 
 
+def presolve_option() -> Option:
+    """``--no-presolve``: skip the relaxed reachability analysis (catc.semantics.relaxed)."""
+    return Option(
+        "presolve",
+        ("--no-presolve",),
+        Kind.NO_FLAG,
+        "Ask the solver everything: no relaxed reachability analysis first (it proves many "
+        "infeasible problems in milliseconds, for every horizon).",
+    )
+
+
 def diagram_option() -> Option:
     return Option(
         "diagram",

@@ -29,7 +29,18 @@ from catc.ir.labels import label_index
 from catc.present.console import Console, escape
 from catc.present.labels import describe, excerpts, label_json, where
 from catc.present.values import timings_json
-from catc.queries.base import ExitCode, Kind, Option, Progress, Query, Result, Status, json_option, timeout_option
+from catc.queries.base import (
+    ExitCode,
+    Kind,
+    Option,
+    Progress,
+    Query,
+    Result,
+    Status,
+    json_option,
+    presolve_option,
+    timeout_option,
+)
 from catc.semantics.horizon import horizon_of
 from catc.semantics.relaxed import refute
 from catc.smt.backend import BACKENDS, DEFAULT_BACKEND, Check
@@ -300,6 +311,7 @@ QUERY = Query(
             choices=tuple(name for name in BACKENDS),
             show_default=True,
         ),
+        presolve_option(),
     ),
     run=diagnose,
     to_json=diagnosis_json,

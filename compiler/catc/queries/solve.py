@@ -31,11 +31,13 @@ from catc.queries.base import (
     Status,
     diagram_option,
     json_option,
+    presolve_option,
     timeout_option,
 )
 from catc.semantics.compositions import canonical_fresh, checked, prune_plan
 from catc.semantics.horizon import horizon_of, use_bound
 from catc.semantics.plan import Plan
+from catc.semantics.relaxed import Refutation, refute
 from catc.smt.backend import BACKENDS, DEFAULT_BACKEND, Check, open_backend
 from catc.smt.encoder import Encoder
 from catc.smt.readback import read_plan
@@ -65,6 +67,7 @@ class SolveResult(Result):
         "sequential",
         "strategy",
         "backend",
+        "refutation",
     )
     status: SolveStatus
 
@@ -82,6 +85,7 @@ class SolveResult(Result):
         sequential: bool = False,  # how it was solved (echoed by catc.solve/1)
         strategy: str = "incremental",
         backend: str = DEFAULT_BACKEND,
+        refutation: Refutation | None = None,  # UNSAT proved by the relaxation (at any horizon)
     ) -> None:
         self.status = status
         self.horizon = horizon
@@ -95,6 +99,7 @@ class SolveResult(Result):
         self.sequential = sequential
         self.strategy = strategy
         self.backend = backend
+        self.refutation = refutation
 
     def __repr__(self) -> str:
         return f"SolveResult({self.status.name}, horizon={self.horizon}, plan={self.plan!r})"
@@ -115,10 +120,13 @@ def solve(
     prune: bool = True,
     backend: str = DEFAULT_BACKEND,
     phase: str = "solving",
+    presolve: bool = True,
 ) -> SolveResult:
     """The shortest composition within the horizon (``strategy="incremental"``), or any
     composition (``"single"``), on the named backend.  ``progress(message)`` is told each
-    horizon as it is tried (``"{phase}: horizon t of k"``)."""
+    horizon as it is tried (``"{phase}: horizon t of k"``).  With ``presolve`` the relaxed
+    reachability analysis (:mod:`catc.semantics.relaxed`) runs first: when it proves that no
+    composition of any length exists, that is the answer (final UNSAT) and nothing is encoded."""
     if strategy not in STRATEGIES:
         raise ValueError(f"unknown strategy {strategy!r}; expected 'incremental' or 'single'")
     start = time.perf_counter()
@@ -126,6 +134,13 @@ def solve(
         k = horizon_of(inst, horizon)
         timings = {"start": 0.0, "encode": 0.0, "solve": 0.0, "validate": 0.0}
         try:
+            proof = _presolve(inst, timings) if presolve else None
+            if proof is not None:
+                result = SolveResult(SolveStatus.UNSAT, k, final=True, length_bound=use_bound(inst), refutation=proof)
+                result.sequential, result.strategy, result.backend = sequential, strategy, backend
+                timings["total"] = time.perf_counter() - start
+                result.timings = timings
+                return result
             search = _Search(inst, k, sequential, backend, timings)
             result = search.run(range(k + 1) if strategy == "incremental" else (k,), progress, phase)
             if result.status is SolveStatus.SAT and validate_answer:
@@ -136,6 +151,13 @@ def solve(
     timings["total"] = time.perf_counter() - start
     result.timings = timings
     return result
+
+
+def _presolve(inst: ir.Instance, timings: dict[str, float]) -> Refutation | None:
+    t0 = time.perf_counter()
+    proof = refute(inst)
+    timings["presolve"] = time.perf_counter() - t0
+    return proof
 
 
 def _validated(
@@ -254,13 +276,31 @@ def solve_json(inst: ir.Instance, result: SolveResult) -> dict:
             doc["initial_state"] = state_json(result.states[0])
             doc["final_state"] = state_json(result.states[-1])
     if result.status is SolveStatus.UNSAT:
-        doc["unsat"] = {"final": result.final, "length_bound": result.length_bound}
+        proof = result.refutation
+        doc["unsat"] = {
+            "final": result.final,
+            "length_bound": result.length_bound,
+            "proof": "solver" if proof is None else "relaxation",
+            "why": None if proof is None else proof.reason,
+            "label": None if proof is None else proof.label,
+        }
     return doc
 
 
 def unsat_sentence(inst: ir.Instance, result: SolveResult) -> str:
     k = result.horizon
     head = f"no composition within {k} step{'s' if k != 1 else ''}"
+    proof = result.refutation
+    if proof is not None:
+        from catc.ir.labels import label_index  # answers only (the fast route imports no dataclasses)
+        from catc.present.labels import describe, where
+
+        info = label_index(inst).get(proof.label or "")
+        what = f" ({' '.join(describe(info).split())}, {where(info)})" if info is not None else ""
+        return (
+            f"no composition of any length: {proof.reason}{what}, by relaxed reachability "
+            "(catc diagnose names the constraints responsible)"
+        )
     if result.final:
         return (
             f"{head}; this is final: every morphism has a use limit, so no composition needs more than "
@@ -292,7 +332,9 @@ def render(console: Console, inst: ir.Instance, result: SolveResult, options: Ma
     else:
         console.print(f"{status}  the solver gave up ({result.reason}) for {where}")
     t = result.timings
-    if t:
+    if t and result.refutation is not None:
+        console.print(f"[dim]time: relaxed reachability {t.get('presolve', 0) * 1000:.0f} ms; nothing encoded[/]")
+    elif t:
         engine = "Z3" if result.backend == "z3" else result.backend
         start = f"{engine} start {t['start'] * 1000:.0f} ms, " if "start" in t else ""
         console.print(
@@ -334,6 +376,7 @@ QUERY = Query(
             choices=tuple(BACKENDS),
             show_default=True,
         ),
+        presolve_option(),
     ),
     run=solve,
     to_json=solve_json,

@@ -111,6 +111,8 @@ def _synthesize(inst: ir.Instance, mu: ir.Hole, k: int, sequential: bool, result
         solver.set_timeout(max(0.001, left))
     r = solver.check()
     result.timings["solve"] = time.perf_counter() - start
+    if r is Check.SAT and limits.expired():  # stopped (Ctrl-C) as the check ended: not read, not validated
+        r = Check.UNKNOWN
     if r is not Check.SAT:
         result.status = SynthesisStatus.UNSAT if r is Check.UNSAT else SynthesisStatus.UNKNOWN
         result.reason = None if r is Check.UNSAT else limits.stop_reason() or solver.reason_unknown()

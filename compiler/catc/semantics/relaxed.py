@@ -27,15 +27,14 @@ and tests check every refutation against the SMT encoding (tests/test_relaxed.py
 
 from __future__ import annotations
 
-from collections.abc import Collection, Iterable, Mapping
-from dataclasses import dataclass
+from collections.abc import Collection, Iterable, Iterator, Mapping
 from fractions import Fraction
 from math import ceil, floor
 from typing import TypeAlias
 
 from catc import ir
 from catc.ir import SortKind
-from catc.ir.labels import label_index
+from catgrammar import limits
 
 # ---------------------------------------------------------------- extended numbers
 
@@ -80,12 +79,35 @@ def _mul(a: Ext, b: Ext) -> Ext:
 # ---------------------------------------------------------------- abstract values
 
 
-@dataclass(frozen=True)
-class Interval:
+class _Record:
+    """Immutable value records, compared by kind and fields (no dataclasses: ``catc solve``'s
+    fast route imports neither them nor click, tests/test_entry.py)."""
+
+    __slots__ = ()
+    _fields: tuple[str, ...] = ()
+
+    def _key(self) -> tuple[object, ...]:
+        return (type(self), *(getattr(self, f) for f in self._fields))
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, _Record) and self._key() == other._key()
+
+    def __hash__(self) -> int:
+        return hash(self._key())
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({', '.join(f'{f}={getattr(self, f)!r}' for f in self._fields)})"
+
+
+class Interval(_Record):
     """The closed interval [lo, hi] of a number (None = unbounded on that side)."""
 
-    lo: Bound = None
-    hi: Bound = None
+    __slots__ = ("lo", "hi")
+    _fields = ("lo", "hi")
+
+    def __init__(self, lo: Bound = None, hi: Bound = None) -> None:
+        self.lo = lo
+        self.hi = hi
 
     @property
     def empty(self) -> bool:
@@ -124,11 +146,14 @@ class Interval:
         return Interval(lo if isinstance(lo, Fraction) else None, hi if isinstance(hi, Fraction) else None)
 
 
-@dataclass(frozen=True)
-class Finite:
+class Finite(_Record):
     """The possible values of a Boolean or a symbol; ``values`` None = any value."""
 
-    values: frozenset[object] | None
+    __slots__ = ("values",)
+    _fields = ("values",)
+
+    def __init__(self, values: frozenset[object] | None) -> None:
+        self.values = values
 
     def join(self, other: Finite) -> Finite:
         if self.values is None or other.values is None:
@@ -136,12 +161,15 @@ class Finite:
         return Finite(self.values | other.values)
 
 
-@dataclass(frozen=True)
-class SetValue:
+class SetValue(_Record):
     """A set: the elements it may hold (None = any) and those it surely holds."""
 
-    may: frozenset[object] | None
-    must: frozenset[object]
+    __slots__ = ("may", "must")
+    _fields = ("may", "must")
+
+    def __init__(self, may: frozenset[object] | None, must: frozenset[object]) -> None:
+        self.may = may
+        self.must = must
 
     def join(self, other: SetValue) -> SetValue:
         may = None if self.may is None or other.may is None else self.may | other.may
@@ -307,9 +335,7 @@ def _inv(b: Bound) -> Ext:
 
 
 def _times(a: Interval, b: Interval) -> Interval:
-    return Interval.hull(
-        _mul(x, y) for x in (_ext_lo(a.lo), _ext_hi(a.hi)) for y in (_ext_lo(b.lo), _ext_hi(b.hi))
-    )
+    return Interval.hull(_mul(x, y) for x in (_ext_lo(a.lo), _ext_hi(a.hi)) for y in (_ext_lo(b.lo), _ext_hi(b.hi)))
 
 
 def _compare(op: ir.CmpOp, a: Value, b: Value) -> Value:
@@ -372,12 +398,15 @@ def _member(element: Value, s: Value) -> Value:
 # ---------------------------------------------------------------- the fixpoint
 
 
-@dataclass(frozen=True)
-class Refutation:
+class Refutation(_Record):
     """Why no composition exists: a sentence, and the label of the construct that cannot hold."""
 
-    reason: str
-    label: str | None = None
+    __slots__ = ("reason", "label")
+    _fields = ("reason", "label")
+
+    def __init__(self, reason: str, label: str | None = None) -> None:
+        self.reason = reason
+        self.label = label
 
 
 #: After this many changes of one interval, its growing sides are widened to infinity.
@@ -390,9 +419,7 @@ class Relaxation:
     ``components`` (a composition, as ``catc diagnose --relative-to``): only these morphisms
     may fire, and each must fire."""
 
-    def __init__(
-        self, inst: ir.Instance, enforced: Collection[str], components: Collection[str] | None = None
-    ) -> None:
+    def __init__(self, inst: ir.Instance, enforced: Collection[str], components: Collection[str] | None = None) -> None:
         self.inst = inst
         self.on = enforced
         self.components = None if components is None else frozenset(components)
@@ -498,6 +525,7 @@ class Relaxation:
             return stop
         changed = True
         while changed:
+            limits.check_time("relaxed reachability")
             changed = False
             for m in self.inst.morphisms.values():
                 params = self._may_fire(m)
@@ -514,7 +542,7 @@ class Relaxation:
         ev = _Eval(self.state, {})
         for lit in self.inst.problem.goal:
             if lit.label in self.on and not can_hold(ev(lit.expr)):
-                return Refutation("the goal can never hold: no morphism can reach it", lit.label)
+                return Refutation("the goal can never hold", lit.label)
         for name in sorted(self.components or ()):
             if name in self.inst.morphisms and name not in self.fired:
                 return Refutation(f"morphism '{name}' of the composition can never fire", None)
@@ -545,5 +573,17 @@ def refute(
 ) -> Refutation | None:
     """A reason no composition of any length satisfies the ``enforced`` labels (default: all
     of them), or None when the relaxation cannot tell."""
-    labels = set(label_index(inst)) if enforced is None else enforced
-    return Relaxation(inst, labels, components).refutation
+    return Relaxation(inst, _Everything() if enforced is None else enforced, components).refutation
+
+
+class _Everything(Collection[str]):
+    """Every label (without listing them: the labels' index is for presenting answers)."""
+
+    def __contains__(self, label: object) -> bool:
+        return True
+
+    def __iter__(self) -> Iterator[str]:  # pragma: no cover - never iterated
+        raise TypeError("every label: not enumerable")
+
+    def __len__(self) -> int:  # pragma: no cover - never measured
+        raise TypeError("every label: not countable")
