@@ -27,6 +27,7 @@ from catc.semantics.horizon import horizon_of
 from catc.semantics.plan import Plan, value_to_json
 from catc.semantics.validate import ValidationFailure
 from catc.smt.backend import Check
+from catc.smt.counting import slack_lower_bound
 from catc.smt.labelled import LabelledModel
 from catc.smt.readback import read_plan
 from catc.smt.script import SmtSort, Symbol, and_text, real_literal
@@ -139,13 +140,16 @@ def relax(
     relative_to: Iterable[str] | None = None,
     timeout: float | None = None,
     progress: Progress | None = None,
+    counting: bool = True,
 ) -> RelaxResult:
+    """``counting=False`` proves a restoration least by search alone, without the lower
+    bound of :mod:`catc.smt.counting` (for tests and benchmarks)."""
     start = time.perf_counter()
     with limits.deadline(timeout):
         k = horizon_of(inst, horizon)
         result = RelaxResult(RelaxStatus.UNKNOWN, horizon=k)
         try:
-            return _relax(inst, k, sequential, only, weights, discrete, relative_to, progress, result, start)
+            return _relax(inst, k, sequential, only, weights, discrete, relative_to, progress, result, start, counting)
         except limits.Stopped as stop:  # encoding or validating when the time ran out
             result.status, result.reason, result.plan = RelaxStatus.UNKNOWN, stop.reason, None
             return _finish(result, start)
@@ -162,6 +166,7 @@ def _relax(
     progress: Progress | None,
     result: RelaxResult,
     start: float,
+    counting: bool = True,
 ) -> RelaxResult:
     components = (tuple(relative_to) or None) if relative_to is not None else (inst.problem.deployed or None)
     say = progress or (lambda message: None)
@@ -170,7 +175,7 @@ def _relax(
         say("looking for the fewest requirements to drop")
         return _finish(_relax_discrete(inst, k, sequential, components, result, start), start)
     result.eligible = eligible_requirements(inst, only, weights)
-    search = _SlackSearch(inst, k, sequential, components, result.eligible)
+    search = _SlackSearch(inst, k, sequential, components, result.eligible, counting)
     result.timings["encode"] = time.perf_counter() - start
     say("looking for a restoration")
     best, result.proven, exhausted = search.run(deadline, say)
@@ -202,7 +207,13 @@ class _SlackSearch:
     found).  Both share one term store: a skeleton found by one is asserted in the other."""
 
     def __init__(
-        self, inst: ir.Instance, k: int, sequential: bool, components: tuple[str, ...] | None, reqs: list[Requirement]
+        self,
+        inst: ir.Instance,
+        k: int,
+        sequential: bool,
+        components: tuple[str, ...] | None,
+        reqs: list[Requirement],
+        counting: bool = True,
     ) -> None:
         slack: dict[str, str] = {}
         self.slack_vars: list[tuple[Requirement, list[Symbol]]] = []
@@ -250,6 +261,13 @@ class _SlackSearch:
         lp.minimize(lp.intern(f"(+ 0 {' '.join(noninit)})"))
         self.feas_cost = self.feas.backend.intern(cost)
         self.acts = [q for step in self.feas.enc.act for q in step.values()]
+        # a lower bound from counting activations (catc.smt.counting): a restoration that
+        # reaches it is least without refuting every cheaper ordering
+        self.lower: Fraction | bool | None = None
+        if counting:
+            self.lower = slack_lower_bound(
+                inst, [(r.label, r.kind, r.weight) for r in reqs], components, timeout=_remaining(limits.deadline_at())
+            )
 
     def run(self, deadline: float | None, say: Callable[[str], None]) -> tuple[_Found | None, bool, bool]:
         """The best relaxation found, whether it is proven least, and whether the search space
@@ -258,6 +276,8 @@ class _SlackSearch:
         reaches that total or goes below it."""
         feas = self.feas.backend
         best: _Found | None = None
+        if self.lower is False:  # not even the counting relaxation can be restored
+            return None, False, True
         while True:
             feas.set_timeout(_remaining(deadline))
             r = feas.check()
@@ -272,6 +292,12 @@ class _SlackSearch:
             if best is None or found.infimum < best.infimum or (found.infimum == best.infimum and found.attained):
                 best = found
             if best.attained and best.infimum == 0:
+                return best, True, False
+            if best.attained and _is_bound(self.lower) and best.infimum <= self.lower:
+                say(
+                    f"best restoration so far: weighted total {best.infimum}; least: it meets the lower bound "
+                    "from counting activations"
+                )
                 return best, True, False
             if best.attained:
                 say(f"best restoration so far: weighted total {best.infimum}; is there a cheaper one?")
@@ -307,6 +333,10 @@ class _SlackSearch:
         found = _Found(cost, bound.value, bound.exact, values, read_plan(lp, self.lp.enc, self.lp.extended))
         lp.pop()
         return found
+
+
+def _is_bound(lower: Fraction | bool | None) -> TypeGuard[Fraction]:
+    return isinstance(lower, Fraction)
 
 
 @dataclass

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Collection
+
 from catc import ir
 from catgrammar import limits
 
@@ -9,11 +11,13 @@ from catgrammar import limits
 DEFAULT_HORIZON = 10
 
 
-def use_bound(inst: ir.Instance) -> int | None:
-    """Σ uses over all morphisms, or None when some morphism is unlimited.  No composition
-    has more non-idle steps than this."""
+def use_bound(inst: ir.Instance, components: Collection[str] | None = None) -> int | None:
+    """Σ uses over all morphisms (over ``components`` only, when the composition is fixed to
+    them), or None when one of them is unlimited.  No composition has more non-idle steps."""
     total = 0
     for m in inst.morphisms.values():
+        if components is not None and m.name not in components:
+            continue
         if m.uses is None:
             return None
         total += m.uses

@@ -47,7 +47,7 @@ class LabelledModel:
         self.inst = inst
         self.k = horizon
         self.components = None if components is None else tuple(components)
-        self.extended = extended = _extended_horizon(inst, horizon) if horizon_label else horizon
+        self.extended = extended = _extended_horizon(inst, horizon, components) if horizon_label else horizon
         self.enc = enc = Encoder(inst, extended, sequential=sequential, track=True, slack=slack)
         enc.unroll(extended)
         for t in range(horizon, extended):
@@ -100,10 +100,11 @@ class LabelledModel:
             self.backend.assert_term(self.indicator[label])
 
 
-def _extended_horizon(inst: ir.Instance, horizon: int) -> int:
+def _extended_horizon(inst: ir.Instance, horizon: int, components: Iterable[str] | None = None) -> int:
     """Past the horizon: to the use-limit bound when it is larger, or to twice the horizon
-    when some morphism is unlimited."""
-    bound = use_bound(inst)
+    when some morphism is unlimited.  Relative to a composition only its components fire, so
+    only their use limits count."""
+    bound = use_bound(inst, None if components is None else frozenset(components))
     if bound is None:
         return max(2 * horizon, horizon)
     return max(bound, horizon)
