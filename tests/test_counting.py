@@ -78,3 +78,44 @@ def test_the_bound_never_exceeds_the_least_relaxation_search_proves(model, data)
     assert lower is not False, model.text  # a restoration exists: the relaxation is feasible
     if lower is not None:
         assert lower <= (r.cost if r.relaxations else 0), model.text
+
+
+# ---------------------------------------------------------------- optimality proofs
+
+
+def test_stability_first_on_sar_is_proven_by_counting():
+    """By hand: churn 0 keeps exactly the 17 deployed components, which spend 20,360 USD of
+    25,000 (cheaper-camera.cat), so 4,640 is the most budget left at churn 0."""
+    from catc import ir
+    from catc.smt.counting import better_refuted
+
+    inst = load(SAR / "cheaper-camera.cat", SAR / "domain.cat").instance
+    budget = inst.problem.metric.objectives[0]
+    churn = ir.Objective(ir.Sense.MINIMIZE, ir.TotalChurn())
+    assert better_refuted(inst, [churn, budget], [Fraction(0), Fraction(4640)])
+    assert not better_refuted(inst, [churn, budget], [Fraction(0), Fraction(4639)])
+
+
+@settings(max_examples=int(os.environ.get("CATC_PROPERTY_EXAMPLES", "25")) * 2, **SETTINGS)
+@given(model=models(max_morphisms=3, max_horizon=3), data=st.data())
+def test_counting_never_refutes_a_value_some_composition_beats(model, data):
+    """A composition's final value of a numeric resource can never be proven unbeatable by a
+    worse value: the proof must leave room for every composition that exists."""
+    from catc import ir
+    from catc.queries.solve import SolveStatus, solve
+    from catc.smt.counting import better_refuted
+
+    inst = loads({"gen.cat": model.text}, "gen.cat").instance
+    numeric = [r for r in inst.resources.values() if r.sort.is_numeric]
+    sol = solve(inst)
+    if sol.status is not SolveStatus.SAT or not numeric:
+        return
+    r = data.draw(st.sampled_from(numeric), label="resource")
+    final = sol.states[-1][r.name]
+    ref = ir.ResourceRef(r.name, r.sort)
+    half = Fraction(1, 2)
+    assert not better_refuted(inst, [ir.Objective(ir.Sense.MAXIMIZE, ref)], [final - half]), model.text
+    assert not better_refuted(inst, [ir.Objective(ir.Sense.MINIMIZE, ref)], [final + half]), model.text
+    churn = ir.Objective(ir.Sense.MINIMIZE, ir.TotalChurn())
+    used = sum((inst.morphisms[m].churn for m in sol.plan.components), Fraction(0))  # nothing is deployed
+    assert not better_refuted(inst, [churn], [used + half]), model.text

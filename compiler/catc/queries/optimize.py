@@ -42,6 +42,7 @@ from catc.semantics.horizon import horizon_of
 from catc.semantics.plan import Plan, value_to_json
 from catc.semantics.validate import ValidationFailure, evaluate, objective_value, validate
 from catc.smt.backend import DEFAULT_BACKEND, Backend, Bound, Check, open_backend
+from catc.smt.counting import better_refuted
 from catc.smt.encoder import Encoder
 from catc.smt.readback import read_plan
 from catc.smt.script import real_literal
@@ -387,6 +388,11 @@ def _better_exists(
     for ``unsat`` even if the configuration treated integer variables as reals, since the
     relaxed formula is implied by the exact one: unsat there implies unsat here."""
     t0 = time.perf_counter()
+    if _expired(deadline):  # stopped (Ctrl-C or the time limit): no new proof is started
+        return Check.UNKNOWN
+    if not softs and better_refuted(inst, objectives, values, timeout=_left(deadline)):
+        timings["solve"] += time.perf_counter() - t0  # proved by counting activations (catc.smt.counting)
+        return Check.UNSAT
     enc, solver = _encode_whole(inst, k, sequential, optimize=False, logic="QF_LRA")
     terms = _objective_terms(enc, solver, objectives, softs, k)
     improvements: list[Term] = []
@@ -401,6 +407,11 @@ def _better_exists(
     r = solver.check()  # UNKNOWN also when the configuration refuses the formula: no proof from it
     timings["solve"] += time.perf_counter() - t1
     return r
+
+
+def _left(deadline: float | None) -> float | None:
+    left = None if deadline is None else deadline - time.perf_counter()
+    return None if left is None else max(0.001, left)
 
 
 def _optimize_at(

@@ -66,6 +66,7 @@ class _Counting:
         self.decls: list[Symbol] = []
         self.asserts: list[str] = []
         self.slack: dict[str, str] = {}  # label → slack term (≥ 0 weakening, or a signed move)
+        self.final: dict[str, str] = {}  # resource → a variable for its final value (when modelled)
         self.n: dict[str, Symbol] = {}
         for label, kind, _ in reqs:
             if kind == "initial value":
@@ -83,6 +84,55 @@ class _Counting:
         for r in inst.resources.values():
             if r.sort.is_numeric and r.name not in assigned and r.name in inst.problem.init:
                 self._resource(r)
+
+    # -- facts: a Boolean or a membership that does not hold at first needs an achiever
+    def causal_constraints(self) -> None:
+        """A morphism that fires (or the goal) needing a fact that is false at first needs
+        some morphism that may make it true to fire too (delete relaxation, counted)."""
+        for m in self.inst.morphisms.values():
+            for lit in m.pre:
+                self._needs_fact(lit.expr, f"(>= {self.n[m.name]} 1)")
+        for lit in self.inst.problem.goal:
+            self._needs_fact(lit.expr, "true")
+
+    def _needs_fact(self, e: ir.Expr, when: str) -> None:
+        fact = _fact(e)
+        if fact is None:
+            return
+        resource, element, value = fact
+        init = self.inst.problem.init.get(resource)
+        if init is None:
+            return
+        start = _Eval({}, {})(init.value)
+        holds = _holds(start, element, value)
+        if holds is not False:
+            return
+        achievers = [
+            self.n[m.name]
+            for m in self.inst.morphisms.values()
+            if any(_may_achieve(ef, element, value) for ef in m.effects if ef.resource == resource)
+        ]
+        total = f"(+ 0 {' '.join(achievers)})" if achievers else "0"
+        self.asserts.append(f"(=> {when} (>= {total} 1))")
+
+    def objective(self, term: ir.Expr) -> str | None:
+        """The objective's value over the counts (bounded by a fresh variable for a final
+        resource value), or None when the counting relaxation does not model it."""
+        if isinstance(term, ir.TotalChurn):
+            deployed = set(self.inst.problem.deployed)
+            parts = [
+                f"(ite {'(= ' if m.name in deployed else '(>= '}{self.n[m.name]} {'0' if m.name in deployed else '1'}) "
+                f"{real_literal(m.churn)} 0.0)"
+                for m in self.inst.morphisms.values()
+            ]
+            return f"(+ 0.0 {' '.join(parts)})"
+        if isinstance(term, ir.Uses) and term.morphism in self.n:
+            return f"(to_real {self.n[term.morphism]})"
+        if isinstance(term, ir.ResourceRef):
+            return self.final.get(term.name)
+        if isinstance(term, ir.Const) and isinstance(term.value, Fraction):
+            return real_literal(term.value)
+        return None
 
     def _var(self, name: str, sort: SmtSort = SmtSort.REAL) -> Symbol:
         v = Symbol(name, sort)
@@ -133,6 +183,13 @@ class _Counting:
         hi_final = self._sum(start, [(m, d.hi) for m, d in deltas.items()])
         highest = self._sum(start, [(m, None if d.hi is None else max(d.hi, Fraction(0))) for m, d in deltas.items()])
         lowest = self._sum(start, [(m, None if d.lo is None else min(d.lo, Fraction(0))) for m, d in deltas.items()])
+        if lo_final is not None and hi_final is not None:
+            f = Symbol(f"final.{r.name}", SmtSort.REAL)
+            self.decls.append(f)
+            self.asserts += [f"(<= {lo_final} {f})", f"(<= {f} {hi_final})"]
+            self.asserts += [f"(>= {f} {real_literal(b)})" for b in [r.lower] if b is not None]
+            self.asserts += [f"(<= {f} {real_literal(b)})" for b in [r.upper] if b is not None]
+            self.final[r.name] = f
         if r.lower is not None and hi_final is not None:
             self.asserts.append(f"(>= {hi_final} {real_literal(r.lower)})")
         if r.upper is not None and lo_final is not None:
@@ -200,6 +257,49 @@ class _Counting:
         return None if low is None else f"(<= {low} (+ {c} {delta}))"  # r ≤ c + δ
 
 
+def _fact(e: ir.Expr) -> tuple[str, str | None, bool] | None:
+    """(resource, element or None for a Boolean, wanted truth) of a plain fact literal."""
+    positive = True
+    if isinstance(e, ir.BoolOp) and e.op is ir.BoolOpKind.NOT:
+        e, positive = e.args[0], False
+    if isinstance(e, ir.ResourceRef) and e.sort.kind is ir.SortKind.BOOL:
+        return e.name, None, positive
+    member = isinstance(e, ir.Member) and isinstance(e.set, ir.ResourceRef) and isinstance(e.element, ir.Const)
+    if member and isinstance(e.element.value, str):  # type: ignore[union-attr]
+        return e.set.name, e.element.value, positive  # type: ignore[union-attr]
+    return None
+
+
+def _holds(start: Value, element: str | None, value: bool) -> bool | None:
+    """Whether the fact holds in the initial value (None: unknown)."""
+    from catc.semantics.relaxed import Finite, SetValue
+
+    if element is None:
+        if isinstance(start, Finite) and start.values is not None and len(start.values) == 1:
+            return next(iter(start.values)) is value
+        return None
+    if isinstance(start, SetValue) and start.may is not None:
+        inside = element in start.must
+        if not inside and element not in start.may:
+            return value is False
+        if inside:
+            return value is True
+    return None
+
+
+def _may_achieve(e: ir.Effect, element: str | None, value: bool) -> bool:
+    """Whether effect ``e`` (on the fact's resource) may make the fact hold."""
+    v = e.value
+    if element is None:  # a Boolean: an assignment of anything but the other constant
+        return e.kind is ir.EffectKind.ASSIGN and not (isinstance(v, ir.Const) and v.value is (not value))
+    if e.kind is ir.EffectKind.ASSIGN:
+        return True
+    adds = e.kind is ir.EffectKind.ADD
+    if adds != value:
+        return False
+    return not (isinstance(v, ir.Const) and isinstance(v.value, str) and v.value != element)
+
+
 _MIRROR = {ir.CmpOp.GE: ir.CmpOp.LE, ir.CmpOp.GT: ir.CmpOp.LT, ir.CmpOp.LE: ir.CmpOp.GE, ir.CmpOp.LT: ir.CmpOp.GT}
 
 
@@ -208,3 +308,31 @@ def _param(m: ir.Morphism, p: ir.Param) -> Value:
     if isinstance(v, Interval) and (p.fixed or m.uses != 0):
         return v.meet(p.lower, p.upper)
     return v
+
+
+# ---------------------------------------------------------------- objectives
+
+
+def better_refuted(
+    inst: ir.Instance, objectives: list[ir.Objective], values: list[Fraction], timeout: float | None = None
+) -> bool:
+    """True when the counting relaxation proves that no composition (of any length) is
+    lexicographically better than ``values``; False when it cannot (an objective it does not
+    model, or a better count vector exists).  A proof of optimality for ``catc optimize`` and
+    ``catc recompose`` that needs no refutation over every ordering."""
+    counting = _Counting(inst, [], None)
+    counting.causal_constraints()
+    terms = [counting.objective(o.term) for o in objectives]
+    if any(t is None for t in terms):
+        return False
+    better: list[str] = []
+    ties: list[str] = []
+    for term, obj, v in zip(terms, objectives, values, strict=True):
+        op = "<" if obj.sense is ir.Sense.MINIMIZE else ">"
+        better.append(f"(and {' '.join(ties)} ({op} {term} {real_literal(v)}))")
+        ties.append(f"(= {term} {real_literal(v)})")
+    counting.asserts.append(f"(or {' '.join(better)})")
+    solver = open_backend(DEFAULT_BACKEND)
+    solver.add(counting.decls, [(None, a) for a in counting.asserts])
+    solver.set_timeout(timeout)
+    return solver.check() is Check.UNSAT
