@@ -485,6 +485,42 @@ def _atheris_version() -> str:
         return "not installed"
 
 
+def replay_solve(state: Path, timeout: float, jobs: int) -> int:
+    """``catc solve --timeout`` on every corpus input, each a fresh uninstrumented process, ``jobs``
+    at a time: a table of exit codes, the slowest walls, and the inputs over ``timeout + 1`` s."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    files = sorted(p for p in (state / "corpus").iterdir() if p.is_file())
+
+    def one(path: Path) -> tuple[float, int, Path]:
+        with tempfile.TemporaryDirectory() as tmp:
+            cat = Path(tmp) / "input.cat"
+            cat.write_bytes(path.read_bytes())
+            start = time.perf_counter()
+            proc = subprocess.run(
+                [sys.executable, "-m", "catc", "solve", str(cat), "--timeout", str(timeout)],
+                capture_output=True,
+                timeout=timeout * 20 + 60,
+            )
+            return time.perf_counter() - start, proc.returncode, path
+
+    with ThreadPoolExecutor(jobs) as pool:
+        results = list(pool.map(one, files))
+    codes: dict[int, int] = {}
+    for _, code, _ in results:
+        codes[code] = codes.get(code, 0) + 1
+    slow = [r for r in results if r[0] > timeout + 1]
+    walls = sorted(r[0] for r in results)
+    print(f"`python benchmarks/fuzz.py --replay-solve {timeout:g} --jobs {jobs} --state DIR`: {len(files):,} inputs\n")
+    print("| exit code | inputs |\n|---:|---:|")
+    for code in sorted(codes):
+        print(f"| {code} | {codes[code]:,} |")
+    print(f"\nwall: median {walls[len(walls) // 2]:.2f} s, slowest {walls[-1]:.2f} s; over {timeout + 1:g} s: {len(slow)}")
+    for wall, code, path in sorted(slow, reverse=True)[:20]:
+        print(f"- {path.name}: {wall:.2f} s (exit {code})")
+    return 1 if slow or 70 in codes else 0
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--inputs", type=int, default=100_000, help="stop after this many inputs")
@@ -501,9 +537,18 @@ def main() -> None:
         action="store_true",
         help="exit 0 when every finding is in a class issue 15 hands to another branch (labelled in the summary)",
     )
+    ap.add_argument(
+        "--replay-solve",
+        type=float,
+        metavar="SECONDS",
+        help="run `catc solve --timeout SECONDS` as a process on every input of --state's corpus and "
+        "report the slowest (issue 15's bar: within SECONDS + 1)",
+    )
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("libfuzzer", nargs="*", help=argparse.SUPPRESS)
     args = ap.parse_args()
+    if args.replay_solve is not None:
+        sys.exit(replay_solve(Path(args.state), args.replay_solve, max(1, args.jobs)))
     if args.worker:
         worker(Path(args.state), args.timeout, args.libfuzzer)
         return
