@@ -266,6 +266,12 @@ def plot(rows: list[tuple[str, int, int, int, dict]], tools: list[str], path: Pa
                 ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", label=t)
         ax.set_xscale("log")
         ax.set_yscale("log")
+        from matplotlib.ticker import NullFormatter, ScalarFormatter
+
+        sizes = sorted({r[1] for r in rows if r[0] == variant})
+        ax.set_xticks(sizes)
+        ax.xaxis.set_major_formatter(ScalarFormatter())
+        ax.xaxis.set_minor_formatter(NullFormatter())
         ax.set_xlabel("components n")
         ax.set_ylabel("seconds")
         ax.set_title(f"{variant} variant, chain depth {depth}")

@@ -515,7 +515,9 @@ def replay_solve(state: Path, timeout: float, jobs: int) -> int:
     print("| exit code | inputs |\n|---:|---:|")
     for code in sorted(codes):
         print(f"| {code} | {codes[code]:,} |")
-    print(f"\nwall: median {walls[len(walls) // 2]:.2f} s, slowest {walls[-1]:.2f} s; over {timeout + 1:g} s: {len(slow)}")
+    print(
+        f"\nwall: median {walls[len(walls) // 2]:.2f} s, slowest {walls[-1]:.2f} s; over {timeout + 1:g} s: {len(slow)}"
+    )
     for wall, code, path in sorted(slow, reverse=True)[:20]:
         print(f"- {path.name}: {wall:.2f} s (exit {code})")
     return 1 if slow or 70 in codes else 0

@@ -110,10 +110,11 @@ def in_process(runs: int, timeout: float) -> None:
 
 def against_enhsp(runs: int) -> None:
     from catc.api import load
+    from catc.bench.problems import GRID_SAR
     from catc.targets.enhsp import run_enhsp
     from catc.targets.pddl import export_pddl
 
-    export = export_pddl(load(SAR / "budget-cut.cat", SAR / "domain.cat").instance)
+    export = export_pddl(load(SAR / "budget-cut.cat", SAR / "domain.cat").instance, grid=GRID_SAR)
     with tempfile.TemporaryDirectory() as tmp:
         dom, prob = Path(tmp) / "domain.pddl", Path(tmp) / "problem.pddl"
         dom.write_text(export.domain)
@@ -129,6 +130,7 @@ def against_enhsp(runs: int) -> None:
             theirs.append(res.wall)
             answer = res.status
     a, b = statistics.median(ours), statistics.median(theirs)
+    print(f"ENHSP on the PDDL export with catc bench's grid ({', '.join(f'{k}={v}' for k, v in GRID_SAR.items())}).\n")
     print("| budget cut, UNSAT proof (wall, process) | catc solve (s) | ENHSP sat-hadd (s) | ratio |")
     print("|---|---:|---:|---:|")
     print(f"| search-and-rescue/budget-cut.cat | {a:.3f} | {b:.3f} ({answer}) | {a / b:.2f}× |")

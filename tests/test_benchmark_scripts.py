@@ -58,3 +58,32 @@ def test_runtime_bench_runs():
                            ("IV-approved", "recompose"), ("lidar-failed", "stuck")]  # fmt: skip
     # a kept composition costs no solver call
     assert re.search(r"^\| keep \| \d+ \| 0 \|", out, re.M)
+
+
+def test_catalogs_bench_runs_and_checks_its_answers():
+    """benchmarks/catalogs.py exits non-zero on any answer other than the hand-derived core
+    and relaxation of each variant (its catalog() docstring)."""
+    out = run("benchmarks/catalogs.py", "--quick", "--no-enhsp")
+    rows = re.findall(r"^\| (price|ram) \| (\d+) \| 3 \|", out, re.M)
+    assert sorted(rows) == [("price", "12"), ("price", "25"), ("ram", "12"), ("ram", "25")]
+    assert "Fitted exponent" in out
+
+
+def test_the_catalogs_cores_are_what_their_construction_says():
+    """The generator's cores by construction, checked against the solver: the core is
+    infeasible and dropping any member is feasible (n = 12, both variants)."""
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from catalogs import catalog
+
+    from catc.api import loads
+    from catc.smt.backend import Check
+    from catc.smt.labelled import LabelledModel
+
+    for variant in ("price", "ram"):
+        text, expect = catalog(12, 3, variant)
+        inst = loads({"c.cat": text}, "c.cat").instance
+        model = LabelledModel(inst, inst.problem.horizon, components=inst.problem.deployed)
+        assert model.check(expect["core"])[0] is Check.UNSAT
+        for drop in expect["core"]:
+            assert model.check([x for x in expect["core"] if x != drop])[0] is Check.SAT, (variant, drop)
+        assert model.check(model.labels)[0] is Check.UNSAT

@@ -260,3 +260,25 @@ def test_relax_prefers_a_restoration_that_reaches_the_least_total(tmp_path):
     r = relax(apply_view(load_instance(None, str(path), Diagnostics())[1], None), only=["init/"])
     assert r.status == "relaxed" and r.proven and r.attained and r.cost == 1 == r.infimum
     assert {x.label: x.delta for x in r.relaxations} == {"init/budget": 1}
+
+
+@pytest.mark.parametrize("timeout", ["0.05", "0.3", "1"])
+def test_diagnose_at_its_deadline_answers_unknown_never_an_internal_error(tmp_path, timeout):
+    """Issue 16: at n=50, d=6 diagnose ran into its timeout and exited 70 (the irreducibility
+    re-check took the deadline's unknowns for a failed validation).  Now: a core (exit 0) or
+    unknown (exit 3), whatever the deadline."""
+    import sys
+
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from catalogs import catalog
+
+    text, expect = catalog(200, 12, "ram")
+    path = tmp_path / "catalog.cat"
+    path.write_text(text)
+    res = run_catc("diagnose", str(path), "--timeout", timeout, "--json")
+    assert res.exit_code in (0, 3), res.output
+    doc = json.loads(res.stdout)
+    if res.exit_code == 0:
+        assert sorted(label["label"] for label in doc["cores"][0]) == expect["core"]
+    else:
+        assert doc["status"] == "unknown" and doc["reason"] == "timeout"
