@@ -195,3 +195,23 @@ def test_every_refutation_is_unsat_for_the_solver(model, data):
     lm = LabelledModel(inst, k, components=components)
     r, _ = lm.check([label for label in lm.labels if label in enforced])
     assert r is Check.UNSAT, (why, sorted(enforced), components, model.text)
+
+
+@settings(max_examples=int(os.environ.get("CATC_PROPERTY_EXAMPLES", "25")) * 2, **SETTINGS)
+@given(model=models(), data=st.data())
+def test_every_witness_is_feasible_for_the_solver(model, data):
+    """Whatever subset of labels (and composition) a witness is accepted for, the labelled
+    SMT encoding finds it feasible too (catc.semantics.witness)."""
+    from catc.semantics.witness import witnessed
+
+    inst = loads({"gen.cat": model.text}, "gen.cat").instance
+    k = max(inst.problem.horizon or 0, 1)
+    components = None
+    if data.draw(st.booleans(), label="relative"):
+        components = data.draw(st.sets(st.sampled_from(sorted(inst.morphisms)), min_size=1), label="components")
+    lm = LabelledModel(inst, k, components=components)
+    enforced = data.draw(st.sets(st.sampled_from(lm.labels)) if lm.labels else st.just(set()), label="enforced")
+    if not witnessed(inst, frozenset(enforced), components, k, lm.extended):
+        return
+    r, _ = lm.check(sorted(enforced))
+    assert r is Check.SAT, (sorted(enforced), components, model.text)

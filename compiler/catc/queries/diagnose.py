@@ -43,6 +43,7 @@ from catc.queries.base import (
 )
 from catc.semantics.horizon import horizon_of
 from catc.semantics.relaxed import refute
+from catc.semantics.witness import witnessed
 from catc.smt.backend import BACKENDS, DEFAULT_BACKEND, Check
 from catc.smt.labelled import LabelledModel
 from catgrammar import limits
@@ -64,6 +65,7 @@ class Diagnosis(Result):
     horizon: int = 0
     checks: int = 0  # solver calls
     relaxed: int = 0  # subsets the relaxation proved infeasible without the solver
+    witnessed: int = 0  # subsets shown feasible by a composition the validator accepted
     complete: bool = True  # --all: the search ended (not cut by count or time)
     timings: dict[str, float] = field(default_factory=dict)
     reason: str | None = None  # why it stopped early: "max", "timeout", "interrupted" (or unknown)
@@ -77,6 +79,7 @@ class _Tests:
         self.presolve = presolve
         self.components = model.components
         self.relaxed = 0  # subsets the relaxation refuted
+        self.witnessed = 0  # subsets a composition the validator accepted showed feasible
         self._known: dict[frozenset[str], bool] = {}
 
     def refuted(self, labels: list[str]) -> bool:
@@ -94,7 +97,17 @@ class _Tests:
     def check(self, labels: list[str]) -> tuple[Check, list[str]]:
         if self.refuted(labels):
             return Check.UNSAT, labels
+        if self.presolve and self._witnessed(labels):
+            return Check.SAT, []
         return self.model.check(labels, _remaining(None))
+
+    def _witnessed(self, labels: list[str]) -> bool:
+        """A composition satisfying exactly ``labels``, accepted by the validator (no solver)."""
+        limits.check_time("diagnosing")
+        model = self.model
+        found = witnessed(model.inst, frozenset(labels), self.components, model.k, model.extended)
+        self.witnessed += found
+        return found
 
     def core(self, labels: list[str]) -> tuple[Check, list[str]]:
         """Whether ``labels`` are infeasible, with a core: QuickXplain over the relaxation
@@ -173,7 +186,7 @@ def diagnose(
             result.timings["encode"] = time.perf_counter() - start
             tests = _Tests(model, presolve)
             _cores(tests, result, max_cores if all_cores else 1, all_cores, progress or (lambda message: None))
-            result.checks, result.relaxed = model.checks, tests.relaxed
+            result.checks, result.relaxed, result.witnessed = model.checks, tests.relaxed, tests.witnessed
         except limits.Stopped as stop:  # encoding when the time ran out
             result.complete, result.reason = False, stop.reason
     result.timings["total"] = time.perf_counter() - start

@@ -424,7 +424,7 @@ class Relaxation:
         self.on = enforced
         self.components = None if components is None else frozenset(components)
         self.refutation: Refutation | None = None
-        self.fired: set[str] = set()
+        self.fired: dict[str, None] = {}  # morphisms that may fire, in the order they first may
         self.state: dict[str, Value] = {}
         self._changes: dict[str, int] = {}
         self.refutation = self._run()
@@ -532,7 +532,7 @@ class Relaxation:
                 if params is None:
                     continue
                 if m.name not in self.fired:
-                    self.fired.add(m.name)
+                    self.fired[m.name] = None
                     changed = True
                 for name, value in self._post(m, params).items():
                     changed |= self._update(name, value)

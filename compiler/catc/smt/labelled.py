@@ -72,14 +72,26 @@ class LabelledModel:
             *enc.script.decls,
             *(s for label, s in self.indicator.items() if label not in enc.indicators),
         ]
-        asserts = [(None, t) for t in structural] + [
-            (label, f"(=> {self.indicator[label]} {and_text(parts)})") for label, parts in groups.items()
-        ]
-        self.backend: Backend = open_backend(
-            backend, optimize=optimize, share_with=None if share_with is None else share_with.backend
-        )
-        self.backend.add(decls, asserts)
+        asserts: list[tuple[str | None, str]] = [(None, t) for t in structural]
+        asserts += [(label, f"(=> {self.indicator[label]} {and_text(parts)})") for label, parts in groups.items()]
+        # the solver is opened, and the formula handed to it, on first use: a diagnosis whose
+        # every test the relaxation and the validator settle never needs it
+        self._pending: tuple[list[Symbol], list[tuple[str | None, str]]] | None = (decls, asserts)
+        self._open = (backend, optimize, share_with)
+        self._backend: Backend | None = None
         self.checks = 0
+
+    @property
+    def backend(self) -> Backend:
+        if self._backend is None:
+            name, optimize, share_with = self._open
+            self._backend = open_backend(
+                name, optimize=optimize, share_with=None if share_with is None else share_with.backend
+            )
+            assert self._pending is not None
+            self._backend.add(*self._pending)
+            self._pending = None
+        return self._backend
 
     def check(self, labels: Iterable[str], timeout: float | None = None) -> tuple[Check, list[str]]:
         """Check with exactly ``labels`` enforced; on UNSAT also return a core (labels, in

@@ -1,0 +1,117 @@
+"""Feasibility witnesses for subsets of labels, found without a solver and proven by the
+independent validator.
+
+``catc diagnose`` must show that a core minus any one member is feasible.  For a small
+subset of labels most constraints are dropped, and a composition is easy to write down: each
+component of the fixed composition once, one per step, in the order the relaxed reachability
+analysis first lets them fire (or, with no composition fixed, the empty composition).  This
+module builds the instance that enforces exactly the given labels — a dropped precondition,
+goal literal, bound or use limit is left out; a dropped initial value is free (tried at its
+written value, then numbers at 10⁹); a dropped effect may happen, and does — and replays the
+candidate on it with :func:`catc.semantics.validate.validate`.  When the validator accepts
+one, the subset is feasible: that composition satisfies every enforced construct.  Otherwise
+nothing is concluded (the solver decides).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Collection, Mapping
+from fractions import Fraction
+
+from catc import ir
+from catc.semantics.plan import Activation, Plan, Value
+from catc.semantics.relaxed import Relaxation
+from catc.semantics.validate import validate
+from catgrammar.record import replace
+
+#: The value a free numeric initial value takes in the second try.
+BIG = Fraction(10**9)
+
+
+def witnessed(
+    inst: ir.Instance, enforced: Collection[str], components: Collection[str] | None, horizon: int, extended: int
+) -> bool:
+    """Whether a composition satisfying exactly the ``enforced`` labels (relative to
+    ``components``) was found and accepted by the validator."""
+    plan = _candidate(inst, enforced, components)
+    if plan is None:
+        return False
+    steps = horizon if "horizon" in enforced else extended
+    if len(plan.steps) > steps:
+        return False
+    for big in (False, True):
+        restricted = _restricted(inst, enforced, big)
+        if validate(restricted, plan, horizon=steps).ok:
+            return True
+    return False
+
+
+def _candidate(inst: ir.Instance, enforced: Collection[str], components: Collection[str] | None) -> Plan | None:
+    if components is None:
+        return Plan([])
+    order = [m for m in Relaxation(inst, enforced, components).fired if m in components]
+    order += [m for m in inst.morphisms if m in components and m not in order]
+    steps = []
+    for name in order:
+        params = _params(inst, inst.morphisms[name], enforced)
+        if params is None:
+            return None
+        steps.append([Activation(name, params)])
+    return Plan(steps)
+
+
+def _params(inst: ir.Instance, m: ir.Morphism, enforced: Collection[str]) -> dict[str, Value] | None:
+    """A value for each θ: within its bounds when they are enforced (else 0), true, or the
+    first constant of its sort."""
+    out: dict[str, Value] = {}
+    for p in m.params:
+        kind = p.sort.kind
+        if p.sort.is_numeric:
+            bounded = f"bound/{m.name}/{p.name}" in enforced
+            v = (p.lower if p.lower is not None else p.upper) if bounded else None
+            v = Fraction(0) if v is None else v
+            if kind is ir.SortKind.INT and v.denominator != 1:
+                return None
+            out[p.name] = v
+        elif kind is ir.SortKind.BOOL:
+            out[p.name] = True
+        elif p.sort.is_symbolic:
+            constants = inst.constants_of(p.sort)
+            if not constants:
+                return None
+            out[p.name] = constants[0]
+        else:
+            return None
+    return out
+
+
+def _restricted(inst: ir.Instance, enforced: Collection[str], big: bool) -> ir.Instance:
+    """The instance whose constraints are exactly the ``enforced`` labels."""
+    morphisms: dict[str, ir.Morphism] = {}
+    for m in inst.morphisms.values():
+        params = tuple(
+            p if f"bound/{m.name}/{p.name}" in enforced else replace(p, lower=None, upper=None) for p in m.params
+        )
+        morphisms[m.name] = replace(
+            m,
+            pre=tuple(lit for lit in m.pre if lit.label in enforced),
+            params=params,
+            uses=m.uses if f"uses/{m.name}" in enforced else None,
+        )
+    resources = {
+        r.name: r if f"bounds/{r.name}" in enforced else replace(r, lower=None, upper=None)
+        for r in inst.resources.values()
+    }
+    init: dict[str, ir.InitValue] = {}
+    for name, given in inst.problem.init.items():
+        free = given.label not in enforced and isinstance(given.value, ir.Const) and given.value.sort.is_numeric
+        init[name] = replace(given, value=ir.Const(BIG, given.value.sort)) if big and free else given
+    domain = replace(inst.domain, morphisms=ir.frozen(morphisms), resources=ir.frozen(resources))
+    problem = replace(
+        inst.problem, init=_frozen(init), goal=tuple(lit for lit in inst.problem.goal if lit.label in enforced)
+    )
+    return ir.Instance(domain, problem, inst.view)
+
+
+def _frozen(mapping: Mapping[str, ir.InitValue]) -> Mapping[str, ir.InitValue]:
+    return ir.frozen(mapping)
