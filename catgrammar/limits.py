@@ -343,6 +343,13 @@ def remaining(at: float | None = None) -> float | None:
     return None if not ends else max(0.0, min(ends) - time.perf_counter())
 
 
+def for_check(at: float | None = None) -> float | None:
+    """The time a solver's next check may take: :func:`remaining`, but at least 1 ms (a
+    solver given 0 would take it for "no limit"); None without a limit."""
+    left = remaining(at)
+    return None if left is None else max(0.001, left)
+
+
 def stop_reason() -> str | None:
     """ "interrupted", "timeout" once the limit has passed, else None."""
     if interrupted():

@@ -54,6 +54,8 @@ def test_every_core_is_irreducible_for_a_fresh_solver(folder, case, presolve):
     d = diagnose(inst, presolve=presolve)
     assert d.status == "unsat"
     assert (d.relaxed > 0) is presolve  # both examples' budget cuts are within the relaxation's sight
+    if presolve:  # and witnesses show both deletions feasible: no solver call (docs/cli.md)
+        assert d.checks == 0 and d.witnessed == 2
     core = d.cores[0]
     model = LabelledModel(inst, d.horizon, components=d.relative_to)
     assert model.check(core)[0] is Check.UNSAT

@@ -108,9 +108,13 @@ def test_an_income_makes_the_budget_unbounded_and_the_goal_reachable():
 
 def test_a_composition_whose_member_can_never_fire_is_refuted():
     inst = _shop(earn=False)
-    why = refute(inst, components={"buy-camera", "buy-lidar"})
-    assert why is not None
-    assert refute(inst, components={"buy-camera"}) is None or "goal" in why.reason
+    no_goal = set(label_index(inst)) - {"goal/1"}  # so that only the composition can refute
+    why = refute(inst, no_goal, components={"buy-camera", "buy-lidar"})
+    assert why is not None and why.label is None and "'buy-lidar'" in why.reason
+    assert refute(inst, no_goal, components={"buy-camera"}) is None
+    # with the goal, a composition without `finish` cannot reach it
+    why = refute(inst, components={"buy-camera"})
+    assert why is not None and why.label == "goal/1"
 
 
 def test_parameter_bounds_count_only_when_enforced():

@@ -42,7 +42,7 @@ from catc.queries.base import (
     timeout_option,
 )
 from catc.semantics.horizon import horizon_of
-from catc.semantics.relaxed import refute
+from catc.semantics.relaxed import Relaxation
 from catc.semantics.witness import witnessed
 from catc.smt.backend import BACKENDS, DEFAULT_BACKEND, Check
 from catc.smt.labelled import LabelledModel
@@ -80,19 +80,25 @@ class _Tests:
         self.components = model.components
         self.relaxed = 0  # subsets the relaxation refuted
         self.witnessed = 0  # subsets a composition the validator accepted showed feasible
-        self._known: dict[frozenset[str], bool] = {}
+        self._relaxations: dict[frozenset[str], Relaxation] = {}
 
     def refuted(self, labels: list[str]) -> bool:
         """The relaxation proves ``labels`` infeasible (never a solver call)."""
         if not self.presolve:
             return False
-        key = frozenset(labels)
-        hit = self._known.get(key)
-        if hit is None:
-            limits.check_time("diagnosing")
-            hit = self._known[key] = refute(self.model.inst, key, self.components) is not None
-            self.relaxed += hit
+        hit = self._relaxation(labels).refutation is not None
+        self.relaxed += hit
         return hit
+
+    def _relaxation(self, labels: list[str]) -> Relaxation:
+        """The relaxed fixpoint of ``labels`` (once per subset: the refutation and the
+        witness's firing order both come from it)."""
+        key = frozenset(labels)
+        found = self._relaxations.get(key)
+        if found is None:
+            limits.check_time("diagnosing")
+            found = self._relaxations[key] = Relaxation(self.model.inst, key, self.components)
+        return found
 
     def check(self, labels: list[str]) -> tuple[Check, list[str]]:
         if self.refuted(labels):
@@ -104,8 +110,8 @@ class _Tests:
     def _witnessed(self, labels: list[str]) -> bool:
         """A composition satisfying exactly ``labels``, accepted by the validator (no solver)."""
         limits.check_time("diagnosing")
-        model = self.model
-        found = witnessed(model.inst, frozenset(labels), self.components, model.k, model.extended)
+        model, order = self.model, list(self._relaxation(labels).fired)
+        found = witnessed(model.inst, frozenset(labels), self.components, model.k, model.extended, order)
         self.witnessed += found
         return found
 
@@ -158,8 +164,7 @@ def _shrink(tests: _Tests, core: list[str]) -> list[str] | None:
 
 def _remaining(deadline: float | None) -> float | None:
     """Time for the next check: up to the command's time limit (1 ms once interrupted)."""
-    left = limits.remaining(deadline)
-    return None if left is None else max(0.001, left)
+    return limits.for_check(deadline)
 
 
 def diagnose(

@@ -334,9 +334,9 @@ _STOPPED = ("timeout", "interrupted")
 def _budget(solver: Backend, deadline: float | None) -> None:
     """The solver's time for its next check: until ``deadline`` or the command's time limit,
     whichever comes first (1 ms once interrupted)."""
-    left = limits.remaining(deadline)
+    left = limits.for_check(deadline)
     if left is not None:
-        solver.set_timeout(max(0.001, left))
+        solver.set_timeout(left)
 
 
 def _add_timings(total: dict[str, float], part: dict[str, float]) -> None:
@@ -390,7 +390,7 @@ def _better_exists(
     t0 = time.perf_counter()
     if _expired(deadline):  # stopped (Ctrl-C or the time limit): no new proof is started
         return Check.UNKNOWN
-    if not softs and better_refuted(inst, objectives, values, timeout=_left(deadline)):
+    if not softs and better_refuted(inst, objectives, values, timeout=limits.for_check(deadline)):
         timings["solve"] += time.perf_counter() - t0  # proved by counting activations (catc.smt.counting)
         return Check.UNSAT
     enc, solver = _encode_whole(inst, k, sequential, optimize=False, logic="QF_LRA")
@@ -407,11 +407,6 @@ def _better_exists(
     r = solver.check()  # UNKNOWN also when the configuration refuses the formula: no proof from it
     timings["solve"] += time.perf_counter() - t1
     return r
-
-
-def _left(deadline: float | None) -> float | None:
-    left = None if deadline is None else deadline - time.perf_counter()
-    return None if left is None else max(0.001, left)
 
 
 def _optimize_at(

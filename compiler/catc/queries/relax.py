@@ -388,8 +388,7 @@ def _relax_discrete(
 
 def _remaining(deadline: float | None) -> float | None:
     """Time for the next check: up to ``deadline`` (1 ms once interrupted)."""
-    left = limits.remaining(deadline)
-    return None if left is None else max(0.001, left)
+    return limits.for_check(deadline)
 
 
 def relaxed_instance(inst: ir.Instance, deltas: dict[str, Fraction]) -> ir.Instance:

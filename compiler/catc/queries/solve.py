@@ -135,16 +135,13 @@ def solve(
         timings = {"start": 0.0, "encode": 0.0, "solve": 0.0, "validate": 0.0}
         try:
             proof = _presolve(inst, timings) if presolve else None
-            if proof is not None:
+            if proof is not None:  # no composition of any length: nothing to encode
                 result = SolveResult(SolveStatus.UNSAT, k, final=True, length_bound=use_bound(inst), refutation=proof)
-                result.sequential, result.strategy, result.backend = sequential, strategy, backend
-                timings["total"] = time.perf_counter() - start
-                result.timings = timings
-                return result
-            search = _Search(inst, k, sequential, backend, timings)
-            result = search.run(range(k + 1) if strategy == "incremental" else (k,), progress, phase)
-            if result.status is SolveStatus.SAT and validate_answer:
-                _validated(inst, result, k, sequential, prune, timings)
+            else:
+                search = _Search(inst, k, sequential, backend, timings)
+                result = search.run(range(k + 1) if strategy == "incremental" else (k,), progress, phase)
+                if result.status is SolveStatus.SAT and validate_answer:
+                    _validated(inst, result, k, sequential, prune, timings)
         except limits.Stopped as stop:  # encoding or validating when the time ran out
             result = SolveResult(SolveStatus.UNKNOWN, k, reason=stop.reason, length_bound=use_bound(inst))
     result.sequential, result.strategy, result.backend = sequential, strategy, backend

@@ -423,11 +423,10 @@ class Relaxation:
         self.inst = inst
         self.on = enforced
         self.components = None if components is None else frozenset(components)
-        self.refutation: Refutation | None = None
         self.fired: dict[str, None] = {}  # morphisms that may fire, in the order they first may
         self.state: dict[str, Value] = {}
         self._changes: dict[str, int] = {}
-        self.refutation = self._run()
+        self.refutation: Refutation | None = self._run()
 
     # -- the initial state and the bounds
     def _bounds(self, r: ir.Resource) -> tuple[Bound, Bound]:
@@ -559,7 +558,7 @@ def _effect(e: ir.Effect, old: Value, value: Value) -> Value:
         op = ir.ArithOp.ADD if kind is ir.EffectKind.INCREASE else ir.ArithOp.SUB
         return _arith(op, [old, value])
     if not isinstance(old, SetValue):
-        return top(ir.set_of(ir.BOOL))
+        return SetValue(None, frozenset())
     elems = value.values if isinstance(value, Finite) else None
     if kind is ir.EffectKind.ADD:
         may = None if old.may is None or elems is None else old.may | elems

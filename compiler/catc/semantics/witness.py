@@ -15,7 +15,7 @@ nothing is concluded (the solver decides).
 
 from __future__ import annotations
 
-from collections.abc import Collection, Mapping
+from collections.abc import Collection, Sequence
 from fractions import Fraction
 
 from catc import ir
@@ -29,11 +29,19 @@ BIG = Fraction(10**9)
 
 
 def witnessed(
-    inst: ir.Instance, enforced: Collection[str], components: Collection[str] | None, horizon: int, extended: int
+    inst: ir.Instance,
+    enforced: Collection[str],
+    components: Collection[str] | None,
+    horizon: int,
+    extended: int,
+    order: Sequence[str] | None = None,
 ) -> bool:
     """Whether a composition satisfying exactly the ``enforced`` labels (relative to
-    ``components``) was found and accepted by the validator."""
-    plan = _candidate(inst, enforced, components)
+    ``components``) was found and accepted by the validator.  ``order``: the morphisms in the
+    order the relaxation of the same labels first lets them fire (computed when not given)."""
+    if order is None:
+        order = list(Relaxation(inst, enforced, components).fired)
+    plan = _candidate(inst, enforced, components, order)
     if plan is None:
         return False
     steps = horizon if "horizon" in enforced else extended
@@ -46,13 +54,15 @@ def witnessed(
     return False
 
 
-def _candidate(inst: ir.Instance, enforced: Collection[str], components: Collection[str] | None) -> Plan | None:
+def _candidate(
+    inst: ir.Instance, enforced: Collection[str], components: Collection[str] | None, order: Sequence[str]
+) -> Plan | None:
     if components is None:
         return Plan([])
-    order = [m for m in Relaxation(inst, enforced, components).fired if m in components]
-    order += [m for m in inst.morphisms if m in components and m not in order]
+    names = [m for m in order if m in components]
+    names += [m for m in inst.morphisms if m in components and m not in names]
     steps = []
-    for name in order:
+    for name in names:
         params = _params(inst, inst.morphisms[name], enforced)
         if params is None:
             return None
@@ -108,10 +118,6 @@ def _restricted(inst: ir.Instance, enforced: Collection[str], big: bool) -> ir.I
         init[name] = replace(given, value=ir.Const(BIG, given.value.sort)) if big and free else given
     domain = replace(inst.domain, morphisms=ir.frozen(morphisms), resources=ir.frozen(resources))
     problem = replace(
-        inst.problem, init=_frozen(init), goal=tuple(lit for lit in inst.problem.goal if lit.label in enforced)
+        inst.problem, init=ir.frozen(init), goal=tuple(lit for lit in inst.problem.goal if lit.label in enforced)
     )
     return ir.Instance(domain, problem, inst.view)
-
-
-def _frozen(mapping: Mapping[str, ir.InitValue]) -> Mapping[str, ir.InitValue]:
-    return ir.frozen(mapping)
