@@ -157,7 +157,7 @@ def _reference_dataclass(cls):
 
     params = inspect.signature(cls.__init__).parameters
     spec = []
-    for name in cls.__slots__:
+    for name in cls._fields:  # the slots besides the fields are private caches
         default = params[name].default
         kw = {"compare": name in cls._compared, "repr": name in cls._compared}
         if isinstance(default, type(ir.EMPTY)):  # the dataclasses had default_factory=frozen
@@ -184,7 +184,7 @@ def test_ir_records_behave_like_frozen_slotted_dataclasses(cls):
     import pickle
 
     ref = _reference_dataclass(cls)
-    names = cls.__slots__
+    names = cls._fields
     assert tuple(f.name for f in dataclasses.fields(cls)) == tuple(f.name for f in dataclasses.fields(ref)) == names
     assert [f.compare for f in dataclasses.fields(cls)] == [f.compare for f in dataclasses.fields(ref)]
     required = [f.name for f in dataclasses.fields(ref) if f.default is f.default_factory is dataclasses.MISSING]

@@ -26,6 +26,7 @@ from catc.ir.numbers import ratio_text
 from catc.queries.diagnose import diagnose as run_diagnose
 from catc.queries.recompose import recompose as run_recompose
 from catc.queries.relax import relax as run_relax
+from catc.queries.solve import WarmStart
 from catc.semantics.plan import Plan, PlanFormatError, plan_from_json, plan_to_json
 from catc.semantics.validate import validate
 
@@ -83,7 +84,9 @@ def incumbent_plan(inst: ir.Instance, doc: dict[str, Any] | None) -> tuple[Plan 
         return None, str(exc)
 
 
-def decide(model: Model, incumbent: dict[str, Any] | None, limits: Limits) -> Decision:
+def decide(model: Model, incumbent: dict[str, Any] | None, limits: Limits, warm: WarmStart | None = None) -> Decision:
+    """``warm`` (kept by the caller from one decision to the next) lets ``solve`` answer on
+    the previous decision's encoding when only initial values or the goal changed."""
     inst = model.instance
     timings: dict[str, float] = {}
     if incumbent is not None:
@@ -99,7 +102,7 @@ def decide(model: Model, incumbent: dict[str, Any] | None, limits: Limits) -> De
         timings.setdefault("validate", time.perf_counter() - t)
         decision = _recompose(model, incumbent, limits, why or "it no longer applies")
     else:
-        decision = _compose(model, limits)
+        decision = _compose(model, limits, warm)
     decision.timings = {**timings, **decision.timings}
     if decision.action != "infeasible":
         return decision
@@ -147,11 +150,11 @@ def _recompose(model: Model, incumbent: dict[str, Any], limits: Limits, why: str
                     " (the deployed composition stays)", documents={"recompose": doc}, timings=took, solver_calls=1)  # fmt: skip
 
 
-def _compose(model: Model, limits: Limits) -> Decision:
+def _compose(model: Model, limits: Limits, warm: WarmStart | None) -> Decision:
     inst = model.instance
     name = "optimize" if inst.problem.metric is not None or inst.problem.softs else "solve"
     t = time.perf_counter()
-    result = model.query(name, timeout=limits.compose)
+    result = model.query(name, timeout=limits.compose, **({"warm": warm} if name == "solve" else {}))
     took = {name: time.perf_counter() - t}
     doc = model.to_json(result)
     plan = getattr(result, "plan", None)

@@ -27,7 +27,7 @@ from typing import Any
 
 from catrt.apply import Candidate, Rejection, apply_change, check
 from catrt.config import Config
-from catrt.decide import Decision, Limits, decide
+from catrt.decide import Decision, Limits, WarmStart, decide
 from catrt.enact import (
     ENACTORS,
     EnactError,
@@ -96,6 +96,8 @@ class Runtime:
         ask: Callable[[dict[str, Any]], bool] | None = None,
     ) -> None:
         self.folder, self.store, self.config = folder, store, config
+        # solve's encoding, from one decision to the next; sensed values start behind literals
+        self.warm = WarmStart(s.resource for s in config.sensors)
         limits = {**{"compose": 120.0, "diagnose": 30.0, "relax": 30.0}, **config.limits}
         self.limits = Limits(limits["compose"], limits["diagnose"], limits["relax"])
         kind = enactor or config.enactor.get("kind", "dry")
@@ -211,7 +213,7 @@ class Runtime:
     def _decide_and_commit(self, event: Event, candidate: Candidate, kind: str = "event",
                            approval: str | None = None) -> Outcome:  # fmt: skip
         incumbent = self.incumbent
-        decision = decide(candidate.model, incumbent["plan"] if incumbent else None, self.limits)
+        decision = decide(candidate.model, incumbent["plan"] if incumbent else None, self.limits, self.warm)
         plan = decision.plan if decision.action in ("compose", "recompose", "keep") else None
         artifacts, why_not = self._artifacts(candidate, plan) if plan is not None else (None, None)
         enact = artifacts is not None and (decision.action != "keep" or not self._deployed_as(artifacts[0]))

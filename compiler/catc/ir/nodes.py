@@ -554,7 +554,10 @@ class MorphismKind(str, Enum):
 class Morphism(Record):
     """A generator of the category: a component with pre- and postconditions."""
 
-    __slots__ = ("name", "kind", "params", "pre", "effects", "churn", "uses", "cost", "doc", "grounding", "span")
+    __slots__ = (
+        "name", "kind", "params", "pre", "effects", "churn", "uses", "cost", "doc", "grounding", "span", "_reads"
+    )  # fmt: skip
+    _fields = ("name", "kind", "params", "pre", "effects", "churn", "uses", "cost", "doc", "grounding", "span")
     name: str
     kind: MorphismKind
     params: tuple[Param, ...]
@@ -566,6 +569,7 @@ class Morphism(Record):
     doc: str | None
     grounding: Grounding | None  # what it becomes on the robot (catc.ir.grounding)
     span: Span | None
+    _reads: frozenset[str] | None
 
     def __init__(
         self,
@@ -592,6 +596,7 @@ class Morphism(Record):
         _set(self, "doc", doc)
         _set(self, "grounding", grounding)
         _set(self, "span", span)
+        _set(self, "_reads", None)  # a cache, not a field: computed on first use
 
     def param(self, name: str) -> Param | None:
         for p in self.params:
@@ -602,12 +607,16 @@ class Morphism(Record):
     @property
     def reads(self) -> frozenset[str]:
         """Resources whose pre-state value this morphism depends on."""
-        out: set[str] = set()
-        for lit in self.pre:
-            out |= resources_in(lit.expr)
-        for eff in self.effects:
-            out |= resources_in(eff.value)
-        return frozenset(out)
+        cached: frozenset[str] | None = self._reads
+        if cached is None:
+            out: set[str] = set()
+            for lit in self.pre:
+                out |= resources_in(lit.expr)
+            for eff in self.effects:
+                out |= resources_in(eff.value)
+            cached = frozenset(out)
+            _set(self, "_reads", cached)
+        return cached
 
     @property
     def writes(self) -> frozenset[str]:

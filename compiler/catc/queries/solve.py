@@ -14,7 +14,7 @@ is returned; a rejected answer is an internal error, never shown as a compositio
 from __future__ import annotations
 
 import time
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
 from catc import ir
@@ -41,6 +41,7 @@ from catc.semantics.relaxed import Refutation, refute
 from catc.smt.backend import BACKENDS, DEFAULT_BACKEND, Check, open_backend
 from catc.smt.encoder import Encoder
 from catc.smt.readback import read_plan
+from catc.smt.script import SmtSort, Symbol, and_text
 from catgrammar import limits
 
 
@@ -121,12 +122,19 @@ def solve(
     backend: str = DEFAULT_BACKEND,
     phase: str = "solving",
     presolve: bool = True,
+    warm: WarmStart | None = None,
 ) -> SolveResult:
     """The shortest composition within the horizon (``strategy="incremental"``), or any
     composition (``"single"``), on the named backend.  ``progress(message)`` is told each
     horizon as it is tried (``"{phase}: horizon t of k"``).  With ``presolve`` the relaxed
     reachability analysis (:mod:`catc.semantics.relaxed`) runs first: when it proves that no
-    composition of any length exists, that is the answer (final UNSAT) and nothing is encoded."""
+    composition of any length exists, that is the answer (final UNSAT) and nothing is encoded.
+
+    ``warm`` (a :class:`WarmStart`, passed again on every call) keeps the encoding and the
+    solver between calls: a problem that differs from the previous one only in its initial
+    values and goal is answered on the same solver, whose initial values and goals sit behind
+    assumption literals; any other change (the domain, its objects, the horizon, the
+    semantics, the backend) encodes afresh.  The answers are the same as without it."""
     if strategy not in STRATEGIES:
         raise ValueError(f"unknown strategy {strategy!r}; expected 'incremental' or 'single'")
     start = time.perf_counter()
@@ -138,7 +146,11 @@ def solve(
             if proof is not None:  # no composition of any length: nothing to encode
                 result = SolveResult(SolveStatus.UNSAT, k, final=True, length_bound=use_bound(inst), refutation=proof)
             else:
-                search = _Search(inst, k, sequential, backend, timings)
+                search = (
+                    _Search(inst, k, sequential, backend, timings)
+                    if warm is None
+                    else warm.search(inst, k, sequential, backend, timings)
+                )
                 result = search.run(range(k + 1) if strategy == "incremental" else (k,), progress, phase)
                 if result.status is SolveStatus.SAT and validate_answer:
                     _validated(inst, result, k, sequential, prune, timings)
@@ -174,7 +186,15 @@ class _Search:
     """One solver over an encoding that grows a step at a time; the goal and the use limits
     at horizon ``t`` are checked inside a push/pop scope."""
 
-    def __init__(self, inst: ir.Instance, k: int, sequential: bool, backend: str, timings: dict[str, float]) -> None:
+    def __init__(
+        self,
+        inst: ir.Instance,
+        k: int,
+        sequential: bool,
+        backend: str,
+        timings: dict[str, float],
+        assumed: frozenset[str] = frozenset(),
+    ) -> None:
         self.k = k
         self.bound = use_bound(inst)
         # start: creating the solver (the first Z3 context of a process initialises Z3,
@@ -182,7 +202,7 @@ class _Search:
         self.timings = timings
         self.tried = 0
         t0 = time.perf_counter()
-        self.enc = Encoder(inst, k, sequential=sequential)
+        self.enc = Encoder(inst, k, sequential=sequential, assumed=assumed)
         t1 = time.perf_counter()
         self.solver = open_backend(backend)
         t2 = time.perf_counter()
@@ -193,10 +213,9 @@ class _Search:
     def run(self, horizons: range | tuple[int, ...], progress: Progress | None, phase: str) -> SolveResult:
         """Check the goal at each horizon in turn; the first SAT or UNKNOWN answers."""
         for t in horizons:
-            extra = self._grow(t)
             if progress is not None:
                 progress(f"{phase}: horizon {t} of {self.k}")
-            r = self._check(extra)
+            r = self._check(t)
             result = None
             if r is Check.SAT:
                 result = SolveResult(
@@ -204,7 +223,7 @@ class _Search:
                 )
             elif r is Check.UNKNOWN:
                 result = self._unknown()
-            self.solver.pop()
+            self._end_check()
             if result is not None:
                 break
         else:  # UNSAT at every horizon tried
@@ -213,33 +232,184 @@ class _Search:
         result.horizons_tried = self.tried
         return result
 
-    def _grow(self, t: int) -> list[str]:
-        """Encode up to step ``t``; the goal and use limits at ``t``, to check."""
+    def _grow(self, t: int) -> None:
+        """Encode up to step ``t``."""
         t0 = time.perf_counter()
         while len(self.enc.act) < t:
             self.enc.add_step()
         self.solver.add(*self.enc.script.take())
+        self.timings["encode"] += time.perf_counter() - t0
+
+    def _check(self, t: int) -> Check:
+        """Check the goal and the use limits at horizon ``t`` in a new scope (which
+        :meth:`_end_check` pops)."""
+        self._grow(t)
+        t0 = time.perf_counter()
         extra = [c for _, c in self.enc.goal_constraints(t)] + [c for _, c in self.enc.uses_constraints(t)]
         self.timings["encode"] += time.perf_counter() - t0
-        return extra
+        self.solver.push()
+        self.solver.add((), [(None, c) for c in extra])
+        return self._timed_check(())
 
-    def _check(self, extra: list[str]) -> Check:
-        """Check ``extra`` in a new scope (the caller pops it); an exhausted budget still
-        checks, so push and pop stay paired."""
+    def _timed_check(self, assumptions: Sequence[Symbol]) -> Check:
+        """One check within the command's time (an exhausted budget still checks, so that
+        push and pop stay paired)."""
         left = limits.remaining()
         if left is not None:
             self.solver.set_timeout(max(0.001, left))
         t0 = time.perf_counter()
-        self.solver.push()
-        self.solver.add((), [(None, c) for c in extra])
-        r = self.solver.check()
+        r = self.solver.check(assumptions)
         self.timings["solve"] += time.perf_counter() - t0
         self.tried += 1
         return r
 
+    def _end_check(self) -> None:
+        self.solver.pop()
+
     def _unknown(self) -> SolveResult:
         reason = limits.stop_reason() or self.solver.reason_unknown()
         return SolveResult(SolveStatus.UNKNOWN, self.k, reason=reason, length_bound=self.bound)
+
+
+class _WarmSearch(_Search):
+    """A search whose encoding outlives one problem.  The goal at each horizon, and the
+    initial values of the resources in ``assumed`` (those events have changed), are
+    asserted as ``(=> lit constraint)`` and checked with ``lit`` assumed; every other initial
+    value is a plain assertion (a fact the solver simplifies with, as in a cold search).
+    So a problem that differs only in the goal and the initial values of ``assumed`` is
+    checked on the same solver, with everything it learnt before.
+
+    A literal no longer wanted stays, so that a value that comes back finds what the solver
+    learnt about it; past the :attr:`KEEP` most recent values of a resource (and goals) the
+    oldest is retired: ``(not lit)`` is asserted, and the solver drops its implication."""
+
+    KEEP = 16
+
+    def __init__(
+        self,
+        inst: ir.Instance,
+        k: int,
+        sequential: bool,
+        backend: str,
+        timings: dict[str, float],
+        assumed: frozenset[str],
+    ) -> None:
+        super().__init__(inst, k, sequential, backend, timings, assumed)
+        self.structure = _structure(inst, k, sequential, backend)
+        self.assumed = assumed
+        #: the initial values asserted as facts (resource → constraint; "" when it has none)
+        self.facts = {r: self._init_text(inst, r) for r in inst.resources if r not in assumed}
+        self.inits: dict[str, dict[str, Symbol]] = {}  # resource → its initial values' literals
+        self.known_goals: dict[tuple[ir.Literal, ...], dict[int, Symbol]] = {}  # goal → its literals
+        self.goals: dict[int, Symbol] = {}  # horizon → the literal of this problem's goal there
+        self.uses: dict[int, Symbol] = {}  # horizon → the literal of the use limits there
+        self.goal: tuple[ir.Literal, ...] = ()
+        self.literals: list[Symbol] = []  # this problem's initial values
+        self.made = 0  # literals declared
+
+    def _init_text(self, inst: ir.Instance, resource: str) -> str:
+        init = inst.problem.init.get(resource)
+        return "" if init is None else self.enc.init_constraint(init)
+
+    def changed_facts(self, inst: ir.Instance) -> set[str]:
+        """The resources whose initial value ``inst`` gives otherwise than the facts."""
+        return {r for r, text in self.facts.items() if self._init_text(inst, r) != text}
+
+    def retarget(self, inst: ir.Instance, timings: dict[str, float]) -> None:
+        """Answer ``inst`` next (same structure and facts): its goal and the initial values
+        of the assumed resources replace the previous ones."""
+        t0 = time.perf_counter()
+        self.timings, self.tried = timings, 0
+        retired: list[Symbol] = []
+        self.literals = []
+        for r in sorted(self.assumed):
+            text = self._init_text(inst, r)
+            if not text:  # no initial value: the resource starts free
+                continue
+            known = self.inits.setdefault(r, {})
+            self.literals.append(self._literal(known, text, text))
+            known[text] = known.pop(text)  # the most recent last
+            while len(known) > self.KEEP:
+                retired.append(known.pop(next(iter(known))))
+        self.goal = inst.problem.goal
+        self.goals = self.known_goals.pop(self.goal, {})
+        self.known_goals[self.goal] = self.goals
+        while len(self.known_goals) > self.KEEP:
+            retired.extend(self.known_goals.pop(next(iter(self.known_goals))).values())
+        for lit in retired:
+            self.enc.add(None, f"(not {lit})")
+        self.solver.add(*self.enc.script.take())
+        timings["encode"] += time.perf_counter() - t0
+
+    def _literal(self, table: dict[Any, Symbol], key: Any, constraint: str) -> Symbol:
+        lit = table.get(key)
+        if lit is None:
+            self.made += 1
+            lit = self.enc.script.declare(f"assume.{self.made}", SmtSort.BOOL)
+            self.enc.add(None, f"(=> {lit} {constraint})")
+            table[key] = lit
+        return lit
+
+    def _check(self, t: int) -> Check:
+        self._grow(t)
+        t0 = time.perf_counter()
+        goal = self.goals.get(t)
+        if goal is None:
+            goal = self._literal(self.goals, t, and_text([c for _, c in self.enc.goal_constraints(t, self.goal)]))
+        assumed = [*self.literals, goal]
+        if t not in self.uses:
+            limits_at = [c for _, c in self.enc.uses_constraints(t)]
+            if limits_at:
+                self._literal(self.uses, t, and_text(limits_at))
+        if t in self.uses:
+            assumed.append(self.uses[t])
+        self.solver.add(*self.enc.script.take())
+        self.timings["encode"] += time.perf_counter() - t0
+        return self._timed_check(assumed)
+
+    def _end_check(self) -> None:
+        pass
+
+
+def _structure(inst: ir.Instance, k: int, sequential: bool, backend: str) -> tuple[Any, ...]:
+    """What an encoding depends on besides the initial values and the goal."""
+    return (inst.domain, dict(inst.problem.objects), inst.view, k, sequential, backend)
+
+
+class WarmStart:
+    """What :func:`solve` keeps between the calls given the same ``warm``: the last encoding,
+    its solver, and which initial values have changed so far.
+
+    The first problem is encoded as a cold search encodes it (every initial value a fact).
+    A later problem with the same structure (domain, objects, view, horizon, semantics,
+    backend) reuses the encoding when its initial values differ only in resources already
+    *assumed*; when one more resource's value changed, the problem is encoded afresh with
+    that resource assumed too — so the resources a lifelong run's events touch end up behind
+    literals, and the rest stay facts.  ``cold`` counts the encodings made, ``reused`` the
+    answers given on an encoding made for an earlier problem.  ``assumed`` names resources
+    known in advance to change (sensed values): they start behind literals."""
+
+    def __init__(self, assumed: Iterable[str] = ()) -> None:
+        self._search: _WarmSearch | None = None
+        self.assumed: frozenset[str] = frozenset(assumed)
+        self.cold = 0
+        self.reused = 0
+
+    def search(self, inst: ir.Instance, k: int, sequential: bool, backend: str, timings: dict[str, float]) -> _Search:
+        old = self._search
+        if old is not None and old.structure == _structure(inst, k, sequential, backend):
+            changed = old.changed_facts(inst)
+            if not changed:
+                self.reused += 1
+                old.retarget(inst, timings)
+                return old
+            self.assumed |= changed
+        self._search = None  # the old solver goes before the new one is made
+        self.assumed &= frozenset(inst.resources)
+        self._search = _WarmSearch(inst, k, sequential, backend, timings, self.assumed)
+        self.cold += 1
+        self._search.retarget(inst, timings)
+        return self._search
 
 
 # ====================================================================== output

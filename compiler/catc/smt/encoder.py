@@ -94,6 +94,7 @@ class Encoder:
         track: bool = False,
         slack: dict[str, str] | None = None,
         extra_written: frozenset[str] = frozenset(),
+        assumed: frozenset[str] = frozenset(),
     ) -> None:
         """``slack`` maps labels of relaxable requirements (numeric initial values and
         order comparisons) to the name of a slack term that weakens them (``catc relax``).
@@ -105,6 +106,7 @@ class Encoder:
         self.horizon = horizon
         self.sequential = sequential
         self.track = track
+        self.assumed = assumed
         check_horizon(None, horizon)
         self.grounding = Grounding(inst, horizon)
         self.morphisms = list(inst.morphisms.values())
@@ -203,13 +205,16 @@ class Encoder:
         return state
 
     def _initial_state(self) -> None:
-        s0 = self.states[0]
-        for name, init in self.inst.problem.init.items():
-            if name in s0:
-                value = self.term(init.value, _Ctx(0, {}, []))
-                if init.label in self.slack:  # s0 = v + δ (δ may be negative: a pair of slacks)
-                    value = f"(+ {value} {self.slack[init.label]})"
-                self.add(init.label, self._equal(s0[name], value))
+        for init in self.inst.problem.init.values():
+            if init.resource in self.states[0] and init.resource not in self.assumed:
+                self.add(init.label, self.init_constraint(init))
+
+    def init_constraint(self, init: ir.InitValue) -> str:
+        """State 0 holds ``init``'s value (plus its slack, when it has one)."""
+        value = self.term(init.value, _Ctx(0, {}, []))
+        if init.label in self.slack:  # s0 = v + δ (δ may be negative: a pair of slacks)
+            value = f"(+ {value} {self.slack[init.label]})"
+        return self._equal(self.states[0][init.resource], value)
 
     # ------------------------------------------------------------------ steps
     def add_step(self) -> int:
@@ -368,9 +373,10 @@ class Encoder:
         return _and(parts)
 
     # ------------------------------------------------------------------ goal, uses
-    def goal_constraints(self, t: int) -> list[tuple[str, str]]:
+    def goal_constraints(self, t: int, goal: tuple[ir.Literal, ...] | None = None) -> list[tuple[str, str]]:
+        """The goal (the problem's, or ``goal``) at state ``t``."""
         out: list[tuple[str, str]] = []
-        for lit in self.inst.problem.goal:
+        for lit in self.inst.problem.goal if goal is None else goal:
             ctx = _Ctx(t, {}, [])
             body = self._literal(lit, ctx)
             out.append((lit.label, _and([body] + ctx.guards)))
