@@ -14,7 +14,7 @@ from strategies import models
 
 from catc.api import load, loads
 from catc.queries.relax import eligible_requirements, relax
-from catc.smt.counting import slack_lower_bound
+from catc.smt.counting import better_refuted, slack_lower_bound
 
 SAR = ROOT / "examples/search-and-rescue"
 LIFE = ROOT / "examples/lifelong"
@@ -59,6 +59,39 @@ def test_the_relaxation_of_sar_is_proven_and_unchanged():
 
 
 SETTINGS = {"deadline": None, "suppress_health_check": [HealthCheck.too_slow]}
+
+
+def test_objective_first_on_sar_needs_some_camera():
+    """By hand: the mission must detect a person, the detector reads *some* image topic
+    (a θ-parameterised precondition, ``(member in topics)``), and only a camera's driver
+    publishes one; the cheapest camera is the lite one (50 USD), so the most budget left is
+    25,000 − (20,360 − 150 + 50) = 4,740.  Without the parameter's membership the bound
+    allowed no camera at all (4,880)."""
+    inst = load(SAR / "cheaper-camera.cat", SAR / "domain.cat").instance
+    budget = inst.problem.metric.objectives[0]
+    assert better_refuted(inst, [budget], [Fraction(4740)])
+    assert not better_refuted(inst, [budget], [Fraction(4739)])
+
+
+@pytest.mark.parametrize(
+    ("topics", "refuted"),
+    [("{}", True), ("{image}", False), ("{other}", True)],
+)
+def test_a_parameter_membership_needs_a_publisher_unless_some_value_is_there(topics, refuted):
+    """``use`` needs some ``?in`` of sort ``img`` in ``topics``; only ``pub`` (cost 5) adds one.
+    By hand: with ``image`` (an img) already published nothing need be bought, so 10 is the
+    most budget left; otherwise ``pub`` must fire and at most 5 is left — `other` is not an img."""
+    text = f"""(define (domain d) (:requirements :numeric :sets :free-parameters :optimization)
+      (:sorts topic - symbol img - topic)
+      (:constants image - img other - topic)
+      (:resources (topics (set topic)) (budget real :bounds (0 *)) (done bool))
+      (:morphism pub :uses 1 :precondition (>= budget 5) :effect (and (decrease budget 5) (add topics image)))
+      (:morphism use :uses 1 :parameters ((in img)) :precondition (member in topics) :effect (assign done true)))
+    (define (problem p) (:domain d) (:init (= topics {topics}) (= budget 10)) (:goal done) (:metric maximize budget))"""
+    inst = loads({"p.cat": text}, "p.cat").instance
+    budget = inst.problem.metric.objectives[0]
+    assert better_refuted(inst, [budget], [Fraction(5)]) is refuted
+    assert not better_refuted(inst, [budget], [Fraction(4)])
 
 
 @settings(max_examples=int(os.environ.get("CATC_PROPERTY_EXAMPLES", "25")) * 2, **SETTINGS)

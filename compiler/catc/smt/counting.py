@@ -102,21 +102,22 @@ class _Counting:
             self._needs_fact(lit.expr, "true")
 
     def _needs_fact(self, e: ir.Expr, when: str) -> None:
-        fact = _fact(e)
+        fact = _fact(self.inst, e)
         if fact is None:
             return
-        resource, element, value = fact
+        resource, elements, value = fact
         init = self.inst.problem.init.get(resource)
         if init is None:
             return
         start = _Eval({}, {})(init.value)
-        holds = _holds(start, element, value)
-        if holds is not False:
+        if any(_holds(start, element, value) is not False for element in elements):
             return
         achievers = [
             self.n[m.name]
             for m in self.inst.morphisms.values()
-            if any(_may_achieve(ef, element, value) for ef in m.effects if ef.resource == resource)
+            if any(
+                _may_achieve(ef, element, value) for ef in m.effects if ef.resource == resource for element in elements
+            )
         ]
         total = f"(+ 0 {' '.join(achievers)})" if achievers else "0"
         self.asserts.append(f"(=> {when} (>= {total} 1))")
@@ -258,17 +259,29 @@ class _Counting:
         return None if low is None else f"(<= {low} (+ {c} {delta}))"  # r ≤ c + δ
 
 
-def _fact(e: ir.Expr) -> tuple[str, str | None, bool] | None:
-    """(resource, element or None for a Boolean, wanted truth) of a plain fact literal."""
+def _fact(inst: ir.Instance, e: ir.Expr) -> tuple[str, tuple[str | None, ...], bool] | None:
+    """(resource, the elements any of which would do — ``(None,)`` for a Boolean —, wanted
+    truth) of a fact literal: a Boolean resource, a constant's membership, or a parameter's
+    membership ``(member ?x s)`` (some value of ``?x``'s sort in ``s``; only positive: a
+    reserve value is never in a set at first, and only an effect adding a parameter's value
+    may add it, which :func:`_may_achieve` counts)."""
     positive = True
     if isinstance(e, ir.BoolOp) and e.op is ir.BoolOpKind.NOT:
         e, positive = e.args[0], False
     if isinstance(e, ir.ResourceRef) and e.sort.kind is ir.SortKind.BOOL:
-        return e.name, None, positive
-    member = isinstance(e, ir.Member) and isinstance(e.set, ir.ResourceRef) and isinstance(e.element, ir.Const)
-    if member and isinstance(e.element.value, str):  # type: ignore[union-attr]
-        return e.set.name, e.element.value, positive  # type: ignore[union-attr]
+        return e.name, (None,), positive
+    if not (isinstance(e, ir.Member) and isinstance(e.set, ir.ResourceRef)):
+        return None
+    element = e.element
+    if isinstance(element, ir.Const) and isinstance(element.value, str):
+        return e.set.name, (element.value,), positive
+    if isinstance(element, ir.ParamRef) and element.sort.is_symbolic and positive:
+        return e.set.name, (*inst.constants_of(element.sort), _RESERVE), positive
     return None
+
+
+#: An element no constant names (a parameter's reserve value): never in a set at first.
+_RESERVE = "\u0000reserve"
 
 
 def _holds(start: Value, element: str | None, value: bool) -> bool | None:
