@@ -230,17 +230,21 @@ def test_interrupt_and_internal_errors_are_reported_as_click_does(monkeypatch):
         assert res.stderr == "catc: internal error: ValueError: a bug (set CATC_DEBUG=1 for details)\n"
 
 
-def test_a_plain_solve_imports_neither_click_nor_dataclasses():
+@pytest.mark.parametrize(
+    ("query", "example", "status"),
+    [("solve", "detection/person.cat", "sat"), ("optimize", "gpu-allocation/max-confidence.cat", "opt")],
+)
+def test_a_plain_solve_or_optimize_imports_neither_click_nor_dataclasses(query, example, status):
     probe = (
         "import sys\n"
         "from catc.interfaces.entry import main\n"
         "try:\n"
-        "    main(['solve', 'examples/detection/person.cat', '--json'])\n"
+        f"    main(['{query}', 'examples/{example}', '--json'])\n"
         "except SystemExit as exc:\n"
         "    code = exc.code\n"
         "heavy = sorted(m for m in sys.modules if m.split('.')[0] in ('click', 'dataclasses', 'inspect', 'rich'))\n"
         "print(code, heavy, file=sys.stderr)\n"
     )
     proc = subprocess.run([sys.executable, "-c", probe], cwd=ROOT, capture_output=True, text=True, timeout=120)
-    assert json.loads(proc.stdout)["status"] == "sat"
+    assert json.loads(proc.stdout)["status"] == status
     assert proc.stderr.strip() == "0 []"
