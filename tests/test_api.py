@@ -129,7 +129,7 @@ def test_the_examples_in_docs_api_run(monkeypatch, capsys):
 
     monkeypatch.chdir(ROOT)
     blocks = re.findall(r"```python\n(.*?)```", (ROOT / "docs/api.md").read_text(encoding="utf-8"), re.S)
-    assert len(blocks) == 3
+    assert len(blocks) == 4
     scope: dict = {}
     for block in blocks:
         exec(compile(block, "docs/api.md", "exec"), scope)

@@ -87,3 +87,23 @@ def test_the_catalogs_cores_are_what_their_construction_says():
         for drop in expect["core"]:
             assert model.check([x for x in expect["core"] if x != drop])[0] is Check.SAT, (variant, drop)
         assert model.check(model.labels)[0] is Check.UNSAT
+
+
+def test_warm_bench_runs_and_warm_answers_agree_with_cold():
+    """benchmarks/warm_bench.py exits non-zero when a warm answer differs from the cold one.
+    By hand (examples/search-and-rescue): every event's mission takes 10 steps except the
+    budget cut to 500, which cannot buy the LiDAR (20,000)."""
+    out = run("benchmarks/warm_bench.py", "--runs", "1", "--sizes", "25", "--depth", "6")
+    answers = dict(re.findall(r"^\| ([^|]+?) \| (sat \d+|unsat) \|", out, re.M))
+    assert answers["start"] == "sat 10" and answers["budget 500 (UNSAT, relaxation)"] == "unsat"
+    assert answers["goal cap5"] == "sat 5" and answers["ram 10 (UNSAT)"] == "unsat"
+    assert out.count("steady state") == 2
+
+
+def test_reference_bench_runs_and_checks_its_answers():
+    """benchmarks/reference_bench.py checks catc's and the hand-written scripts' answers
+    against expect.toml before timing (and exits non-zero when one differs)."""
+    out = run("benchmarks/reference_bench.py", "--runs", "1")
+    assert re.search(r"^\| optimize gpu-allocation/max-confidence \| [\d.]+ \|", out, re.M)
+    assert re.search(r"^\| optimize navigation/farthest \| [\d.]+ \|", out, re.M)
+    assert "Largest catc / hand-written:" in out
