@@ -30,6 +30,8 @@ import tomllib
 from fractions import Fraction
 from pathlib import Path
 
+from solve_bench import compile_catc  # benchmarks/ is on sys.path when run as a script
+
 from catc.bench.machine import cpu_text
 from catc.bench.stats import quartiles
 
@@ -91,12 +93,8 @@ def main() -> None:
         help="do not byte-compile catc first (by default it is, as `pip install .` does)",
     )
     args = ap.parse_args()
-    if not args.no_compile:  # timings then match an installed catc, whatever PYTHONDONTWRITEBYTECODE says
-        subprocess.run(
-            [PY, "-m", "compileall", "-q", "compiler/catc", "catgrammar", "stdlib_domains"],
-            cwd=ROOT,
-            check=False,
-        )
+    if not args.no_compile:
+        compile_catc()
     print(
         f"command: python benchmarks/reference_bench.py --runs {args.runs}"
         + (" --no-compile" if args.no_compile else "")

@@ -270,6 +270,16 @@ def bench_refutation(runs: int) -> None:
     print()
 
 
+def compile_catc() -> None:
+    """Byte-compile catc, so that timings match an installed catc whatever
+    PYTHONDONTWRITEBYTECODE says (as `pip install .` compiles it)."""
+    subprocess.run(
+        [sys.executable, "-m", "compileall", "-q", "compiler/catc", "catgrammar", "stdlib_domains"],
+        cwd=ROOT,
+        check=False,
+    )
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--runs", type=int, default=5)
@@ -281,12 +291,8 @@ def main() -> None:
         help="do not byte-compile catc first (by default it is, as `pip install .` does)",
     )
     args = ap.parse_args()
-    if not args.no_compile:  # timings then match an installed catc, whatever PYTHONDONTWRITEBYTECODE says
-        subprocess.run(
-            [sys.executable, "-m", "compileall", "-q", "compiler/catc", "catgrammar", "stdlib_domains"],
-            cwd=ROOT,
-            check=False,
-        )
+    if not args.no_compile:
+        compile_catc()
     sizes, horizons = ([25, 50], [5, 10]) if args.quick else ([25, 50, 100, 200], [5, 10, 20])
     print(
         f"command: python benchmarks/solve_bench.py --runs {args.runs}"

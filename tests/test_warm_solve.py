@@ -162,24 +162,33 @@ def test_old_values_are_retired_and_answers_stay_right(monkeypatch):
     assert search is not None and len(search.inits["x"]) == 2
 
 
-def test_the_runtime_composes_on_one_encoding(tmp_path: Path):
-    """Nothing can be deployed while two modules each need 6 of the RAM and only 10 or 11
-    are there (the relaxation cannot see it, so solve decides); at 12 both fit.  The second
-    and later decisions reuse the encoding (``ram`` became assumed on the first change)."""
-    from catrt.api import connect, init
-
-    model = tmp_path / "ram.cat"
-    model.write_text(
-        """(define (domain ram) (:requirements :numeric)
+RAM_MODEL = """(define (domain ram) (:requirements :numeric)
   (:resources (ram int) (a-done bool) (b-done bool) (up bool))
   (:morphism a :uses 1 :precondition (>= ram 6) :effect (and (decrease ram 6) (assign a-done true)))
   (:morphism b :uses 1 :precondition (>= ram 6) :effect (and (decrease ram 6) (assign b-done true)))
   (:morphism both :uses 1 :precondition (and a-done b-done) :effect (assign up true)))
 (define (problem p) (:domain ram) (:init (= ram 10)) (:goal up) (:horizon 4))
 """
-    )
+
+RAM_SENSOR = """[[sensor]]
+name = "ram"
+resource = "ram"
+argv = ["/bin/echo", "10"]
+"""
+
+
+@pytest.mark.parametrize(("config", "cold"), [(None, 2), (RAM_SENSOR, 1)])
+def test_the_runtime_composes_on_one_encoding(tmp_path: Path, config, cold):
+    """Nothing can be deployed while two modules each need 6 of the RAM and only 10 or 11
+    are there (the relaxation cannot see it, so solve decides); at 12 both fit.  Without a
+    sensor, ``ram`` becomes assumed on its first change (one more encoding); with a sensor
+    on it, it is assumed from the start and every later decision reuses the first encoding."""
+    from catrt.api import connect, init
+
+    model = tmp_path / "ram.cat"
+    model.write_text(RAM_MODEL)
     folder = tmp_path / "st"
-    init(folder, str(model))
+    init(folder, str(model), config_text=config)
     with connect(folder) as rt:
         (start,) = rt.started
         assert start.decision is not None and start.decision.action in ("restore", "stuck")
@@ -187,7 +196,19 @@ def test_the_runtime_composes_on_one_encoding(tmp_path: Path):
         warm = rt.runtime.warm
     assert outcomes[0].decision is not None and outcomes[0].decision.action in ("restore", "stuck")
     assert outcomes[1].decision is not None and outcomes[1].decision.action == "compose"
-    assert (warm.cold, warm.reused) == (2, 1)
+    assert (warm.cold, warm.reused) == (cold, 3 - cold)
+
+
+def test_a_reused_solver_forgets_the_previous_calls_time_limit():
+    """A call with a time limit sets the solver's; the next call without one must not inherit
+    it.  The earlier call's limit is set on the solver directly (a real 1 ms call stops
+    before it reaches the solver); 1 ms would make the search-and-rescue solve UNKNOWN."""
+    warm = WarmStart(["range-to-base"])
+    assert solve(_sar_instance(_sar()), warm=warm).status is SolveStatus.SAT
+    assert warm._search is not None
+    warm._search.solver.set_timeout(0.001)  # what a call with 1 ms left behind
+    again = solve(_sar_instance(_sar(**{"range-to-base": 6})), warm=warm)
+    assert again.status is SolveStatus.SAT and warm.reused == 1
 
 
 @pytest.mark.parametrize("horizon", [0, 3])

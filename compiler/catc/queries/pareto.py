@@ -196,9 +196,7 @@ class _Guided:
         self.solver.assert_term(self.improving(values))
 
     def check(self) -> Check:
-        left = limits.remaining()
-        if left is not None:
-            self.solver.set_timeout(max(0.001, left))
+        self.solver.set_timeout(limits.for_check())  # None: no limit, not a stale one
         self.result.checks += 1
         return self.solver.check()
 
@@ -254,9 +252,7 @@ class _Guided:
             opt.assert_term(self.improving(point, terms))
         opt.assert_term(self.as_good(values, terms))
         handles = [opt.minimize(t) if m else opt.maximize(t) for t, m in zip(terms, self.minimizing)]
-        left = limits.remaining()
-        if left is not None:
-            opt.set_timeout(max(0.001, left))
+        opt.set_timeout(limits.for_check())  # None: no limit, not a stale one
         self.result.checks += 1
         r = opt.check()
         bounds = [opt.bound(h) for h in handles] if r is Check.SAT else []

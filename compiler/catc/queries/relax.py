@@ -366,9 +366,7 @@ def _relax_discrete(
     opt = model.backend
     for label in model.labels:
         opt.add_soft(model.indicator[label], Fraction(1))
-    left = limits.remaining()
-    if left is not None:
-        opt.set_timeout(max(0.001, left))
+    opt.set_timeout(limits.for_check())  # None: no limit, not a stale one
     result.timings["encode"] = time.perf_counter() - start
     r = opt.check()
     if r is not Check.SAT:

@@ -254,9 +254,7 @@ class _Search:
     def _timed_check(self, assumptions: Sequence[Symbol]) -> Check:
         """One check within the command's time (an exhausted budget still checks, so that
         push and pop stay paired)."""
-        left = limits.remaining()
-        if left is not None:
-            self.solver.set_timeout(max(0.001, left))
+        self.solver.set_timeout(limits.for_check())  # None: no limit, not a stale one
         t0 = time.perf_counter()
         r = self.solver.check(assumptions)
         self.timings["solve"] += time.perf_counter() - t0
@@ -296,7 +294,6 @@ class _WarmSearch(_Search):
     ) -> None:
         super().__init__(inst, k, sequential, backend, timings, assumed)
         self.structure = _structure(inst, k, sequential, backend)
-        self.assumed = assumed
         #: the initial values asserted as facts (resource → constraint; "" when it has none)
         self.facts = {r: self._init_text(inst, r) for r in inst.resources if r not in assumed}
         self.inits: dict[str, dict[str, Symbol]] = {}  # resource → its initial values' literals
@@ -322,7 +319,7 @@ class _WarmSearch(_Search):
         self.timings, self.tried = timings, 0
         retired: list[Symbol] = []
         self.literals = []
-        for r in sorted(self.assumed):
+        for r in sorted(self.enc.assumed):
             text = self._init_text(inst, r)
             if not text:  # no initial value: the resource starts free
                 continue

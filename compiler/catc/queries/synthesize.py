@@ -106,9 +106,7 @@ def _synthesize(inst: ir.Instance, mu: ir.Hole, k: int, sequential: bool, result
     written = {e.resource for m in inst.morphisms.values() for e in m.effects}
     if any(r.name in written for _, _, r, _ in encoding.selectors):
         solver.minimize(solver.intern(encoding.effects_count(written)))
-    left = limits.remaining()
-    if left is not None:
-        solver.set_timeout(max(0.001, left))
+    solver.set_timeout(limits.for_check())  # None: no limit, not a stale one
     r = solver.check()
     result.timings["solve"] = time.perf_counter() - start
     if r is Check.SAT and limits.expired():  # stopped (Ctrl-C) as the check ended: not read, not validated
