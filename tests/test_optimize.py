@@ -9,6 +9,7 @@ from fractions import Fraction
 import pytest
 from conftest import ROOT, run_catc, run_catc_process
 from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from test_solve_property import domains, successors, to_cat
 
 from catc import ir
@@ -261,3 +262,58 @@ def test_the_answer_does_not_depend_on_which_proof_finishes_first(case, query, m
     hindered = json.loads(run_catc(query[0], str(path), *query[1:], "--json").stdout)
     assert free["status"] == hindered["status"] == "opt"
     assert hindered["objectives"] == free["objectives"] and hindered["steps"] == free["steps"]
+
+
+def brute_force_recompose(nb, morphs, init_bools, init_c, goal, horizon, deployed, churn, priority):
+    """Brute force: over every composition within the horizon that reaches the goal, the
+    lexicographic best of (churn, final counter) — stability first — or (final counter, churn).
+    A composition's churn is the weight of the deployed components it leaves unused plus that of
+    the new ones it uses (docs/semantics.md); ``used`` counts activations per component."""
+    best = None
+    frontier = {(init_bools, init_c, tuple(0 for _ in morphs))}
+    for depth in range(horizon + 1):
+        for b, c, used in frontier:
+            if all(l.holds(b, c) for l in goal):
+                ch = sum(w for i, w in enumerate(churn) if (used[i] > 0) != (i in deployed))
+                key = (ch, -c) if priority == "stability" else (-c, ch)
+                best = key if best is None else min(best, key)
+        if depth < horizon:
+            frontier = frontier | {succ for state in frontier for succ in successors(morphs, state)}
+    return best
+
+
+@pytest.mark.parametrize("maxsmt", [True, False])
+@settings(
+    max_examples=30, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow]
+)
+@given(domain=domains(), data=st.data())
+def test_recompose_agrees_with_brute_force(tmp_path, domain, data, maxsmt, monkeypatch):
+    """Minimal churn (with weights, both priorities; the other objective: the final counter,
+    maximised) against enumeration — for churn as an arithmetic sum and as MaxSMT soft groups."""
+    from catc.queries import optimize as optimize_module
+    from catc.queries.recompose import recompose
+
+    monkeypatch.setattr(optimize_module, "MAXSMT_CHURN", maxsmt)
+    n = len(domain[1])
+    deployed = data.draw(st.sets(st.integers(0, n - 1)))
+    churn = data.draw(st.lists(st.sampled_from([Fraction(1), Fraction(2), Fraction(1, 4)]), min_size=n, max_size=n))
+    priority = data.draw(st.sampled_from(["stability", "objective"]))
+    text = to_cat(*domain).replace("(:requirements :numeric)", "(:requirements :numeric :recomposition)")
+    for i, w in enumerate(churn):
+        text = text.replace(f"(:morphism m{i} ", f"(:morphism m{i} :churn {float(w)} ", 1)  # 1.0, 2.0, 0.25: exact
+    text = text.replace("(:horizon", f"(:deployed {' '.join(f'm{i}' for i in sorted(deployed))}) (:horizon", 1)
+    path = tmp_path / "random.cat"
+    path.write_text(text)
+    diags = Diagnostics()
+    _, inst = load_instance(None, str(path), diags)
+    assert inst is not None, [d.message for d in diags]
+    expected = brute_force_recompose(*domain, deployed, churn, priority)
+    objective = [ir.Objective(ir.Sense.MAXIMIZE, ir.ResourceRef("c", ir.INT))]
+    rec = recompose(inst, priority=priority, objectives=objective)
+    if expected is None:
+        assert rec.status is OptStatus.UNSAT
+        return
+    assert rec.status is OptStatus.OPT
+    got = {type(v.objective.term): v.value for v in rec.result.values}
+    assert (got[ir.TotalChurn], -got[ir.ResourceRef]) == (expected if priority == "stability" else expected[::-1])
+    assert rec.churn == got[ir.TotalChurn]

@@ -114,6 +114,8 @@ class OptResult(Result):
 #: on the examples with 2–6 steps it costs 1.0–1.3× plain solve, the deepening route
 #: 1.2–2.2× (its extra encodings dominate such small problems; docs/benchmarks.md).
 DEEPEN_FROM = 8
+#: churn objectives as soft-constraint groups (MaxSMT) instead of arithmetic sums
+MAXSMT_CHURN = False
 
 STRATEGIES = ("deepen", "single")
 
@@ -448,8 +450,16 @@ def _optimize_at(
     timings = {"encode": 0.0, "solve": 0.0, "validate": 0.0}
     enc, solver = _encode_whole(inst, k, sequential, optimize=True)
     handles = []
-    for obj, term in zip(objectives, _objective_terms(enc, solver, objectives, softs, k)):
-        handles.append(solver.minimize(term) if obj.sense is ir.Sense.MINIMIZE else solver.maximize(term))
+    for i, (obj, term) in enumerate(zip(objectives, _objective_terms(enc, solver, objectives, softs, k))):
+        literals = []
+        if MAXSMT_CHURN and isinstance(obj.term, ir.TotalChurn) and not (i == 0 and softs):
+            literals = [(changed, w) for changed, w in enc.churn_literals(k) if w > 0]
+        if literals:  # churn as one group of soft constraints, answered by Z3's MaxSMT engine
+            for changed, w in literals:
+                handle = solver.add_soft(solver.intern(f"(not {changed})"), w, f"churn{i}")
+            handles.append(handle)
+        else:
+            handles.append(solver.minimize(term) if obj.sense is ir.Sense.MINIMIZE else solver.maximize(term))
     timings["encode"] = time.perf_counter() - start
 
     _budget(solver, deadline)

@@ -124,7 +124,10 @@ class Backend(ABC):
     def maximize(self, term: Term) -> Any:
         raise self.unsupported(Capability.OPTIMIZE)
 
-    def add_soft(self, term: Term, weight: Fraction) -> None:
+    def add_soft(self, term: Term, weight: Fraction, group: str | None = None) -> Any:
+        """A soft constraint: its weight is paid when ``term`` is false.  The soft constraints
+        of one ``group`` form one objective (the sum paid; priority: where the group was
+        first added among the objectives); returns the group's handle for :meth:`bound`."""
         raise self.unsupported(Capability.OPTIMIZE)
 
     def bound(self, handle: Any) -> Bound:

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 from collections import defaultdict
 from collections.abc import Callable, Mapping
+from fractions import Fraction
 from typing import Any, TypeAlias
 
 from catc import ir
@@ -530,19 +531,26 @@ class Encoder:
         """An objective term over a composition of ``steps`` steps, as Real-sorted text."""
         return _text(self._as(self._objective(e, steps), e.sort, ir.REAL))
 
+    def churn_literals(self, steps: int) -> list[tuple[str, Fraction]]:
+        """The churn of a composition of ``steps`` steps as (changed, weight) pairs: a deployed
+        component left unused, or a new one used (``total-churn`` is the sum of the weights of
+        the true ones); components that cannot change are left out."""
+        deployed = set(self.inst.problem.deployed)
+        out: list[tuple[str, Fraction]] = []
+        for m in self.morphisms:
+            used = _or([self.act[t][m.name] for t in range(steps)])
+            changed = f"(not {used})" if m.name in deployed else used
+            if changed != "false":
+                out.append((changed, m.churn))
+        return out
+
     def _objective(self, e: ir.Expr, steps: int) -> Term:
         acts = [(t, m) for t in range(steps) for m in self.morphisms]
         if isinstance(e, ir.TotalCost):
             terms = [f"(ite {self.act[t][m.name]} {self._cost(m, t)} 0.0)" for t, m in acts]
             return f"(+ 0.0 {' '.join(terms)})" if terms else "0.0"
         if isinstance(e, ir.TotalChurn):
-            deployed = set(self.inst.problem.deployed)
-            terms = []
-            for m in self.morphisms:
-                used = _or([self.act[t][m.name] for t in range(steps)])
-                changed = f"(not {used})" if m.name in deployed else used
-                if changed != "false":
-                    terms.append(f"(ite {changed} {real_literal(m.churn)} 0.0)")
+            terms = [f"(ite {changed} {real_literal(w)} 0.0)" for changed, w in self.churn_literals(steps)]
             return f"(+ 0.0 {' '.join(terms)})" if terms else "0.0"
         if isinstance(e, ir.Uses):
             terms = [f"(ite {self.act[t][e.morphism]} 1 0)" for t in range(steps)]

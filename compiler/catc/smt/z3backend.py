@@ -62,9 +62,10 @@ def to_fraction(v: z3.ExprRef) -> Fraction:
 
 
 def _weight_text(w: Fraction) -> str:
+    """A soft constraint's weight as Z3 reads it, exactly ("7", "-1/3")."""
     if w.denominator == 1:
         return int_text(w.numerator)
-    return str(w.numerator / w.denominator)  # Z3 reads a decimal weight
+    return f"{int_text(w.numerator)}/{w.denominator}"
 
 
 class Z3Backend(Backend):
@@ -218,10 +219,12 @@ class Z3Backend(Backend):
         self._max[id(handle)] = maximize
         return handle
 
-    def add_soft(self, term: Term, weight: Fraction) -> None:
+    def add_soft(self, term: Term, weight: Fraction, group: str | None = None) -> Any:
         opt = self.solver
         assert isinstance(opt, z3.Optimize)
-        opt.add_soft(self.expr(term), _weight_text(weight))
+        handle = opt.add_soft(self.expr(term), _weight_text(weight), group)
+        self._max[id(handle)] = False
+        return handle
 
     def bound(self, handle: Any) -> Bound:
         vector = handle.upper_values() if self._max[id(handle)] else handle.lower_values()
