@@ -107,3 +107,11 @@ def test_reference_bench_runs_and_checks_its_answers():
     assert re.search(r"^\| optimize gpu-allocation/max-confidence \| [\d.]+ \|", out, re.M)
     assert re.search(r"^\| optimize navigation/farthest \| [\d.]+ \|", out, re.M)
     assert "Largest catc / hand-written:" in out
+
+
+def test_maxsmt_bench_runs_and_both_churn_encodings_agree():
+    """benchmarks/maxsmt_bench.py exits non-zero when an optimum's churn differs from the one
+    derived in its docstring (SAR: 0 and 4, expect.toml; the retired catalog: 2)."""
+    out = run("benchmarks/maxsmt_bench.py", "--quick", "--runs", "1")
+    assert "| SAR stability-first | " in out and "opt churn 0" in out
+    assert "| catalog n=12 d=3, no counting proof | " in out and "opt churn 2" in out
