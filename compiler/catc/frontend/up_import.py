@@ -171,21 +171,9 @@ def _up() -> Any:
 
 def supported_kind() -> Any:
     """The UP ``ProblemKind`` catc accepts."""
-    from unified_planning.model import ProblemKind
+    from unified_planning.model.problem_kind import LATEST_PROBLEM_KIND_VERSION, ProblemKind
 
-    kind = ProblemKind(version=2)
-    for feature in SUPPORTED_FEATURES:
-        kind.set(_category(feature), feature)
-    return kind
-
-
-def _category(feature: str) -> str:
-    from unified_planning.model.problem_kind import FEATURES
-
-    for category, names in FEATURES.items():
-        if feature in names:
-            return category
-    raise KeyError(feature)
+    return ProblemKind(set(SUPPORTED_FEATURES), version=LATEST_PROBLEM_KIND_VERSION)
 
 
 def refusals(kind: Any) -> list[tuple[str, str]]:
@@ -361,6 +349,8 @@ class _Converter:
             self.resource_of[node] = name
             self.resources[name] = ir.Resource(name, sort, lower=lo, upper=hi, doc=f"UP fluent {node}")
             self.report.fluents[name] = str(node)
+            if lo is not None or hi is not None:
+                self.report.labels[f"bounds/{name}"] = f"the bounds of {node.fluent().type} on {node}"
         return name
 
     def _initial_state(self) -> dict[str, ir.InitValue]:
@@ -377,6 +367,7 @@ class _Converter:
         if node.is_int_constant() or node.is_real_constant():
             return ir.Const(Fraction(node.constant_value()), INT if sort.kind is SortKind.INT else REAL)
         if node.is_object_exp():
+            self.symbols = True
             return ir.Const(self.object_names[node.object().name], self._sort_by_up[node.object().type.name])
         raise _Refused(f"value {node}", "not a constant")
 
