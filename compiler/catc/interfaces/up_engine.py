@@ -17,7 +17,9 @@ Statuses, honestly:
 * ``SOLVED_OPTIMALLY`` — only with a metric, when optimality holds for *every* plan length,
   not only within catc's horizon: plan length (the shortest plan is found by deepening one
   step at a time); action costs all positive (a plan cheaper than the first one found, of cost
-  C, has at most ⌊C / c_min⌋ actions, and catc optimises over exactly that horizon); and
+  C, has at most ⌊C / c_min⌋ actions, and catc optimises over exactly that horizon); any
+  metric of the final state or of non-negative costs when the state space is finite, of N ≤
+  ``max_horizon`` + 1 states (some best plan visits no state twice: N − 1 actions); and
   oversubscription when every goal is reached. Otherwise ``SOLVED_SATISFICING``.
 * ``UNSOLVABLE_PROVEN`` — catc's answer is a proof for every horizon: the relaxed-reachability
   refutation, or a finite state space (Boolean and object fluents only) whose every state is
@@ -153,7 +155,9 @@ class _Run:
         self.log: list[Any] = []
 
     def remaining(self) -> float | None:
-        return None if self.deadline is None else max(0.0, self.deadline - time.monotonic())
+        """Seconds left (None: no limit); at least a millisecond, so that a query whose time
+        is up says so (UNKNOWN, "timeout") rather than refusing a zero limit."""
+        return None if self.deadline is None else max(0.001, self.deadline - time.monotonic())
 
     def result(self, status: Any, plan: Plan | None = None, metrics: dict[str, str] | None = None) -> Any:
         up_plan = None if plan is None else plan_to_up(plan, self.report, self.problem)
@@ -197,11 +201,17 @@ class _Run:
                 return self.result(Status.TIMEOUT)
             self.say(f"catc: the solver could not decide ({r.reason})", LogLevel.WARNING)
             return self.result(Status.UNSOLVABLE_INCOMPLETELY)
-        proven = r.final or _finite_states_within(self.inst, r.horizon)
+        states = _finite_states(self.inst, r.horizon + 1)
+        proven = r.final or states is not None
         if r.refutation is not None:
             why = f"no plan of any length: {r.refutation.reason} (relaxed reachability)"
-        elif proven:
-            why = f"no plan of any length: no plan within {r.horizon} actions, and no state is farther than that"
+        elif r.final:
+            why = f"no plan of any length: no plan within {r.horizon} actions, the most any plan can take"
+        elif states is not None:
+            why = (
+                f"no plan of any length: no plan within {r.horizon} actions, and the problem has at most "
+                f"{states} states, each reachable within {states - 1} actions if at all"
+            )
         else:
             why = f"no plan of at most {r.horizon} actions (longer plans were not searched: max_horizon)"
         self.say("catc: " + why)
@@ -247,19 +257,26 @@ class _Run:
         return self.result(Status.SOLVED_OPTIMALLY if proven else Status.SOLVED_SATISFICING, r.plan, _metric(shown))
 
     def _opt_horizon(self, first: Plan, kind: str | None) -> tuple[int, bool]:
-        """The horizon to optimise over, and whether optimality over it is optimality."""
+        """The horizon to optimise over, and whether optimality over it is optimality over
+        every plan length. Two bounds prove it: with every action cost c ≥ c_min > 0, a plan
+        cheaper than the first one found (cost C) has at most ⌊C / c_min⌋ actions; with a
+        finite state space of N states, some best plan visits no state twice (the metric
+        depends on the final state, or on costs that are never negative), so it has at most
+        N − 1 actions."""
         most = self.engine.max_horizon
         length = _length(first)
+        bounds = []
+        states = _finite_states(self.inst, most + 1)
+        if states is not None:
+            bounds.append(states - 1)
         if kind == "cost":
-            costs = [_cost(m) for m in self.inst.morphisms.values()]
-            c_min = min(costs, default=Fraction(0))
+            c_min = min((_cost(m) for m in self.inst.morphisms.values()), default=Fraction(0))
             if c_min > 0:
                 c0 = sum((_cost(self.inst.morphisms[a.morphism]) for step in first.steps for a in step), Fraction(0))
-                k = int(c0 // c_min)
-                return (k, True) if k <= most else (most, False)
-            return max(length, min(most, self.engine.opt_horizon)), False
-        k = max(length, min(most, self.engine.opt_horizon))
-        return k, kind == "gain" and _finite_states_within(self.inst, k)
+                bounds.append(int(c0 // c_min))
+        if bounds and max(length, min(bounds)) <= most:
+            return max(length, min(bounds)), True
+        return max(length, min(most, self.engine.opt_horizon)), False
 
 
 def _cost(m: ir.Morphism) -> Fraction:
@@ -286,8 +303,14 @@ def _gain(inst: ir.Instance, r: Any) -> Fraction:
 
 
 def _finite_states_within(inst: ir.Instance, horizon: int) -> bool:
-    """Every reachable state is within ``horizon`` steps when the state space is finite and no
-    larger than ``horizon + 1`` states (a shortest path visits each state at most once)."""
+    """Every reachable state is reachable within ``horizon`` steps."""
+    return _finite_states(inst, horizon + 1) is not None
+
+
+def _finite_states(inst: ir.Instance, most: int) -> int | None:
+    """An upper bound on the number of states when it is finite and at most ``most`` (Boolean,
+    object and bounded int fluents only; a shortest plan visits no state twice, so it has
+    fewer actions than that), else None."""
     size = 1
     for r in inst.resources.values():
         if r.sort.kind is ir.SortKind.BOOL:
@@ -297,10 +320,10 @@ def _finite_states_within(inst: ir.Instance, horizon: int) -> bool:
         elif r.sort.kind is ir.SortKind.INT and r.lower is not None and r.upper is not None:
             size *= max(1, int(r.upper - r.lower) + 1)
         else:
-            return False
-        if size > horizon + 1:
-            return False
-    return True
+            return None
+        if size > most:
+            return None
+    return size
 
 
 _ = up  # the package itself: imported above so that a missing extra fails here
