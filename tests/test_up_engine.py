@@ -321,3 +321,33 @@ def test_without_unified_planning_the_extra_is_named(monkeypatch, examples):
     with pytest.raises(UpMissing) as err:
         up_to_instance(problem)
     assert err.value.code == codes.IMPORT_NEEDS_EXTRA == "E1202" and "catc-lang[up]" in str(err.value)
+
+
+def test_conflicting_assignments_make_the_action_inapplicable(examples):
+    """``set`` assigns x := 2, and x := 1 when c holds: UP's simulator rejects the action when
+    both fire, so x = 1 is unreachable (without the guard, an if-term would give x = 1 in one
+    step). BFS over UP's simulator agrees that there is no plan."""
+    c, x = Fluent("c"), Fluent("x", IntType(0, 5))
+    set_ = InstantaneousAction("set")
+    set_.add_effect(x, 1, condition=c)  # first: an if-term chain would try it first
+    set_.add_effect(x, 2)
+    pr = Problem("conflict")
+    pr.add_fluent(c, default_initial_value=True)
+    pr.add_fluent(x, default_initial_value=0)
+    pr.add_action(set_)
+    pr.add_goal(Equals(x, 1))
+    inst, _ = up_to_instance(pr)
+    assert solve(inst, horizon=4, sequential=True).plan is None
+    assert _bfs_length(pr) is None
+
+
+def test_anytime_planner_improves_to_the_optimum(catc_engine, examples):
+    """AnytimePlanner(name="catc"): the first plan (intermediate), then the optimum."""
+    from unified_planning.shortcuts import AnytimePlanner
+
+    ex = examples["locations_connected_cost_minimize"]
+    with AnytimePlanner(name="catc") as planner:
+        results = list(planner.get_solutions(ex.problem, timeout=PER_PROBLEM))
+    assert [r.status for r in results] == [Status.INTERMEDIATE, Status.SOLVED_OPTIMALLY]
+    (value,) = _valid(ex.problem, results[-1].plan).metric_evaluations.values()
+    assert Fraction(str(value)) == Fraction(str(ex.optimum))
