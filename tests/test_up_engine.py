@@ -351,3 +351,32 @@ def test_anytime_planner_improves_to_the_optimum(catc_engine, examples):
     assert [r.status for r in results] == [Status.INTERMEDIATE, Status.SOLVED_OPTIMALLY]
     (value,) = _valid(ex.problem, results[-1].plan).metric_evaluations.values()
     assert Fraction(str(value)) == Fraction(str(ex.optimum))
+
+
+def _py_blocks(page):
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / page).read_text(encoding="utf-8")
+    return re.findall(r"```py\n(.*?)```", text, re.S)
+
+
+def test_the_examples_in_the_docs_run(catc_engine, examples, capsys):
+    """docs/api.md's and docs/interop.md's unified-planning examples, on UP's ``basic``."""
+    problem = examples["basic"].problem
+    (api,) = _py_blocks("api.md")
+    scope = {"problem": problem}
+    exec(compile(api, "docs/api.md", "exec"), scope)
+    assert _valid(problem, scope["up_plan"]).status is ValidationResultStatus.VALID
+    (interop,) = _py_blocks("interop.md")
+    scope = {"problem": problem}
+    exec(compile(interop, "docs/interop.md", "exec"), scope)
+    assert scope["result"].status is Status.SOLVED_SATISFICING
+    assert "SOLVED_SATISFICING" in capsys.readouterr().out
+
+
+def test_register_is_the_one_liner(catc_engine):
+    from catc.interfaces.up_engine import register
+
+    register()  # a second registration is harmless
+    assert get_environment().factory.engines.count("catc") == 1

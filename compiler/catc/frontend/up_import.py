@@ -1,4 +1,6 @@
-"""A front end for unified-planning: a UP ``Problem`` → catc's checked IR (:class:`~catc.ir.Instance`).
+"""unified-planning problems into catc's IR.
+
+A front end: a UP ``Problem`` → catc's checked IR (:class:`~catc.ir.Instance`).
 
 The problem is *grounded* first with unified-planning's own compilers (quantifiers removed by
 ``up_quantifiers_remover``, actions instantiated by ``up_grounder``, which drops the ground
@@ -233,6 +235,13 @@ def up_to_instance(problem: Any, *, name: str | None = None) -> tuple[ir.Instanc
     inst = _Converter(ground, back, report, name or problem.name).run()
     if not report.ok:
         raise UpImportError(report)
+    report.notes += [
+        f"grounded by unified-planning's grounder: {len(inst.morphisms)} ground actions → morphisms without "
+        f"parameters, {len(inst.resources)} ground fluents read or written → resources",
+        "static fluents (written by no action) replaced by their initial values",
+        "sequential semantics: solve with sequential=True (one action per step); catc's parallel steps "
+        "could put two UP actions in one step",
+    ]
     return inst, report
 
 

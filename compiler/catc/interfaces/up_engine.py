@@ -1,4 +1,6 @@
-"""catc as a unified-planning engine: ``OneshotPlanner(name="catc")`` and ``AnytimePlanner(name="catc")``.
+"""catc as a unified-planning planning engine.
+
+``OneshotPlanner(name="catc")`` and ``AnytimePlanner(name="catc")``.
 
 Register it once per process (UP 1.3 finds engines by its factory, not by entry points)::
 
@@ -35,6 +37,7 @@ that together admit no plan, in UP's words — in the result's ``log_messages``.
 from __future__ import annotations
 
 import time
+import warnings
 from collections.abc import Iterator
 from fractions import Fraction
 from typing import IO, Any
@@ -57,7 +60,7 @@ try:
 except ImportError as exc:  # the module is only imported by UP's factory, or by hand
     raise up_import.UpMissing(up_import.MISSING) from exc
 
-__all__ = ["DEFAULT_MAX_HORIZON", "DEFAULT_OPT_HORIZON", "CatcEngine"]
+__all__ = ["DEFAULT_MAX_HORIZON", "DEFAULT_OPT_HORIZON", "CatcEngine", "register"]
 
 #: The most actions of a plan the engine searches for (each horizon is checked in turn).
 DEFAULT_MAX_HORIZON = 200
@@ -139,6 +142,8 @@ class CatcEngine(Engine, OneshotPlannerMixin, AnytimePlannerMixin):
         timeout: float | None = None,
         output_stream: IO[str] | None = None,
     ) -> Any:
+        if heuristic is not None:
+            warnings.warn("catc ignores the heuristic: it searches by SMT, not by states", stacklevel=2)
         return list(_Run(self, problem, timeout).results())[-1]
 
     def _get_solutions(self, problem: Any, timeout: float | None = None, output_stream: IO[str] | None = None) -> Any:
@@ -177,6 +182,8 @@ class _Run:
             )
             yield self.result(Status.UNSUPPORTED_PROBLEM)
             return
+        for note in self.report.notes:
+            self.say("catc import: " + note, LogLevel.DEBUG)
         first = solve(
             self.inst, horizon=self.engine.max_horizon, sequential=True, timeout=self.remaining(), presolve=True
         )
@@ -324,6 +331,13 @@ def _finite_states(inst: ir.Instance, most: int) -> int | None:
         if size > most:
             return None
     return size
+
+
+def register(environment: Any = None) -> None:
+    """Add the engine to UP's factory as ``catc`` (once; the documented one-liner does the same)."""
+    env = environment or up.environment.get_environment()
+    if "catc" not in env.factory.engines:
+        env.factory.add_engine("catc", __name__, "CatcEngine")
 
 
 _ = up  # the package itself: imported above so that a missing extra fails here
