@@ -380,3 +380,26 @@ def test_register_is_the_one_liner(catc_engine):
 
     register()  # a second registration is harmless
     assert get_environment().factory.engines.count("catc") == 1
+
+
+def test_a_grounded_problem_past_the_limits_is_refused(catc_engine, examples):
+    """robot_loader grounds to 6 morphisms; with a morphisms limit of 5 it is refused (E1105)."""
+    from catgrammar import limits
+
+    problem = examples["robot_loader"].problem
+    inst, _ = up_to_instance(problem)
+    assert len(inst.morphisms) == 6
+    with limits.using(limits.Limits(morphisms=5)):
+        with pytest.raises(limits.LimitExceeded) as err:
+            up_to_instance(problem)
+        assert err.value.code == codes.TOO_MANY_MORPHISMS
+        r = _solve(problem)
+    assert r.status is Status.UNSUPPORTED_PROBLEM and "morphisms limit" in _log(r)
+
+
+def test_forced_past_the_kind_check_the_answer_is_unsupported_with_the_report(catc_engine, examples):
+    with OneshotPlanner(name="catc") as planner:
+        planner.skip_checks = True  # UP would otherwise refuse before calling catc
+        r = planner.solve(examples["matchcellar"].problem)
+    assert r.status is Status.UNSUPPORTED_PROBLEM and r.plan is None
+    assert "E1201" in _log(r) and "CONTINUOUS_TIME" in _log(r)

@@ -38,7 +38,7 @@ from catc import ir
 from catc.ir import BOOL, INT, REAL, Sort, SortKind
 from catc.ir.fold import FoldError, fold_constant
 from catc.semantics.plan import Plan
-from catgrammar import codes
+from catgrammar import codes, limits
 from catgrammar.symbols import RESERVED_NAMES
 
 __all__ = [
@@ -222,7 +222,8 @@ def up_to_instance(problem: Any, *, name: str | None = None) -> tuple[ir.Instanc
     (``report.sequential``); its problem has no horizon (pass one to the query). Map a catc
     composition back with :func:`plan_to_up` (``report.actions``). Raises :class:`UpImportError`
     (code ``E1201``, ``.report.refused`` non-empty) when the problem uses anything catc cannot
-    express, and :class:`UpMissing` (an ``ImportError``, code ``E1202``) naming the ``up`` extra
+    express, :class:`~catgrammar.limits.LimitExceeded` when the grounded problem has more
+    resources or morphisms than the limits allow (``E1104``/``E1105``), and :class:`UpMissing` (an ``ImportError``, code ``E1202``) naming the ``up`` extra
     without unified-planning. The
     signature is stable: ``catc import pddl`` builds on it."""
     _up()
@@ -235,6 +236,7 @@ def up_to_instance(problem: Any, *, name: str | None = None) -> tuple[ir.Instanc
     inst = _Converter(ground, back, report, name or problem.name).run()
     if not report.ok:
         raise UpImportError(report)
+    _within_limits(inst)
     report.notes += [
         f"grounded by unified-planning's grounder: {len(inst.morphisms)} ground actions → morphisms without "
         f"parameters, {len(inst.resources)} ground fluents read or written → resources",
@@ -243,6 +245,18 @@ def up_to_instance(problem: Any, *, name: str | None = None) -> tuple[ir.Instanc
         "could put two UP actions in one step",
     ]
     return inst, report
+
+
+def _within_limits(inst: ir.Instance) -> None:
+    """The checker's limits on resources and morphisms hold for an imported instance too."""
+    for name, count in (("resources", len(inst.resources)), ("morphisms", len(inst.morphisms))):
+        limit = limits.BY_NAME[name]
+        most = getattr(limits.current(), limit.field)
+        if count > most:
+            raise limits.LimitExceeded(
+                limit.code,
+                f"the grounded problem has {count} {name}, more than the {name} limit ({most}); {limit.how_to_raise}",
+            )
 
 
 def _ground(problem: Any) -> tuple[Any, Callable[[Any], Any]]:

@@ -49,6 +49,7 @@ from catc.queries.diagnose import DiagnoseStatus, diagnose
 from catc.queries.optimize import OptStatus, optimize
 from catc.queries.solve import SolveResult, SolveStatus, solve
 from catc.semantics.plan import Plan
+from catgrammar import limits
 
 try:
     import unified_planning as up
@@ -180,6 +181,10 @@ class _Run:
             self.say(
                 "catc cannot express this problem (import report, E1201):\n" + refused.report.text(), LogLevel.ERROR
             )
+            yield self.result(Status.UNSUPPORTED_PROBLEM)
+            return
+        except limits.LimitExceeded as past:  # grounded too large for catc's limits
+            self.say(f"catc: {past.message} ({past.code})", LogLevel.ERROR)
             yield self.result(Status.UNSUPPORTED_PROBLEM)
             return
         for note in self.report.notes:
