@@ -403,3 +403,17 @@ def test_forced_past_the_kind_check_the_answer_is_unsupported_with_the_report(ca
         r = planner.solve(examples["matchcellar"].problem)
     assert r.status is Status.UNSUPPORTED_PROBLEM and r.plan is None
     assert "E1201" in _log(r) and "CONTINUOUS_TIME" in _log(r)
+
+
+def test_an_up_ini_registers_the_engine(tmp_path, examples):
+    """docs/interop.md's up.ini, read by UP's own factory (in a fresh environment)."""
+    from unified_planning.environment import Environment
+
+    ini = tmp_path / "up.ini"
+    ini.write_text("[engine catc]\nmodule_name = catc.interfaces.up_engine\nclass_name = CatcEngine\n")
+    env = Environment()
+    env.credits_stream = None
+    env.factory.configure_from_file(str(ini))
+    assert "catc" in env.factory.engines
+    engine = env.factory.engine("catc")
+    assert engine.__name__ == "CatcEngine" and engine.supports(examples["basic"].problem.kind)
