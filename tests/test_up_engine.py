@@ -417,3 +417,15 @@ def test_an_up_ini_registers_the_engine(tmp_path, examples):
     assert "catc" in env.factory.engines
     engine = env.factory.engine("catc")
     assert engine.__name__ == "CatcEngine" and engine.supports(examples["basic"].problem.kind)
+
+
+def test_every_refusal_of_an_example_says_why(examples):
+    from catc.frontend.up_import import refusals
+
+    for name, ex in examples.items():
+        if CatcEngine.supports(ex.problem.kind):
+            assert refusals(ex.problem.kind) == [], name
+            continue
+        reasons = refusals(ex.problem.kind)
+        assert reasons, name
+        assert all(why != "not expressible in catc" for _, why in reasons), (name, reasons)

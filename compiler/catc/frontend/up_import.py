@@ -100,8 +100,23 @@ SUPPORTED_FEATURES: tuple[str, ...] = (
 
 #: Why a feature outside :data:`SUPPORTED_FEATURES` is refused (the import report's words).
 WHY_NOT: Mapping[str, str] = {
-    "UNDEFINED_INITIAL_NUMERIC": "a fluent without an initial value: catc's initial state is complete",
-    "UNDEFINED_INITIAL_SYMBOLIC": "a fluent without an initial value: catc's initial state is complete",
+    "UNDEFINED_INITIAL_NUMERIC": "a fluent without an initial value: catc's initial state is complete, "
+    "and UP leaves open what reading an undefined value means",
+    "UNDEFINED_INITIAL_SYMBOLIC": "a fluent without an initial value: catc's initial state is complete, "
+    "and UP leaves open what reading an undefined value means",
+    "HIERARCHICAL": "tasks and methods: catc has no task networks",
+    "CONTINUOUS_TIME": "time: catc's steps are instantaneous",
+    "DISCRETE_TIME": "time: catc's steps are instantaneous",
+    "SCHEDULING": "scheduling needs time: catc's steps are instantaneous",
+    "PROCESSES": "processes are continuous change over time",
+    "EVENTS": "events fire in time (PDDL+)",
+    "INCREASE_CONTINUOUS_EFFECTS": "continuous change over time",
+    "DECREASE_CONTINUOUS_EFFECTS": "continuous change over time",
+    "NON_LINEAR_CONTINUOUS_EFFECTS": "continuous change over time",
+    "CONTINGENT": "sensing and contingent plans",
+    "ACTION_BASED_MULTI_AGENT": "several agents",
+    "TAMP": "motion planning (TAMP)",
+    "TEMPORAL_OVERSUBSCRIPTION": "a temporal metric",
     "UNBOUNDED_INT_ACTION_PARAMETERS": "an unbounded int action parameter cannot be grounded",
     "REAL_ACTION_PARAMETERS": "a real action parameter cannot be grounded",
     "FLUENTS_IN_ACTIONS_COST": "an action cost that changes with the state: catc's :cost is fixed per action",
@@ -180,10 +195,20 @@ def supported_kind() -> Any:
 
 def refusals(kind: Any) -> list[tuple[str, str]]:
     """The features of ``kind`` catc does not accept, each with its reason."""
+    from unified_planning.model.problem_kind import FEATURES
+
+    by_category = {
+        "TIME": "time: catc's steps are instantaneous",
+        "EXPRESSION_DURATION": "durations: catc's steps are instantaneous",
+        "HIERARCHICAL": "tasks and methods: catc has no task networks",
+        "MULTI_AGENT": "several agents",
+    }
+    category = {f: c for c, names in FEATURES.items() for f in names}
     out = []
     for feature in sorted(kind.features):
         if feature not in SUPPORTED_FEATURES:
-            out.append((feature, WHY_NOT.get(feature, "not expressible in catc (see docs/interop.md)")))
+            why = WHY_NOT.get(feature) or by_category.get(category.get(feature, ""), "not expressible in catc")
+            out.append((feature, why))
     return out
 
 
