@@ -429,3 +429,31 @@ def test_every_refusal_of_an_example_says_why(examples):
         reasons = refusals(ex.problem.kind)
         assert reasons, name
         assert all(why != "not expressible in catc" for _, why in reasons), (name, reasons)
+
+
+def _steps_problem(invariant_ok_initially=True):
+    """x ∈ [0, 10] from 0 (or 3) by steps of 1 and 3 to x = 6, never through x = 3: by hand,
+    3+3 passes 3 and no 3 steps sum to 6, so a shortest plan is 1, 3, 1, 1 (4 actions)."""
+    x = Fluent("x", IntType(0, 10))
+    pr = Problem("steps")
+    pr.add_fluent(x, default_initial_value=0 if invariant_ok_initially else 3)
+    for n in (1, 3):
+        a = InstantaneousAction(f"inc{n}")
+        a.add_effect(x, x + n)
+        pr.add_action(a)
+    pr.add_state_invariant(Not(Equals(x, 3)))
+    pr.add_goal(Equals(x, 6))
+    return pr
+
+
+def test_state_invariants_are_regressed_into_preconditions(catc_engine):
+    pr = _steps_problem()
+    r = _solve(pr)
+    assert r.status is Status.SOLVED_SATISFICING and len(r.plan.actions) == 4 == _bfs_length(pr)
+    assert _valid(pr, r.plan).status is ValidationResultStatus.VALID
+
+
+def test_an_invariant_false_at_first_leaves_no_plan(catc_engine):
+    r = _solve(_steps_problem(invariant_ok_initially=False))
+    assert r.status is Status.UNSOLVABLE_PROVEN
+    assert "state invariant 1 is false in the initial state" in _log(r)

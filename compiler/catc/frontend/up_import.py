@@ -518,15 +518,15 @@ class _Converter:
         invs = self.g.state_invariants
         if not invs:
             return
-        from unified_planning.engines.sequential_simulator import UPSequentialSimulator
+        from unified_planning.model import UPState
+        from unified_planning.model.walkers import StateEvaluator
 
-        with UPSequentialSimulator(self.g, error_on_failed_checks=False) as sim:
-            state = sim.get_initial_state()
-            for i, inv in enumerate(invs):
-                if not sim._se.evaluate(inv, state).bool_constant_value():
-                    label = f"goal/{len(goal)}"
-                    goal.append(ir.Literal(ir.Const(False, BOOL), label))
-                    self.report.labels[label] = f"state invariant {i + 1} is false in the initial state: {inv}"
+        state, evaluator = UPState(self.g.initial_values, self.g), StateEvaluator(self.g)
+        for i, inv in enumerate(invs):
+            if not evaluator.evaluate(inv, state).bool_constant_value():
+                label = f"goal/{len(goal)}"
+                goal.append(ir.Literal(ir.Const(False, BOOL), label))
+                self.report.labels[label] = f"state invariant {i + 1} is false in the initial state: {inv}"
 
     # ------------------------------------------------------------ the metric
 
