@@ -457,3 +457,14 @@ def test_an_invariant_false_at_first_leaves_no_plan(catc_engine):
     r = _solve(_steps_problem(invariant_ok_initially=False))
     assert r.status is Status.UNSOLVABLE_PROVEN
     assert "state invariant 1 is false in the initial state" in _log(r)
+
+
+def test_the_declared_guarantees():
+    from unified_planning.engines.mixins.anytime_planner import AnytimeGuarantee
+    from unified_planning.engines.mixins.oneshot_planner import OptimalityGuarantee
+
+    assert CatcEngine.satisfies(OptimalityGuarantee.SATISFICING)
+    assert not CatcEngine.satisfies(OptimalityGuarantee.SOLVED_OPTIMALLY)  # bounded by its horizon
+    assert CatcEngine.ensures(AnytimeGuarantee.INCREASING_QUALITY)
+    kind = CatcEngine.supported_kind()
+    assert "CONTINUOUS_TIME" not in kind.features and "ACTIONS_COST" in kind.features
