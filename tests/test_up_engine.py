@@ -468,3 +468,8 @@ def test_the_declared_guarantees():
     assert CatcEngine.ensures(AnytimeGuarantee.INCREASING_QUALITY)
     kind = CatcEngine.supported_kind()
     assert "CONTINUOUS_TIME" not in kind.features and "ACTIONS_COST" in kind.features
+
+
+def test_a_horizon_past_the_limit_is_a_usage_error():
+    with pytest.raises(ValueError, match="horizon limit"):
+        CatcEngine(max_horizon=1001)

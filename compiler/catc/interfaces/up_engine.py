@@ -106,6 +106,12 @@ class CatcEngine(Engine, OneshotPlannerMixin, AnytimePlannerMixin):
         AnytimePlannerMixin.__init__(self)
         self.max_horizon = int(max_horizon)
         self.opt_horizon = int(opt_horizon)
+        most = limits.current().horizon
+        if not (0 <= self.max_horizon <= most and 0 <= self.opt_horizon <= most):
+            raise ValueError(
+                f"max_horizon and opt_horizon must be between 0 and the horizon limit ({most}); "
+                "raise it for a block with catgrammar.limits.using(Limits(horizon=N))"
+            )
         self.optimize = bool(optimize)
         self.diagnose = bool(diagnose)
 
