@@ -243,10 +243,11 @@ class _Run:
         budget = DIAGNOSIS_TIME if self.remaining() is None else min(DIAGNOSIS_TIME, self.remaining() or 0.0)
         d = diagnose(self.inst, horizon=horizon, sequential=True, relative_to=(), timeout=budget)
         if d.status is DiagnoseStatus.UNSAT and d.cores:
+            self.report.labels.setdefault("horizon", f"at most {horizon} actions (longer plans were not searched)")
             lines = [f"  - {self.report.describe(label)}" for label in d.cores[0]]
             self.say(
-                f"catc diagnose: these constraints together admit no plan of at most {horizon} actions "
-                "(an irreducible set: without any one of them there is one):\n" + "\n".join(lines)
+                f"catc diagnose: these constraints conflict: together they admit no plan of at most {horizon} "
+                "actions, and without any one of them the others do (an irreducible set):\n" + "\n".join(lines)
             )
         else:
             self.say(f"catc diagnose: no core found ({d.status.value}{', ' + d.reason if d.reason else ''})")
