@@ -473,3 +473,29 @@ def test_the_declared_guarantees():
 def test_a_horizon_past_the_limit_is_a_usage_error():
     with pytest.raises(ValueError, match="horizon limit"):
         CatcEngine(max_horizon=1001)
+
+
+def test_action_costs_that_read_changing_fluents(catc_engine):
+    """``buy`` costs the current price and raises it by 1 (from 1); ``bulk`` gets 3 at once for
+    7. By hand: three buys cost 1 + 2 + 3 = 6 < 7, so the optimum is 6 with 3 actions — longer
+    than the shortest plan (bulk). UP evaluates each cost in the state before its action."""
+    from unified_planning.model.metrics import MinimizeActionCosts
+
+    have, price = Fluent("have", IntType(0, 10)), Fluent("price", IntType(0, 10))
+    buy, bulk = InstantaneousAction("buy"), InstantaneousAction("bulk")
+    buy.add_effect(have, have + 1)
+    buy.add_effect(price, price + 1)
+    bulk.add_effect(have, have + 3)
+    pr = Problem("prices")
+    pr.add_fluent(have, default_initial_value=0)
+    pr.add_fluent(price, default_initial_value=1)
+    pr.add_actions([buy, bulk])
+    pr.add_goal(have >= 3)
+    pr.add_quality_metric(MinimizeActionCosts({buy: price(), bulk: 7}))
+    assert "FLUENTS_IN_ACTIONS_COST" in pr.kind.features
+    r = _solve(pr)
+    assert r.status in (Status.SOLVED_SATISFICING, Status.SOLVED_OPTIMALLY)
+    check = _valid(pr, r.plan)
+    assert check.status is ValidationResultStatus.VALID
+    assert [a.action.name for a in r.plan.actions] == ["buy"] * 3
+    assert Fraction(str(next(iter(check.metric_evaluations.values())))) == 6

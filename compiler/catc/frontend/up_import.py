@@ -19,10 +19,13 @@ delete); two assignments of different values to a numeric or object fluent, or a
 and an increase of one fluent, make the action inapplicable (a precondition says they do not
 happen); increases and decreases add up; conditional effects become ``if`` terms.
 
+Action costs that read fluents the actions change are summed in a resource of their own (each
+in the state before its action, as UP evaluates them) and minimised in the final state.
+
 What catc cannot express — time, processes, hierarchies, undefined initial values, trajectory
-constraints, unbounded or real action parameters, action costs that change with the state, a
-makespan metric — is refused: :func:`up_to_instance` raises :class:`UpImportError` (code
-``E1201``) whose :class:`ImportReport` lists every reason; nothing is dropped silently.
+constraints, unbounded or real action parameters, a makespan metric — is refused:
+:func:`up_to_instance` raises :class:`UpImportError` (code ``E1201``) whose
+:class:`ImportReport` lists every reason; nothing is dropped silently.
 
 unified-planning is imported only inside these functions (the ``up`` extra).
 """
@@ -93,6 +96,7 @@ SUPPORTED_FEATURES: tuple[str, ...] = (
     "STATIC_FLUENTS_IN_ACTIONS_COST",
     "INT_NUMBERS_IN_ACTIONS_COST",
     "REAL_NUMBERS_IN_ACTIONS_COST",
+    "FLUENTS_IN_ACTIONS_COST",
     "INT_NUMBERS_IN_OVERSUBSCRIPTION",
     "REAL_NUMBERS_IN_OVERSUBSCRIPTION",
     "STATE_INVARIANTS",
@@ -119,7 +123,6 @@ WHY_NOT: Mapping[str, str] = {
     "TEMPORAL_OVERSUBSCRIPTION": "a temporal metric",
     "UNBOUNDED_INT_ACTION_PARAMETERS": "an unbounded int action parameter cannot be grounded",
     "REAL_ACTION_PARAMETERS": "a real action parameter cannot be grounded",
-    "FLUENTS_IN_ACTIONS_COST": "an action cost that changes with the state: catc's :cost is fixed per action",
     "MAKESPAN": "a makespan metric is temporal",
     "TRAJECTORY_CONSTRAINTS": "trajectory constraints other than state invariants",
     "SIMULATED_EFFECTS": "simulated effects are Python code, not a model",
@@ -324,6 +327,7 @@ class _Converter:
         self.resource_of: dict[Any, str] = {}  # ground fluent FNode → resource name
         self.numeric = False
         self.symbols = False
+        self.cost_resource: str | None = None  # the summed costs, when they read changing fluents
 
     # ------------------------------------------------------------ the whole
 
@@ -339,6 +343,11 @@ class _Converter:
         softs, metric = self._metric()
         self._invariants_hold_initially(goal)
         init = self._initial_state()
+        if self.cost_resource is not None:
+            init[self.cost_resource] = ir.InitValue(
+                self.cost_resource, ir.Const(Fraction(0), REAL), f"init/{self.cost_resource}"
+            )
+            self.report.labels[f"init/{self.cost_resource}"] = "no cost at first"
         reqs = {"numeric", "optimization"} if (self.numeric or metric or softs) else set()
         if self.symbols:
             reqs.add("symbols")
@@ -468,7 +477,7 @@ class _Converter:
 
     # ------------------------------------------------------------ actions
 
-    def _morphism(self, action: Any, costs: Mapping[Any, Fraction]) -> ir.Morphism | None:
+    def _morphism(self, action: Any, costs: Mapping[Any, Fraction | ir.Expr]) -> ir.Morphism | None:
         name = self.names.fresh(action.name)
         from unified_planning.plans import ActionInstance
 
@@ -485,6 +494,13 @@ class _Converter:
             self.report.refuse(r.what, r.why)
             return None
         cost = costs.get(action)
+        if self.cost_resource is not None and cost is not None:  # costs summed in a resource
+            amount = ir.Const(cost, REAL) if isinstance(cost, Fraction) else cost
+            label = f"eff/{name}/{len(effects)}"
+            effects.append(ir.Effect(ir.EffectKind.INCREASE, self.cost_resource, amount, label))
+            self.report.labels[label] = f"the cost of {up_name}"
+            cost = None
+        assert cost is None or isinstance(cost, Fraction)  # a fixed cost, else summed above
         return ir.Morphism(
             name,
             ir.MorphismKind.BEHAVIOR,
@@ -530,30 +546,47 @@ class _Converter:
 
     # ------------------------------------------------------------ the metric
 
-    def _costs(self) -> dict[Any, Fraction]:
+    def _costs(self) -> dict[Any, Fraction | ir.Expr]:
+        """Each ground action's cost: a number, or (when it reads fluents that actions change)
+        a term over the state before the action, summed in a resource of its own."""
         from unified_planning.model.metrics import MinimizeActionCosts, MinimizeSequentialPlanLength
 
-        out: dict[Any, Fraction] = {}
+        out: dict[Any, Fraction | ir.Expr] = {}
         for m in self.g.quality_metrics:
             if isinstance(m, MinimizeSequentialPlanLength):
                 out.update((a, Fraction(1)) for a in self.g.actions)
             elif isinstance(m, MinimizeActionCosts):
                 for a in self.g.actions:
                     node = m.get_action_cost(a)
-                    out[a] = Fraction(0) if node is None else self._fixed_cost(node, a)
+                    if node is None:
+                        self.report.refuse(f"cost of {a.name}", "no cost and no default: UP cannot evaluate the metric")
+                        continue
+                    out[a] = self._cost(node, a)
+        if any(not isinstance(c, Fraction) for c in out.values()):
+            name = self.names.fresh("total-cost")
+            self.cost_resource = name
+            self.resources[name] = ir.Resource(name, REAL, doc="the sum of the UP action costs so far")
+            self.report.notes.append(
+                f"action costs that read changing fluents: summed in the resource {name} (each in the state "
+                "before its action, as UP evaluates them), minimised in the final state"
+            )
         return out
 
-    def _fixed_cost(self, node: Any, action: Any) -> Fraction:
+    def _cost(self, node: Any, action: Any) -> Fraction | ir.Expr:
         try:
-            value = fold_constant(self.expr(node))
-        except (_Refused, FoldError):
-            value = None
-        if value is None or not isinstance(value, ir.Const) or isinstance(value.value, (bool, str)):
-            self.report.refuse(f"cost of {action.name}", "the cost changes with the state; catc's :cost is fixed")
+            term = self.expr(node)
+        except _Refused as r:
+            self.report.refuse(r.what, r.why)
             return Fraction(0)
-        if value.value < 0:
-            self.report.refuse(f"cost of {action.name}", "a negative action cost; catc's :cost is non-negative")
-        return Fraction(value.value)
+        try:
+            value = fold_constant(term)
+        except FoldError:
+            value = None
+        if isinstance(value, ir.Const) and isinstance(value.value, Fraction):
+            if value.value < 0:
+                self.report.refuse(f"cost of {action.name}", "a negative action cost; catc's :cost is non-negative")
+            return value.value
+        return term
 
     def _metric(self) -> tuple[list[ir.Soft], ir.Metric | None]:
         from unified_planning.model import metrics as um
@@ -566,6 +599,9 @@ class _Converter:
             return [], None
         m = metrics[0]
         self.numeric = True
+        if self.cost_resource is not None:
+            self.report.optimal_metric = "final"
+            return [], _single(ir.Sense.MINIMIZE, ir.ResourceRef(self.cost_resource, REAL))
         if isinstance(m, (um.MinimizeActionCosts, um.MinimizeSequentialPlanLength)):
             self.report.optimal_metric = "cost" if isinstance(m, um.MinimizeActionCosts) else "length"
             return [], _single(ir.Sense.MINIMIZE, ir.TotalCost())
