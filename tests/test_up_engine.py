@@ -499,3 +499,28 @@ def test_action_costs_that_read_changing_fluents(catc_engine):
     assert check.status is ValidationResultStatus.VALID
     assert [a.action.name for a in r.plan.actions] == ["buy"] * 3
     assert Fraction(str(next(iter(check.metric_evaluations.values())))) == 6
+
+
+def _maximise_x(upper):
+    from unified_planning.model.metrics import MaximizeExpressionOnFinalState
+
+    x = Fluent("x", IntType(0, upper))
+    inc = InstantaneousAction("inc")
+    inc.add_effect(x, x + 1)
+    pr = Problem("most")
+    pr.add_fluent(x, default_initial_value=0)
+    pr.add_action(inc)
+    pr.add_quality_metric(MaximizeExpressionOnFinalState(x()))
+    return pr
+
+
+def test_a_final_value_metric_is_optimal_only_when_proven(catc_engine):
+    """Maximise x (+1 per action, no goal). x ≤ 5: 6 states, so optimising over 5 actions
+    covers every plan — proven optimal, 5. x ≤ 1000: the state space is past max_horizon + 1,
+    so catc optimises over opt_horizon = 20 actions and claims nothing more: 20, satisficing."""
+    r = _solve(_maximise_x(5))
+    assert r.status is Status.SOLVED_OPTIMALLY
+    assert next(iter(_valid(_maximise_x(5), r.plan).metric_evaluations.values())) == 5
+    r = _solve(_maximise_x(1000))
+    assert r.status is Status.SOLVED_SATISFICING and len(r.plan.actions) == 20
+    assert "optimal among plans of at most 20 actions" in _log(r)
