@@ -524,3 +524,20 @@ def test_a_final_value_metric_is_optimal_only_when_proven(catc_engine):
     r = _solve(_maximise_x(1000))
     assert r.status is Status.SOLVED_SATISFICING and len(r.plan.actions) == 20
     assert "optimal among plans of at most 20 actions" in _log(r)
+
+
+def test_the_benchmark_script_prints_the_documented_counts(catc_engine, capsys):
+    """benchmarks/up_examples.py, the command behind docs/interop.md's table."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "up_examples.py"
+    spec = importlib.util.spec_from_file_location("up_examples", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    assert module.main(["--markdown"]) == 0
+    out = capsys.readouterr().out
+    assert out.rstrip().endswith("solved 41, refused 25, timeout 0, failed 0 (of 66)")
+    assert "| counter_to_50 | no | SOLVED_SATISFICING |" in out
+    doc = (path.parents[1] / "docs" / "interop.md").read_text(encoding="utf-8")
+    assert "solved 41, refused 25, timeout 0, failed 0 (of 66)" in doc
