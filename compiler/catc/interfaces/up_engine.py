@@ -217,7 +217,9 @@ class _Run:
     def _no_plan(self, r: SolveResult) -> Any:
         if r.status is SolveStatus.UNKNOWN:
             if r.reason in ("timeout", "interrupted"):
-                self.say(f"catc: the time ran out at horizon {r.horizons_tried} of {r.horizon}")
+                self.say(
+                    f"catc: the time ran out after {r.horizons_tried} of {r.horizon + 1} horizons (0 to {r.horizon})"
+                )
                 return self.result(Status.TIMEOUT)
             self.say(f"catc: the solver could not decide ({r.reason})", LogLevel.WARNING)
             return self.result(Status.UNSOLVABLE_INCOMPLETELY)
