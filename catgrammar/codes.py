@@ -6,7 +6,7 @@ Codes are never reused; a retired code stays listed.  docs/errors.md lists them 
 (``tests/test_symbols.py`` checks that, and that every code is exercised by a test).
 Ranges: E00xx reading input, E01xx syntax, E02xx names, E03xx types, E04xx requirements,
 E05xx semantics, E07xx command-line arguments, E08xx plan files, E09xx exports, E10xx the
-runtime, E11xx limits, W01xx lints.
+runtime, E11xx limits, E12xx interoperability (imports), W01xx lints.
 """
 
 from __future__ import annotations
@@ -242,6 +242,19 @@ CODES: dict[str, Code] = {
             E,
             "A --limit, --memory or CATC_LIMIT_* value is not a known limit and a whole number.",
         ),
+        # E12xx — interoperability: imports from other planning tools
+        Code(
+            "E1201",
+            "import-unsupported",
+            E,
+            "An imported planning problem uses something catc cannot express; the import report lists each construct and why.",
+        ),
+        Code(
+            "E1202",
+            "import-needs-extra",
+            E,
+            "Importing needs an optional package that is not installed (the message names the pip extra).",
+        ),
         # W01xx — lints (errors under --strict)
         Code("W0101", "unused-resource", W, "A resource is declared but nothing reads or writes it."),
         Code("W0102", "unused-sort", W, "A sort is declared but never used."),
@@ -335,6 +348,8 @@ TOO_MANY_GROUND_ACTIONS = "E1108"
 TIME_LIMIT = "E1109"
 OUT_OF_MEMORY = "E1110"
 BAD_LIMIT = "E1111"
+IMPORT_UNSUPPORTED = "E1201"
+IMPORT_NEEDS_EXTRA = "E1202"
 UNUSED_RESOURCE = "W0101"
 UNUSED_SORT = "W0102"
 UNREACHABLE_MORPHISM = "W0103"
