@@ -95,10 +95,12 @@ def render(console: Console, inst: ir.Instance, result: Validation, options: Map
 
 QUERY = Query(
     "validate",
-    summary="Replay a composition from elsewhere (a catc.plan/1 JSON file) and report every violation.",
+    summary="Replay a composition from elsewhere (a catc.plan/1 JSON file, or a solve/optimize/recompose --json answer) and report every violation.",
     description="PATHS is PROBLEM, or DOMAIN PROBLEM.  Exit 0 valid, 1 invalid, 2 input error.",
     options=(
-        Option("plan", ("PLAN_FILE",), Kind.PLAN_FILE, "The composition: a catc.plan/1 JSON document."),
+        Option(
+            "plan", ("PLAN_FILE",), Kind.PLAN_FILE, "The composition: a catc.plan/1 JSON document or a --json answer."
+        ),
         json_option("catc.validate/1"),
     ),
     run=validate_plan,

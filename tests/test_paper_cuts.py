@@ -1,0 +1,60 @@
+"""Paper cuts found by trying catc as a new user (issue 17 §4): each test fails on the code
+before its fix."""
+
+from __future__ import annotations
+
+import json
+
+from conftest import ROOT, run_catc
+
+EX = ROOT / "examples"
+
+
+# ---------------------------------------------------------------- validate reads --json answers
+
+
+def test_validate_accepts_solve_json_output(tmp_path):
+    det = EX / "detection"
+    solved = run_catc("solve", det / "domain.cat", det / "person.cat", "--json")
+    assert solved.exit_code == 0
+    answer = tmp_path / "answer.json"
+    answer.write_text(solved.stdout, encoding="utf-8")
+    assert json.loads(solved.stdout)["schema"] == "catc.solve/1"
+    res = run_catc("validate", det / "domain.cat", det / "person.cat", answer)
+    # detection/expect.toml: the shortest composition has 3 steps
+    assert res.exit_code == 0, res.output
+    assert res.stdout.startswith("valid: 3 steps reach the goal of 'detect-person'")
+    # the answer is replayed, not trusted: drop the detector's step and the goal fails
+    doc = json.loads(solved.stdout)
+    doc["steps"] = doc["steps"][:-1]
+    answer.write_text(json.dumps(doc), encoding="utf-8")
+    res = run_catc("validate", det / "domain.cat", det / "person.cat", answer)
+    assert res.exit_code == 1 and "goal" in res.stdout
+
+
+def test_validate_accepts_optimize_and_recompose_answers(tmp_path):
+    for folder, problem, query in (
+        ("gpu-allocation", "retask.cat", "optimize"),
+        ("lifelong", "cheaper-camera.cat", "recompose"),
+    ):
+        d = EX / folder
+        out = run_catc(query, d / "domain.cat", d / problem, "--json")
+        assert out.exit_code == 0, out.output
+        answer = tmp_path / f"{query}.json"
+        answer.write_text(out.stdout, encoding="utf-8")
+        res = run_catc("validate", d / "domain.cat", d / problem, answer)
+        assert res.exit_code == 0, res.output
+
+
+def test_validate_of_an_answer_without_composition_says_so(tmp_path):
+    d = EX / "lifelong"
+    out = run_catc("solve", d / "domain.cat", d / "budget-cut.cat", "--json")
+    assert out.exit_code == 1  # lifelong/expect.toml: budget-cut is infeasible
+    answer = tmp_path / "unsat.json"
+    answer.write_text(out.stdout, encoding="utf-8")
+    res = run_catc("validate", d / "domain.cat", d / "budget-cut.cat", answer)
+    assert res.exit_code == 2
+    assert "error[E0802]: this catc.solve/1 answer holds no composition (status 'unsat')" in res.stderr
+    answer.write_text('{"schema": "catc.diagnose/1", "steps": []}', encoding="utf-8")
+    res = run_catc("validate", d / "domain.cat", d / "budget-cut.cat", answer)
+    assert res.exit_code == 2 and "unsupported plan schema 'catc.diagnose/1'" in res.stderr
