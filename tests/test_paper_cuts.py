@@ -58,3 +58,33 @@ def test_validate_of_an_answer_without_composition_says_so(tmp_path):
     answer.write_text('{"schema": "catc.diagnose/1", "steps": []}', encoding="utf-8")
     res = run_catc("validate", d / "domain.cat", d / "budget-cut.cat", answer)
     assert res.exit_code == 2 and "unsupported plan schema 'catc.diagnose/1'" in res.stderr
+
+
+# ---------------------------------------------------------------- --progress on any stream
+
+
+def test_progress_forces_the_status_line_when_stderr_is_not_a_terminal():
+    det = EX / "detection"
+    for via_click in (False, True):
+        quiet = run_catc("solve", det / "domain.cat", det / "person.cat", via_click=via_click)
+        assert quiet.exit_code == 0 and quiet.stderr == ""  # not a terminal: nothing, as before
+        res = run_catc("solve", det / "domain.cat", det / "person.cat", "--progress", via_click=via_click)
+        assert res.exit_code == 0
+        # the shortest composition has 3 steps (detection/expect.toml): horizons 0, 1, 2, 3 are tried in turn
+        shown = [line.rsplit(" (", 1)[0] for line in res.stderr.splitlines()]
+        assert shown == [f"catc: solving: horizon {k} of 3" for k in range(4)]
+        assert "SAT  composition of 3 steps" in res.stdout
+
+
+def test_progress_with_json_keeps_stdout_a_document():
+    d = EX / "lifelong"
+    res = run_catc("diagnose", d / "domain.cat", d / "budget-cut.cat", "--json", "--progress")
+    assert json.loads(res.stdout)["schema"] == "catc.diagnose/1"
+    assert res.stderr.splitlines()[0].startswith("catc: checking ")
+
+
+def test_only_the_long_queries_take_progress():
+    from catc.queries import registry
+
+    having = {name for name in registry.names() if any(o.flags == ("--progress",) for o in registry.get(name).options)}
+    assert having == {"solve", "optimize", "diagnose", "relax", "recompose"}
