@@ -88,3 +88,53 @@ def test_only_the_long_queries_take_progress():
 
     having = {name for name in registry.names() if any(o.flags == ("--progress",) for o in registry.get(name).options)}
     assert having == {"solve", "optimize", "diagnose", "relax", "recompose"}
+
+
+# ---------------------------------------------------------------- catc.api.load(DOMAIN, PROBLEM)
+
+
+def test_api_load_takes_the_command_line_order():
+    import warnings
+
+    from catc.api import load
+
+    det = EX / "detection"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the command line's order warns of nothing
+        model = load(det / "domain.cat", det / "person.cat")
+    assert model.instance.problem.name == "detect-person" and model.instance.domain.name == "detection"
+    assert model.solve().status.value == "sat"
+
+
+def test_api_load_in_the_old_order_still_loads_with_a_deprecation_warning():
+    import pytest
+
+    from catc.api import load
+
+    det = EX / "detection"
+    with pytest.warns(DeprecationWarning, match=r"load\(DOMAIN, PROBLEM\)"):
+        model = load(det / "person.cat", det / "domain.cat")
+    assert model.instance.problem.name == "detect-person" and model.instance.domain.name == "detection"
+
+
+def test_api_load_does_not_swap_files_that_define_both(tmp_path):
+    import warnings
+
+    import pytest
+
+    from catc.api import CatError, load
+
+    both = tmp_path / "both.cat"
+    both.write_text(
+        "(define (domain d) (:requirements :numeric) (:resources (n int)) (:morphism m :kind software :effect (increase n 1)))\n"
+        "(define (problem p) (:domain d) (:init (= n 0)) (:goal (>= n 1)))\n",
+        encoding="utf-8",
+    )
+    # a domain-only file second: not the old order (the first defines a domain too), so no warning
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert load(both).solve().status.value == "sat"
+        with pytest.raises(CatError):
+            load(both, EX / "detection" / "domain.cat")
+    with pytest.raises(TypeError):
+        load()
