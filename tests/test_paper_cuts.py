@@ -138,3 +138,161 @@ def test_api_load_does_not_swap_files_that_define_both(tmp_path):
             load(both, EX / "detection" / "domain.cat")
     with pytest.raises(TypeError):
         load()
+
+
+# ---------------------------------------------------------------- help texts and answers as a user reads them
+
+COUNTER = """(define (domain counter)
+  (:requirements :numeric)
+  (:resources (n int :bounds (0 *)))
+  (:morphism bump :kind software :uses 1 :effect (increase n 1)))
+"""
+ALREADY = "(define (problem already) (:domain counter) (:init (= n 1)) (:goal (>= n 1)))\n"
+ONCE = "(define (problem once) (:domain counter) (:init (= n 0)) (:goal (>= n 1)))\n"
+
+
+def _walk(cmd, ctx, path):
+    import click
+
+    yield path, cmd
+    if isinstance(cmd, click.Group):
+        for name in cmd.list_commands(ctx):
+            sub = cmd.get_command(ctx, name)
+            assert sub is not None, f"{' '.join(path)} {name} does not load"
+            yield from _walk(sub, click.Context(sub, parent=ctx, info_name=name), [*path, name])
+
+
+def _every_command():
+    import click
+
+    from catc.interfaces.cli import main
+    from catrt.cli import main as catrt
+
+    for root, name in ((main, "catc"), (catrt, "catrt")):
+        yield from _walk(root, click.Context(root, info_name=name), [name])
+
+
+def test_help_cites_nothing_that_does_not_ship_and_every_option_has_help():
+    import re
+
+    import click
+
+    seen = 0
+    for path, cmd in _every_command():
+        where = " ".join(path)
+        for text in [cmd.help or "", *(getattr(p, "help", None) or "" for p in cmd.params)]:
+            assert not re.search(r"DESIGN|paper|§", text), f"{where}: {text!r}"
+        for p in cmd.params:
+            if isinstance(p, click.Option) and not p.hidden:
+                assert p.help, f"{where} {p.opts} has no help"
+                seen += 1
+    assert seen > 100  # the walk reached every command (queries, export pddl, catrt ...)
+
+
+def test_counts_agree_with_their_nouns(tmp_path):
+    (tmp_path / "counter.cat").write_text(COUNTER, encoding="utf-8")
+    (tmp_path / "once.cat").write_text(ONCE, encoding="utf-8")
+    res = run_catc("solve", tmp_path / "counter.cat", tmp_path / "once.cat")
+    assert res.exit_code == 0, res.output
+    assert "SAT  composition of 1 step for problem once" in res.stdout
+    assert "validated by independent replay: 1 step, 1 activation, goal holds" in res.stdout
+    plan = tmp_path / "plan.json"
+    plan.write_text('{"schema": "catc.plan/1", "steps": [[{"morphism": "bump"}]]}', encoding="utf-8")
+    res = run_catc("validate", tmp_path / "counter.cat", tmp_path / "once.cat", plan)
+    assert res.stdout.startswith("valid: 1 step reaches the goal of 'once'"), res.output
+
+
+def test_an_empty_composition_is_a_sentence_not_an_empty_table(tmp_path):
+    (tmp_path / "counter.cat").write_text(COUNTER, encoding="utf-8")
+    (tmp_path / "already.cat").write_text(ALREADY, encoding="utf-8")
+    for query in ("solve", "optimize"):
+        extra = ("--minimize", "n") if query == "optimize" else ()
+        res = run_catc(query, tmp_path / "counter.cat", tmp_path / "already.cat", *extra)
+        assert res.exit_code == 0, res.output
+        assert "the goal holds in the initial state: nothing to compose" in res.stdout
+        assert "morphism" not in res.stdout  # no table header over no rows
+        assert "0 steps, goal holds in the initial state" in res.stdout
+
+
+def test_the_terminal_plot_of_a_one_point_front_is_a_sentence():
+    from fractions import Fraction as F
+
+    from catc.present.plot import ascii_plot
+
+    assert ascii_plot([(F(1, 2), F(3))], ["x", "y"]) == "a front of one point: nothing to plot"
+
+
+def test_the_terminal_plot_legend_names_only_the_marks_drawn():
+    from fractions import Fraction as F
+
+    from catc.present.plot import ascii_plot
+
+    two = ascii_plot([(F(0), F(0)), (F(1), F(1))], ["x", "y"])
+    rows = [line for line in two.splitlines() if "|" in line]
+    assert len(rows) == 14 and rows[0].endswith("2") and rows[-1].split("|")[1].startswith("1")
+    assert "*" not in two and "digits: the points' numbers in the table" in two
+    flat = ascii_plot([(F(0), F(5)), (F(1), F(5))], ["x", "y"])  # equal second values: one row
+    assert [line.split("|")[1].strip() for line in flat.splitlines() if "|" in line] == ["1" + " " * 54 + "2"]
+    # points 1 and 3 land in one cell of 56 columns (0 and 1/1000 of the x range apart)
+    crowded = ascii_plot([(F(0), F(0)), (F(1000), F(1000)), (F(1), F(1))], ["x", "y"])
+    assert "*: several points in one place" in crowded
+    assert [line for line in crowded.splitlines() if "|" in line][-1].split("|")[1].rstrip() == "*"
+    twelve = ascii_plot([(F(i), F(-i)) for i in range(12)], ["x", "y"])
+    assert "a-c: points 10-12" in twelve and "*" not in twelve  # points 10, 11, 12: a, b, c
+
+
+def test_export_names_every_file_it_wrote(tmp_path):
+    det = EX / "detection"
+    res = run_catc("export", "pddl", det / "domain.cat", det / "person.cat", "--grid", "ram-req=1/2", "-o", tmp_path)
+    assert res.exit_code == 0, res.output
+    wrote = next(line for line in res.output.splitlines() if line.startswith("wrote "))
+    for name in sorted(p.name for p in tmp_path.iterdir()):
+        assert str(tmp_path / name) in wrote, name
+
+
+def test_relax_and_diagnose_end_with_a_timing_line():
+    import re
+
+    d = EX / "lifelong"
+    for args in (("relax",), ("relax", "--discrete"), ("diagnose",)):
+        res = run_catc(*args, d / "domain.cat", d / "budget-cut.cat")
+        last = res.stdout.rstrip("\n").splitlines()[-1]
+        assert re.fullmatch(r"time: encode \d+ ms, (search|cores) \d+ ms.*", last), (args, last)
+
+
+PUB = """(define (domain pub)
+  (:requirements :numeric :sets)
+  (:sorts topic - symbol)
+  (:constants scan - topic)
+  (:resources
+    (n int)
+    (topics (set topic)))
+  (:morphism publish
+    :kind software
+    :precondition (>= n 5)
+    :effect (add topics scan)))
+"""
+NEEDS = "(define (problem needs-scan) (:domain pub) (:init (= n 0)) (:goal (member scan topics)) (:horizon 2))\n"
+
+
+def test_a_default_initial_value_in_a_core_says_where_its_resource_is_declared(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "pub.cat").write_text(PUB, encoding="utf-8")
+    (tmp_path / "needs.cat").write_text(NEEDS, encoding="utf-8")
+    res = run_catc("diagnose", "pub.cat", "needs.cat")
+    assert res.exit_code == 0, res.output  # a core found
+    # the core: n starts at 0, publish needs n >= 5 and nothing raises n, the goal needs scan in
+    # topics, and topics starts empty — by default, for nothing in needs.cat gives it a value
+    assert "initial value  (= topics {})" in res.stdout
+    assert "default value of `topics` (declared at pub.cat:7:6)" in res.stdout  # line 7, `topics` at column 6
+    assert "no source location" not in res.stdout
+
+
+def test_check_and_solve_write_a_path_the_same_way(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "counter.cat").write_text(COUNTER, encoding="utf-8")
+    (tmp_path / "bad.cat").write_text("(define (problem bad) (:domain counter) (:init (= n 0)) (:goal (>= m 1)))\n")
+    for args in (("check", "./bad.cat"), ("solve", "./bad.cat"), ("solve", "./counter.cat", "./bad.cat")):
+        res = run_catc(*args)
+        first = (res.stdout if args[0] == "check" else res.stderr).splitlines()[0]
+        assert first.startswith("bad.cat:1:68: error[E0202]"), (args, first)

@@ -107,7 +107,13 @@ def export_command() -> None:
     help="Grid step for a real θ (MORPHISM.PARAM or PARAM); repeatable. Required for every real θ "
     "in the enhsp flavour; optional in the smtplan flavour (a θ without a step becomes a PDDL+ dial).",
 )
-@click.option("--flavor", type=click.Choice(["enhsp", "smtplan"]), default="enhsp", show_default=True)
+@click.option(
+    "--flavor",
+    type=click.Choice(["enhsp", "smtplan"]),
+    default="enhsp",
+    show_default=True,
+    help="enhsp: PDDL 2.1 numeric planning (ENHSP); smtplan: PDDL+ for SMTPlan+ (docs/export.md).",
+)
 @click.option(
     "--horizon", "-k", type=click.IntRange(min=0), help="Bound the number of (sequential) actions with a counter."
 )

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from catc import ir
-from catc.present.console import Console, escape
+from catc.present.console import Console, counted, escape
 from catc.present.values import state_json
 from catc.queries.base import ExitCode, Kind, Option, Query, Result, Status, json_option
 from catc.semantics.plan import Plan, plan_from_json
@@ -84,7 +84,9 @@ def validate_json(inst: ir.Instance, result: Validation) -> dict:
 def render(console: Console, inst: ir.Instance, result: Validation, options: Mapping[str, Any] | None = None) -> None:
     report = result.report
     if report.ok:
-        console.print(f"valid: {len(result.plan)} steps reach the goal of '{inst.problem.name}'")
+        console.print(
+            f"valid: {counted(len(result.plan), 'step')} reach{'es' if len(result.plan) == 1 else ''} the goal of '{inst.problem.name}'"
+        )
         return
     n = len(report.violations)
     console.print(f"invalid: {n} violation{'s' if n != 1 else ''}")
