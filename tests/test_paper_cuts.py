@@ -296,3 +296,114 @@ def test_check_and_solve_write_a_path_the_same_way(tmp_path, monkeypatch):
         res = run_catc(*args)
         first = (res.stdout if args[0] == "check" else res.stderr).splitlines()[0]
         assert first.startswith("bad.cat:1:68: error[E0202]"), (args, first)
+
+
+# ---------------------------------------------------------------- a dropped ')' located by the layout
+
+LAYOUT = """(define (domain d)
+  (:requirements :numeric)
+  (:resources
+    (n int :bounds (0 10))
+    (m int))
+  (:morphism up
+    :kind software
+    :precondition (and (>= n 1)
+                       (<= m 3))
+    :effect (increase n 1)))
+"""
+
+
+def _unclosed(text: str, tmp_path):
+    from catgrammar.diagnostics import Diagnostics
+    from catgrammar.parser import scan_parentheses
+    from catgrammar.span import Source
+
+    diags = Diagnostics()
+    assert not scan_parentheses(Source(str(tmp_path / "d.cat"), text), diags)
+    [diag] = list(diags)
+    assert diag.code == "E0103"
+    return diag
+
+
+def _drop(text: str, line: int, old: str, new: str) -> str:
+    lines = text.split("\n")
+    assert lines[line - 1].endswith(old)
+    lines[line - 1] = lines[line - 1][: -len(old)] + new
+    return "\n".join(lines)
+
+
+def test_the_layout_file_is_well_formed(tmp_path):
+    from catgrammar.diagnostics import Diagnostics
+    from catgrammar.parser import likely_missing_close, scan_parentheses
+    from catgrammar.span import Source
+
+    assert scan_parentheses(Source("d.cat", LAYOUT), Diagnostics())
+    assert likely_missing_close(LAYOUT) is None
+
+
+def test_a_section_left_open_is_reported_where_its_close_was_dropped(tmp_path):
+    # (:resources loses its ')' at the end of line 5: `    (m int)` is 11 characters, so the ')' goes at 5:12;
+    # line 6 starts at column 3, where the '(' of (:resources (3:3) is, and that form is still open
+    diag = _unclosed(_drop(LAYOUT, 5, "(m int))", "(m int)"), tmp_path)
+    assert (diag.span.line, diag.span.column) == (5, 12)
+    assert "probably missing here — line 6 is indented no deeper than the '(' at 3:3" in diag.message
+    assert [(n.span.line, n.span.column) for n in diag.notes] == [(3, 3), (1, 1)]  # the form, then (define
+
+
+def test_an_item_left_open_is_reported_on_its_line(tmp_path):
+    # (n int :bounds (0 10) — line 4 is 25 characters; line 5's '(' is in the column of (n (4:5)
+    diag = _unclosed(_drop(LAYOUT, 4, "(0 10))", "(0 10)"), tmp_path)
+    assert (diag.span.line, diag.span.column) == (4, 26)
+    assert [(n.span.line, n.span.column) for n in diag.notes] == [(4, 5), (1, 1)]
+
+
+def test_an_operand_left_open_in_an_aligned_and_is_reported_on_its_line(tmp_path):
+    # (>= n 1 — the (and's operands are aligned at column 24, where line 9 starts
+    diag = _unclosed(_drop(LAYOUT, 8, "(>= n 1)", "(>= n 1"), tmp_path)
+    assert (diag.span.line, diag.span.column) == (8, 31)
+    assert [(n.span.line, n.span.column) for n in diag.notes] == [(8, 24), (1, 1)]
+
+
+def test_a_domain_left_open_before_a_problem_is_reported_at_its_end(tmp_path):
+    text = _drop(LAYOUT, 10, "(increase n 1)))", "(increase n 1))") + "(define (problem p) (:domain d))\n"
+    diag = _unclosed(text, tmp_path)
+    # line 10 is `    :effect (increase n 1))`: 27 characters; line 11's (define is in (define's column
+    assert (diag.span.line, diag.span.column) == (10, 28)
+    assert [(n.span.line, n.span.column) for n in diag.notes] == [(1, 1)]  # the form is (define itself
+
+
+def test_without_evidence_in_the_layout_the_outermost_opener_is_reported(tmp_path):
+    diag = _unclosed(_drop(LAYOUT, 10, "(increase n 1)))", "(increase n 1))"), tmp_path)
+    assert (diag.span.line, diag.span.column) == (1, 1)
+    assert diag.message == "'(' is never closed: the file ends with 1 parenthesis open"
+
+
+def test_every_dropped_paren_of_the_examples_is_found_on_its_line():
+    """Drop each ')' of every example and standard-library file in turn: the error is on the
+    line the ')' was dropped from — or, when it was on the file's last line of code (no
+    line after it to disagree with the layout), at the outermost '(' left open."""
+    import re
+
+    from catgrammar.diagnostics import Diagnostics
+    from catgrammar.parser import scan_parentheses
+    from catgrammar.span import Source
+
+    files = sorted([*(ROOT / "examples").rglob("*.cat"), *(ROOT / "stdlib_domains").glob("*.cat")])
+    tried = on_line = 0
+    for path in files:
+        text = path.read_text(encoding="utf-8")
+        code_lines = [n for n, line in enumerate(text.split("\n"), 1) if line.split(";")[0].strip()]
+        closes = [m.start() for m in re.finditer(r'\)|;[^\n]*|"[^"\n]*"', text) if m.group() == ")"]
+        for at in closes:
+            dropped = text[:at] + text[at + 1 :]
+            line = text.count("\n", 0, at) + 1
+            diags = Diagnostics()
+            assert not scan_parentheses(Source(str(path), dropped), diags)
+            [diag] = list(diags)
+            tried += 1
+            if line == code_lines[-1] and "probably" not in diag.message:
+                assert diag.span.line == code_lines[0] or diag.span.column == 1, (path, line)
+                continue
+            assert diag.span.line == line, (path.name, line, diag.span.line, diag.message)
+            on_line += 1
+    assert tried > 1000 and on_line > 0.9 * tried
