@@ -407,3 +407,99 @@ def test_every_dropped_paren_of_the_examples_is_found_on_its_line():
             assert diag.span.line == line, (path.name, line, diag.span.line, diag.message)
             on_line += 1
     assert tried > 1000 and on_line > 0.9 * tried
+
+
+# ---------------------------------------------------------------- catc init, explain, completion, reference
+
+
+def test_init_writes_a_starter_model_that_checks_and_solves(tmp_path):
+    folder = tmp_path / "robot"
+    res = run_catc("init", folder)
+    assert res.exit_code == 0, res.output
+    assert sorted(p.name for p in folder.iterdir()) == ["domain.cat", "problem.cat"]
+    assert ";" in (folder / "domain.cat").read_text() and ";" in (folder / "problem.cat").read_text()  # commented
+    assert run_catc("check", "--strict", folder / "domain.cat", folder / "problem.cat").exit_code == 0
+    solved = run_catc("solve", folder / "domain.cat", folder / "problem.cat")
+    # the detector needs a topic, only the driver publishes one, and the driver needs the
+    # camera mounted: 3 steps, one component each
+    assert solved.exit_code == 0 and "SAT  composition of 3 steps" in solved.stdout
+    best = run_catc("optimize", folder / "domain.cat", folder / "problem.cat", "--maximize", "ram")
+    assert "3.5" in best.stdout  # 8 GB − the driver's least 0.5 − the detector's 4
+
+
+def test_init_refuses_to_overwrite(tmp_path):
+    (tmp_path / "problem.cat").write_text("; mine\n", encoding="utf-8")
+    res = run_catc("init", tmp_path)
+    assert res.exit_code == 2
+    assert "error[E0708]" in res.stderr and "problem.cat already exists; nothing written" in res.stderr
+    assert not (tmp_path / "domain.cat").exists()
+    assert (tmp_path / "problem.cat").read_text() == "; mine\n"
+
+
+def test_explain_prints_a_codes_explanation_from_docs_errors_md():
+    res = run_catc("explain", "e0202")
+    assert res.exit_code == 0
+    lines = res.stdout.splitlines()
+    assert lines[0] == "E0202 (unknown-name, error) — Names"
+    assert lines[2] == "A name is used but never declared."  # its row in docs/errors.md
+    assert "did you mean 'ram'?" in res.stdout  # its explanation there
+    assert run_catc("explain", "unknown-name").stdout == res.stdout
+    limits = run_catc("explain", "E1109").stdout  # a code with its section's prose and no explanation of its own
+    assert "Each message says how to raise the limit" in limits
+    listing = run_catc("explain").stdout.splitlines()
+    from catgrammar.codes import CODES
+
+    assert len(listing) == len(CODES)
+
+
+def test_explain_refuses_what_is_not_a_code():
+    res = run_catc("explain", "E9999")
+    assert res.exit_code == 2 and "error[E0707]: 'E9999' is not a diagnostic code" in res.stderr
+    res = run_catc("explain", "unknwn-name")
+    assert res.exit_code == 2 and "did you mean unknown-name?" in res.stderr
+
+
+def test_the_explanations_shipped_agree_with_docs_errors_md():
+    from catc.interfaces import docgen, errors_doc
+
+    text = (ROOT / "docs" / "errors.md").read_text(encoding="utf-8")
+    assert docgen.error_sections(text) == errors_doc.SECTIONS, "run python -m catc.interfaces.docgen"
+    assert docgen.explanations(text) == errors_doc.EXPLANATIONS, "run python -m catc.interfaces.docgen"
+    from catgrammar.codes import CODES
+
+    assert {code[:3] for code in CODES} <= set(errors_doc.SECTIONS)  # every code has its section
+    assert set(errors_doc.EXPLANATIONS) <= set(CODES)
+
+
+def test_the_cli_reference_is_generated_from_the_cli_and_up_to_date():
+    from catc.interfaces import docgen
+
+    reference = (ROOT / "docs" / "cli-reference.md").read_text(encoding="utf-8")
+    assert reference == docgen.cli_reference(), "docs/cli-reference.md is stale: run python -m catc.interfaces.docgen"
+    for name in ("solve", "explain", "init", "export pddl", "check"):
+        assert f"## `catc {name}`" in reference
+    assert "--progress" in reference and "Usage: catc solve [OPTIONS] PATHS..." in reference
+
+
+def test_shell_completion_script_and_completions():
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "_CATC_COMPLETE": "bash_source"}
+    script = subprocess.run([sys.executable, "-m", "catc"], env=env, capture_output=True, text=True, cwd=ROOT)
+    assert script.returncode == 0
+    assert "_catc_completion()" in script.stdout and "complete -o nosort -F _catc_completion catc" in script.stdout
+    env = {**os.environ, "_CATC_COMPLETE": "bash_complete", "COMP_WORDS": "catc sol", "COMP_CWORD": "1"}
+    words = subprocess.run([sys.executable, "-m", "catc"], env=env, capture_output=True, text=True, cwd=ROOT)
+    assert words.stdout.split() == ["plain,solve"]
+    env.update(COMP_WORDS="catc solve --seq", COMP_CWORD="2")
+    words = subprocess.run([sys.executable, "-m", "catc"], env=env, capture_output=True, text=True, cwd=ROOT)
+    assert words.stdout.split() == ["plain,--sequential"]
+    zsh = subprocess.run(
+        [sys.executable, "-m", "catc"],
+        env={**os.environ, "_CATC_COMPLETE": "zsh_source"},
+        capture_output=True,
+        text=True,
+    )
+    assert "#compdef catc" in zsh.stdout
