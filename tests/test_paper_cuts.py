@@ -503,3 +503,15 @@ def test_shell_completion_script_and_completions():
         text=True,
     )
     assert "#compdef catc" in zsh.stdout
+
+
+def test_synthesize_and_ground_count_with_their_nouns(tmp_path):
+    holes = EX / "holes"
+    res = run_catc("synthesize", holes / "domain.cat", holes / "talk.cat")
+    # voice must provide speech-out (1 effect; interact needs it) and, the weakest specification, assumes
+    # as much as its :max-preconditions 3 allows (holes/domain.cat)
+    assert "1 effect it must provide, 3 preconditions it may assume" in res.stdout, res.output
+    det = EX / "detection"
+    res = run_catc("ground", det / "domain.cat", det / "person.cat", "-o", tmp_path)
+    # camera mount (hardware), driver and detector (services), no behaviour tree nodes
+    assert "1 hardware step, 2 services, 0 behaviour nodes" in res.stdout, res.output
