@@ -47,8 +47,8 @@ def cases(timeout: float) -> list[tuple[str, Callable[[bool], object], Callable[
     from catc.queries.relax import relax
     from catc.queries.solve import solve
 
-    cut = load(SAR / "budget-cut.cat", SAR / "domain.cat").instance
-    cheaper = load(SAR / "cheaper-camera.cat", SAR / "domain.cat").instance
+    cut = load(SAR / "domain.cat", SAR / "budget-cut.cat").instance
+    cheaper = load(SAR / "domain.cat", SAR / "cheaper-camera.cat").instance
 
     def rec(priority: str) -> Callable[[bool], object]:
         def run(new: bool) -> object:
@@ -116,7 +116,7 @@ def against_enhsp(runs: int) -> None:
     from catc.targets.enhsp import run_enhsp
     from catc.targets.pddl import export_pddl
 
-    export = export_pddl(load(SAR / "budget-cut.cat", SAR / "domain.cat").instance, grid=GRID_SAR)
+    export = export_pddl(load(SAR / "domain.cat", SAR / "budget-cut.cat").instance, grid=GRID_SAR)
     with tempfile.TemporaryDirectory() as tmp:
         dom, prob = Path(tmp) / "domain.pddl", Path(tmp) / "problem.pddl"
         dom.write_text(export.domain)

@@ -142,6 +142,8 @@ CODES: dict[str, Code] = {
         ),
         Code("E0705", "cannot-write", E, "An output file (--diagram, --plot, -o) cannot be written."),
         Code("E0706", "missing-extra", E, "An optional part is not installed; the message names the extra to install."),
+        Code("E0707", "unknown-code", E, "catc explain was given something that is not a diagnostic code."),
+        Code("E0708", "would-overwrite", E, "catc init would overwrite a file that exists; nothing is written."),
         # E08xx — plan files
         Code("E0801", "plan-not-json", E, "A plan file is not JSON."),
         Code("E0802", "bad-plan", E, "A plan file does not follow the catc.plan/1 schema."),
@@ -320,6 +322,8 @@ BAD_WEIGHT = "E0703"
 NOT_APPLICABLE = "E0704"
 CANNOT_WRITE = "E0705"
 MISSING_EXTRA = "E0706"
+UNKNOWN_CODE = "E0707"
+WOULD_OVERWRITE = "E0708"
 PLAN_NOT_JSON = "E0801"
 BAD_PLAN = "E0802"
 EXPORT_UNSUPPORTED = "E0901"

@@ -149,17 +149,68 @@ def scan_parentheses(src: Source, diags: Diagnostics) -> bool:
     if stack:
         opener = stack[0]
         inner = stack[-1]
+        open_text = f"{len(stack)} parenthes{'is' if len(stack) == 1 else 'es'} open"
+        likely = likely_missing_close(src.text)
+        if likely is not None:
+            at, line_no, form = likely
+            form_line, form_column = src.position(form)
+            notes = [Note("this '(' is still open where the indentation says its form has ended", src.span(form))]
+            if form != opener:
+                notes.append(Note(f"the file ends with {open_text}; the outermost is here", src.span(opener)))
+            diags.report(
+                codes.UNCLOSED_PAREN,
+                f"'(' is never closed: a ')' is probably missing here — line {line_no} is indented no deeper "
+                f"than the '(' at {form_line}:{form_column}, which is still open there",
+                src.span(at),
+                *notes,
+            )
+            return False
         notes = []
         if inner != opener:
             notes.append(Note("the innermost '(' still open at the end of the file is here", src.span(inner)))
         diags.report(
             codes.UNCLOSED_PAREN,
-            f"'(' is never closed: the file ends with {len(stack)} parenthes{'is' if len(stack) == 1 else 'es'} open",
+            f"'(' is never closed: the file ends with {open_text}",
             src.span(opener),
             *notes,
         )
         return False
     return True
+
+
+def likely_missing_close(text: str) -> tuple[int, int, int] | None:
+    """Where a dropped ')' most likely belongs, read from the layout (as Python and rustc
+    do for unclosed delimiters): the first line that does not start with ')' and is indented
+    no deeper than the line of a '(' opened on an earlier line and still open.  Returns the
+    offset just after the last code on the line before it (where the ')' goes), that line's
+    number (1-based) and the offset of the innermost such '(' — or None when the layout
+    says nothing (every line indented deeper than the forms open around it).  Only asked
+    once the file is known to leave a '(' open; strings and comments end on their line."""
+    stack: list[tuple[int, int]] = []  # (offset of the '(', its column)
+    offset = 0
+    previous_end: int | None = None  # just after the last code of the previous code line
+    for line_no, line in enumerate(text.split("\n"), 1):
+        start, offset = offset, offset + len(line) + 1
+        code = line
+        for m in _SCAN.finditer(line):
+            if m.group().startswith(";"):
+                code = line[: m.start()]
+                break
+        stripped = code.lstrip(" \t")
+        if not stripped.strip():
+            continue
+        indent = len(code) - len(stripped)
+        if not stripped.startswith(")") and previous_end is not None:
+            deeper = [o for o, i in stack if i >= indent]
+            if deeper:
+                return previous_end, line_no, deeper[-1]
+        for m in _SCAN.finditer(code):
+            if m.group() == "(":
+                stack.append((start + m.start(), m.start()))
+            elif m.group() == ")" and stack:
+                stack.pop()
+        previous_end = start + len(code.rstrip())
+    return None
 
 
 # ---------------------------------------------------------------- syntax errors

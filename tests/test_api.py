@@ -118,7 +118,7 @@ def test_views_domains_and_named_problems():
     full = load(EX / "semantics/view.cat", problem_name="shop-full")
     assert full.solve().status is SolveStatus.UNSAT  # semantics/expect.toml
     assert load(EX / "semantics/view.cat", problem_name="shop-software").solve().status is SolveStatus.SAT
-    model = load(EX / "detection/person.cat", EX / "detection/domain.cat")
+    model = load(EX / "detection/domain.cat", EX / "detection/person.cat")
     assert isinstance(model, Model) and "detect-person" in repr(model)
     with pytest.raises(TypeError):
         model.to_json("not a result")

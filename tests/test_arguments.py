@@ -107,7 +107,7 @@ def test_an_export_a_parser_rejects_is_a_bug_reported_as_such(monkeypatch, tmp_p
     def reject(*args):
         raise ValueError("unexpected token")
 
-    monkeypatch.setattr(export_cli, "check_with_pddl_parser", reject)
+    monkeypatch.setattr(export_cli, "check_pddl", reject)
     res = run_catc("export", "pddl", LIFE, "-o", str(tmp_path))
     error(res, "E0902")
 

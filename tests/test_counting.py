@@ -30,7 +30,7 @@ def test_the_budget_cut_bound_is_the_sum_of_the_prices_less_the_budget():
     (150), the speaker-mic (60), the external battery (90) and the long-range radio (60);
     each mount needs the budget to cover its own price, so the last one needs every price
     at once: 20,360 − 500 = 19,860 — whatever the order."""
-    inst = load(SAR / "budget-cut.cat", SAR / "domain.cat").instance
+    inst = load(SAR / "domain.cat", SAR / "budget-cut.cat").instance
     assert bound(inst, inst.problem.deployed) == Fraction(19860)
     inst = load(LIFE / "budget-cut.cat").instance  # 20,000 + 150 + 210 − 500
     assert bound(inst, inst.problem.deployed) == Fraction(19860)
@@ -53,7 +53,7 @@ def test_the_last_firing_sees_every_other_price():
 
 
 def test_the_relaxation_of_sar_is_proven_and_unchanged():
-    r = relax(load(SAR / "budget-cut.cat", SAR / "domain.cat").instance, timeout=120)
+    r = relax(load(SAR / "domain.cat", SAR / "budget-cut.cat").instance, timeout=120)
     assert r.status.value == "relaxed" and r.proven
     assert {x.label: x.delta for x in r.relaxations} == {"init/budget": Fraction(19860)}
 
@@ -67,7 +67,7 @@ def test_objective_first_on_sar_needs_some_camera():
     publishes one; the cheapest camera is the lite one (50 USD), so the most budget left is
     25,000 − (20,360 − 150 + 50) = 4,740.  Without the parameter's membership the bound
     allowed no camera at all (4,880)."""
-    inst = load(SAR / "cheaper-camera.cat", SAR / "domain.cat").instance
+    inst = load(SAR / "domain.cat", SAR / "cheaper-camera.cat").instance
     budget = inst.problem.metric.objectives[0]
     assert better_refuted(inst, [budget], [Fraction(4740)])
     assert not better_refuted(inst, [budget], [Fraction(4739)])
@@ -122,7 +122,7 @@ def test_stability_first_on_sar_is_proven_by_counting():
     from catc import ir
     from catc.smt.counting import better_refuted
 
-    inst = load(SAR / "cheaper-camera.cat", SAR / "domain.cat").instance
+    inst = load(SAR / "domain.cat", SAR / "cheaper-camera.cat").instance
     budget = inst.problem.metric.objectives[0]
     churn = ir.Objective(ir.Sense.MINIMIZE, ir.TotalChurn())
     assert better_refuted(inst, [churn, budget], [Fraction(0), Fraction(4640)])

@@ -1,6 +1,6 @@
-"""`catc export pddl` (DESIGN §6), checked by tools we did not write.
+"""`catc export pddl`, checked by tools we did not write.
 
-* every example exports (real θ on a grid) and the files parse with the PyPI ``pddl``
+* every example exports (real θ on a grid) and the files parse with PyPI ``pddl-plus-parser``
   package and with unified-planning's ``PDDLReader``;
 * ENHSP (the ``up-enhsp`` jar) solves them; its plan, read back through the ground action
   names, is accepted by catc's independent validator with sequential semantics;
@@ -70,11 +70,9 @@ def instance(folder: Path, case: dict):
 
 def _pddl_missing() -> str | None:
     try:
-        import pddl  # noqa: F401
+        import pddl_plus_parser  # noqa: F401
         import unified_planning  # noqa: F401
     except ImportError as exc:
-        if exc.name == "pddl":
-            return "pddl is not installed: pip install --no-deps 'pddl==0.5.1'"
         return f"{exc.name} is not installed: pip install 'catc-lang[baselines]'"
     return None
 
@@ -104,16 +102,16 @@ def _write(ex, tmp_path: Path) -> tuple[Path, Path]:
 
 @needs_parsers
 @pytest.mark.parametrize("folder, case", list(cases()))
-def test_export_parses_with_pddl_and_unified_planning(folder, case, tmp_path):
-    from pddl import parse_domain, parse_problem
+def test_export_parses_with_pddl_plus_parser_and_unified_planning(folder, case, tmp_path):
+    from pddl_plus_parser.lisp_parsers import DomainParser, ProblemParser
     from unified_planning.io import PDDLReader
 
     ex = export_pddl(instance(folder, case), grid=PARSE_GRID)
     dom, prob = _write(ex, tmp_path)
-    d = parse_domain(str(dom))
-    p = parse_problem(str(prob))
+    d = DomainParser(dom).parse_domain()
+    p = ProblemParser(prob, d).parse_problem()
     assert len(d.actions) == len(ex.actions)
-    assert p.domain_name == d.name
+    assert p.domain.name == d.name
     up = PDDLReader().parse_problem(str(dom), str(prob))
     assert len(up.actions) == len(ex.actions)
     for name in ex.actions:  # names ENHSP accepts
@@ -227,7 +225,7 @@ def test_horizon_bounds_the_number_of_actions():
 
 
 def test_missing_baselines_name_what_to_install(monkeypatch, tmp_path):
-    from catc.interfaces.export_cli import MissingParser, check_with_pddl_parser
+    from catc.interfaces.export_cli import MissingParser, check_pddl
     from catc.targets import enhsp
 
     monkeypatch.setattr(enhsp.shutil, "which", lambda _: None)
@@ -236,12 +234,12 @@ def test_missing_baselines_name_what_to_install(monkeypatch, tmp_path):
     monkeypatch.setitem(sys.modules, "up_enhsp", None)
     with pytest.raises(enhsp.BaselineMissing, match=r"catc-lang\[baselines\]"):
         enhsp.enhsp_jar()
-    monkeypatch.setitem(sys.modules, "pddl", None)
-    with pytest.raises(MissingParser, match=r"pip install --no-deps 'pddl==0.5.1'"):
-        check_with_pddl_parser(tmp_path / "d.pddl", tmp_path / "p.pddl")
-    # on the command line: a located error naming the package, exit 2
+    monkeypatch.setitem(sys.modules, "unified_planning.io", None)
+    with pytest.raises(MissingParser, match=r"pip install 'catc-lang\[baselines\]'"):
+        check_pddl(tmp_path / "d.pddl", tmp_path / "p.pddl")
+    # on the command line: a located error naming the extra, exit 2
     res = run_catc("export", "pddl", str(EXAMPLES / "lifelong/budget-cut.cat"), "-o", str(tmp_path / "out"))
-    assert res.exit_code == 2 and "error[E0706]" in res.stderr and "pddl==0.5.1" in res.stderr
+    assert res.exit_code == 2 and "error[E0706]" in res.stderr and "catc-lang[baselines]" in res.stderr
 
 
 def _action_block(domain: str, name: str) -> str:
@@ -315,3 +313,27 @@ def test_a_constant_cost_expression_is_folded_into_the_total_cost(tmp_path):
     res = run_catc("export", "pddl", str(tmp_path / "c.cat"), "-o", str(tmp_path / "out"), "--no-check")
     assert res.exit_code == 0, res.output
     assert "(increase (total-cost) 3)" in _action_block((tmp_path / "out" / "domain.pddl").read_text(), "a-work")
+
+
+@needs_parsers
+def test_the_export_is_checked_without_the_pypi_pddl_package(tmp_path, monkeypatch):
+    """PyPI pddl pins lark<1.2 (catc needs lark>=1.2): the default check must not need it."""
+    monkeypatch.setitem(sys.modules, "pddl", None)  # as if not installed
+    res = run_catc(
+        "export", "pddl", str(EXAMPLES / "detection/person.cat"), "-o", str(tmp_path), "--grid", "ram-req=1/2"
+    )
+    assert res.exit_code == 0, res.output
+    # detection: 6 ground actions (camera, driver on the 1 topic × 4 ram-req values 0.5, 1, 1.5, 2, detector)
+    assert "parsed by unified-planning's PDDLReader (6 actions): ok" in res.stdout
+    assert "parsed by pddl-plus-parser (6 actions): ok" in res.stdout
+
+
+@needs_parsers
+def test_a_malformed_export_is_rejected_by_the_strict_parser(tmp_path):
+    from catc.interfaces.export_cli import check_pddl
+
+    ex = export_pddl(instance(EXAMPLES / "detection", {"file": "person.cat"}), grid=GRID)
+    dom, prob = _write(ex, tmp_path)
+    dom.write_text(ex.domain.replace("(increase", "(increse", 1).replace("(decrease", "(decrese", 1))
+    with pytest.raises(Exception):  # noqa: B017 - the parser's own error type
+        check_pddl(dom, prob)

@@ -169,7 +169,7 @@ def test_examples_feasible_are_never_refuted(folder: Path, case: dict):
 
 def test_the_budget_cut_is_refuted_by_the_relaxation():
     sar = EXAMPLES / "search-and-rescue"
-    inst = load(sar / "budget-cut.cat", sar / "domain.cat").instance
+    inst = load(sar / "domain.cat", sar / "budget-cut.cat").instance
     assert refute(inst) is not None
     assert refute(inst, {"init/budget", "pre/mount-lidar/1"}, components=inst.problem.deployed) is not None
 

@@ -306,7 +306,7 @@ def journal(state: str, as_json: bool, since: int, kinds: tuple[str, ...]) -> No
 
 @main.command()
 @click.argument("state", type=click.Path(file_okay=False))
-@click.option("--json", "as_json", is_flag=True)
+@click.option("--json", "as_json", is_flag=True, help='Print a JSON document: {"schema", "ok", "problems", "notes"}.')
 def replay(state: str, as_json: bool) -> None:
     """Rebuild the state from the journal alone; exit 1 when it differs from the stored one."""
     _need_extra()
@@ -322,7 +322,7 @@ def replay(state: str, as_json: bool) -> None:
 
 @main.command()
 @click.argument("state", type=click.Path(file_okay=False))
-@click.option("--json", "as_json", is_flag=True)
+@click.option("--json", "as_json", is_flag=True, help='Print a JSON document: {"schema", "ok", "problems", "notes"}.')
 def verify(state: str, as_json: bool) -> None:
     """SQLite's integrity check, a gap-free journal, the replay, every generation's files
     against its manifest; exit 1 on any problem."""

@@ -64,7 +64,9 @@ def create(
     check, StoreError when ``folder`` holds a store already."""
     if (folder / "catrt.sqlite").exists():
         raise StoreError("E1006", f"{folder} already holds a catrt store; use another folder, or delete it first")
-    model = load(problem, domain, problem_name=problem_name, search_paths=list(search_paths))
+    model = load(
+        *([] if domain is None else [domain]), problem, problem_name=problem_name, search_paths=list(search_paths)
+    )
     inst = model.instance
     files = model_files(inst)
     sources: dict[str, str] = {}

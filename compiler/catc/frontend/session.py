@@ -112,8 +112,11 @@ def load_checked(
     search_paths: Iterable[str | os.PathLike[str]] = (),
 ) -> ir.Instance | None:
     """Files → the checked instance with its view applied, or None with errors in ``diags``
-    (the front end of every query: the command line, the API, the language server)."""
-    paths = [str(problem)] if domain is None else [str(domain), str(problem)]
+    (the front end of every query: the command line, the API, the language server).  Paths
+    are written as ``catc check`` writes them (``./x.cat`` is ``x.cat``) in diagnostics."""
+    problem = str(Path(problem))
+    domain = None if domain is None else str(Path(domain))
+    paths = [problem] if domain is None else [domain, problem]
     for p in paths:
         if Path(p).is_dir():
             diags.report(codes.UNREADABLE_FILE, f"cannot read '{p}': it is a folder; give a .cat file", None)

@@ -54,33 +54,78 @@ class CatError(Exception):
 
 
 def load(
-    problem: PathLike,
-    domain: PathLike | None = None,
-    *,
+    *paths: PathLike,
     view: str | None = None,
     problem_name: str | None = None,
     search_paths: Iterable[PathLike] = (),
     limits: Limits | None = None,
 ) -> Model:
-    """Load and check PROBLEM (or DOMAIN and PROBLEM), as ``catc solve [DOMAIN] PROBLEM``:
-    the domain is found by name next to the problem, in ``search_paths``, ``CATC_PATH`` and
-    the standard library.  ``view`` overrides the problem's ``(:view ...)``; ``problem_name``
-    picks one problem of a file defining several.  ``limits`` (default: the defaults with
-    ``CATC_LIMIT_*`` applied; docs/limits.md) hold for loading and for every query of the
-    model.  Raises :class:`CatError`."""
+    """Load and check ``load(PROBLEM)`` or ``load(DOMAIN, PROBLEM)``, in the order of
+    ``catc solve [DOMAIN] PROBLEM``: with PROBLEM alone the domain is found by name next to
+    the problem, in ``search_paths``, ``CATC_PATH`` and the standard library.  ``view``
+    overrides the problem's ``(:view ...)``; ``problem_name`` picks one problem of a file
+    defining several.  ``limits`` (default: the defaults with ``CATC_LIMIT_*`` applied;
+    docs/limits.md) hold for loading and for every query of the model.  Raises
+    :class:`CatError`.
+
+    catc used to take ``load(PROBLEM, DOMAIN)``: two paths the other way round (the
+    first file defines only problems, the second only domains) are still accepted, with a
+    :class:`DeprecationWarning`."""
     from catc.frontend.session import load_checked
     from catc.interfaces.command import search_path
     from catgrammar import limits as limits_
     from catgrammar.diagnostics import Diagnostics
 
+    if len(paths) not in (1, 2):
+        raise TypeError(f"load() takes PROBLEM or DOMAIN, PROBLEM ({len(paths)} paths given)")
+    domain, problem = (None, paths[0]) if len(paths) == 1 else paths
+    if domain is not None and _swapped(domain, problem):
+        import warnings
+
+        warnings.warn(
+            f"load({str(domain)!r}, {str(problem)!r}): the order is load(DOMAIN, PROBLEM), as on the command "
+            "line; the old order load(PROBLEM, DOMAIN) is accepted for now",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        domain, problem = problem, domain
     diags = Diagnostics()
-    paths = search_path([str(p) for p in search_paths])
+    found_paths = search_path([str(p) for p in search_paths])
     found = _limits(limits)
     with limits_.using(found):
-        inst = load_checked(problem, domain, diags, view=view, problem_name=problem_name, search_paths=paths)
+        inst = load_checked(problem, domain, diags, view=view, problem_name=problem_name, search_paths=found_paths)
     if inst is None:
         raise CatError(diags)
     return Model(inst, found)
+
+
+def _defines(path: PathLike) -> set[str]:
+    """What a file defines: a subset of {'domain', 'problem'}, found by the language's
+    tokenizer (comments and strings never count); empty when it cannot be read."""
+    from catgrammar._lalr import UnexpectedCharacters
+    from catgrammar.tokens import tokenize
+
+    try:
+        with open(path, encoding="utf-8") as fh:
+            text = fh.read()
+    except (OSError, UnicodeDecodeError):
+        return set()
+    kinds = {"_DOMAIN_WORD": "domain", "_PROBLEM_WORD": "problem"}
+    found: set[str] = set()
+    window = ("", "", "")
+    try:
+        for tok in tokenize(text):
+            if window == ("LPAR", "_DEFINE_WORD", "LPAR") and tok.type in kinds:
+                found.add(kinds[tok.type])
+            window = (window[1], window[2], tok.type)
+    except UnexpectedCharacters:
+        pass
+    return found
+
+
+def _swapped(first: PathLike, second: PathLike) -> bool:
+    """``load(PROBLEM, DOMAIN)``, the order catc used to take."""
+    return _defines(first) == {"problem"} and _defines(second) == {"domain"}
 
 
 def _limits(given: Limits | None) -> Limits:

@@ -38,6 +38,8 @@ LAZY_COMMANDS: dict[str, str] = {
     "export": "catc.interfaces.export_cli:export_command",
     "ground": "catc.interfaces.ground:ground_command",
     "bench": "catc.bench.cli:bench_command",
+    "init": "catc.interfaces.conveniences:init_command",
+    "explain": "catc.interfaces.conveniences:explain_command",
 }
 
 

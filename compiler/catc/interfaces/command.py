@@ -274,12 +274,25 @@ def console(as_json: bool = False) -> Any:
     return PlainConsole(echo)
 
 
-def progress(enabled: bool) -> Any:
-    """A rich status line on a terminal (stderr), showing what the query is doing."""
+class LineStatus:
+    """The status line where standard error is not a terminal (``--progress``): each
+    update is written as a line of its own (a log keeps every one)."""
+
+    def update(self, renderable: Any) -> None:
+        text = renderable.__rich__().plain if hasattr(renderable, "__rich__") else str(renderable)
+        echo(f"catc: {text}", err=True)
+
+
+def progress(enabled: bool, forced: bool = False) -> Any:
+    """A rich status line on a terminal (stderr), showing what the query is doing;
+    ``forced`` (``--progress``): also when standard error is not a terminal (a line per
+    update) and with ``--json``."""
     import contextlib
 
-    if not enabled or not sys.stderr.isatty():
+    if not (enabled or forced):
         return contextlib.nullcontext(None)
+    if not sys.stderr.isatty():
+        return contextlib.nullcontext(LineStatus() if forced else None)
     from rich.console import Console
 
     return Console(stderr=True).status("solving…")
@@ -400,7 +413,7 @@ def _answer(query: Query, paths: Sequence[str], values: dict[str, Any], as_json:
     except InputError as exc:
         argument_error(str(exc), exc.code, as_json)
     kwargs = query.run_options(values)
-    with progress(query.progress and not as_json) as status:
+    with progress(query.progress and not as_json, bool(values.get("show_progress"))) as status:
         if query.progress:
             kwargs["progress"] = reporter(status)
         run.soft = True  # from here a first Ctrl-C asks the query to stop and say what it has

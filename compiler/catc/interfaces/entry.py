@@ -136,11 +136,11 @@ def main(argv: list[str] | None = None) -> None:
                 sys.exit(command.ExitCode.INTERRUPTED)
     from catc.interfaces.cli import main as cli
 
-    try:
+    try:  # the name and variable of shell completion (docs/cli.md) whether run as catc or python -m catc
         if argv is None:
-            cli()
+            cli(prog_name="catc", complete_var="_CATC_COMPLETE")
         else:
-            cli(args)
+            cli(args, prog_name="catc", complete_var="_CATC_COMPLETE")
     except KeyboardInterrupt:  # pragma: no cover - click turns it into Abort; guarded() exits 130 first
         sys.stderr.write("catc: interrupted\n")
         sys.exit(130)

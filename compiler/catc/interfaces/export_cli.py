@@ -46,24 +46,37 @@ def _grid(specs: tuple[str, ...]) -> dict[str, Fraction]:
     return out
 
 
-def check_with_pddl_parser(domain_file: Path, problem_file: Path) -> None:
-    """Parse the written files with the PyPI ``pddl`` package (a parser we did not write)."""
+def check_pddl(domain_file: Path, problem_file: Path) -> list[str]:
+    """Parse PDDL 2.1 files (the enhsp flavour) with two parsers catc did not write, both in
+    the ``baselines`` extra: unified-planning's ``PDDLReader`` (strict: a misspelt keyword is
+    an error) and PyPI ``pddl-plus-parser`` (numeric PDDL; lax).  Returns what was checked.
+
+    (The PyPI ``pddl`` package, used before, pins lark<1.2 in every release while catc
+    needs lark>=1.2: it cannot be installed beside catc without a conflict.)"""
     try:
-        from pddl import parse_domain, parse_problem
+        from unified_planning.io import PDDLReader
     except ImportError:
         raise MissingParser(
-            "the PyPI 'pddl' parser is missing: pip install --no-deps 'pddl==0.5.1' "
-            "(it pins an older lark but works with catc's), or pass --no-check"
+            "unified-planning is missing (it parses the export): pip install 'catc-lang[baselines]', or pass --no-check"
         ) from None
-    parse_domain(str(domain_file))
-    parse_problem(str(problem_file))
+    problem = PDDLReader().parse_problem(str(domain_file), str(problem_file))
+    done = [f"unified-planning's PDDLReader ({len(problem.actions)} actions)"]
+    try:
+        from pddl_plus_parser.lisp_parsers import DomainParser, ProblemParser
+    except ImportError:
+        done.append("pddl-plus-parser not installed: skipped (pip install 'catc-lang[baselines]')")
+        return done
+    dom = DomainParser(domain_file).parse_domain()
+    ProblemParser(problem_file, dom).parse_problem()
+    done.append(f"pddl-plus-parser ({len(dom.actions)} actions)")
+    return done
 
 
 def check_pddlplus(domain_file: Path, problem_file: Path) -> list[str]:
     """Parse PDDL+ files with unified-planning's reader (which supports processes and events)
     and, when installed, PyPI ``pddl-plus-parser``; returns what was checked.
 
-    (The PyPI ``pddl`` package has no processes, so it is not used for this flavour.)"""
+    (Processes and events are PDDL+: the enhsp flavour's :func:`check_pddl` reads PDDL 2.1.)"""
     try:
         from unified_planning.io import PDDLReader
     except ImportError:
@@ -107,7 +120,13 @@ def export_command() -> None:
     help="Grid step for a real θ (MORPHISM.PARAM or PARAM); repeatable. Required for every real θ "
     "in the enhsp flavour; optional in the smtplan flavour (a θ without a step becomes a PDDL+ dial).",
 )
-@click.option("--flavor", type=click.Choice(["enhsp", "smtplan"]), default="enhsp", show_default=True)
+@click.option(
+    "--flavor",
+    type=click.Choice(["enhsp", "smtplan"]),
+    default="enhsp",
+    show_default=True,
+    help="enhsp: PDDL 2.1 numeric planning (ENHSP); smtplan: PDDL+ for SMTPlan+ (docs/export.md).",
+)
 @click.option(
     "--horizon", "-k", type=click.IntRange(min=0), help="Bound the number of (sequential) actions with a counter."
 )
@@ -123,7 +142,7 @@ def export_command() -> None:
 @click.option(
     "--no-check",
     is_flag=True,
-    help="Do not parse the written files (PyPI 'pddl' for enhsp; unified-planning and pddl-plus-parser for smtplan).",
+    help="Do not parse the written files (with unified-planning's reader and pddl-plus-parser: the 'baselines' extra).",
 )
 @click.option(
     "--run",
@@ -231,17 +250,14 @@ def _write(out: Path, inst: Any, ex: Any) -> tuple[Path, Path]:
 def _check(flavor: str, dom: Path, prob: Path) -> None:
     """Parse the written files with parsers catc did not write."""
     try:
-        if flavor == "smtplan":
-            for line in check_pddlplus(dom, prob):
-                click.echo(f"parsed by {line}: ok" if "skipped" not in line else line)
-            return
-        check_with_pddl_parser(dom, prob)
+        checked = check_pddlplus(dom, prob) if flavor == "smtplan" else check_pddl(dom, prob)
     except MissingParser as exc:
         argument_error(str(exc), codes.MISSING_EXTRA, False)
     except Exception as exc:  # the parsers' own errors
-        which = "a PDDL+ parser" if flavor == "smtplan" else "the PyPI 'pddl' parser"
+        which = "a PDDL+ parser" if flavor == "smtplan" else "a PDDL parser"
         argument_error(f"{which} rejects the export: {type(exc).__name__}: {exc}", codes.EXPORT_REJECTED, False)
-    click.echo("parsed by the PyPI 'pddl' package: ok")
+    for line in checked:
+        click.echo(f"parsed by {line}: ok" if "skipped" not in line else line)
 
 
 def _run_enhsp(inst: Any, ex: Any, dom: Path, prob: Path, planner: str, timeout: float) -> None:

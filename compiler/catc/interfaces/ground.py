@@ -26,7 +26,7 @@ import click
 from catc import ir
 from catc.interfaces import command
 from catc.interfaces.cli import limit_options, limited
-from catc.present.console import escape
+from catc.present.console import counted, escape
 from catc.queries.base import ExitCode
 from catc.semantics.plan import Plan
 from catgrammar import codes, limits
@@ -171,9 +171,9 @@ def ground_command_body(
         return
     console = command.console()
     console.print(
-        f"[bold green]GROUNDED[/]  {len(plan)} steps of problem {inst.problem.name}: {len(grounded.hardware)} "
-        f"hardware step(s), {len(grounded.services)} service(s), "
-        f"{sum(len(s) for s in grounded.behaviours)} behaviour node(s)"
+        f"[bold green]GROUNDED[/]  {counted(len(plan), 'step')} of problem {inst.problem.name}: "
+        f"{counted(len(grounded.hardware), 'hardware step')}, {counted(len(grounded.services), 'service')}, "
+        f"{counted(sum(len(s) for s in grounded.behaviours), 'behaviour node')}"
     )
     for path in written:
         digest = doc["artifacts"].get(path.name, {}).get("sha256", "")

@@ -22,6 +22,7 @@ class LabelInfo:
     text: str  # the construct, as written (normalised)
     span: Span | None
     owner: str | None = None  # the morphism, resource or None
+    declared: Span | None = None  # a default initial value (no span): where its resource is declared
 
 
 def label_index(inst: ir.Instance) -> dict[str, LabelInfo]:
@@ -50,8 +51,9 @@ def label_index(inst: ir.Instance) -> dict[str, LabelInfo]:
             out[label] = LabelInfo(label, "resource bounds", f"{r.name} in [{lo}, {hi}]", r.span, r.name)
     for name, init in inst.problem.init.items():
         if name in inst.resources:
+            declared = inst.resources[name].span if init.span is None else None  # the default of its sort
             out[init.label] = LabelInfo(
-                init.label, "initial value", f"(= {name} {to_text(init.value)})", init.span, name
+                init.label, "initial value", f"(= {name} {to_text(init.value)})", init.span, name, declared
             )
     for lit in inst.problem.goal:
         out[lit.label] = LabelInfo(lit.label, "goal", to_text(lit.expr), lit.span)

@@ -6,7 +6,7 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from catc import ir
-from catc.present.console import Console, Table
+from catc.present.console import Console, Table, counted
 from catc.present.values import params_text, show_value
 from catc.semantics.plan import Plan
 
@@ -22,6 +22,11 @@ def where_text(inst: ir.Instance) -> str:
 def print_composition(console: Console, inst: ir.Instance, plan: Plan, states: Sequence[Mapping[str, Any]]) -> None:
     """The steps (``⊗`` marks a morphism in parallel with the one above), the resources
     that changed from the first state to the last, and the validation line."""
+    if not plan.steps:  # a table of no rows says nothing
+        console.print("the goal holds in the initial state: nothing to compose (the empty composition)")
+        if states:
+            console.print("\n[green]✓[/] validated by independent replay: 0 steps, goal holds in the initial state")
+        return
     table = Table("step", "morphism", "kind", "θ", right=(0,))
     for i, step in enumerate(plan.steps, 1):
         for j, a in enumerate(step):
@@ -45,4 +50,6 @@ def print_composition(console: Console, inst: ir.Instance, plan: Plan, states: S
         console.print("[bold]final state[/] (resources that changed)")
         console.print(st)
     n, acts = len(plan), sum(len(s) for s in plan.steps)
-    console.print(f"\n[green]✓[/] validated by independent replay: {n} steps, {acts} activations, goal holds")
+    console.print(
+        f"\n[green]✓[/] validated by independent replay: {counted(n, 'step')}, {counted(acts, 'activation')}, goal holds"
+    )

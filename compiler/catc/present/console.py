@@ -22,6 +22,11 @@ from catgrammar.terminal import printable
 _TAG = re.compile(r"(\\*)(\[[a-z#/@][^[]*?])")
 
 
+def counted(n: int, noun: str) -> str:
+    """``1 step``, ``3 steps``, ``0 steps``: a count and its noun, agreeing."""
+    return f"{n} {noun}{'' if n == 1 else 's'}"
+
+
 class Console(Protocol):
     def print(self, obj: object = "") -> None: ...
 

@@ -13,8 +13,15 @@ _OWNED = ("precondition", "effect", "parameter bounds", "use limit")
 
 
 def where(info: LabelInfo) -> str:
+    """``FILE:LINE:COL`` of the construct; for a default initial value (written nowhere),
+    ``default value of `r` (declared at FILE:LINE:COL)``."""
     span = info.span
-    return f"{span.file}:{span.line}:{span.column}" if span else "(no source location)"
+    if span is not None:
+        return f"{span.file}:{span.line}:{span.column}"
+    if info.declared is not None:
+        d = info.declared
+        return f"default value of `{info.owner}` (declared at {d.file}:{d.line}:{d.column})"
+    return "(no source location)"
 
 
 def describe(info: LabelInfo) -> str:

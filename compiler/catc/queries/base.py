@@ -224,6 +224,20 @@ def presolve_option() -> Option:
     )
 
 
+def progress_option() -> Option:
+    """``--progress``: the status line of a long query even when standard error is not a
+    terminal (one line per update there), and with ``--json``."""
+    return Option(
+        "show_progress",
+        ("--progress",),
+        Kind.FLAG,
+        "Show what the query is doing on standard error even when it is not a terminal "
+        "(one line per update; default: a status line on a terminal only).",
+        default=False,
+        use=Use.OUTPUT,
+    )
+
+
 def diagram_option() -> Option:
     return Option(
         "diagram",
@@ -303,6 +317,8 @@ class Query(Record):
         set_field(self, "name", name)
         set_field(self, "summary", summary)
         set_field(self, "description", description)
+        if progress:
+            options = (*options, progress_option())
         set_field(self, "options", common_options() + options)
         set_field(self, "run", run)
         set_field(self, "to_json", to_json)

@@ -26,7 +26,7 @@ from typing import Any
 
 from catc import ir
 from catc.ir.labels import label_index
-from catc.present.console import Console, escape
+from catc.present.console import Console, counted, escape
 from catc.present.labels import describe, excerpts, label_json, where
 from catc.present.values import timings_json
 from catc.queries.base import (
@@ -259,8 +259,19 @@ def diagnosis_json(inst: ir.Instance, diag: Diagnosis) -> dict:
 
 
 def render(console: Console, inst: ir.Instance, diag: Diagnosis, options: Mapping[str, Any] | None = None) -> None:
+    _render_answer(console, inst, diag)
+    t = diag.timings
+    console.print(
+        f"[dim]time: encode {t.get('encode', 0) * 1000:.0f} ms, "
+        f"cores {(t.get('total', 0) - t.get('encode', 0)) * 1000:.0f} ms[/]"
+    )
+
+
+def _render_answer(console: Console, inst: ir.Instance, diag: Diagnosis) -> None:
     if diag.status is DiagnoseStatus.SAT:
-        console.print(f"[bold green]SAT[/]  nothing to diagnose: a composition exists within {diag.horizon} steps")
+        console.print(
+            f"[bold green]SAT[/]  nothing to diagnose: a composition exists within {counted(diag.horizon, 'step')}"
+        )
         return
     if diag.status is not DiagnoseStatus.UNSAT:
         why = "interrupted" if diag.reason == "interrupted" else "the solver gave up"

@@ -20,7 +20,7 @@ from catc import ir
 from catc.ir.numbers import decimal_text, fraction_text, number_text, ratio_text
 from catc.ir.text import to_text
 from catc.present.composition import print_composition, where_text
-from catc.present.console import Console, Table
+from catc.present.console import Console, Table, counted
 from catc.present.values import show_value, state_json, steps_json, timings_json
 from catc.queries.base import (
     ExitCode,
@@ -678,7 +678,7 @@ def render(console: Console, inst: ir.Instance, result: OptResult, options: Mapp
     head = f"[bold {_COLOUR[status]}]{status}[/]"
     where = where_text(inst)
     if result.status is OptStatus.UNSAT:
-        console.print(f"{head}  no composition within {result.horizon} steps ({where})")
+        console.print(f"{head}  no composition within {counted(result.horizon, 'step')} ({where})")
         return
     if result.plan is None:
         why = (

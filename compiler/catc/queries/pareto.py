@@ -25,7 +25,7 @@ from typing import Any
 from catc import ir
 from catc.ir.numbers import decimal_text
 from catc.ir.text import to_text
-from catc.present.console import Console, Table
+from catc.present.console import Console, Table, counted
 from catc.present.plot import ascii_plot, draw_front
 from catc.present.values import show_value, steps_json, timings_json
 from catc.queries.base import (
@@ -318,7 +318,7 @@ def _point_json(inst: ir.Instance, p: ParetoPoint) -> dict:
 
 def render(console: Console, inst: ir.Instance, result: ParetoResult, options: Mapping[str, Any] | None = None) -> None:
     if result.status is ParetoStatus.UNSAT:
-        console.print(f"UNSAT  no composition within {result.horizon} steps")
+        console.print(f"UNSAT  no composition within {counted(result.horizon, 'step')}")
         return
     labels = objective_labels(result.objectives)
     done = "complete" if result.complete else f"incomplete: {_STOPPED.get(result.reason or '', result.reason)}"
@@ -326,7 +326,7 @@ def render(console: Console, inst: ir.Instance, result: ParetoResult, options: M
         console.print(f"UNKNOWN  no front point found ({done})")
         return
     console.print(
-        f"FRONT  {len(result.points)} non-dominated compositions ({done}) for problem "
+        f"FRONT  {counted(len(result.points), 'non-dominated composition')} ({done}) for problem "
         f"{inst.problem.name} of domain {inst.domain.name}"
     )
     table = Table("#", *labels, "components", right=tuple(range(len(labels) + 1)))

@@ -14,7 +14,7 @@ from fractions import Fraction
 from typing import Any
 
 from catc import ir
-from catc.present.console import Console, Table
+from catc.present.console import Console, Table, counted
 from catc.present.values import show_value, value_to_json
 from catc.queries import optimize as opt
 from catc.queries.base import Kind, Option, Progress, Query, Result, diagram_option, json_option, timeout_option
@@ -113,7 +113,7 @@ def render(console: Console, inst: ir.Instance, rec: Recomposition, options: Map
     )
     console.print(
         f"[bold green]{res.status.value.upper()}[/]  {first}: churn {show_value(rec.churn)} against the deployed "
-        f"composition of {len(rec.deployed)} components"
+        f"composition of {counted(len(rec.deployed), 'component')}"
     )
     if rec.items:
         table = Table("change", "component", "churn weight")

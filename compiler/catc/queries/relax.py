@@ -191,11 +191,14 @@ def _relax(
         if values[req.label] != 0
     ]
     result.status = RelaxStatus.RELAXED if result.relaxations else RelaxStatus.SAT
+    found = time.perf_counter()
+    result.timings["solve"] = found - start - result.timings.get("encode", 0)
     relaxed = relaxed_instance(inst, {r_.label: r_.delta for r_ in result.relaxations})
     checked(relaxed, plan, k, sequential, "the relaxed composition")
     result.plan = canonical_fresh(plan)
     result.states = checked(relaxed, result.plan, k, sequential, "the relaxed composition")
     result.relaxed_instance = relaxed
+    result.timings["validate"] = time.perf_counter() - found
     return _finish(result, start)
 
 
@@ -469,6 +472,21 @@ _STOPPED = {"timeout": "the time limit", "interrupted": "the run was interrupted
 
 
 def render(console: Console, inst: ir.Instance, result: RelaxResult, options: Mapping[str, Any] | None = None) -> None:
+    _render_answer(console, inst, result)
+    console.print(timing_line(result.timings))
+
+
+def timing_line(t: Mapping[str, float]) -> str:
+    """``time: encode E ms, search S ms, validate V ms`` (the parts measured), as the other
+    queries end their answer."""
+    search = t.get("solve", t.get("total", 0) - t.get("encode", 0) - t.get("validate", 0))
+    parts = [f"encode {t.get('encode', 0) * 1000:.0f} ms", f"search {search * 1000:.0f} ms"]
+    if "validate" in t:
+        parts.append(f"validate {t['validate'] * 1000:.0f} ms")
+    return f"[dim]time: {', '.join(parts)}; total {t.get('total', 0) * 1000:.0f} ms[/]"
+
+
+def _render_answer(console: Console, inst: ir.Instance, result: RelaxResult) -> None:
     if result.status is RelaxStatus.SAT:
         console.print("[bold green]SAT[/]  nothing to relax: the problem is feasible as it is")
         return

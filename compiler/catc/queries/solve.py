@@ -19,7 +19,7 @@ from typing import Any
 
 from catc import ir
 from catc.present.composition import print_composition, where_text
-from catc.present.console import Console
+from catc.present.console import Console, counted
 from catc.present.values import state_json, steps_json, timings_json
 from catc.queries.base import (
     ExitCode,
@@ -471,7 +471,9 @@ def unsat_sentence(inst: ir.Instance, result: SolveResult) -> str:
             f"{result.length_bound} step{'s' if result.length_bound != 1 else ''}"
         )
     if result.length_bound is not None:
-        return f"{head} (not final: compositions may need up to {result.length_bound} steps; raise --horizon)"
+        return (
+            f"{head} (not final: compositions may need up to {counted(result.length_bound, 'step')}; raise --horizon)"
+        )
     unlimited = [m.name for m in inst.morphisms.values() if m.uses is None]
     names = ", ".join(unlimited[:3]) + (", ..." if len(unlimited) > 3 else "")
     return (

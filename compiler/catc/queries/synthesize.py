@@ -28,7 +28,7 @@ from catc.ir import SortKind
 from catc.ir.text import effect_text, to_text
 from catc.ir.views import project_instance
 from catc.present.composition import print_composition
-from catc.present.console import Console, escape
+from catc.present.console import Console, counted, escape
 from catc.queries.base import ExitCode, Kind, Option, Query, Result, Status, Use, json_option, timeout_option
 from catc.queries.solve import SolveStatus, solve
 from catc.semantics.compositions import checked
@@ -249,8 +249,8 @@ def render(console: Console, inst: ir.Instance, result: Synthesis, options: Mapp
         console.print(
             f"SYNTHESISED  hole '{hole.name}'"
             + (f" in view '{hole.view}'" if hole.view else "")
-            + f": {len(result.morphism.effects)} effect(s) it must provide, "
-            f"{len(result.morphism.pre)} precondition(s) it may assume; applied at step {result.step}"
+            + f": {counted(len(result.morphism.effects), 'effect')} it must provide, "
+            f"{counted(len(result.morphism.pre), 'precondition')} it may assume; applied at step {result.step}"
         )
         console.print(escape(skeleton.rstrip()))
         console.print("\nthe composition it completes:")

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from catc import ir
-from catc.present.console import Console, escape
+from catc.present.console import Console, counted, escape
 from catc.present.values import state_json
 from catc.queries.base import ExitCode, Kind, Option, Query, Result, Status, json_option
 from catc.semantics.plan import Plan, plan_from_json
@@ -84,7 +84,9 @@ def validate_json(inst: ir.Instance, result: Validation) -> dict:
 def render(console: Console, inst: ir.Instance, result: Validation, options: Mapping[str, Any] | None = None) -> None:
     report = result.report
     if report.ok:
-        console.print(f"valid: {len(result.plan)} steps reach the goal of '{inst.problem.name}'")
+        console.print(
+            f"valid: {counted(len(result.plan), 'step')} reach{'es' if len(result.plan) == 1 else ''} the goal of '{inst.problem.name}'"
+        )
         return
     n = len(report.violations)
     console.print(f"invalid: {n} violation{'s' if n != 1 else ''}")
@@ -95,10 +97,12 @@ def render(console: Console, inst: ir.Instance, result: Validation, options: Map
 
 QUERY = Query(
     "validate",
-    summary="Replay a composition from elsewhere (a catc.plan/1 JSON file) and report every violation.",
+    summary="Replay a composition from elsewhere (a catc.plan/1 JSON file, or a solve/optimize/recompose --json answer) and report every violation.",
     description="PATHS is PROBLEM, or DOMAIN PROBLEM.  Exit 0 valid, 1 invalid, 2 input error.",
     options=(
-        Option("plan", ("PLAN_FILE",), Kind.PLAN_FILE, "The composition: a catc.plan/1 JSON document."),
+        Option(
+            "plan", ("PLAN_FILE",), Kind.PLAN_FILE, "The composition: a catc.plan/1 JSON document or a --json answer."
+        ),
         json_option("catc.validate/1"),
     ),
     run=validate_plan,

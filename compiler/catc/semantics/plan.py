@@ -25,6 +25,9 @@ StateValue: TypeAlias = Value | SetValue
 State: TypeAlias = Mapping[str, StateValue]
 
 PLAN_SCHEMA = "catc.plan/1"
+#: The ``--json`` answers whose ``steps`` and ``fresh`` are a plan too: ``catc validate`` reads
+#: them as it reads a ``catc.plan/1`` document (their other fields are ignored).
+ANSWER_SCHEMAS = ("catc.solve/1", "catc.optimize/1", "catc.recompose/1")
 
 
 def fresh_name(sort: str, n: int) -> str:
@@ -131,9 +134,13 @@ def plan_from_json(doc: Any, param_sorts: Mapping[str, Mapping[str, str]]) -> Pl
     if not isinstance(doc, dict):
         raise PlanFormatError('a plan is a JSON object with a "steps" list')
     schema = doc.get("schema", PLAN_SCHEMA)
-    if schema != PLAN_SCHEMA:
-        raise PlanFormatError(f"unsupported plan schema {schema!r}; expected {PLAN_SCHEMA!r}")
+    if schema != PLAN_SCHEMA and schema not in ANSWER_SCHEMAS:
+        accepted = ", ".join(repr(s) for s in (PLAN_SCHEMA, *ANSWER_SCHEMAS))
+        raise PlanFormatError(f"unsupported plan schema {schema!r}; expected one of {accepted}")
     steps_doc = doc.get("steps")
+    if schema in ANSWER_SCHEMAS and steps_doc is None:
+        status = doc.get("status")
+        raise PlanFormatError(f"this {schema} answer holds no composition (status {status!r})")
     if not isinstance(steps_doc, list):
         raise PlanFormatError('"steps" must be a list of steps, each a list of activations')
     steps = []
