@@ -260,3 +260,24 @@ def test_no_signature_outside_a_form() -> None:
     text = (DETECTION / "domain.cat").read_text()
     assert signature_at(text, text.index("(:sorts module") + 9) is None
     assert signature_at("", 0) is None and signature_at("(((", 3) is None and signature_at(")))", 2) is None
+
+
+def test_grounding_key_and_template_hole_fixes(tmp_path) -> None:
+    path = str(tmp_path / "g.cat")
+    key = (
+        "(define (domain d) (:requirements :grounding) (:resources (x bool))"
+        ' (:morphism m :kind software :ground (software :imag "a/b:1" :node n)))'
+    )
+    [d] = [d for d in analyse(path, key).diagnostics if "did you mean ':image'" in d.message]
+    [fix] = d.fixes
+    assert key[fix.span.start : fix.span.end] == ":imag" and fix.text == ":image"  # the key, not its value
+    hole = (
+        "(define (domain d) (:requirements :grounding :free-parameters :symbols) (:sorts s - symbol)"
+        " (:resources (x bool)) (:morphism m :kind hardware :parameters ((out s))"
+        ' :ground (hardware :instruction "Mount {ot} now")))'
+    )
+    [d] = [d for d in analyse(path, hole).diagnostics if d.code == "E0508"]
+    assert "did you mean 'out'" in d.message
+    [fix] = d.fixes
+    assert hole[fix.span.start : fix.span.end] == "{ot}" and fix.text == "{out}"
+    assert [d.code for d in analyse(path, _apply(hole, fix)).diagnostics] == ["W0101"]  # x is unused, nothing else
