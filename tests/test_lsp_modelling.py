@@ -503,3 +503,21 @@ async def test_no_request_fails_on_a_half_written_text(client: LanguageClient, m
             await client.text_document_definition_async(types.DefinitionParams(doc, at))
     # the handlers catch what they did not foresee and log it: nothing was logged
     assert [m.message for m in client.log_messages if m.type == types.MessageType.Error] == []
+
+
+@pytest.mark.skipif(MISSING is not None, reason=str(MISSING))
+def test_docs_list_every_feature_the_server_serves() -> None:
+    """docs/editors.md has a row for every LSP method the server registers (and names no
+    method it does not), and every server command."""
+    from catc.interfaces.lsp import build_server
+
+    server = build_server()
+    served = set(server.protocol.fm.features)
+    docs = (ROOT / "docs" / "editors.md").read_text()
+    table = docs.split("## What the server does", 1)[1].split("\n## ", 1)[0]
+    named = set(re.findall(r"`((?:textDocument|workspace)/[A-Za-z/]+)`", table))
+    notifications = {"textDocument/didOpen", "textDocument/didChange", "textDocument/didSave"}
+    assert served - {"textDocument/didClose"} <= named | notifications
+    assert named - {"textDocument/publishDiagnostics", "workspace/executeCommand"} <= served
+    for command in ("catc.solve", "catc.diagnose", "catc.relax"):
+        assert command in server.protocol.fm.commands and f"`{command}`" in table

@@ -270,15 +270,48 @@ def hover_text(a: Analysis, name: str, at: Span | None = None) -> str | None:
     return "\n\n".join(blocks)
 
 
-def _details(a: Analysis, name: str, d: Definition | None) -> list[str] | None:
-    """The Markdown blocks that describe ``name`` from the checked model, or None."""
+def _bounds(lower: Any, upper: Any) -> str:
+    from catc.ir.numbers import number_text
+
+    lo = number_text(lower) if lower is not None else "*"
+    hi = number_text(upper) if upper is not None else "*"
+    return f"({lo} {hi})"
+
+
+def _morphism_details(m: Any) -> list[str]:
+    """A morphism's hover blocks: kind, doc, weights, θ parameters, preconditions, effects
+    and grounding (each list after its own paragraph)."""
     from catc.ir.numbers import number_text
     from catc.ir.text import effect_text, to_text
 
-    def bounds(lower, upper) -> str:
-        lo = number_text(lower) if lower is not None else "*"
-        hi = number_text(upper) if upper is not None else "*"
-        return f"({lo} {hi})"
+    blocks = [f"**morphism** `{m.name}` ({m.kind.value})"]
+    if m.doc:
+        blocks.append(m.doc)
+    extra = [f"churn {number_text(m.churn)}"]
+    if m.uses == 0:
+        extra.append("switched off (:uses 0)")
+    elif m.uses is not None:
+        extra.append(f"uses ≤ {m.uses}")
+    if m.cost is not None:
+        extra.append(f"cost {to_text(m.cost)}")
+    blocks.append(", ".join(extra))
+    if m.params:
+        rows = []
+        for p in m.params:
+            b = f" in {_bounds(p.lower, p.upper)}" if p.lower is not None or p.upper is not None else ""
+            rows.append(f"- `{p.name}` : {_sort_text(p.sort)}{b}{' (fixed)' if p.fixed else ''}")
+        blocks += ["parameters:", "\n".join(rows)]
+    if m.pre:
+        blocks += ["preconditions:", "\n".join(f"- `{to_text(lit.expr)}`" for lit in m.pre)]
+    if m.effects:
+        blocks += ["effects:", "\n".join(f"- `{effect_text(e)}`" for e in m.effects)]
+    blocks.append(_grounding_text(m.grounding))
+    return blocks
+
+
+def _details(a: Analysis, name: str, d: Definition | None) -> list[str] | None:
+    """The Markdown blocks that describe ``name`` from the checked model, or None."""
+    bounds = _bounds
 
     def where(kind: str, owner: object) -> str:
         stale = " — *as it last checked*" if id(owner) in a.stale else ""
@@ -312,30 +345,7 @@ def _details(a: Analysis, name: str, d: Definition | None) -> list[str] | None:
     for dom in a.domains:
         m = dom.morphisms.get(name)
         if m is not None:
-            blocks = [f"**morphism** `{m.name}` ({m.kind.value})"]
-            if m.doc:
-                blocks.append(m.doc)
-            extra = [f"churn {number_text(m.churn)}"]
-            if m.uses == 0:
-                extra.append("switched off (:uses 0)")
-            elif m.uses is not None:
-                extra.append(f"uses ≤ {m.uses}")
-            if m.cost is not None:
-                extra.append(f"cost {to_text(m.cost)}")
-            blocks.append(", ".join(extra))
-            if m.params:
-                blocks.append("parameters:")
-                rows = []
-                for p in m.params:
-                    b = f" in {bounds(p.lower, p.upper)}" if p.lower is not None or p.upper is not None else ""
-                    rows.append(f"- `{p.name}` : {_sort_text(p.sort)}{b}{' (fixed)' if p.fixed else ''}")
-                blocks.append("\n".join(rows))
-            if m.pre:
-                blocks += ["preconditions:", "\n".join(f"- `{to_text(lit.expr)}`" for lit in m.pre)]
-            if m.effects:
-                blocks += ["effects:", "\n".join(f"- `{effect_text(e)}`" for e in m.effects)]
-            blocks.append(_grounding_text(m.grounding))
-            return [*blocks, where("domain", dom)]
+            return [*_morphism_details(m), where("domain", dom)]
     for dom in a.domains:
         s = dom.sorts.get(name)
         if s is not None:
@@ -516,6 +526,7 @@ def build_server() -> Any:
     _register_symbols(server, types)
     _register_queries(server, types)
     _register_editing(server, types)
+    _register_fixes(server, types)
     _register_display(server, types)
     return server
 
@@ -567,7 +578,9 @@ async def _refresh(ls: Any, types: Any, uri: str, generation: int, text: str) ->
     previous = ls.analyses.get(uri)
     if a.tree is None and previous is not None:  # keep symbols/definitions of the last good parse
         a.definitions = previous.definitions or a.definitions
-        a.domains = a.domains or previous.domains
+        if not a.domains:
+            a.domains = list(previous.domains)
+            a.stale |= {id(d) for d in a.domains}
         a.tree = previous.tree
         a.sources = {**previous.sources, **a.sources}
     if previous is not None:
@@ -848,7 +861,7 @@ def _register_symbols(server: Any, types: Any) -> None:
 
 
 def _register_editing(server: Any, types: Any) -> None:
-    """References, rename, formatting and code actions: edits of the model's text."""
+    """References and rename (with prepareRename)."""
     from catc.interfaces import lsp_tools as tools
 
     @server.feature(types.TEXT_DOCUMENT_REFERENCES)
@@ -897,6 +910,11 @@ def _register_editing(server: Any, types: Any) -> None:
                 for path, spans in edits.items()
             }
         )
+
+
+def _register_fixes(server: Any, types: Any) -> None:
+    """Formatting and code actions."""
+    from catc.interfaces import lsp_tools as tools
 
     @server.feature(types.TEXT_DOCUMENT_FORMATTING)
     async def formatting(ls: Any, params: Any) -> Any:
