@@ -281,3 +281,22 @@ def test_grounding_key_and_template_hole_fixes(tmp_path) -> None:
     [fix] = d.fixes
     assert hole[fix.span.start : fix.span.end] == "{ot}" and fix.text == "{out}"
     assert [d.code for d in analyse(path, _apply(hole, fix)).diagnostics] == ["W0101"]  # x is unused, nothing else
+
+
+def test_a_parameter_hides_the_resource_of_its_name(tmp_path) -> None:
+    """References of resource r skip the uses inside a morphism whose θ is also called r
+    (an error, E0204, but one a rename must not make worse while it is being fixed)."""
+    from catc.interfaces import lsp_tools
+
+    text = (
+        "(define (domain d) (:requirements :numeric :free-parameters) (:resources (r real :unit W))\n"
+        "  (:morphism a :parameters ((r real)) :precondition (>= r 1))\n"
+        "  (:morphism b :precondition (>= r 2) :effect (increase r 1)))\n"
+    )
+    path = tmp_path / "d.cat"
+    path.write_text(text)
+    a = analyse(str(path), text)
+    name, at = _span(path, text, "(>= r 2)", 4)
+    spans = lsp_tools.references(a, name, at, lsp_tools.workspace_files(a, {}))
+    assert [(s.line, s.column) for s in spans] == [(1, 75), (3, 34), (3, 57)]
+    assert [d.code for d in a.diagnostics] == ["E0204"]

@@ -102,6 +102,22 @@ def _morphism_of(a: Analysis, param: Definition) -> Definition | None:
     return None
 
 
+def param_scopes(a: Analysis, path: str) -> dict[str, list[Span]]:
+    """θ name → the morphisms of the file ``path`` that declare it (their spans)."""
+    key = _key(path)
+    morphisms: dict[str, list[Span]] = {}
+    for d in a.definitions:
+        if d.kind == "morphism" and _key(d.span.file) == key:
+            morphisms.setdefault(d.name, []).append(d.whole)
+    out: dict[str, list[Span]] = {}
+    for d in a.definitions:
+        if d.kind == "parameter" and _key(d.span.file) == key:
+            for whole in morphisms.get(d.owner or "", ()):
+                if whole.start <= d.span.start <= whole.end:
+                    out.setdefault(d.name, []).append(whole)
+    return out
+
+
 def target(a: Analysis, name: str, at: Span) -> tuple[Definition, Span | None] | None:
     """The definition the name written at ``at`` means, and the span it is limited to (a
     parameter: its morphism), or None when it names nothing of the model."""
@@ -228,7 +244,12 @@ def references(
             if name not in text or (problem_local and _key(path) != _key(d.span.file)):
                 continue
             if _related(text, path, owners, d.span.file, files):
-                out += [w.span for w in words(path, text) if w.text == name and not w.in_string]
+                hidden = param_scopes(a, path).get(name, [])  # a θ of that name hides it there
+                out += [
+                    w.span
+                    for w in words(path, text)
+                    if w.text == name and not w.in_string and not any(_inside(w.span, m) for m in hidden)
+                ]
     if not include_declaration:
         out = [s for s in out if not (_key(s.file) == _key(d.span.file) and s.start == d.span.start)]
     out.sort(key=lambda s: (_key(s.file) != _key(a.path), s.file, s.start))
@@ -310,17 +331,14 @@ def semantic_tokens(a: Analysis) -> list[tuple[Span, str, tuple[str, ...]]]:
     from catc.interfaces.lsp import names_in_scope
 
     scope = names_in_scope(a)
-    here = [d for d in a.definitions if _key(d.span.file) == _key(a.path)]
-    declared = {d.span.start for d in here}
-    params = [(d, m) for d in here if d.kind == "parameter" and (m := _morphism_of(a, d)) is not None]
+    declared = {d.span.start for d in a.definitions if _key(d.span.file) == _key(a.path)}
+    params = param_scopes(a, a.path)
     stdlib = {d.name for d in a.definitions if in_stdlib(d.span.file)}
     out: list[tuple[Span, str, tuple[str, ...]]] = []
     for w in words(a.path, a.text):
         kind = None
-        for p, m in params:
-            if p.name == w.text and _inside(w.span, m.whole):
-                kind = "parameter"
-                break
+        if any(_inside(w.span, m) for m in params.get(w.text, ())):
+            kind = "parameter"
         if kind is None and w.in_string:
             continue
         if kind is None:
@@ -354,23 +372,18 @@ def unit_hints(a: Analysis) -> list[tuple[Span, str, str]]:
     if not units:
         return []
     skip: list[Span] = []  # declarations and name lists
-    params: list[tuple[str, Span]] = []
+    params = param_scopes(a, a.path)
     if a.tree is not None:
         for top in a.tree.definitions:
             for s in top.sections:
                 if isinstance(s, (ast.Resources, ast.ViewDecl, ast.HoleDecl, ast.Requirements)):
                     skip.append(s.span)
-    for p in a.definitions:
-        if p.kind == "parameter" and _key(p.span.file) == _key(a.path):
-            m = _morphism_of(a, p)
-            if m is not None:
-                params.append((p.name, m.whole))
     out: list[tuple[Span, str, str]] = []
     for w in words(a.path, a.text):
         unit = units.get(w.text)
         if unit is None or w.in_string or any(_inside(w.span, s) for s in skip):
             continue
-        if any(n == w.text and _inside(w.span, m) for n, m in params):
+        if any(_inside(w.span, m) for m in params.get(w.text, ())):
             continue  # a parameter of that name hides the resource
         out.append((w.span, unit, w.text))
     return out
