@@ -300,3 +300,66 @@ def test_a_parameter_hides_the_resource_of_its_name(tmp_path) -> None:
     spans = lsp_tools.references(a, name, at, lsp_tools.workspace_files(a, {}))
     assert [(s.line, s.column) for s in spans] == [(1, 75), (3, 34), (3, 57)]
     assert [d.code for d in a.diagnostics] == ["E0204"]
+
+
+def test_hover_on_an_option_keyword() -> None:
+    from catc.interfaces.lsp import hover_text
+
+    a = analyse(str(DETECTION / "domain.cat"), (DETECTION / "domain.cat").read_text())
+    assert hover_text(a, ":uses") == (
+        "```cat\n:uses N\n```\n\n**option** `:uses`: at most N activations (default unlimited; 0 switches it off)"
+    )
+    assert hover_text(a, ":requirements") is None
+
+
+_PIECES = [
+    "(",
+    ")",
+    " ",
+    "\n",
+    "(define (domain d)",
+    "(:requirements :numeric :free-parameters)",
+    "(:resources (r real :unit W :bounds (0 *))",
+    "(:morphism m",
+    " :parameters ((x real))",
+    " :precondition (>= r x)",
+    " :effect (decrease r x)",
+    ":uses",
+    ' "{x}"',
+    "r",
+    "x",
+    "😀",
+    ";c\n",
+    '"',
+    "{",
+]
+
+
+def test_the_analysis_helpers_never_raise_on_random_text() -> None:
+    """Texts glued from pieces of a model: every helper the server calls answers (a
+    RenameError is an answer) whatever the text."""
+    from hypothesis import HealthCheck, given, settings
+    from hypothesis import strategies as st
+
+    from catc.interfaces import lsp_tools
+    from catc.interfaces.lsp import hover_text
+
+    @settings(max_examples=60, deadline=None, suppress_health_check=list(HealthCheck), database=None)
+    @given(st.lists(st.sampled_from(_PIECES), max_size=30), st.integers(min_value=0, max_value=400))
+    def check(pieces: list[str], at: int) -> None:
+        text = "".join(pieces)
+        a = analyse("/nonexistent/random.cat", text)
+        lsp_tools.semantic_tokens(a)
+        lsp_tools.unit_hints(a)
+        lsp_tools.signature_at(text, min(at, len(text)))
+        lsp_tools.formatted(text)
+        files = {a.path: text}
+        for w in list(lsp_tools.words(a.path, text))[:5]:
+            hover_text(a, w.text, w.span)
+            lsp_tools.references(a, w.text, w.span, files)
+            try:
+                lsp_tools.rename_edits(a, w.text, w.span, "fresh-name", files)
+            except lsp_tools.RenameError:
+                pass
+
+    check()

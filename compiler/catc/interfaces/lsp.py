@@ -244,6 +244,11 @@ def hover_text(a: Analysis, name: str, at: Span | None = None) -> str | None:
     lines, so that every Markdown renderer keeps them apart.  Names of a domain that does
     not check (yet) still show their declaration; details of the last version that checked
     are marked as such."""
+    if name.startswith(":"):
+        from catc.interfaces.lsp_tools import OPTION_DOCS
+
+        option = OPTION_DOCS.get(name)
+        return f"{_fenced(option[0])}\n\n**option** `{name}`: {option[1]}" if option else None
     defs = lookup(a, name)
     d = defs[0] if defs else None
     if at is not None:
