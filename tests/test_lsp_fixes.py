@@ -3,6 +3,7 @@ analysis helpers of catc.interfaces.lsp_tools; no pygls needed."""
 
 from __future__ import annotations
 
+import contextlib
 import re
 from pathlib import Path
 
@@ -357,9 +358,21 @@ def test_the_analysis_helpers_never_raise_on_random_text() -> None:
         for w in list(lsp_tools.words(a.path, text))[:5]:
             hover_text(a, w.text, w.span)
             lsp_tools.references(a, w.text, w.span, files)
-            try:
+            with contextlib.suppress(lsp_tools.RenameError):  # a refusal is an answer
                 lsp_tools.rename_edits(a, w.text, w.span, "fresh-name", files)
-            except lsp_tools.RenameError:
-                pass
 
     check()
+
+
+def test_a_morphism_used_as_a_number_gets_the_uses_fix_in_an_objective() -> None:
+    problem = DETECTION / "typo.cat"
+    head = "(define (problem p) (:domain detection) (:requirements :optimization) (:init (= ram 8))"
+    text = head + " (:goal (member person detects)) (:metric minimize camera-driver))"
+    [d] = [d for d in analyse(str(problem), text).diagnostics if "'camera-driver' is a morphism" in d.message]
+    [fix] = d.fixes
+    assert text[fix.span.start : fix.span.end] == "camera-driver" and fix.text == "(uses camera-driver)"
+    assert analyse(str(problem), _apply(text, fix)).diagnostics == []
+    # in a goal (uses ...) is not allowed either: no fix there
+    goal = head + " (:goal (>= camera-driver 1)))"
+    [d] = [d for d in analyse(str(problem), goal).diagnostics if "'camera-driver' is a morphism" in d.message]
+    assert d.fixes == ()

@@ -215,7 +215,10 @@ class ExprChecker:
         hint, fixes = suggestion.hint, suggestion.fixes
         if sc.morphisms is not None and name in sc.morphisms:
             hint = f"; '{name}' is a morphism: use (uses {name}) to count its activations"
-            fixes = (Fix(f"Replace with '(uses {name})'", node.span, f"(uses {name})"),)
+            # the fix only where (uses ...) is allowed: an objective
+            fixes = (
+                (Fix(f"Replace with '(uses {name})'", node.span, f"(uses {name})"),) if ctx is Context.OBJECTIVE else ()
+            )
         self.diags.report(codes.UNKNOWN_NAME, f"unknown name '{name}'{hint}", node.span, fixes=fixes)
         return None
 
