@@ -867,6 +867,8 @@ def _register_symbols(server: Any, types: Any) -> None:
 
 def _register_editing(server: Any, types: Any) -> None:
     """References and rename (with prepareRename)."""
+    import asyncio
+
     from catc.interfaces import lsp_tools as tools
 
     @server.feature(types.TEXT_DOCUMENT_REFERENCES)
@@ -876,8 +878,8 @@ def _register_editing(server: Any, types: Any) -> None:
         if found is None:
             return []
         try:
-            files = tools.workspace_files(a, _open_texts(ls))
-            spans = tools.references(a, *found, files, params.context.include_declaration)
+            files = await asyncio.to_thread(tools.workspace_files, a, _open_texts(ls))
+            spans = await asyncio.to_thread(tools.references, a, *found, files, params.context.include_declaration)
         except Exception as exc:  # never a traceback for a half-written model
             _log(ls, types, f"references: {exc!r}")
             return []
@@ -904,8 +906,8 @@ def _register_editing(server: Any, types: Any) -> None:
         if found is None:
             raise _request_failed("there is no name here to rename")
         try:
-            files = tools.workspace_files(a, _open_texts(ls))
-            edits = tools.rename_edits(a, *found, params.new_name, files)
+            files = await asyncio.to_thread(tools.workspace_files, a, _open_texts(ls))
+            edits = await asyncio.to_thread(tools.rename_edits, a, *found, params.new_name, files)
         except tools.RenameError as exc:
             raise _request_failed(str(exc)) from None
         lines = Lines(_encoding(ls), files)
@@ -919,13 +921,15 @@ def _register_editing(server: Any, types: Any) -> None:
 
 def _register_fixes(server: Any, types: Any) -> None:
     """Formatting and code actions."""
+    import asyncio
+
     from catc.interfaces import lsp_tools as tools
 
     @server.feature(types.TEXT_DOCUMENT_FORMATTING)
     async def formatting(ls: Any, params: Any) -> Any:
         text = ls.workspace.get_text_document(params.text_document.uri).source
         try:
-            new = tools.formatted(text)
+            new = await asyncio.to_thread(tools.formatted, text)  # seconds for a huge file: off the loop
         except Exception as exc:  # never a traceback for a half-written model
             _log(ls, types, f"formatting: {exc!r}")
             return []
@@ -973,7 +977,10 @@ def _doc_text(ls: Any, a: Analysis) -> str:
 
 
 def _register_display(server: Any, types: Any) -> None:
-    """Semantic tokens, unit inlay hints and signature help."""
+    """Semantic tokens, unit inlay hints and signature help (the first two in a thread:
+    a large document takes a second)."""
+    import asyncio
+
     from catc.interfaces import lsp_tools as tools
 
     legend = types.SemanticTokensLegend(
@@ -990,7 +997,7 @@ def _register_display(server: Any, types: Any) -> None:
         data: list[int] = []
         last_line = last_start = 0
         try:
-            found = tools.semantic_tokens(a)
+            found = await asyncio.to_thread(tools.semantic_tokens, a)
         except Exception as exc:  # never a traceback for a half-written model
             _log(ls, types, f"semantic tokens: {exc!r}")
             found = []
@@ -1012,7 +1019,7 @@ def _register_display(server: Any, types: Any) -> None:
         r = params.range
         out = []
         try:
-            hints = tools.unit_hints(a)
+            hints = await asyncio.to_thread(tools.unit_hints, a)
         except Exception as exc:  # never a traceback for a half-written model
             _log(ls, types, f"inlay hints: {exc!r}")
             hints = []
