@@ -171,11 +171,10 @@ def workspace_files(a: Analysis, texts: Mapping[str, str]) -> dict[str, str]:
 
     add(a.path)
     folders: set[Path] = set()
-    for p, t in a.sources.items():
+    for p, t in [*a.sources.items(), (a.path, a.text)]:
         add(p, t)
-        if not in_stdlib(p):
+        if os.path.isfile(p) and not in_stdlib(p):  # not an unsaved (untitled:) document's folder
             folders.add(Path(p).resolve().parent)
-    folders.add(Path(a.path).resolve().parent)
     for folder in sorted(folders):
         for f in sorted(folder.glob("*.cat")):
             add(str(f))
