@@ -1,8 +1,13 @@
 """``catc lsp``: a language server for .cat files (pygls 2.x, over stdio).
 
 Features: the diagnostics of ``catc check`` on open/change (computed from the editor's
-in-memory text), hover (resources, morphisms, sorts, constants, views, holes), go to
-definition, completion (keywords and names in scope) and document symbols.
+in-memory text), Markdown hover (resources, morphisms, θ parameters, sorts, constants,
+views, holes, options; from the last version that checked while the text does not),
+go to definition, completion (keywords and names in scope), document symbols, references
+and rename across a domain and its problems, formatting (``catc fmt``), quick fixes (the
+diagnostics' structured fixes: did-you-mean, a missing requirement flag), semantic tokens,
+unit inlay hints and signature help for a form's options (docs/editors.md has the table;
+the parts that need no pygls are in :mod:`catc.interfaces.lsp_tools`).
 
 Documents are checked in the background (one worker thread), so the server answers other
 requests while a large document is checked; a newer text of a document makes the check of
@@ -533,6 +538,7 @@ def build_server() -> Any:
     _register_editing(server, types)
     _register_fixes(server, types)
     _register_display(server, types)
+    _register_signature_help(server, types)
     return server
 
 
@@ -977,8 +983,7 @@ def _doc_text(ls: Any, a: Analysis) -> str:
 
 
 def _register_display(server: Any, types: Any) -> None:
-    """Semantic tokens, unit inlay hints and signature help (the first two in a thread:
-    a large document takes a second)."""
+    """Semantic tokens and unit inlay hints (in a thread: a large document takes a second)."""
     import asyncio
 
     from catc.interfaces import lsp_tools as tools
@@ -1037,6 +1042,11 @@ def _register_display(server: Any, types: Any) -> None:
                 )
             )
         return out
+
+
+def _register_signature_help(server: Any, types: Any) -> None:
+    """The options of the form under the cursor."""
+    from catc.interfaces import lsp_tools as tools
 
     @server.feature(
         types.TEXT_DOCUMENT_SIGNATURE_HELP,
@@ -1107,7 +1117,9 @@ def _register_queries(server: Any, types: Any) -> None:
 def lsp_command(stdio: bool) -> None:
     """Run the .cat language server over stdio (needs the 'lsp' extra).
 
-    Diagnostics as `catc check`, hover, go to definition, completion and document symbols.
+    Diagnostics as `catc check`, hover, go to definition, completion, document symbols,
+    references, rename, formatting, quick fixes, semantic tokens, unit hints and signature
+    help.
     """
     try:
         import lsprotocol  # noqa: F401
