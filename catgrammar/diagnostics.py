@@ -34,6 +34,38 @@ def did_you_mean(word: str, candidates: Iterable[str]) -> str:
     return f"; did you mean '{best}'?" if best else ""
 
 
+class Fix(Record):
+    """A change that applies a diagnostic's suggestion: replace ``span`` by ``text`` (an
+    insertion when the span is empty).  Carried by the diagnostic, so that an editor applies
+    it without reading the message (the language server's code actions)."""
+
+    __slots__ = ("title", "span", "text")
+    title: str
+    span: Span
+    text: str
+
+    def __init__(self, title: str, span: Span, text: str) -> None:
+        set_field(self, "title", title)
+        set_field(self, "span", span)
+        set_field(self, "text", text)
+
+
+class Suggestion:
+    """A did-you-mean for ``word`` written at ``span``: ``hint`` for the message ("; did you
+    mean 'x'?" or "") and ``fixes``, the replacement of the word by the suggestion (none when
+    there is no suggestion or no span)."""
+
+    __slots__ = ("best", "hint", "fixes")
+
+    def __init__(self, word: str, candidates: Iterable[str], span: Span | None, replacement: str | None = None) -> None:
+        self.best = suggest(word, candidates)
+        self.hint = f"; did you mean '{self.best}'?" if self.best else ""
+        self.fixes: tuple[Fix, ...] = ()
+        if self.best is not None and span is not None:
+            text = self.best if replacement is None else replacement.format(self.best)
+            self.fixes = (Fix(f"Replace with '{text}'", span, text),)
+
+
 class Note(Record):
     __slots__ = ("message", "span")
     message: str
@@ -45,21 +77,29 @@ class Note(Record):
 
 
 class Diagnostic(Record):
-    __slots__ = ("code", "message", "span", "severity", "notes")
+    __slots__ = ("code", "message", "span", "severity", "notes", "fixes")
     code: str
     message: str
     span: Span | None
     severity: Severity
     notes: tuple[Note, ...]
+    fixes: tuple[Fix, ...]  # changes that apply the message's suggestion (did-you-mean, a missing flag)
 
     def __init__(
-        self, code: str, message: str, span: Span | None, severity: Severity, notes: tuple[Note, ...] = ()
+        self,
+        code: str,
+        message: str,
+        span: Span | None,
+        severity: Severity,
+        notes: tuple[Note, ...] = (),
+        fixes: tuple[Fix, ...] = (),
     ) -> None:
         set_field(self, "code", code)
         set_field(self, "message", message)
         set_field(self, "span", span)
         set_field(self, "severity", severity)
         set_field(self, "notes", notes)
+        set_field(self, "fixes", fixes)
 
     @property
     def name(self) -> str:
@@ -105,8 +145,9 @@ class Diagnostics:
         span: Span | None,
         *notes: Note,
         severity: Severity | None = None,
+        fixes: tuple[Fix, ...] = (),
     ) -> Diagnostic:
-        diag = Diagnostic(code, message, span, severity or CODES[code].severity, tuple(notes))
+        diag = Diagnostic(code, message, span, severity or CODES[code].severity, tuple(notes), fixes)
         key = (code, message, span)
         if key not in self._keys:  # the same fact reached twice (e.g. a shared import)
             self._keys.add(key)
@@ -116,7 +157,7 @@ class Diagnostics:
     def extend(self, other: Diagnostics) -> None:
         self.sources.update(other.sources)
         for d in other:
-            self.report(d.code, d.message, d.span, *d.notes, severity=d.severity)
+            self.report(d.code, d.message, d.span, *d.notes, severity=d.severity, fixes=d.fixes)
 
     def __iter__(self) -> Iterator[Diagnostic]:
         return iter(self._items)
@@ -146,7 +187,9 @@ class Diagnostics:
     def promote_warnings(self) -> None:
         """``--strict``: every warning becomes an error."""
         self._items = [
-            Diagnostic(d.code, d.message, d.span, Severity.ERROR, d.notes) if d.severity is Severity.WARNING else d
+            Diagnostic(d.code, d.message, d.span, Severity.ERROR, d.notes, d.fixes)
+            if d.severity is Severity.WARNING
+            else d
             for d in self._items
         ]
 

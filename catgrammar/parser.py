@@ -30,7 +30,7 @@ from typing import Any
 
 from catgrammar import ast, codes, limits
 from catgrammar._lalr import Parser, Token, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
-from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
+from catgrammar.diagnostics import Diagnostics, Fix, Note, Suggestion
 from catgrammar.span import Source, Span
 from catgrammar.symbols import Option, Section
 from catgrammar.tokens import TERMINAL_TEXT, TooManyTokens, tokenize
@@ -266,16 +266,19 @@ def _report_syntax(exc: UnexpectedInput, src: Source, parser: Parser, diags: Dia
 
     span = src.span(pos, pos + max(1, len(text)))
     keywords = _keywords_in(parser, expected)
+    fixes: tuple[Fix, ...] = ()
     if text.startswith(":") and len(text) > 1:
         if text in _KEYWORDS and keywords:
             msg = f"'{text}' is not allowed here; expected {_expected_text(parser, expected)}"
         elif keywords:
-            msg = f"unknown keyword '{text}'{did_you_mean(text, keywords)}"
-            if not did_you_mean(text, keywords):
+            suggestion = Suggestion(text, keywords, span)
+            fixes = suggestion.fixes
+            msg = f"unknown keyword '{text}'{suggestion.hint}"
+            if not suggestion.hint:
                 msg += f"; expected {_expected_text(parser, expected)}"
         else:
             msg = f"unexpected keyword '{text}'; expected {_expected_text(parser, expected)}"
-        diags.report(codes.UNKNOWN_SECTION, msg, span)
+        diags.report(codes.UNKNOWN_SECTION, msg, span, fixes=fixes)
         return
     if isinstance(exc, UnexpectedCharacters):
         if text.startswith('"'):
@@ -290,10 +293,11 @@ def _report_syntax(exc: UnexpectedInput, src: Source, parser: Parser, diags: Dia
     what = "')'" if text == ")" else "'('" if text == "(" else f"'{text}'"
     msg = f"unexpected {what}; expected {_expected_text(parser, expected)}"
     if keywords and text not in ("(", ")"):
-        hint = did_you_mean(":" + text, keywords)
-        if hint:
-            msg += f" (keywords start with ':'{hint})"
-    diags.report(codes.SYNTAX, msg, span)
+        suggestion = Suggestion(":" + text, keywords, span)
+        if suggestion.hint:
+            msg += f" (keywords start with ':'{suggestion.hint})"
+            fixes = suggestion.fixes
+    diags.report(codes.SYNTAX, msg, span, fixes=fixes)
 
 
 # ---------------------------------------------------------------- tree → AST

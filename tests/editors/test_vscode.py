@@ -15,7 +15,7 @@ import pytest
 from catgrammar import Diagnostics, parse_text
 from catgrammar.symbols import all_keywords
 
-from ._tools import CONTEXTS, VSCODE, explain, glued, node_bin, run, tool
+from ._tools import CONTEXTS, ROOT, VSCODE, explain, glued, node_bin, run, tool
 from .test_keywords import TM_SCOPES
 
 MANIFEST = json.loads((VSCODE / "package.json").read_text(encoding="utf-8"))
@@ -47,6 +47,30 @@ def test_manifest_starts_the_language_server():
     source = (VSCODE / MANIFEST["main"]).read_text(encoding="utf-8")
     assert "require('vscode-languageclient/node')" in source
     assert "getConfiguration('catc')" in source and "'serverPath'" in source
+
+
+QUERY_COMMANDS = {"catc.runSolve": "solve", "catc.runDiagnose": "diagnose", "catc.runRelax": "relax"}
+
+
+def test_manifest_commands_are_the_extensions_commands():
+    """Every contributed command is registered by extension.js and every registered one is
+    contributed; the query commands ask the server for queries it serves and are offered in
+    .cat editors only."""
+    from catc.queries import registry
+
+    source = (VSCODE / MANIFEST["main"]).read_text(encoding="utf-8")
+    contributed = {c["command"]: c for c in MANIFEST["contributes"]["commands"]}
+    registered = set(re.findall(r"registerCommand\('([^']+)'", source))
+    table = dict(re.findall(r"'(catc\.run\w+)': \{ query: '(catc\.\w+)'", source))
+    assert set(table) == set(QUERY_COMMANDS)
+    assert set(contributed) == registered | set(table)
+    for command, query in QUERY_COMMANDS.items():
+        assert table[command] == f"catc.{query}" and query in registry.names()
+        assert contributed[command]["title"] == query.capitalize() and contributed[command]["category"] == "catc"
+    palette = {m["command"]: m["when"] for m in MANIFEST["contributes"]["menus"]["commandPalette"]}
+    assert palette == {c: "editorLangId == cat" for c in QUERY_COMMANDS}
+    # the server's own command ids are registered by vscode-languageclient: never reused
+    assert not {f"catc.{q}" for q in registry.names()} & set(contributed)
 
 
 def test_language_configuration():
@@ -175,6 +199,56 @@ def test_vsix_package(tmp_path):
     loaded = run([node, str(VSCODE / "tests" / "load-extension.js"), str(tmp_path / "unpacked" / "extension")])
     assert loaded.returncode == 0, explain(loaded)
     assert "loaded catc.cat-language@" in loaded.stdout
+
+
+def _run_query_commands(tmp_path, answer: dict) -> dict:
+    answer_file = tmp_path / "answer.json"
+    answer_file.write_text(json.dumps(answer), encoding="utf-8")
+    problem = ROOT / "examples" / "detection" / "person.cat"
+    script = VSCODE / "tests" / "run-query-commands.js"
+    result = run([tool("node"), str(script), str(VSCODE / MANIFEST["main"]), str(problem), str(answer_file)])
+    assert result.returncode == 0, explain(result)
+    return json.loads(result.stdout)
+
+
+@pytest.mark.editors
+def test_query_commands_ask_the_server_and_show_the_answer(tmp_path):
+    """extension.js run with stand-ins for VS Code and the language client: each query
+    command saves the file, sends workspace/executeCommand catc.<query> with its URI and
+    writes the answer (a real `catc solve --json` document) to the "catc answers" channel."""
+    import subprocess
+    import sys
+
+    problem = ROOT / "examples" / "detection" / "person.cat"
+    solved = subprocess.run(
+        [sys.executable, "-m", "catc", "solve", "--json", str(problem)], capture_output=True, text=True, check=True
+    )
+    answer = json.loads(solved.stdout)
+    out = _run_query_commands(tmp_path, answer)
+    assert set(QUERY_COMMANDS) <= set(out["registered"])
+    assert out["requests"] == [
+        {"method": "workspace/executeCommand", "params": {"command": f"catc.{q}", "arguments": [problem.as_uri()]}}
+        for q in QUERY_COMMANDS.values()
+    ]
+    assert out["saved"] == 1  # the dirty document is saved before the first query
+    shown = "\n".join(out["channels"]["catc answers"])
+    assert "Solve examples/detection/person.cat\nschema catc.solve/1, status sat\n{" in shown
+    assert json.loads(out["results"]["catc.runSolve"].split("\n", 2)[2]) == answer
+    assert "Diagnose examples/detection/person.cat" in shown and "Relax examples/detection/person.cat" in shown
+
+
+@pytest.mark.editors
+def test_query_commands_show_input_errors(tmp_path):
+    from catc.interfaces.lsp import run_query_on_file
+
+    broken = tmp_path / "broken.cat"
+    broken.write_text("(define (problem p) (:domain nowhere-to-be-found))\n", encoding="utf-8")
+    answer = run_query_on_file("solve", broken.as_uri())
+    assert answer["schema"] == "catc.error/1"
+    out = _run_query_commands(tmp_path, answer)
+    text = out["results"]["catc.runSolve"]
+    assert "error: the query could not run" in text
+    assert f"{broken}:1:30: [E0207] domain 'nowhere-to-be-found' not found" in text
 
 
 def test_keyword_syntax_test_covers_every_word():

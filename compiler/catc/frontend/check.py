@@ -20,7 +20,7 @@ from catc.ir.fold import ConstantTooLarge, FoldError, fold_constant
 from catc.ir.grounding import Deployment
 from catc.ir.numbers import ratio_text
 from catgrammar import ast, codes, limits
-from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
+from catgrammar.diagnostics import Diagnostics, Fix, Note, Suggestion
 from catgrammar.span import Span
 from catgrammar.symbols import (
     HOLE_OPTIONS,
@@ -46,8 +46,15 @@ _KINDS = {k.value: k for k in ir.MorphismKind}
 class _Requirements:
     """The declared requirement flags of one definition and the 'missing flag' reporter."""
 
-    def __init__(self, decls: Iterable[ast.Requirements], diags: Diagnostics, extra: frozenset[str] = frozenset()):
+    def __init__(
+        self,
+        decls: Iterable[ast.Requirements],
+        diags: Diagnostics,
+        extra: frozenset[str] = frozenset(),
+        header: Span | None = None,
+    ):
         self.diags = diags
+        self.header = header  # the name of the definition (where a missing section is added)
         self.section: Span | None = None
         flags: set[Requirement] = {_REQUIREMENTS[f] for f in extra if f in _REQUIREMENTS}
         for decl in decls:
@@ -56,10 +63,12 @@ class _Requirements:
                 if flag.text in _REQUIREMENTS:
                     flags.add(_REQUIREMENTS[flag.text])
                 else:
+                    hint = Suggestion(flag.text, _REQUIREMENTS, flag.span)
                     diags.report(
                         codes.UNKNOWN_REQUIREMENT,
-                        f"unknown requirement '{flag.text}'{did_you_mean(flag.text, _REQUIREMENTS)}",
+                        f"unknown requirement '{flag.text}'{hint.hint}",
                         flag.span,
+                        fixes=hint.fixes,
                     )
         self.flags = expand_requirements(flags)
         self._reported: set[Requirement] = set()
@@ -78,7 +87,27 @@ class _Requirements:
             f"{what} needs the requirement '{flag.value}'; add it to (:requirements ...)",
             span,
             *notes,
+            fixes=self._add(flag.value),
         )
+
+    def _add(self, flag: str) -> tuple[Fix, ...]:
+        """The change that declares ``flag``: appended to the (first) requirements section, or
+        a new section after the definition's ``(domain NAME)``/``(problem NAME)`` header."""
+        anchor = self.section or self.header
+        source = self.diags.sources.get(anchor.file) if anchor is not None else None
+        if anchor is None or source is None:
+            return ()
+        text = source.text
+        if self.section is not None:
+            at = self.section.end - 1  # before the section's closing parenthesis
+            if text[at : at + 1] != ")":
+                return ()
+            return (Fix(f"Add '{flag}' to (:requirements ...)", source.span(at, at), f" {flag}"),)
+        close = text.find(")", anchor.end)
+        if close < 0 or text[anchor.end : close].strip():
+            return ()
+        at = close + 1
+        return (Fix(f"Add (:requirements {flag})", source.span(at, at), f"\n  (:requirements {flag})"),)
 
 
 def _options(opts: Iterable[ast.Opt], allowed: Iterable[Option], owner: str, diags: Diagnostics) -> dict[str, ast.Opt]:
@@ -196,7 +225,9 @@ class DomainChecker:
     def run(self) -> ir.Domain | None:
         before = len(self.diags.errors)
         sections = self.node.sections
-        self.req = _Requirements((s for s in sections if isinstance(s, ast.Requirements)), self.diags)
+        self.req = _Requirements(
+            (s for s in sections if isinstance(s, ast.Requirements)), self.diags, header=self.node.name.span
+        )
         for sec in sections:
             if isinstance(sec, ast.Imports):
                 self._imports(sec)
@@ -337,10 +368,9 @@ class DomainChecker:
                     parent.span,
                 )
             elif parent.text not in self.sorts:
+                hint = Suggestion(parent.text, list(self.sorts) + ["symbol"], parent.span)
                 self.diags.report(
-                    codes.UNKNOWN_NAME,
-                    f"unknown sort '{parent.text}'{did_you_mean(parent.text, list(self.sorts) + ['symbol'])}",
-                    parent.span,
+                    codes.UNKNOWN_NAME, f"unknown sort '{parent.text}'{hint.hint}", parent.span, fixes=hint.fixes
                 )
             elif self.sorts[parent.text].kind is SortKind.ENUM:
                 self.diags.report(
@@ -411,11 +441,8 @@ class DomainChecker:
                 codes.BAD_SORT, f"'{name.text}' is not a sort by itself; declare a sort in (:sorts ...)", name.span
             )
             return None
-        self.diags.report(
-            codes.UNKNOWN_NAME,
-            f"unknown sort '{name.text}'{did_you_mean(name.text, list(self.sorts) + ['bool', 'int', 'real'])}",
-            name.span,
-        )
+        hint = Suggestion(name.text, list(self.sorts) + ["bool", "int", "real"], name.span)
+        self.diags.report(codes.UNKNOWN_NAME, f"unknown sort '{name.text}'{hint.hint}", name.span, fixes=hint.fixes)
         return None
 
     # ------------------------------------------------------------------ constants
@@ -499,10 +526,9 @@ class DomainChecker:
         names: tuple[ast.Name, ...] = chosen.value if chosen else ()  # type: ignore[assignment]  # :keep/:drop list names
         for name in names:
             if name.text not in self.resources:
+                hint = Suggestion(name.text, self.resources, name.span)
                 self.diags.report(
-                    codes.UNKNOWN_NAME,
-                    f"unknown resource '{name.text}'{did_you_mean(name.text, self.resources)}",
-                    name.span,
+                    codes.UNKNOWN_NAME, f"unknown resource '{name.text}'{hint.hint}", name.span, fixes=hint.fixes
                 )
             listed.add(name.text)
         everything = frozenset(self.resources)
@@ -525,11 +551,12 @@ class DomainChecker:
             if k.text in _KINDS:
                 kind = _KINDS[k.text]
             else:
+                hint = Suggestion(k.text, _KINDS, k.span)
                 self.diags.report(
                     codes.BAD_VALUE,
-                    f"unknown morphism kind '{k.text}'"
-                    + (did_you_mean(k.text, _KINDS) or f"; expected one of {', '.join(_KINDS)}"),
+                    f"unknown morphism kind '{k.text}'" + (hint.hint or f"; expected one of {', '.join(_KINDS)}"),
                     k.span,
+                    fixes=hint.fixes,
                 )
         churn = Fraction(1)
         if Option.CHURN.value in opts:
@@ -674,12 +701,14 @@ class DomainChecker:
         return ir.Effect(kind, res.name, value, label, node.span)
 
     def _not_an_effect(self, node: ast.Expr) -> None:
+        fixes: tuple[Fix, ...] = ()
         if isinstance(node, ast.Call):
             head = node.head.text
-            hint = did_you_mean(head, (*self._EFFECT_HEADS, "and"))
+            suggestion = Suggestion(head, (*self._EFFECT_HEADS, "and"), node.head.span)
+            fixes = suggestion.fixes
             msg = (
-                f"'{head}' is not an effect{hint}"
-                if hint
+                f"'{head}' is not an effect{suggestion.hint}"
+                if suggestion.hint
                 else (
                     f"'{head}' is not an effect; effects are (and ...), (assign r v), (increase r v), "
                     f"(decrease r v), (add s x) and (remove s x)"
@@ -687,7 +716,7 @@ class DomainChecker:
             )
         else:
             msg = "an effect must be (assign r v), (increase r v), (decrease r v), (add s x) or (remove s x)"
-        self.diags.report(codes.MISPLACED_OPERATOR, msg, node.span)
+        self.diags.report(codes.MISPLACED_OPERATOR, msg, node.span, fixes=fixes)
 
     def _effect_target(self, checker: ExprChecker, head: str, target_node: ast.Expr) -> ir.Resource | None:
         """The resource an effect writes, or None after reporting what the target is instead."""
@@ -700,10 +729,12 @@ class DomainChecker:
             elif target_node.name in self.constants:
                 what = f"constant '{target_node.name}'"
             else:
+                hint = Suggestion(target_node.name, self.resources, target_node.span)
                 self.diags.report(
                     codes.UNKNOWN_NAME,
-                    f"unknown resource '{target_node.name}'{did_you_mean(target_node.name, self.resources)}",
+                    f"unknown resource '{target_node.name}'{hint.hint}",
                     target_node.span,
+                    fixes=hint.fixes,
                 )
                 return None
         self.diags.report(codes.NOT_ASSIGNABLE, f"'{head}' writes a resource; {what} is not one", target_node.span)
@@ -765,8 +796,9 @@ class DomainChecker:
         if Option.HOLE_VIEW.value in opts:
             vname = _value(opts[Option.HOLE_VIEW.value], ast.Name)
             if vname.text not in self.views:
+                hint = Suggestion(vname.text, self.views, vname.span)
                 self.diags.report(
-                    codes.UNKNOWN_NAME, f"unknown view '{vname.text}'{did_you_mean(vname.text, self.views)}", vname.span
+                    codes.UNKNOWN_NAME, f"unknown view '{vname.text}'{hint.hint}", vname.span, fixes=hint.fixes
                 )
             view = vname.text
         max_eff = max_pre = None
@@ -868,7 +900,10 @@ class ProblemChecker:
             return None
         self.domain = domain
         self.req = _Requirements(
-            (s for s in node.sections if isinstance(s, ast.Requirements)), self.diags, domain.requirements
+            (s for s in node.sections if isinstance(s, ast.Requirements)),
+            self.diags,
+            domain.requirements,
+            header=node.name.span,
         )
         objects = self._objects()
         constants = dict(domain.constants)
@@ -929,10 +964,12 @@ class ProblemChecker:
                 else:
                     sort = self.domain.sorts.get(group.type.text)
                     if sort is None:
+                        hint = Suggestion(group.type.text, self.domain.sorts, group.type.span)
                         self.diags.report(
                             codes.UNKNOWN_NAME,
-                            f"unknown sort '{group.type.text}'{did_you_mean(group.type.text, self.domain.sorts)}",
+                            f"unknown sort '{group.type.text}'{hint.hint}",
                             group.type.span,
+                            fixes=hint.fixes,
                         )
                     elif sort.kind is SortKind.ENUM:
                         self.diags.report(
@@ -967,10 +1004,9 @@ class ProblemChecker:
             return None
         self.req.need(Requirement.VIEWS, sec.span, "(:view ...)")
         if sec.name.text not in self.domain.views:
+            hint = Suggestion(sec.name.text, self.domain.views, sec.name.span)
             self.diags.report(
-                codes.UNKNOWN_NAME,
-                f"unknown view '{sec.name.text}'{did_you_mean(sec.name.text, self.domain.views)}",
-                sec.name.span,
+                codes.UNKNOWN_NAME, f"unknown view '{sec.name.text}'{hint.hint}", sec.name.span, fixes=hint.fixes
             )
             return None
         return sec.name.text
@@ -1042,8 +1078,9 @@ class ProblemChecker:
         if not isinstance(target, ast.Ref) or target.name not in res:
             label = target.name if isinstance(target, ast.Ref) else None
             if label is not None:
+                hint = Suggestion(label, res, target.span)
                 self.diags.report(
-                    codes.UNKNOWN_NAME, f"unknown resource '{label}'{did_you_mean(label, res)}", target.span
+                    codes.UNKNOWN_NAME, f"unknown resource '{label}'{hint.hint}", target.span, fixes=hint.fixes
                 )
             else:
                 self.diags.report(
@@ -1124,10 +1161,9 @@ class ProblemChecker:
             self.req.need(Requirement.RECOMPOSITION, sec.span, "(:deployed ...)")
             for name in sec.names:
                 if name.text not in self.domain.morphisms:
+                    hint = Suggestion(name.text, self.domain.morphisms, name.span)
                     self.diags.report(
-                        codes.UNKNOWN_NAME,
-                        f"unknown morphism '{name.text}'{did_you_mean(name.text, self.domain.morphisms)}",
-                        name.span,
+                        codes.UNKNOWN_NAME, f"unknown morphism '{name.text}'{hint.hint}", name.span, fixes=hint.fixes
                     )
                 elif name.text in out:
                     self.diags.report(

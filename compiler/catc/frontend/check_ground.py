@@ -30,7 +30,7 @@ from catc.ir.grounding import (
     xml_name_problem,
 )
 from catgrammar import ast, codes
-from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
+from catgrammar.diagnostics import Diagnostics, Fix, Note, Suggestion
 from catgrammar.span import Span
 from catgrammar.symbols import DEPLOYMENT_OPTIONS, GROUND_OPTIONS, Option
 
@@ -51,16 +51,19 @@ class GroundChecker:
         self.diags, self.params, self.resources, self.owner = diags, params, resources, owner
         self.ok = True
 
-    def error(self, code: str, message: str, span: Span | None, *notes: Note) -> None:
+    def error(self, code: str, message: str, span: Span | None, *notes: Note, fixes: tuple[Fix, ...] = ()) -> None:
         self.ok = False
-        self.diags.report(code, message, span, *notes)
+        self.diags.report(code, message, span, *notes, fixes=fixes)
 
     # ------------------------------------------------------------ blocks
     def ground(self, block: ast.Ground, kind: ir.MorphismKind) -> Grounding | None:
         name = block.kind.text
         if name not in GROUND_OPTIONS:
-            hint = did_you_mean(name, GROUND_OPTIONS) or f"; expected one of {', '.join(GROUND_OPTIONS)}"
-            self.error(codes.BAD_GROUNDING, f"unknown grounding kind '{name}'{hint}", block.kind.span)
+            suggestion = Suggestion(name, GROUND_OPTIONS, block.kind.span)
+            hint = suggestion.hint or f"; expected one of {', '.join(GROUND_OPTIONS)}"
+            self.error(
+                codes.BAD_GROUNDING, f"unknown grounding kind '{name}'{hint}", block.kind.span, fixes=suggestion.fixes
+            )
             return None
         if name != kind.value:
             self.error(
@@ -100,8 +103,14 @@ class GroundChecker:
         out: dict[str, ast.Opt] = {}
         for pair in pairs:
             if pair.key not in keys:
-                hint = did_you_mean(pair.key, keys) or f"; it takes {', '.join(keys)}"
-                self.error(codes.BAD_GROUNDING, f"'{pair.key}' does not belong in {where}{hint}", pair.span)
+                suggestion = Suggestion(pair.key, keys, _head_span(pair.span, len(pair.key)))
+                hint = suggestion.hint or f"; it takes {', '.join(keys)}"
+                self.error(
+                    codes.BAD_GROUNDING,
+                    f"'{pair.key}' does not belong in {where}{hint}",
+                    pair.span,
+                    fixes=suggestion.fixes,
+                )
             elif pair.key in out:
                 self.error(
                     codes.DUPLICATE_OPTION,
@@ -198,8 +207,10 @@ class GroundChecker:
         word = self.word(opt)
         names = [p.value for p in Profile]
         if word not in names:
-            hint = did_you_mean(word or "", names) or f"; expected one of {', '.join(names)}"
-            self.error(codes.BAD_GROUNDING, f"unknown profile '{word}'{hint}", opt.value.span)  # type: ignore[attr-defined]
+            span = opt.value.span  # type: ignore[attr-defined]
+            suggestion = Suggestion(word or "", names, span if word else None)
+            hint = suggestion.hint or f"; expected one of {', '.join(names)}"
+            self.error(codes.BAD_GROUNDING, f"unknown profile '{word}'{hint}", span, fixes=suggestion.fixes)
             return default
         return Profile(word)
 
@@ -234,11 +245,18 @@ class GroundChecker:
             elif m.group(1) in self.params:
                 parts.append(Value(ValueKind.PARAM, m.group(1), span=s.span))
             else:
-                hint = did_you_mean(m.group(1), self.params) or (
+                where = _inner_span(s, m.start(), m.end())
+                inner = where != s.span  # the hole's own span: its fix replaces it
+                suggestion = Suggestion(m.group(1), self.params, where if inner else None, "{{{}}}")
+                hint = suggestion.hint or (
                     f"; holes name parameters of {self.owner}" + (f" ({', '.join(self.params)})" if self.params else "")
                 )
-                where = _inner_span(s, m.start(), m.end())
-                self.error(codes.BAD_GROUNDING, f"{{{m.group(1)}}} names no parameter of {self.owner}{hint}", where)
+                self.error(
+                    codes.BAD_GROUNDING,
+                    f"{{{m.group(1)}}} names no parameter of {self.owner}{hint}",
+                    where,
+                    fixes=suggestion.fixes,
+                )
         parts.append(text[pos:])
         return Template(tuple(p for p in parts if p != ""), s.span)
 
@@ -310,11 +328,13 @@ class GroundChecker:
             if node.text in self.resources:
                 return Value(ValueKind.RESOURCE, node.text, span=node.span)
             scope = [*self.params, *self.resources]
+            suggestion = Suggestion(node.text, scope, node.span)
             self.error(
                 codes.UNKNOWN_NAME,
-                f"'{node.text}' is neither a parameter of {self.owner} nor a resource{did_you_mean(node.text, scope)}"
+                f"'{node.text}' is neither a parameter of {self.owner} nor a resource{suggestion.hint}"
                 '; a string is written "..."',
                 node.span,
+                fixes=suggestion.fixes,
             )
             return None
         items = node.items  # a list: only (key NAME)
@@ -332,6 +352,11 @@ class GroundChecker:
         self.error(codes.BAD_GROUNDING, "a value is a parameter, a resource, a number, a string, true/false or (key NAME)",
                    node.span)  # fmt: skip
         return None
+
+
+def _head_span(span: Span, length: int) -> Span:
+    """The first ``length`` characters of ``span`` (a ``:key`` at the start of a pair)."""
+    return Span(span.file, span.line, span.column, span.line, span.column + length, span.start, span.start + length)
 
 
 def _inner_span(s: ast.Str, start: int, end: int) -> Span:

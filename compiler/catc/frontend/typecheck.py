@@ -15,7 +15,7 @@ from catc import ir
 from catc.ir import BOOL, INT, REAL, Sort, SortKind
 from catc.ir.fold import ConstantTooLarge, bounded_arith
 from catgrammar import ast, codes
-from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
+from catgrammar.diagnostics import Diagnostics, Fix, Note, Suggestion
 from catgrammar.span import Span
 from catgrammar.symbols import (
     EFFECT_OPERATORS,
@@ -211,10 +211,15 @@ class ExprChecker:
             c = sc.constants[name]
             return ir.Const(name, c.sort, node.span)
         candidates = list(sc.params) + list(sc.resources) + list(sc.constants)
-        hint = did_you_mean(name, candidates)
+        suggestion = Suggestion(name, candidates, node.span)
+        hint, fixes = suggestion.hint, suggestion.fixes
         if sc.morphisms is not None and name in sc.morphisms:
             hint = f"; '{name}' is a morphism: use (uses {name}) to count its activations"
-        self.diags.report(codes.UNKNOWN_NAME, f"unknown name '{name}'{hint}", node.span)
+            # the fix only where (uses ...) is allowed: an objective
+            fixes = (
+                (Fix(f"Replace with '(uses {name})'", node.span, f"(uses {name})"),) if ctx is Context.OBJECTIVE else ()
+            )
+        self.diags.report(codes.UNKNOWN_NAME, f"unknown name '{name}'{hint}", node.span, fixes=fixes)
         return None
 
     def _set_literal(self, node: ast.SetLit, ctx: Context, expected: Sort | None) -> ir.Expr | None:
@@ -319,8 +324,9 @@ class ExprChecker:
                 node.head.span,
             )
         else:
+            hint = Suggestion(head, allowed, node.head.span)
             self.diags.report(
-                codes.UNKNOWN_OPERATOR, f"unknown operator '{head}'{did_you_mean(head, allowed)}", node.head.span
+                codes.UNKNOWN_OPERATOR, f"unknown operator '{head}'{hint.hint}", node.head.span, fixes=hint.fixes
             )
         return None
 
@@ -483,10 +489,12 @@ class ExprChecker:
         if not isinstance(pnode, ast.Ref) or m.param(pnode.name) is None:
             names = [p.name for p in m.params]
             label = pnode.name if isinstance(pnode, ast.Ref) else "this"
+            hint = Suggestion(label, names, pnode.span if isinstance(pnode, ast.Ref) else None)
             self.diags.report(
                 codes.UNKNOWN_NAME,
-                f"morphism '{m.name}' has no parameter '{label}'{did_you_mean(label, names)}",
+                f"morphism '{m.name}' has no parameter '{label}'{hint.hint}",
                 pnode.span,
+                fixes=hint.fixes,
             )
             return None
         p = m.param(pnode.name)
@@ -506,7 +514,6 @@ class ExprChecker:
         if isinstance(node, ast.Ref) and node.name in morphisms:
             return morphisms[node.name]
         label = node.name if isinstance(node, ast.Ref) else "this"
-        self.diags.report(
-            codes.UNKNOWN_NAME, f"unknown morphism '{label}'{did_you_mean(label, list(morphisms))}", node.span
-        )
+        hint = Suggestion(label, list(morphisms), node.span if isinstance(node, ast.Ref) else None)
+        self.diags.report(codes.UNKNOWN_NAME, f"unknown morphism '{label}'{hint.hint}", node.span, fixes=hint.fixes)
         return None

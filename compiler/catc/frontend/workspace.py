@@ -24,7 +24,7 @@ from catc import ir
 from catc.frontend.check import DomainChecker, ProblemChecker
 from catgrammar import ast, codes, limits
 from catgrammar._lalr import UnexpectedCharacters
-from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
+from catgrammar.diagnostics import Diagnostics, Note, Suggestion
 from catgrammar.parser import decode_source, parse_source, read_regular, read_source
 from catgrammar.span import Source, Span
 from catgrammar.tokens import tokenize
@@ -258,12 +258,13 @@ class Workspace:
             if not self.domains.get(name) or len(self.domains[name]) <= 1:
                 code = codes.UNKNOWN_IMPORT if importing else codes.UNKNOWN_DOMAIN
                 what = "imported domain" if importing else "domain"
-                hint = did_you_mean(name, self.known_domain_names())
+                hint = Suggestion(name, self.known_domain_names(), ref)
                 self.diags.report(
                     code,
                     f"{what} '{name}' not found (searched the folder of this file, the loaded files, "
-                    f"--path/CATC_PATH and the standard library){hint}",
+                    f"--path/CATC_PATH and the standard library){hint.hint}",
                     ref,
+                    fixes=hint.fixes,
                 )
             return None
         node, path = found

@@ -1,8 +1,13 @@
 """``catc lsp``: a language server for .cat files (pygls 2.x, over stdio).
 
 Features: the diagnostics of ``catc check`` on open/change (computed from the editor's
-in-memory text), hover (resources, morphisms, sorts, constants, views, holes), go to
-definition, completion (keywords and names in scope) and document symbols.
+in-memory text), Markdown hover (resources, morphisms, θ parameters, sorts, constants,
+views, holes, options; from the last version that checked while the text does not),
+go to definition, completion (keywords and names in scope), document symbols, references
+and rename across a domain and its problems, formatting (``catc fmt``), quick fixes (the
+diagnostics' structured fixes: did-you-mean, a missing requirement flag), semantic tokens,
+unit inlay hints and signature help for a form's options (docs/editors.md has the table;
+the parts that need no pygls are in :mod:`catc.interfaces.lsp_tools`).
 
 Documents are checked in the background (one worker thread), so the server answers other
 requests while a large document is checked; a newer text of a document makes the check of
@@ -60,6 +65,7 @@ class Analysis:
     domains: list = field(default_factory=list)  # checked ir.Domain objects
     problems: list = field(default_factory=list)  # checked ir.Problem objects
     sources: dict = field(default_factory=dict)  # path → text of every file read (for positions)
+    stale: set = field(default_factory=set)  # ids of domains/problems kept from an older analysis
 
 
 def _same(a: str, b: str) -> bool:
@@ -215,69 +221,151 @@ def _grounding_text(g: object) -> str:
     return "no grounding: `catc ground` writes nothing for it (W0106)"
 
 
-def hover_text(a: Analysis, name: str) -> str | None:
+def _declaration(a: Analysis, d: Definition, max_lines: int = 8) -> str | None:
+    """The declaration of ``d`` as written (its first line and an ellipsis when long)."""
+    text = a.text if _same(d.whole.file, a.path) else a.sources.get(d.whole.file)
+    if text is None:
+        text = next((t for p, t in a.sources.items() if _same(p, d.whole.file)), None)
+    if text is None:
+        return None
+    code = text[d.whole.start : d.whole.end]
+    lines = code.split("\n")
+    if len(lines) > max_lines or d.kind in ("domain", "problem", "morphism"):
+        return lines[0].rstrip() + (" …" if len(lines) > 1 else "")
+    indent = min((len(x) - len(x.lstrip()) for x in lines[1:] if x.strip()), default=0)
+    return "\n".join([lines[0], *(x[indent:] for x in lines[1:])])
+
+
+def _fenced(code: str) -> str:
+    fence = "```"
+    while fence in code:
+        fence += "`"
+    return f"{fence}cat\n{code}\n{fence}"
+
+
+def hover_text(a: Analysis, name: str, at: Span | None = None) -> str | None:
+    """The hover of ``name`` (written at ``at``) as Markdown: the declaration as written (a
+    fenced ``cat`` block), what it is, then its details; paragraphs are separated by blank
+    lines, so that every Markdown renderer keeps them apart.  Names of a domain that does
+    not check (yet) still show their declaration; details of the last version that checked
+    are marked as such."""
+    if name.startswith(":"):
+        from catc.interfaces.lsp_tools import OPTION_DOCS
+
+        option = OPTION_DOCS.get(name)
+        return f"{_fenced(option[0])}\n\n**option** `{name}`: {option[1]}" if option else None
+    defs = lookup(a, name)
+    d = defs[0] if defs else None
+    if at is not None:
+        from catc.interfaces.lsp_tools import target
+
+        found = target(a, name, at)
+        if found is not None:
+            d = found[0]
+    blocks: list[str] = []
+    if d is not None:
+        code = _declaration(a, d)
+        if code:
+            blocks.append(_fenced(code))
+    details = _details(a, name, d)
+    if details is None:
+        if d is None:
+            return None
+        owner = f"{'morphism' if d.kind == 'parameter' else 'in'} `{d.owner}`" if d.owner else ""
+        blocks.append(f"**{d.kind}** `{d.name}`" + (f" ({owner})" if owner else ""))
+        if d.kind not in ("domain", "problem", "parameter"):
+            blocks.append("*Only the declaration is shown: its definition does not check yet.*")
+        return "\n\n".join(blocks)
+    blocks += details
+    return "\n\n".join(blocks)
+
+
+def _bounds(lower: Any, upper: Any) -> str:
+    from catc.ir.numbers import number_text
+
+    lo = number_text(lower) if lower is not None else "*"
+    hi = number_text(upper) if upper is not None else "*"
+    return f"({lo} {hi})"
+
+
+def _morphism_details(m: Any) -> list[str]:
+    """A morphism's hover blocks: kind, doc, weights, θ parameters, preconditions, effects
+    and grounding (each list after its own paragraph)."""
     from catc.ir.numbers import number_text
     from catc.ir.text import effect_text, to_text
 
+    blocks = [f"**morphism** `{m.name}` ({m.kind.value})"]
+    if m.doc:
+        blocks.append(m.doc)
+    extra = [f"churn {number_text(m.churn)}"]
+    if m.uses == 0:
+        extra.append("switched off (:uses 0)")
+    elif m.uses is not None:
+        extra.append(f"uses ≤ {m.uses}")
+    if m.cost is not None:
+        extra.append(f"cost {to_text(m.cost)}")
+    blocks.append(", ".join(extra))
+    if m.params:
+        rows = []
+        for p in m.params:
+            b = f" in {_bounds(p.lower, p.upper)}" if p.lower is not None or p.upper is not None else ""
+            rows.append(f"- `{p.name}` : {_sort_text(p.sort)}{b}{' (fixed)' if p.fixed else ''}")
+        blocks += ["parameters:", "\n".join(rows)]
+    if m.pre:
+        blocks += ["preconditions:", "\n".join(f"- `{to_text(lit.expr)}`" for lit in m.pre)]
+    if m.effects:
+        blocks += ["effects:", "\n".join(f"- `{effect_text(e)}`" for e in m.effects)]
+    blocks.append(_grounding_text(m.grounding))
+    return blocks
+
+
+def _details(a: Analysis, name: str, d: Definition | None) -> list[str] | None:
+    """The Markdown blocks that describe ``name`` from the checked model, or None."""
+    bounds = _bounds
+
+    def where(kind: str, owner: object) -> str:
+        stale = " — *as it last checked*" if id(owner) in a.stale else ""
+        return f"*{kind} `{owner.name}`*{stale}"  # type: ignore[attr-defined]
+
+    if d is not None and d.kind == "parameter":
+        for dom in a.domains:
+            m = dom.morphisms.get(d.owner or "")
+            p = next((p for p in m.params if p.name == name), None) if m is not None else None
+            if m is not None and p is not None:
+                b = f" in {bounds(p.lower, p.upper)}" if p.lower is not None or p.upper is not None else ""
+                fixed = " (fixed: one value for the composition)" if p.fixed else ""
+                return [f"**parameter** `{name}` : {_sort_text(p.sort)}{b}{fixed}", where("morphism", m)]
+        return None
     for dom in a.domains:
         r = dom.resources.get(name)
         if r is not None:
-            lines = [f"**resource** `{r.name}` : {_sort_text(r.sort)}"]
+            facts = []
             if r.unit:
-                lines.append(f"unit: {r.unit}")
+                facts.append(f"unit: {r.unit}")
             if r.group:
-                lines.append(f"group: {r.group}")
+                facts.append(f"group: {r.group}")
             if r.lower is not None or r.upper is not None:
-                lo = number_text(r.lower) if r.lower is not None else "*"
-                hi = number_text(r.upper) if r.upper is not None else "*"
-                lines.append(f"bounds: ({lo} {hi})")
+                facts.append(f"bounds: {bounds(r.lower, r.upper)}")
+            blocks = [f"**resource** `{r.name}` : {_sort_text(r.sort)}"]
+            if facts:
+                blocks.append("\n".join(f"- {f}" for f in facts))
             if r.doc:
-                lines.append("")
-                lines.append(r.doc)
-            lines.append(f"\n(domain `{dom.name}`)")
-            return "\n".join(lines)
+                blocks.append(r.doc)
+            return [*blocks, where("domain", dom)]
     for dom in a.domains:
         m = dom.morphisms.get(name)
         if m is not None:
-            lines = [f"**morphism** `{m.name}` ({m.kind.value})"]
-            if m.doc:
-                lines += ["", m.doc, ""]
-            extra = [f"churn {number_text(m.churn)}"]
-            if m.uses == 0:
-                extra.append("switched off (:uses 0)")
-            elif m.uses is not None:
-                extra.append(f"uses ≤ {m.uses}")
-            if m.cost is not None:
-                extra.append(f"cost {to_text(m.cost)}")
-            lines.append(", ".join(extra))
-            if m.params:
-                lines.append("\nparameters:")
-                for p in m.params:
-                    b = ""
-                    if p.lower is not None or p.upper is not None:
-                        lo = number_text(p.lower) if p.lower is not None else "*"
-                        hi = number_text(p.upper) if p.upper is not None else "*"
-                        b = f" in ({lo} {hi})"
-                    lines.append(f"- `{p.name}` : {_sort_text(p.sort)}{b}{' (fixed)' if p.fixed else ''}")
-            if m.pre:
-                lines.append("\npreconditions:")
-                lines += [f"- `{to_text(lit.expr)}`" for lit in m.pre]
-            if m.effects:
-                lines.append("\neffects:")
-                lines += [f"- `{effect_text(e)}`" for e in m.effects]
-            lines.append("\n" + _grounding_text(m.grounding))
-            lines.append(f"\n(domain `{dom.name}`)")
-            return "\n".join(lines)
+            return [*_morphism_details(m), where("domain", dom)]
     for dom in a.domains:
         s = dom.sorts.get(name)
         if s is not None:
-            return f"**sort** `{name}`: {_sort_text(s, expand=True)}\n\n(domain `{dom.name}`)"
+            return [f"**sort** `{name}`: {_sort_text(s, expand=True)}", where("domain", dom)]
         c = dom.constants.get(name)
         if c is not None:
-            return f"**constant** `{name}` : {_sort_text(c.sort)}\n\n(domain `{dom.name}`)"
+            return [f"**constant** `{name}` : {_sort_text(c.sort)}", where("domain", dom)]
         v = dom.views.get(name)
         if v is not None:
-            return f"**view** `{name}`: keeps {', '.join(sorted(v.kept)) or 'nothing'}\n\n(domain `{dom.name}`)"
+            return [f"**view** `{name}`: keeps {', '.join(sorted(v.kept)) or 'nothing'}", where("domain", dom)]
         h = dom.holes.get(name)
         if h is not None:
             bits = [f"view {h.view}" if h.view else "no view"]
@@ -285,15 +373,11 @@ def hover_text(a: Analysis, name: str) -> str | None:
                 bits.append(f"at most {h.max_effects} effects")
             if h.max_preconditions is not None:
                 bits.append(f"at most {h.max_preconditions} preconditions")
-            return f"**hole** `{name}`: {', '.join(bits)}\n\n(domain `{dom.name}`)"
+            return [f"**hole** `{name}`: {', '.join(bits)}", where("domain", dom)]
     for p in a.problems:
         o = p.objects.get(name)
         if o is not None:
-            return f"**object** `{name}` : {_sort_text(o.sort)}\n\n(problem `{p.name}`)"
-    defs = lookup(a, name)
-    if defs:
-        d = defs[0]
-        return f"**{d.kind}** `{d.name}`" + (f"\n\n({d.owner})" if d.owner else "")
+            return [f"**object** `{name}` : {_sort_text(o.sort)}", where("problem", p)]
     return None
 
 
@@ -451,6 +535,10 @@ def build_server() -> Any:
     _register_navigation(server, types)
     _register_symbols(server, types)
     _register_queries(server, types)
+    _register_editing(server, types)
+    _register_fixes(server, types)
+    _register_display(server, types)
+    _register_signature_help(server, types)
     return server
 
 
@@ -501,37 +589,58 @@ async def _refresh(ls: Any, types: Any, uri: str, generation: int, text: str) ->
     previous = ls.analyses.get(uri)
     if a.tree is None and previous is not None:  # keep symbols/definitions of the last good parse
         a.definitions = previous.definitions or a.definitions
-        a.domains = a.domains or previous.domains
+        if not a.domains:
+            a.domains = list(previous.domains)
+            a.stale |= {id(d) for d in a.domains}
         a.tree = previous.tree
         a.sources = {**previous.sources, **a.sources}
+    if previous is not None:
+        _keep_last_good(a, previous)
     ls.analyses[uri] = a
     _publish(ls, types, uri, a)
 
 
-def _publish(ls: Any, types: Any, uri: str, a: Analysis) -> None:
+def _keep_last_good(a: Analysis, previous: Analysis) -> None:
+    """A domain (or problem) of this document that does not check now keeps the checked
+    model of its last version that did, marked stale: hover, semantic tokens and unit hints
+    go on working while the text is being edited."""
+    defined = {(d.kind, d.name) for d in a.definitions if _same(d.span.file, a.path)}
+    have = {x.name for x in a.domains}
+    for dom in previous.domains:
+        if dom.name not in have and ("domain", dom.name) in defined:
+            a.domains.append(dom)
+            a.stale.add(id(dom))
+    have = {x.name for x in a.problems}
+    for prob in previous.problems:
+        if prob.name not in have and ("problem", prob.name) in defined:
+            a.problems.append(prob)
+            a.stale.add(id(prob))
+
+
+def _lsp_diagnostic(types: Any, lines: Lines, d: Any) -> Any:
     from catgrammar.diagnostics import Severity
 
-    lines = _lines(ls, a)
     severity = {Severity.ERROR: types.DiagnosticSeverity.Error, Severity.WARNING: types.DiagnosticSeverity.Warning}
-    out = []
-    for d in a.diagnostics:
-        related = [
-            types.DiagnosticRelatedInformation(
-                types.Location(path_to_uri(note.span.file), lines.range(types, note.span)), note.message
-            )
-            for note in getattr(d, "notes", ()) or ()
-            if getattr(note, "span", None) is not None
-        ]
-        out.append(
-            types.Diagnostic(
-                range=lines.range(types, d.span),
-                message=d.message,
-                severity=severity.get(d.severity, types.DiagnosticSeverity.Information),
-                code=d.code,
-                source="catc",
-                related_information=related or None,
-            )
+    related = [
+        types.DiagnosticRelatedInformation(
+            types.Location(path_to_uri(note.span.file), lines.range(types, note.span)), note.message
         )
+        for note in getattr(d, "notes", ()) or ()
+        if getattr(note, "span", None) is not None
+    ]
+    return types.Diagnostic(
+        range=lines.range(types, d.span),
+        message=d.message,
+        severity=severity.get(d.severity, types.DiagnosticSeverity.Information),
+        code=d.code,
+        source="catc",
+        related_information=related or None,
+    )
+
+
+def _publish(ls: Any, types: Any, uri: str, a: Analysis) -> None:
+    lines = _lines(ls, a)
+    out = [_lsp_diagnostic(types, lines, d) for d in a.diagnostics]
     ls.text_document_publish_diagnostics(types.PublishDiagnosticsParams(uri=uri, diagnostics=out))
 
 
@@ -559,6 +668,69 @@ async def _current(ls: Any, types: Any, uri: str) -> Analysis:
             break
         await asyncio.shield(task)
     return ls.analyses.get(uri) or Analysis(uri_to_path(uri), "")
+
+
+async def _fresh(ls: Any, types: Any, uri: str) -> Analysis:
+    """The analysis of the document's current text (its check under way is waited for):
+    what an edit of the text (rename, code actions) must start from."""
+    import asyncio
+
+    task = ls.checks.tasks.get(uri)
+    if task is not None and not task.done():
+        await asyncio.shield(task)
+    return await _current(ls, types, uri)
+
+
+def _log(ls: Any, types: Any, message: str) -> None:
+    ls.window_log_message(types.LogMessageParams(types.MessageType.Error, f"catc: {message}"))
+
+
+def _word(ls: Any, a: Analysis, position: Any) -> tuple[str, Span] | None:
+    """The name under an LSP position of the document's text, and its span (catc's)."""
+    text = _doc_text(ls, a)
+    lines = text.split("\n")
+    if not 0 <= position.line < len(lines):
+        return None
+    line = lines[position.line]
+    column = server_column(line, position.character, _encoding(ls))
+    for m in _WORD.finditer(line):
+        if m.start() <= column <= m.end():
+            offset = sum(len(x) + 1 for x in lines[: position.line]) + m.start()
+            return m.group(), Source(a.path, text).span(offset, offset + len(m.group()))
+    return None
+
+
+def _offset(text: str, position: Any, encoding: str) -> int:
+    """An LSP position → a character offset of ``text`` (clamped to the text)."""
+    lines = text.split("\n")
+    if position.line >= len(lines):
+        return len(text)
+    return sum(len(x) + 1 for x in lines[: position.line]) + server_column(
+        lines[position.line], position.character, encoding
+    )
+
+
+def _end(types: Any, text: str, encoding: str) -> Any:
+    lines = text.split("\n")
+    return types.Position(len(lines) - 1, code_units(lines[-1], encoding))
+
+
+def _open_texts(ls: Any) -> dict[str, str]:
+    out = {}
+    for uri, doc in list(ls.workspace.text_documents.items()):
+        if uri.startswith("file:"):
+            out[uri_to_path(uri)] = doc.source
+    return out
+
+
+def _request_failed(message: str) -> Exception:
+    from pygls.exceptions import JsonRpcException
+
+    class Failed(JsonRpcException):
+        CODE = -32803  # LSP RequestFailed
+        MESSAGE = "Request failed"
+
+    return Failed(message=message)
 
 
 def _register_documents(server: Any, types: Any) -> None:
@@ -612,8 +784,16 @@ def _register_navigation(server: Any, types: Any) -> None:
 
     @server.feature(types.TEXT_DOCUMENT_HOVER)
     async def hover(ls: Any, params: Any) -> Any:
-        a, name = await name_at(ls, params)
-        text = hover_text(a, name) if name else None
+        a = await _current(ls, types, params.text_document.uri)
+        found = _word(ls, a, params.position)
+        if found is None:
+            return None
+        name, at = found
+        try:
+            text = hover_text(a, name, at)
+        except Exception as exc:  # never a traceback for a half-written model
+            _log(ls, types, f"hover: {exc!r}")
+            return None
         if text is None:
             return None
         return types.Hover(contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value=text))
@@ -691,6 +871,206 @@ def _register_symbols(server: Any, types: Any) -> None:
         return top
 
 
+def _register_editing(server: Any, types: Any) -> None:
+    """References and rename (with prepareRename)."""
+    import asyncio
+
+    from catc.interfaces import lsp_tools as tools
+
+    @server.feature(types.TEXT_DOCUMENT_REFERENCES)
+    async def references(ls: Any, params: Any) -> Any:
+        a = await _fresh(ls, types, params.text_document.uri)
+        found = _word(ls, a, params.position)
+        if found is None:
+            return []
+        try:
+            files = await asyncio.to_thread(tools.workspace_files, a, _open_texts(ls))
+            spans = await asyncio.to_thread(tools.references, a, *found, files, params.context.include_declaration)
+        except Exception as exc:  # never a traceback for a half-written model
+            _log(ls, types, f"references: {exc!r}")
+            return []
+        lines = Lines(_encoding(ls), files)
+        return [types.Location(path_to_uri(s.file), lines.range(types, s)) for s in spans]
+
+    @server.feature(types.TEXT_DOCUMENT_PREPARE_RENAME)
+    async def prepare_rename(ls: Any, params: Any) -> Any:
+        a = await _fresh(ls, types, params.text_document.uri)
+        found = _word(ls, a, params.position)
+        if found is None:
+            raise _request_failed("there is no name here to rename")
+        try:
+            tools.check_rename(a, *found)
+        except tools.RenameError as exc:
+            raise _request_failed(str(exc)) from None
+        lines = Lines(_encoding(ls), {a.path: _doc_text(ls, a)})
+        return types.PrepareRenamePlaceholder(range=lines.range(types, found[1]), placeholder=found[0])
+
+    @server.feature(types.TEXT_DOCUMENT_RENAME, types.RenameOptions(prepare_provider=True))
+    async def rename(ls: Any, params: Any) -> Any:
+        a = await _fresh(ls, types, params.text_document.uri)
+        found = _word(ls, a, params.position)
+        if found is None:
+            raise _request_failed("there is no name here to rename")
+        try:
+            files = await asyncio.to_thread(tools.workspace_files, a, _open_texts(ls))
+            edits = await asyncio.to_thread(tools.rename_edits, a, *found, params.new_name, files)
+        except tools.RenameError as exc:
+            raise _request_failed(str(exc)) from None
+        lines = Lines(_encoding(ls), files)
+        return types.WorkspaceEdit(
+            changes={
+                path_to_uri(path): [types.TextEdit(lines.range(types, s), params.new_name) for s in spans]
+                for path, spans in edits.items()
+            }
+        )
+
+
+def _register_fixes(server: Any, types: Any) -> None:
+    """Formatting and code actions."""
+    import asyncio
+
+    from catc.interfaces import lsp_tools as tools
+
+    @server.feature(types.TEXT_DOCUMENT_FORMATTING)
+    async def formatting(ls: Any, params: Any) -> Any:
+        text = ls.workspace.get_text_document(params.text_document.uri).source
+        try:
+            new = await asyncio.to_thread(tools.formatted, text)  # seconds for a huge file: off the loop
+        except Exception as exc:  # never a traceback for a half-written model
+            _log(ls, types, f"formatting: {exc!r}")
+            return []
+        if new is None or new == text:
+            return []  # a file that does not parse is left alone
+        return [types.TextEdit(types.Range(types.Position(0, 0), _end(types, text, _encoding(ls))), new)]
+
+    @server.feature(
+        types.TEXT_DOCUMENT_CODE_ACTION, types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix])
+    )
+    async def code_action(ls: Any, params: Any) -> Any:
+        a = await _fresh(ls, types, params.text_document.uri)
+        lines = _lines(ls, a)
+        want = params.range
+        out = []
+        for d in a.diagnostics:
+            fixes = getattr(d, "fixes", ())
+            if not fixes or d.span is None:
+                continue
+            diag = _lsp_diagnostic(types, lines, d)
+            r = diag.range
+            if (r.end.line, r.end.character) < (want.start.line, want.start.character) or (
+                (want.end.line, want.end.character) < (r.start.line, r.start.character)
+            ):
+                continue
+            for fix in fixes:
+                edit = types.TextEdit(lines.range(types, fix.span), fix.text)
+                out.append(
+                    types.CodeAction(
+                        title=fix.title,
+                        kind=types.CodeActionKind.QuickFix,
+                        diagnostics=[diag],
+                        is_preferred=len(fixes) == 1,
+                        edit=types.WorkspaceEdit(changes={path_to_uri(fix.span.file): [edit]}),
+                    )
+                )
+        return out
+
+
+def _doc_text(ls: Any, a: Analysis) -> str:
+    try:
+        return ls.workspace.get_text_document(path_to_uri(a.path)).source
+    except Exception:  # pragma: no cover
+        return a.text
+
+
+def _register_display(server: Any, types: Any) -> None:
+    """Semantic tokens and unit inlay hints (in a thread: a large document takes a second)."""
+    import asyncio
+
+    from catc.interfaces import lsp_tools as tools
+
+    legend = types.SemanticTokensLegend(
+        token_types=list(tools.TOKEN_TYPES), token_modifiers=list(tools.TOKEN_MODIFIERS)
+    )
+
+    @server.feature(
+        types.TEXT_DOCUMENT_SEMANTIC_TOKENS_FULL, types.SemanticTokensRegistrationOptions(legend=legend, full=True)
+    )
+    async def semantic_tokens(ls: Any, params: Any) -> Any:
+        a = await _fresh(ls, types, params.text_document.uri)
+        encoding = _encoding(ls)
+        lines = a.text.split("\n")
+        data: list[int] = []
+        last_line = last_start = 0
+        try:
+            found = await asyncio.to_thread(tools.semantic_tokens, a)
+        except Exception as exc:  # never a traceback for a half-written model
+            _log(ls, types, f"semantic tokens: {exc!r}")
+            found = []
+        for span, kind, mods in found:
+            line = span.line - 1
+            text = lines[line] if line < len(lines) else ""
+            start = client_column(text, span.column - 1, encoding)
+            length = code_units(text[span.column - 1 : span.end_column - 1], encoding)
+            bits = sum(1 << tools.TOKEN_MODIFIERS.index(m) for m in mods)
+            delta_start = start - last_start if line == last_line else start
+            data += [line - last_line, delta_start, length, tools.TOKEN_TYPES.index(kind), bits]
+            last_line, last_start = line, start
+        return types.SemanticTokens(data=data)
+
+    @server.feature(types.TEXT_DOCUMENT_INLAY_HINT)
+    async def inlay_hints(ls: Any, params: Any) -> Any:
+        a = await _fresh(ls, types, params.text_document.uri)
+        lines = _lines(ls, a)
+        r = params.range
+        out = []
+        try:
+            hints = await asyncio.to_thread(tools.unit_hints, a)
+        except Exception as exc:  # never a traceback for a half-written model
+            _log(ls, types, f"inlay hints: {exc!r}")
+            hints = []
+        for span, unit, resource in hints:
+            end = lines.position(types, span.file, span.end_line, span.end_column)
+            if not ((r.start.line, r.start.character) <= (end.line, end.character) <= (r.end.line, r.end.character)):
+                continue
+            out.append(
+                types.InlayHint(
+                    position=end,
+                    label=unit,
+                    kind=types.InlayHintKind.Type,
+                    tooltip=f"unit of resource {resource}",
+                    padding_left=True,
+                )
+            )
+        return out
+
+
+def _register_signature_help(server: Any, types: Any) -> None:
+    """The options of the form under the cursor."""
+    from catc.interfaces import lsp_tools as tools
+
+    @server.feature(
+        types.TEXT_DOCUMENT_SIGNATURE_HELP,
+        types.SignatureHelpOptions(trigger_characters=[":", " ", "("], retrigger_characters=[" "]),
+    )
+    async def signature_help(ls: Any, params: Any) -> Any:
+        text = ls.workspace.get_text_document(params.text_document.uri).source
+        try:
+            sig = tools.signature_at(text, _offset(text, params.position, _encoding(ls)))
+        except Exception as exc:  # never a traceback for a half-written model
+            _log(ls, types, f"signature help: {exc!r}")
+            return None
+        if sig is None:
+            return None
+        info = types.SignatureInformation(
+            label=sig.label,
+            documentation=types.MarkupContent(kind=types.MarkupKind.Markdown, value=sig.doc),
+            parameters=[
+                types.ParameterInformation(label=o, documentation=d) for o, d in zip(sig.options, sig.option_docs)
+            ],
+        )
+        return types.SignatureHelp(signatures=[info], active_signature=0, active_parameter=sig.active)
+
+
 def run_query_on_file(name: str, uri: str, options: dict[str, Any] | None = None) -> dict:
     """Answer the query ``name`` for the problem saved in the file at ``uri``: the query's
     ``--json`` document, or a ``catc.error/1`` document for input errors."""
@@ -737,7 +1117,9 @@ def _register_queries(server: Any, types: Any) -> None:
 def lsp_command(stdio: bool) -> None:
     """Run the .cat language server over stdio (needs the 'lsp' extra).
 
-    Diagnostics as `catc check`, hover, go to definition, completion and document symbols.
+    Diagnostics as `catc check`, hover, go to definition, completion, document symbols,
+    references, rename, formatting, quick fixes, semantic tokens, unit hints and signature
+    help.
     """
     try:
         import lsprotocol  # noqa: F401
