@@ -234,10 +234,16 @@ def test_missing_baselines_name_what_to_install(monkeypatch, tmp_path):
     monkeypatch.setitem(sys.modules, "up_enhsp", None)
     with pytest.raises(enhsp.BaselineMissing, match=r"catc-lang\[baselines\]"):
         enhsp.enhsp_jar()
-    monkeypatch.setitem(sys.modules, "unified_planning.io", None)
+    monkeypatch.setitem(sys.modules, "pddl_plus_parser.lisp_parsers", None)
     with pytest.raises(MissingParser, match=r"pip install 'catc-lang\[baselines\]'"):
         check_pddl(tmp_path / "d.pddl", tmp_path / "p.pddl")
+    monkeypatch.delitem(sys.modules, "pddl_plus_parser.lisp_parsers")
+    monkeypatch.setitem(sys.modules, "unified_planning.io", None)
+    _write(export_pddl(instance(EXAMPLES / "detection", {"file": "person.cat"}), grid=GRID), tmp_path)
+    with pytest.raises(MissingParser, match=r"pip install 'catc-lang\[baselines\]'"):
+        check_pddl(tmp_path / "domain.pddl", tmp_path / "problem.pddl", strict=True)
     # on the command line: a located error naming the extra, exit 2
+    monkeypatch.setitem(sys.modules, "pddl_plus_parser.lisp_parsers", None)
     res = run_catc("export", "pddl", str(EXAMPLES / "lifelong/budget-cut.cat"), "-o", str(tmp_path / "out"))
     assert res.exit_code == 2 and "error[E0706]" in res.stderr and "catc-lang[baselines]" in res.stderr
 
@@ -319,13 +325,16 @@ def test_a_constant_cost_expression_is_folded_into_the_total_cost(tmp_path):
 def test_the_export_is_checked_without_the_pypi_pddl_package(tmp_path, monkeypatch):
     """PyPI pddl pins lark<1.2 (catc needs lark>=1.2): the default check must not need it."""
     monkeypatch.setitem(sys.modules, "pddl", None)  # as if not installed
-    res = run_catc(
-        "export", "pddl", str(EXAMPLES / "detection/person.cat"), "-o", str(tmp_path), "--grid", "ram-req=1/2"
-    )
+    person = str(EXAMPLES / "detection/person.cat")
+    res = run_catc("export", "pddl", person, "-o", str(tmp_path), "--grid", "ram-req=1/2")
     assert res.exit_code == 0, res.output
     # detection: 6 ground actions (camera, driver on the 1 topic × 4 ram-req values 0.5, 1, 1.5, 2, detector)
-    assert "parsed by unified-planning's PDDLReader (6 actions): ok" in res.stdout
     assert "parsed by pddl-plus-parser (6 actions): ok" in res.stdout
+    assert "PDDLReader" not in res.stdout  # the strict reader only when asked (slow on large groundings)
+    res = run_catc("export", "pddl", person, "-o", str(tmp_path), "--grid", "ram-req=1/2", "--strict-check")
+    assert res.exit_code == 0, res.output
+    assert "parsed by pddl-plus-parser (6 actions): ok" in res.stdout
+    assert "parsed by unified-planning's PDDLReader (6 actions): ok" in res.stdout
 
 
 @needs_parsers
@@ -335,5 +344,6 @@ def test_a_malformed_export_is_rejected_by_the_strict_parser(tmp_path):
     ex = export_pddl(instance(EXAMPLES / "detection", {"file": "person.cat"}), grid=GRID)
     dom, prob = _write(ex, tmp_path)
     dom.write_text(ex.domain.replace("(increase", "(increse", 1).replace("(decrease", "(decrese", 1))
+    assert check_pddl(dom, prob)  # the lax default parser reads it
     with pytest.raises(Exception):  # noqa: B017 - the parser's own error type
-        check_pddl(dom, prob)
+        check_pddl(dom, prob, strict=True)

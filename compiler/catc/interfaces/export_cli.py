@@ -46,29 +46,35 @@ def _grid(specs: tuple[str, ...]) -> dict[str, Fraction]:
     return out
 
 
-def check_pddl(domain_file: Path, problem_file: Path) -> list[str]:
-    """Parse PDDL 2.1 files (the enhsp flavour) with two parsers catc did not write, both in
-    the ``baselines`` extra: unified-planning's ``PDDLReader`` (strict: a misspelt keyword is
-    an error) and PyPI ``pddl-plus-parser`` (numeric PDDL; lax).  Returns what was checked.
+def check_pddl(domain_file: Path, problem_file: Path, strict: bool = False) -> list[str]:
+    """Parse PDDL 2.1 files (the enhsp flavour) with parsers catc did not write, from the
+    ``baselines`` extra: PyPI ``pddl-plus-parser`` (numeric PDDL; lax about unknown keywords;
+    ~1 s for search-and-rescue's 545 ground actions) and, when ``strict``, unified-planning's
+    ``PDDLReader`` too (a misspelt keyword is an error; ~10× slower on large groundings).
+    Returns what was checked.
 
     (The PyPI ``pddl`` package, used before, pins lark<1.2 in every release while catc
     needs lark>=1.2: it cannot be installed beside catc without a conflict.)"""
-    try:
-        from unified_planning.io import PDDLReader
-    except ImportError:
-        raise MissingParser(
-            "unified-planning is missing (it parses the export): pip install 'catc-lang[baselines]', or pass --no-check"
-        ) from None
-    problem = PDDLReader().parse_problem(str(domain_file), str(problem_file))
-    done = [f"unified-planning's PDDLReader ({len(problem.actions)} actions)"]
+    done = []
     try:
         from pddl_plus_parser.lisp_parsers import DomainParser, ProblemParser
     except ImportError:
-        done.append("pddl-plus-parser not installed: skipped (pip install 'catc-lang[baselines]')")
-        return done
+        raise MissingParser(
+            "pddl-plus-parser is missing (it parses the export): pip install 'catc-lang[baselines]', or pass --no-check"
+        ) from None
     dom = DomainParser(domain_file).parse_domain()
     ProblemParser(problem_file, dom).parse_problem()
     done.append(f"pddl-plus-parser ({len(dom.actions)} actions)")
+    if strict:
+        try:
+            from unified_planning.io import PDDLReader
+        except ImportError:
+            raise MissingParser(
+                "unified-planning is missing (--strict-check parses the export with it): "
+                "pip install 'catc-lang[baselines]'"
+            ) from None
+        problem = PDDLReader().parse_problem(str(domain_file), str(problem_file))
+        done.append(f"unified-planning's PDDLReader ({len(problem.actions)} actions)")
     return done
 
 
@@ -142,7 +148,12 @@ def export_command() -> None:
 @click.option(
     "--no-check",
     is_flag=True,
-    help="Do not parse the written files (with unified-planning's reader and pddl-plus-parser: the 'baselines' extra).",
+    help="Do not parse the written files (with pddl-plus-parser, and unified-planning's reader for PDDL+: the 'baselines' extra).",
+)
+@click.option(
+    "--strict-check",
+    is_flag=True,
+    help="Also parse a PDDL 2.1 export with unified-planning's reader, strict about keywords (slow on large groundings).",
 )
 @click.option(
     "--run",
@@ -169,6 +180,7 @@ def pddl_command(
     search_paths,
     problem_name,
     no_check,
+    strict_check,
     run_planner,
     planner,
     timeout,
@@ -199,7 +211,7 @@ def pddl_command(
             argument_error(str(exc), codes.EXPORT_UNSUPPORTED, False)
         dom, prob = _write(Path(out_dir), inst, ex)
         if not no_check:
-            _check(flavor, dom, prob)
+            _check(flavor, dom, prob, strict_check)
         left = max(0.001, limits.remaining() or timeout)
         if run_planner and flavor == "smtplan":
             _run_smtplan(inst, ex, dom, prob, left)
@@ -247,10 +259,10 @@ def _write(out: Path, inst: Any, ex: Any) -> tuple[Path, Path]:
     return dom, prob
 
 
-def _check(flavor: str, dom: Path, prob: Path) -> None:
+def _check(flavor: str, dom: Path, prob: Path, strict: bool) -> None:
     """Parse the written files with parsers catc did not write."""
     try:
-        checked = check_pddlplus(dom, prob) if flavor == "smtplan" else check_pddl(dom, prob)
+        checked = check_pddlplus(dom, prob) if flavor == "smtplan" else check_pddl(dom, prob, strict)
     except MissingParser as exc:
         argument_error(str(exc), codes.MISSING_EXTRA, False)
     except Exception as exc:  # the parsers' own errors
