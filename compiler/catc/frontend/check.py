@@ -471,13 +471,13 @@ class DomainChecker:
                 _value(opts[Option.BOUNDS.value], ast.Bounds), sort, self.diags, f"resource '{r.name.text}'"
             )
         group = opts.get(Option.GROUP.value)
-        unit = opts.get(Option.UNIT.value)
+        unit = _declared_unit(opts.get(Option.UNIT.value), sort, f"resource '{r.name.text}'", self.diags)
         doc = opts.get(Option.DOC.value)
         self.resources[r.name.text] = ir.Resource(
             r.name.text,
             sort,
             group=_value(group, ast.Name).text if group else None,
-            unit=_value(unit, ast.Name).text if unit else None,
+            unit=unit,
             lower=lo,
             upper=hi,
             doc=_value(doc, ast.Name).text if doc else None,
@@ -625,7 +625,8 @@ class DomainChecker:
                 b = _value(popts[Option.BOUNDS.value], ast.Bounds)
                 lo, hi, _ = _bounds(b, sort, self.diags, f"parameter '{pname}'")
                 bspan = b.span
-            param = ir.Param(pname, sort, lo, hi, Option.FIXED.value in popts, p.name.span, bspan)
+            unit = _declared_unit(popts.get(Option.UNIT.value), sort, f"parameter '{pname}'", self.diags)
+            param = ir.Param(pname, sort, lo, hi, Option.FIXED.value in popts, p.name.span, bspan, unit)
             seen[pname] = param
             out.append(param)
         return out
@@ -661,6 +662,9 @@ class DomainChecker:
         if not isinstance(node, ast.Call) or node.head.text not in self._EFFECT_HEADS:
             self._not_an_effect(node)
             return None
+        merged = checker.merge_quantities(node.args)
+        if merged is not node.args:
+            node = ast.Call(node.head, merged, node.span)
         if not checker._arity(node, 2, 2):
             return None
         target_node, value_node = node.args
@@ -750,6 +754,27 @@ class DomainChecker:
         if not assignable(want, value.sort, self.sorts):  # type: ignore[arg-type]
             self.diags.report(codes.TYPE_MISMATCH, mismatch.format(value=describe(value.sort)), value_node.span)
             return None
+        if res.sort.is_numeric and value.sort.is_numeric:
+            verb = {
+                ir.EffectKind.ASSIGN: lambda a, b: f"cannot assign {b} to {a}",
+                ir.EffectKind.INCREASE: lambda a, b: f"cannot increase {a} by {b}",
+                ir.EffectKind.DECREASE: lambda a, b: f"cannot decrease {a} by {b}",
+            }[kind]
+            unified = checker.unify(
+                [value],
+                [value_node],
+                codes.UNIT_MISMATCH_EFFECT,
+                verb,
+                checker.scope.unit_of(res.name),
+                res.name,
+            )
+            if unified is None:
+                return None
+            value = unified[0][0]
+            _unitless_target(checker, res, value, value_node, self.diags)
+            if not assignable(want, value.sort, self.sorts):  # type: ignore[arg-type]  # converted to a non-integer
+                self.diags.report(codes.TYPE_MISMATCH, mismatch.format(value=describe(value.sort)), value_node.span)
+                return None
         return value
 
     # ------------------------------------------------------------------ holes
@@ -1031,6 +1056,10 @@ class ProblemChecker:
             and res[lit.args[0].name].sort.kind is SortKind.BOOL
         ):
             return lit.args[0].name, ir.Const(False, BOOL, lit.span)
+        if isinstance(lit, ast.Call) and lit.head.text == "=":
+            merged = self.checker.merge_quantities(lit.args)
+            if merged is not lit.args:
+                lit = ast.Call(lit.head, merged, lit.span)
         if not (isinstance(lit, ast.Call) and lit.head.text == "=" and len(lit.args) == 2):
             self.diags.report(
                 codes.BAD_INIT,
@@ -1054,6 +1083,19 @@ class ProblemChecker:
         value = self.checker.term(value_node, Context.CONSTANT, r.sort)
         if value is None:
             return None
+        if r.sort.is_numeric and value.sort.is_numeric:
+            unified = self.checker.unify(
+                [value],
+                [value_node],
+                codes.UNIT_MISMATCH_EFFECT,
+                lambda a, b: f"{a} cannot start as {b}",
+                self.checker.scope.unit_of(r.name),
+                r.name,
+            )
+            if unified is None:
+                return None
+            value = unified[0][0]
+            _unitless_target(self.checker, r, value, value_node, self.diags)
         try:
             folded = fold_constant(value)
         except FoldError as exc:
@@ -1195,3 +1237,34 @@ def _unwrapped(span: Span | None, shift: int, text: str) -> Span | None:
 
     (line, column), (end_line, end_column) = position(start), position(end)
     return span._replace(line=line, column=column, end_line=end_line, end_column=end_column, start=start, end=end)
+
+
+def _declared_unit(opt: ast.Opt | None, sort: Sort, what: str, diags: Diagnostics) -> str | None:
+    """The text of a ``:unit`` option, checked: a unit of the registry (E0314) on a number
+    (E0315).  Only a model that declares a unit imports pint."""
+    if opt is None:
+        return None
+    name = _value(opt, ast.Name)
+    if not sort.is_numeric:
+        diags.report(codes.UNIT_ON_NON_NUMBER, f"{what} is {describe(sort)}; only numbers have units", opt.span)
+        return None
+    from catc.frontend import units
+
+    try:
+        units.parse(name.text)
+    except units.UnitError as exc:
+        diags.report(codes.UNKNOWN_UNIT, f"{exc}{did_you_mean(name.text, units.COMMON)}", name.span)
+        return None
+    return name.text
+
+
+def _unitless_target(checker: ExprChecker, res: ir.Resource, value: ir.Expr, node: ast.Expr, diags: Diagnostics) -> None:
+    """W0107 when a resource without :unit is given a quantity with one."""
+    unit = checker.unit(value)
+    if res.unit is None and unit is not None:
+        diags.report(
+            codes.UNITLESS_RESOURCE,
+            f"resource '{res.name}' has no :unit but is given {unit.text} here, "
+            f"so it is read in {unit.text}; declare its :unit",
+            node.span,
+        )
