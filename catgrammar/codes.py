@@ -275,12 +275,6 @@ CODES: dict[str, Code] = {
             W,
             "A resource declared without :unit meets a quantity with a unit; it silently takes that unit.",
         ),
-        Code(
-            "W0108",
-            "name-hides-unit",
-            W,
-            "A number is followed by a declared name that is also a unit (`2 m`): the name wins, not the unit.",
-        ),
     )
 }
 
@@ -374,4 +368,3 @@ UNWRITABLE_GOAL = "W0104"
 UNBOUNDED_PARAMETER = "W0105"
 UNGROUNDED_MORPHISM = "W0106"
 UNITLESS_RESOURCE = "W0107"
-NAME_HIDES_UNIT = "W0108"

@@ -211,18 +211,10 @@ class ExprChecker:
         while i < len(args):
             a = args[i]
             nxt = args[i + 1] if i + 1 < len(args) else None
-            if isinstance(a, ast.Num) and isinstance(nxt, ast.Ref):
+            if isinstance(a, ast.Num) and isinstance(nxt, ast.Ref) and not self.scope.declares(nxt.name):
                 from catc.frontend import units
 
-                if self.scope.declares(nxt.name):
-                    if units.loaded() and units.is_unit(nxt.name):
-                        self.diags.report(
-                            codes.NAME_HIDES_UNIT,
-                            f"'{a.text} {nxt.name}' reads '{nxt.name}' as the declared name, not as the unit "
-                            f"'{nxt.name}'; rename it to write a quantity",
-                            nxt.span,
-                        )
-                elif units.is_unit(nxt.name):
+                if units.is_unit(nxt.name):
                     out.append(ast.Quantity(a, ast.Name(nxt.name, nxt.span), a.span.cover(nxt.span)))
                     i += 2
                     continue

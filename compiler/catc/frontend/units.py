@@ -67,11 +67,6 @@ def registry() -> Any:
     return reg
 
 
-def loaded() -> bool:
-    """Whether the registry is already built (so a check may use it without importing pint)."""
-    return registry.cache_info().currsize > 0
-
-
 class Unit:
     """A unit as declared (``text``), with pint's unit and its dimensionality."""
 
