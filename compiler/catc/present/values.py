@@ -41,6 +41,11 @@ def state_json(state: Mapping[str, Any]) -> dict:
     return {k: value_to_json(v) for k, v in state.items()}
 
 
+def units_json(inst: ir.Instance) -> dict[str, str]:
+    """The declared unit of every resource that has one (state values are in these units)."""
+    return {r.name: r.unit for r in inst.resources.values() if r.unit}
+
+
 def timings_json(timings: Mapping[str, float]) -> dict:
     return {k: round(v, 6) for k, v in timings.items()}
 

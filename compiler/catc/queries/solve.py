@@ -20,7 +20,7 @@ from typing import Any
 from catc import ir
 from catc.present.composition import print_composition, where_text
 from catc.present.console import Console
-from catc.present.values import state_json, steps_json, timings_json
+from catc.present.values import state_json, steps_json, timings_json, units_json
 from catc.queries.base import (
     ExitCode,
     Kind,
@@ -439,6 +439,7 @@ def solve_json(inst: ir.Instance, result: SolveResult) -> dict:
         if result.states:
             doc["initial_state"] = state_json(result.states[0])
             doc["final_state"] = state_json(result.states[-1])
+            doc["units"] = units_json(inst)
     if result.status is SolveStatus.UNSAT:
         proof = result.refutation
         doc["unsat"] = {
