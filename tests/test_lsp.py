@@ -116,7 +116,7 @@ async def test_hover_resource_and_morphism(client: LanguageClient) -> None:
     h = await client.text_document_hover_async(
         types.HoverParams(types.TextDocumentIdentifier(uri), _pos(text, "(>= ram", 5))
     )
-    assert h is not None and "**resource** `ram`" in h.contents.value and "unit: GB" in h.contents.value
+    assert h is not None and "**resource** `ram`" in h.contents.value and "unit: GB (information)" in h.contents.value
     h = await client.text_document_hover_async(
         types.HoverParams(types.TextDocumentIdentifier(uri), _pos(text, "(:morphism camera-driver", 12))
     )

@@ -215,6 +215,16 @@ def _grounding_text(g: object) -> str:
     return "no grounding: `catc ground` writes nothing for it (W0106)"
 
 
+def _unit_text(text: str) -> str:
+    """``GB (information)``: the unit with its dimension (docs/language.md §Units)."""
+    from catc.frontend import units
+
+    try:
+        return f"{text} ({units.parse(text).dimension})"
+    except units.UnitError:
+        return text
+
+
 def hover_text(a: Analysis, name: str) -> str | None:
     from catc.ir.numbers import number_text
     from catc.ir.text import effect_text, to_text
@@ -224,7 +234,7 @@ def hover_text(a: Analysis, name: str) -> str | None:
         if r is not None:
             lines = [f"**resource** `{r.name}` : {_sort_text(r.sort)}"]
             if r.unit:
-                lines.append(f"unit: {r.unit}")
+                lines.append(f"unit: {_unit_text(r.unit)}")
             if r.group:
                 lines.append(f"group: {r.group}")
             if r.lower is not None or r.upper is not None:
@@ -258,7 +268,8 @@ def hover_text(a: Analysis, name: str) -> str | None:
                         lo = number_text(p.lower) if p.lower is not None else "*"
                         hi = number_text(p.upper) if p.upper is not None else "*"
                         b = f" in ({lo} {hi})"
-                    lines.append(f"- `{p.name}` : {_sort_text(p.sort)}{b}{' (fixed)' if p.fixed else ''}")
+                    u = f" [{p.unit}]" if p.unit else ""
+                    lines.append(f"- `{p.name}` : {_sort_text(p.sort)}{u}{b}{' (fixed)' if p.fixed else ''}")
             if m.pre:
                 lines.append("\npreconditions:")
                 lines += [f"- `{to_text(lit.expr)}`" for lit in m.pre]
