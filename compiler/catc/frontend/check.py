@@ -1084,18 +1084,10 @@ class ProblemChecker:
         if value is None:
             return None
         if r.sort.is_numeric and value.sort.is_numeric:
-            unified = self.checker.unify(
-                [value],
-                [value_node],
-                codes.UNIT_MISMATCH_EFFECT,
-                lambda a, b: f"{a} cannot start as {b}",
-                self.checker.scope.unit_of(r.name),
-                r.name,
-            )
-            if unified is None:
+            converted = self._init_in_unit(r, value, value_node)
+            if converted is None:
                 return None
-            value = unified[0][0]
-            _unitless_target(self.checker, r, value, value_node, self.diags)
+            value = converted
         try:
             folded = fold_constant(value)
         except FoldError as exc:
@@ -1124,6 +1116,21 @@ class ProblemChecker:
                 return None
             folded = ir.Const(v, r.sort, folded.span)
         return target.name, folded
+
+    def _init_in_unit(self, r: ir.Resource, value: ir.Expr, value_node: ast.Expr) -> ir.Expr | None:
+        """An initial value converted to the resource's unit (E0313 for another dimension)."""
+        unified = self.checker.unify(
+            [value],
+            [value_node],
+            codes.UNIT_MISMATCH_EFFECT,
+            lambda a, b: f"{a} cannot start as {b}",
+            self.checker.scope.unit_of(r.name),
+            r.name,
+        )
+        if unified is None:
+            return None
+        _unitless_target(self.checker, r, unified[0][0], value_node, self.diags)
+        return unified[0][0]
 
     def _softs(self) -> list[ir.Soft]:
         out = []
@@ -1258,7 +1265,9 @@ def _declared_unit(opt: ast.Opt | None, sort: Sort, what: str, diags: Diagnostic
     return name.text
 
 
-def _unitless_target(checker: ExprChecker, res: ir.Resource, value: ir.Expr, node: ast.Expr, diags: Diagnostics) -> None:
+def _unitless_target(
+    checker: ExprChecker, res: ir.Resource, value: ir.Expr, node: ast.Expr, diags: Diagnostics
+) -> None:
     """W0107 when a resource without :unit is given a quantity with one."""
     unit = checker.unit(value)
     if res.unit is None and unit is not None:

@@ -234,7 +234,8 @@ def _units(children: list[Node]) -> list[Unit]:
     while i < len(children):
         c = children[i]
         if (_is_key(c) or _is_number(c)) and i + 1 < len(children) and not _is_key(children[i + 1]):
-            if _is_number(c) and not (isinstance(children[i + 1], Atom) and children[i + 1].tok.kind == "NAME"):
+            after = children[i + 1]
+            if _is_number(c) and not (isinstance(after, Atom) and after.tok.kind == "NAME"):
                 units.append([c])
                 i += 1
                 continue

@@ -60,7 +60,7 @@ def registry() -> Any:
     except ImportError as exc:  # pragma: no cover - pint is a core dependency
         raise MissingUnits("units need the pint package: pip install pint") from exc
     try:
-        reg = pint.UnitRegistry(non_int_type=Fraction, cache_folder=":auto:", on_redefinition="ignore")
+        reg: Any = pint.UnitRegistry(non_int_type=Fraction, cache_folder=":auto:", on_redefinition="ignore")
     except Exception:  # pragma: no cover - an unwritable cache folder
         reg = pint.UnitRegistry(non_int_type=Fraction, on_redefinition="ignore")
     reg.load_definitions(str(DEFINITIONS))

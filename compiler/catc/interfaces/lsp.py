@@ -215,6 +215,19 @@ def _grounding_text(g: object) -> str:
     return "no grounding: `catc ground` writes nothing for it (W0106)"
 
 
+def _param_line(p: Any) -> str:
+    """One parameter of a morphism's hover (an ``ir.Param``)."""
+    from catc.ir.numbers import number_text
+
+    b = ""
+    if p.lower is not None or p.upper is not None:
+        lo = number_text(p.lower) if p.lower is not None else "*"
+        hi = number_text(p.upper) if p.upper is not None else "*"
+        b = f" in ({lo} {hi})"
+    u = f" [{p.unit}]" if p.unit else ""
+    return f"- `{p.name}` : {_sort_text(p.sort)}{u}{b}{' (fixed)' if p.fixed else ''}"
+
+
 def _unit_text(text: str) -> str:
     """``GB (information)``: the unit with its dimension (docs/language.md §Units)."""
     from catc.frontend import units
@@ -262,14 +275,7 @@ def hover_text(a: Analysis, name: str) -> str | None:
             lines.append(", ".join(extra))
             if m.params:
                 lines.append("\nparameters:")
-                for p in m.params:
-                    b = ""
-                    if p.lower is not None or p.upper is not None:
-                        lo = number_text(p.lower) if p.lower is not None else "*"
-                        hi = number_text(p.upper) if p.upper is not None else "*"
-                        b = f" in ({lo} {hi})"
-                    u = f" [{p.unit}]" if p.unit else ""
-                    lines.append(f"- `{p.name}` : {_sort_text(p.sort)}{u}{b}{' (fixed)' if p.fixed else ''}")
+                lines += [_param_line(p) for p in m.params]
             if m.pre:
                 lines.append("\npreconditions:")
                 lines += [f"- `{to_text(lit.expr)}`" for lit in m.pre]
