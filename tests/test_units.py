@@ -9,11 +9,14 @@ from __future__ import annotations
 
 import json
 import re
+import shutil
+import subprocess
+import sys
 from fractions import Fraction
 from pathlib import Path
 
 import pytest
-from conftest import run_catc
+from conftest import ROOT, run_catc
 
 from catc.api import loads
 from catc.frontend import units
@@ -208,3 +211,36 @@ def test_json_documents_carry_units_only_additively(tmp_path):
     d, p = _write(tmp_path, DOMAIN.replace("RAM-NEED", "512 MB"))
     doc = json.loads(run_catc("solve", str(d), str(p), "--json").stdout)
     assert doc["final_state"]["ram"] == 15 and doc["units"]["ram"] == "GB"
+
+
+def test_the_index_is_what_pint_says():
+    """The generated index agrees with pint for every unit in it (units.py --check)."""
+    assert units.main([]) == 0
+    from catc.frontend._unit_index import UNITS
+
+    for text, (dims, scale) in UNITS.items():
+        got_dims, got_scale = units.read_with_pint(text)
+        assert got_dims == tuple((k, Fraction(v)) for k, v in dims) and got_scale == Fraction(scale), text
+
+
+def test_only_a_unit_outside_the_index_imports_pint(tmp_path):
+    """``furlong`` is pint's (660 US survey feet of 1200/3937 m each) but not in the index: pint is imported to read it;
+    the example's own units (GB) are read from the index without pint."""
+    folder = tmp_path / "detection"
+    shutil.copytree(ROOT / "examples" / "detection", folder)
+    domain = folder / "domain.cat"
+    domain.write_text(
+        domain.read_text().replace("(ram real :group compute :unit GB", "(ram real :group compute :unit furlong")
+    )
+    probe = (
+        "import sys\n"
+        "from catc.frontend.session import check_files\n"
+        "from catgrammar.diagnostics import Diagnostics\n"
+        "d = Diagnostics()\n"
+        "check_files([sys.argv[1]], d)\n"
+        "print(len(d.errors), 'pint' in sys.modules)\n"
+    )
+    for path, pint_loaded in ((ROOT / "examples/detection/person.cat", "False"), (folder / "person.cat", "True")):
+        proc = subprocess.run([sys.executable, "-c", probe, str(path)], cwd=ROOT, capture_output=True, text=True)
+        assert proc.stdout.split() == ["0", pint_loaded], proc.stderr
+    assert units.factor(units.parse("furlong"), units.parse("m")) == 660 * Fraction(1200, 3937)
