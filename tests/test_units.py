@@ -244,3 +244,16 @@ def test_only_a_unit_outside_the_index_imports_pint(tmp_path):
         proc = subprocess.run([sys.executable, "-c", probe, str(path)], cwd=ROOT, capture_output=True, text=True)
         assert proc.stdout.split() == ["0", pint_loaded], proc.stderr
     assert units.factor(units.parse("furlong"), units.parse("m")) == 660 * Fraction(1200, 3937)
+
+
+def test_without_pint_the_usual_units_work_and_others_name_the_extra(monkeypatch):
+    monkeypatch.setitem(sys.modules, "pint", None)  # `import pint` raises ImportError
+    units.registry.cache_clear()
+    units.parse.cache_clear()
+    try:
+        assert units.factor(units.parse("MB"), units.parse("GB")) == Fraction(1, 1000)
+        with pytest.raises(units.UnitError, match=r"pip install 'catc-lang\[units\]'"):
+            units.parse("furlong")
+    finally:
+        units.registry.cache_clear()
+        units.parse.cache_clear()

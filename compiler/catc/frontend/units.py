@@ -63,10 +63,16 @@ class UnitError(Exception):
     """A unit text pint cannot read, or one catc cannot use (offset units)."""
 
 
+NEEDS_PINT = "units outside catc's index of the usual ones are read by pint, which is not installed"
+
+
 @functools.cache
 def registry() -> Any:
     """pint's registry with catc's definitions, rational (imported only when needed)."""
-    import pint
+    try:
+        import pint
+    except ImportError as exc:
+        raise UnitError(f"{NEEDS_PINT}: pip install 'catc-lang[units]'") from exc
 
     try:
         reg: Any = pint.UnitRegistry(non_int_type=Fraction, cache_folder=":auto:", on_redefinition="ignore")
@@ -148,7 +154,7 @@ def parse(text: str) -> Unit:
 
 def read_with_pint(text: str) -> tuple[Dims, Fraction]:
     """``text``'s dimensionality and exact scale, as pint (with units.txt) defines them."""
-    reg = registry()
+    reg = registry()  # UnitError without pint
     try:
         u = reg.parse_units(text)
     except Exception as exc:  # pint raises several kinds (undefined, syntax, ...)
