@@ -9,9 +9,8 @@ and their stderr were unchanged before they were re-recorded.  A second (issue 1
 to their states; a script checked that the 73 documents with a composition differ from their
 recording by that key alone (every SMT-LIB2, PDDL and text answer is unchanged) before they
 were re-recorded.  Then the examples' numeric parameters got units (GB, m, count): 21 answers
-changed only by ``parameter_units`` added to their documents, or, in text answers, by the unit
-after a parameter's value in the θ column (and the column's width); a script checked that
-before they were re-recorded."""
+changed only by ``parameter_units`` added to their ``--json`` documents (no text answer
+changed); a script checked that before they were re-recorded."""
 
 from __future__ import annotations
 
