@@ -19,8 +19,10 @@ from catc.ir import BOOL, INT, REAL, Sort, SortKind
 from catc.ir.fold import ConstantTooLarge, FoldError, fold_constant
 from catc.ir.grounding import Deployment
 from catc.ir.numbers import ratio_text
+from catc.ir.views import project_instance
 from catgrammar import ast, codes, limits
 from catgrammar.diagnostics import Diagnostics, Note, did_you_mean
+from catgrammar.record import Record
 from catgrammar.span import Span
 from catgrammar.symbols import (
     HOLE_OPTIONS,
@@ -868,6 +870,7 @@ class ProblemChecker:
         self.node = node
         self.path = path
         self.diags = diags
+        self.left_out: set[str] = set()
 
     def _single(self, cls, what: str):
         found = [s for s in self.node.sections if isinstance(s, cls)]
@@ -939,7 +942,24 @@ class ProblemChecker:
             span=node.span,
             horizon_span=horizon_sec.span if horizon_sec else None,
         )
-        return ir.Instance(domain, problem)
+        inst = ir.Instance(domain, problem)
+        if self.left_out:  # imported resources the model never mentions: projected away, as a view would
+            inst = project_instance(inst, frozenset(domain.resources) - self.left_out, None)
+        return inst
+
+    def _unmentioned_imports(self) -> frozenset[str]:
+        """Resources declared by an imported domain (another file) that neither the domain's
+        own morphisms nor the problem mention: they need no initial value and are left out."""
+        own = self.domain.span.file if self.domain.span else None
+        mentioned: set[str] = set(_names_in(self.node))
+        for m in self.domain.morphisms.values():
+            if m.span is None or m.span.file == own:
+                mentioned |= m.reads | m.writes
+        return frozenset(
+            r.name
+            for r in self.domain.resources.values()
+            if r.span is not None and own is not None and r.span.file != own and r.name not in mentioned
+        )
 
     def _objects(self) -> dict[str, ir.Constant]:
         out: dict[str, ir.Constant] = {}
@@ -1022,6 +1042,7 @@ class ProblemChecker:
                     continue
                 out[name] = ir.InitValue(name, value, f"init/{name}", lit.span)
         dropped = self.domain.views[view].dropped if view else frozenset()
+        unmentioned = self._unmentioned_imports()
         missing = []
         for res in resources.values():
             if res.name in out:
@@ -1030,6 +1051,8 @@ class ProblemChecker:
                 out[res.name] = ir.InitValue(res.name, ir.Const(False, BOOL), f"init/{res.name}", None)
             elif res.sort.kind is SortKind.SET:
                 out[res.name] = ir.InitValue(res.name, ir.SetLit((), res.sort), f"init/{res.name}", None)
+            elif res.name in unmentioned and res.name not in attempted:
+                self.left_out.add(res.name)
             elif res.name not in dropped and res.name not in attempted:
                 missing.append(res)
         if missing:
@@ -1277,3 +1300,20 @@ def _unitless_target(
             f"so it is read in {unit.text}; declare its :unit",
             node.span,
         )
+
+
+def _names_in(node: object) -> set[str]:
+    """Every name an AST subtree refers to (references and call heads), without recursion limits."""
+    out: set[str] = set()
+    stack = [node]
+    while stack:
+        n = stack.pop()
+        if isinstance(n, ast.Ref):
+            out.add(n.name)
+        elif isinstance(n, ast.Name):
+            out.add(n.text)
+        elif isinstance(n, (tuple, list)):
+            stack.extend(n)
+        elif isinstance(n, Record):
+            stack.extend(getattr(n, f) for f in n.__slots__ if f != "span")
+    return out
