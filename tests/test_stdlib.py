@@ -25,8 +25,9 @@ def _model(problem: str, domain: str = MINE):
 
 def test_unmentioned_imported_resources_need_no_initial_value_and_are_left_out():
     model = _model("(define (problem p) (:domain mine) (:init (= ram 4)) (:goal (member cam mounted)))")
-    # robot-base declares slots, power, disk and budget too; nothing here mentions them
-    assert set(model.instance.resources) == {"mounted", "ram", "topics"}
+    # robot-base declares slots, ports, payload, power, energy, cpu, gpu-mem, disk, topics,
+    # frames, budget, mission-time and range too; nothing here mentions them (sets included)
+    assert set(model.instance.resources) == {"mounted", "ram"}
     answer = model.solve()
     assert answer.status.value == "sat" and answer.states[-1]["ram"] == 3
 

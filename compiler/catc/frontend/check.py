@@ -1047,12 +1047,12 @@ class ProblemChecker:
         for res in resources.values():
             if res.name in out:
                 continue
-            if res.sort.kind is SortKind.BOOL:
+            if res.name in unmentioned and res.name not in attempted:
+                self.left_out.add(res.name)
+            elif res.sort.kind is SortKind.BOOL:
                 out[res.name] = ir.InitValue(res.name, ir.Const(False, BOOL), f"init/{res.name}", None)
             elif res.sort.kind is SortKind.SET:
                 out[res.name] = ir.InitValue(res.name, ir.SetLit((), res.sort), f"init/{res.name}", None)
-            elif res.name in unmentioned and res.name not in attempted:
-                self.left_out.add(res.name)
             elif res.name not in dropped and res.name not in attempted:
                 missing.append(res)
         if missing:
