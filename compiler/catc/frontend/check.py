@@ -948,17 +948,25 @@ class ProblemChecker:
         return inst
 
     def _unmentioned_imports(self) -> frozenset[str]:
-        """Resources declared by an imported domain (another file) that neither the domain's
-        own morphisms nor the problem mention: they need no initial value and are left out."""
+        """Resources declared by an imported domain (another file) that need no initial value and
+        are left out: a number or symbol that neither the domain's own morphisms nor the problem
+        mention; a bool or set (whose default, false or empty, stays otherwise) that no morphism at
+        all reads or writes.  docs/stdlib.md."""
         own = self.domain.span.file if self.domain.span else None
         mentioned: set[str] = set(_names_in(self.node))
+        touched: set[str] = set()
         for m in self.domain.morphisms.values():
+            touched |= m.reads | m.writes
             if m.span is None or m.span.file == own:
                 mentioned |= m.reads | m.writes
         return frozenset(
             r.name
             for r in self.domain.resources.values()
-            if r.span is not None and own is not None and r.span.file != own and r.name not in mentioned
+            if r.span is not None
+            and own is not None
+            and r.span.file != own
+            and r.name not in mentioned
+            and (r.sort.kind not in (SortKind.BOOL, SortKind.SET) or r.name not in touched)
         )
 
     def _objects(self) -> dict[str, ir.Constant]:
