@@ -1313,7 +1313,7 @@ def _unitless_target(
 def _names_in(node: object) -> set[str]:
     """Every name an AST subtree refers to (references and call heads), without recursion limits."""
     out: set[str] = set()
-    stack = [node]
+    stack: list[object] = [node]
     while stack:
         n = stack.pop()
         if isinstance(n, ast.Ref):
@@ -1323,5 +1323,6 @@ def _names_in(node: object) -> set[str]:
         elif isinstance(n, (tuple, list)):
             stack.extend(n)
         elif isinstance(n, Record):
-            stack.extend(getattr(n, f) for f in n.__slots__ if f != "span")
+            fields: tuple[str, ...] = n.__slots__  # every node names its slots
+            stack.extend(getattr(n, f) for f in fields if f != "span")
     return out
