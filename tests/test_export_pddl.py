@@ -277,8 +277,10 @@ def test_maximising_a_resource_that_only_decreases_is_minimising_what_is_taken(t
 def test_maximising_a_resource_that_may_rise_is_not_exported(tmp_path):
     text = (EXAMPLES / "search-and-rescue" / "domain.cat").read_text()
     # let return-to-range move by a signed amount: d ∈ [-5, 500] may raise range-to-base
-    assert "(d real :bounds (0 500))" in text
-    (tmp_path / "domain.cat").write_text(text.replace("(d real :bounds (0 500))", "(d real :bounds (-5 500))"))
+    assert "(d real :unit m :bounds (0 500))" in text
+    (tmp_path / "domain.cat").write_text(
+        text.replace("(d real :unit m :bounds (0 500))", "(d real :unit m :bounds (-5 500))")
+    )
     (tmp_path / "p.cat").write_text((EXAMPLES / "search-and-rescue" / "event2-out-of-range.cat").read_text())
     diags = Diagnostics()
     _, inst = load_instance(None, str(tmp_path / "p.cat"), diags)

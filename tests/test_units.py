@@ -229,9 +229,9 @@ def test_only_a_unit_outside_the_index_imports_pint(tmp_path):
     folder = tmp_path / "detection"
     shutil.copytree(ROOT / "examples" / "detection", folder)
     domain = folder / "domain.cat"
-    domain.write_text(
-        domain.read_text().replace("(ram real :group compute :unit GB", "(ram real :group compute :unit furlong")
-    )
+    domain.write_text(domain.read_text().replace("(:resources", "(:resources\n    (odometer real :unit furlong)"))
+    problem = folder / "person.cat"
+    problem.write_text(problem.read_text().replace("(:init", "(:init (= odometer 0)"))
     probe = (
         "import sys\n"
         "from catc.frontend.session import check_files\n"
