@@ -12,7 +12,8 @@ were re-recorded.  Then the examples' numeric parameters got units (GB, m, count
 changed only by ``parameter_units`` added to their ``--json`` documents (no text answer
 changed); a script checked that before they were re-recorded.  The example examples/catalog
 (issue 17) was recorded when it was added; its expectation is derived by hand in its
-expect.toml."""
+expect.toml.  Last, ``catc.relax/1`` relaxations of initial values gained ``unit``; a script
+checked that the four relax documents with one differ by that key alone."""
 
 from __future__ import annotations
 

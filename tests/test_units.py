@@ -257,3 +257,10 @@ def test_without_pint_the_usual_units_work_and_others_name_the_extra(monkeypatch
     finally:
         units.registry.cache_clear()
         units.parse.cache_clear()
+
+
+def test_a_relaxed_initial_value_carries_its_unit():
+    """examples/lifelong/budget-cut: the budget (USD) is raised by 19860 (docs/cli.md)."""
+    doc = json.loads(run_catc("relax", str(ROOT / "examples/lifelong/budget-cut.cat"), "--json").stdout)
+    (budget,) = [r for r in doc["relaxations"] if r["label"] == "init/budget"]
+    assert budget["unit"] == "USD" and budget["delta"] == 19860
