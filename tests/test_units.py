@@ -264,3 +264,17 @@ def test_a_relaxed_initial_value_carries_its_unit():
     doc = json.loads(run_catc("relax", str(ROOT / "examples/lifelong/budget-cut.cat"), "--json").stdout)
     (budget,) = [r for r in doc["relaxations"] if r["label"] == "init/budget"]
     assert budget["unit"] == "USD" and budget["delta"] == 19860
+
+
+def test_costs_in_one_dimension_add_up_in_the_first_costs_unit(tmp_path):
+    """3 USD + 250 cents = 5.5 USD: the second cost is converted before (total-cost) adds."""
+    path = tmp_path / "cost.cat"
+    path.write_text(
+        "(define (domain c) (:requirements :numeric :optimization)\n"
+        "  (:resources (n int :unit count))\n"
+        "  (:morphism a :uses 1 :cost (* 3 USD) :effect (increase n 1))\n"
+        "  (:morphism b :uses 1 :cost (* 250 US_cent) :effect (increase n 1)))\n"
+        "(define (problem p) (:domain c) (:init (= n 0)) (:goal (>= n 2)) (:metric minimize (total-cost)))\n"
+    )
+    doc = json.loads(run_catc("optimize", str(path), "--json").stdout)
+    assert doc["objectives"][0]["value"] == "11/2"

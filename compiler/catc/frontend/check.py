@@ -37,7 +37,8 @@ from catgrammar.symbols import (
     expand_requirements,
 )
 
-if TYPE_CHECKING:  # pragma: no cover
+if TYPE_CHECKING:
+    from catc.frontend.units import Unit  # pragma: no cover
     from catc.frontend.workspace import Workspace
 
 
@@ -158,6 +159,7 @@ class DomainChecker:
         self.imported: list[str] = []
         self.imported_domains: list[ir.Domain] = []
         self.failed = False
+        self.cost_unit: tuple[Unit, str] | None = None  # the unit of the first :cost with one
 
     # ------------------------------------------------------------------ names
     def _fold(self, expr: ir.Expr) -> ir.Const | ir.SetLit | None:
@@ -554,6 +556,8 @@ class DomainChecker:
         if Option.COST.value in opts:
             node: ast.Expr = opts[Option.COST.value].value  # type: ignore[assignment]  # :cost is an expression
             cost = checker.numeric(node, Context.COST)
+            if cost is not None:
+                cost = self._cost_in_unit(checker, cost, node, name)
             folded = self._fold(cost) if cost is not None else None
             if isinstance(folded, ir.Const) and folded.value < 0:  # type: ignore[operator]
                 self.diags.report(codes.BAD_VALUE, ":cost must not be negative", node.span)
@@ -577,6 +581,26 @@ class DomainChecker:
             grounding=grounding,
             span=m.name.span,
         )
+
+    def _cost_in_unit(self, checker: ExprChecker, cost: ir.Expr, node: ast.Expr, morphism: str) -> ir.Expr | None:
+        """(total-cost) adds the costs up: the first cost with a unit fixes it, a later one is
+        converted to it (E0312 for another dimension)."""
+        unit = checker.unit(cost)
+        if unit is None:
+            return cost
+        if self.cost_unit is None:
+            self.cost_unit = (unit, morphism)
+            return cost
+        first, owner = self.cost_unit
+        unified = checker.unify(
+            [cost],
+            [node],
+            codes.UNIT_MISMATCH_ARITH,
+            lambda a, b: f"(total-cost) cannot add {b} to {a}",
+            first,
+            f"the cost of '{owner}'",
+        )
+        return unified[0][0] if unified is not None else None
 
     def _params(self, m: ast.MorphismDecl, opt: ast.Opt | None) -> list[ir.Param]:
         if opt is None:
