@@ -85,7 +85,23 @@ class Call(_Node):
         _set(self, "span", span)
 
 
-Expr = Ref | Num | BoolLit | SetLit | Call
+class Quantity(_Node):
+    """A number with a unit, ``512 MB``: the parser reads it as a number and a name (the
+    grammar cannot tell ``(* 2 MB)`` from ``(* 2 x)`` without the declarations); the checker
+    forms this node where the name is no declared name but a unit (docs/language.md §Units)."""
+
+    __slots__ = ("number", "unit", "span")
+    number: Num
+    unit: Name
+    span: Span
+
+    def __init__(self, number: Num, unit: Name, span: Span) -> None:
+        _set(self, "number", number)
+        _set(self, "unit", unit)
+        _set(self, "span", span)
+
+
+Expr = Ref | Num | BoolLit | SetLit | Call | Quantity
 
 
 # ---------------------------------------------------------------- types and options

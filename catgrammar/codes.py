@@ -94,6 +94,21 @@ CODES: dict[str, Code] = {
         Code("E0307", "bad-value", E, "A value is out of its allowed range (e.g. a negative weight)."),
         Code("E0308", "not-assignable", E, "An effect writes something that is not a resource."),
         Code("E0310", "division-by-zero", E, "Division by the constant zero."),
+        Code("E0311", "unit-mismatch-compare", E, "A comparison relates quantities of different dimensions."),
+        Code(
+            "E0312",
+            "unit-mismatch-arithmetic",
+            E,
+            "'+', '-', 'min', 'max' or the branches of 'if' combine quantities of different dimensions.",
+        ),
+        Code(
+            "E0313",
+            "unit-mismatch-effect",
+            E,
+            "An effect or an initial value gives a resource a quantity of another dimension than its unit's.",
+        ),
+        Code("E0314", "unknown-unit", E, "A :unit names no unit of the registry (pint's and catc's units.txt)."),
+        Code("E0315", "unit-on-non-number", E, "A :unit is given to a resource or parameter that is not a number."),
         # E04xx — requirements
         Code(
             "E0401", "missing-requirement", E, "A construct needs a requirement flag the definition does not declare."
@@ -269,6 +284,12 @@ CODES: dict[str, Code] = {
             W,
             "A morphism of a composition being grounded has no (:ground ...) annotation: nothing is written for it.",
         ),
+        Code(
+            "W0107",
+            "unitless-resource",
+            W,
+            "A resource declared without :unit meets a quantity with a unit; it silently takes that unit.",
+        ),
     )
 }
 
@@ -306,6 +327,11 @@ BAD_BOUNDS = "E0306"
 BAD_VALUE = "E0307"
 NOT_ASSIGNABLE = "E0308"
 DIVISION_BY_ZERO = "E0310"
+UNIT_MISMATCH_COMPARE = "E0311"
+UNIT_MISMATCH_ARITH = "E0312"
+UNIT_MISMATCH_EFFECT = "E0313"
+UNKNOWN_UNIT = "E0314"
+UNIT_ON_NON_NUMBER = "E0315"
 MISSING_REQUIREMENT = "E0401"
 CONFLICTING_EFFECTS = "E0501"
 BAD_INIT = "E0502"
@@ -360,3 +386,4 @@ UNREACHABLE_MORPHISM = "W0103"
 UNWRITABLE_GOAL = "W0104"
 UNBOUNDED_PARAMETER = "W0105"
 UNGROUNDED_MORPHISM = "W0106"
+UNITLESS_RESOURCE = "W0107"

@@ -39,7 +39,13 @@ EXAMPLES = ROOT / "examples"
 
 #: Grid steps for the real θ of the examples (by parameter name).  1.93 puts navigation's
 #: witness 9.65 m = 5 × 1.93 on the grid.
-GRID = {"ram-req": Fraction(1, 2), "m": Fraction(1, 4), "d": Fraction("1.93"), "mem": Fraction(1, 2)}
+GRID = {
+    "ram-req": Fraction(1, 2),
+    "m": Fraction(1, 4),
+    "d": Fraction("1.93"),
+    "mem": Fraction(1, 2),
+    "distance": Fraction(25),
+}
 
 #: Cases where ENHSP's answer differs from catc's for a reason the export report names.
 EXPECTED_DIFFERENCE = {
@@ -84,7 +90,13 @@ def _enhsp_missing() -> str | None:
 
 
 #: A coarser grid for the parser tests (unified-planning's reader takes ~14 s on 500 actions).
-PARSE_GRID = {"ram-req": Fraction(1, 2), "m": Fraction(1, 2), "d": Fraction(25), "mem": Fraction(1)}
+PARSE_GRID = {
+    "ram-req": Fraction(1, 2),
+    "m": Fraction(1, 2),
+    "d": Fraction(25),
+    "mem": Fraction(1),
+    "distance": Fraction(50),
+}
 
 needs_parsers = pytest.mark.skipif(_pddl_missing() is not None, reason=str(_pddl_missing()))
 needs_enhsp = pytest.mark.skipif(_enhsp_missing() is not None, reason=str(_enhsp_missing()))
@@ -269,8 +281,10 @@ def test_maximising_a_resource_that_only_decreases_is_minimising_what_is_taken(t
 def test_maximising_a_resource_that_may_rise_is_not_exported(tmp_path):
     text = (EXAMPLES / "search-and-rescue" / "domain.cat").read_text()
     # let return-to-range move by a signed amount: d ∈ [-5, 500] may raise range-to-base
-    assert "(d real :bounds (0 500))" in text
-    (tmp_path / "domain.cat").write_text(text.replace("(d real :bounds (0 500))", "(d real :bounds (-5 500))"))
+    assert "(d real :unit m :bounds (0 500))" in text
+    (tmp_path / "domain.cat").write_text(
+        text.replace("(d real :unit m :bounds (0 500))", "(d real :unit m :bounds (-5 500))")
+    )
     (tmp_path / "p.cat").write_text((EXAMPLES / "search-and-rescue" / "event2-out-of-range.cat").read_text())
     diags = Diagnostics()
     _, inst = load_instance(None, str(tmp_path / "p.cat"), diags)

@@ -4,7 +4,16 @@ same SMT-LIB2 and PDDL text, the same exit codes.  tests/golden/record.py made t
 says how; the answers were never re-recorded to make this pass.  One additive change was
 recorded since (issue 16): the ``unsat`` object of ``catc.solve/1`` gained ``proof``, ``why``
 and ``label``; a script checked that every other byte of those 12 documents, their exit codes
-and their stderr were unchanged before they were re-recorded."""
+and their stderr were unchanged before they were re-recorded.  A second (issue 17, units):
+``catc.solve/1`` and ``catc.optimize/1`` gained ``units`` (each resource's declared unit) next
+to their states; a script checked that the 73 documents with a composition differ from their
+recording by that key alone (every SMT-LIB2, PDDL and text answer is unchanged) before they
+were re-recorded.  Then the examples' numeric parameters got units (GB, m, count): 21 answers
+changed only by ``parameter_units`` added to their ``--json`` documents (no text answer
+changed); a script checked that before they were re-recorded.  The example examples/catalog
+(issue 17) was recorded when it was added; its expectation is derived by hand in its
+expect.toml.  Last, ``catc.relax/1`` relaxations of initial values gained ``unit``; a script
+checked that the four relax documents with one differ by that key alone."""
 
 from __future__ import annotations
 

@@ -116,7 +116,7 @@ async def test_hover_resource_and_morphism(client: LanguageClient) -> None:
     h = await client.text_document_hover_async(
         types.HoverParams(types.TextDocumentIdentifier(uri), _pos(text, "(>= ram", 5))
     )
-    assert h is not None and "**resource** `ram`" in h.contents.value and "unit: GB" in h.contents.value
+    assert h is not None and "**resource** `ram`" in h.contents.value and "unit: GB (information)" in h.contents.value
     h = await client.text_document_hover_async(
         types.HoverParams(types.TextDocumentIdentifier(uri), _pos(text, "(:morphism camera-driver", 12))
     )
@@ -124,7 +124,7 @@ async def test_hover_resource_and_morphism(client: LanguageClient) -> None:
     assert "**morphism** `camera-driver`" in value
     assert "preconditions:" in value and "`(>= ram ram-req)`" in value
     assert "effects:" in value and "`(decrease ram ram-req)`" in value
-    assert "parameters:" in value and "`ram-req` : real in (0.5 2)" in value
+    assert "parameters:" in value and "`ram-req` : real [GB] in (0.5 2)" in value
 
 
 @needs_lsp
@@ -139,13 +139,14 @@ async def test_definition_across_files(client: LanguageClient) -> None:
     assert locs and Path(locs[0].uri.removeprefix("file://")).resolve() == DOMAIN.resolve()
     dom_text = DOMAIN.read_text()
     assert locs[0].range.start.line == dom_text.count("\n", 0, dom_text.index("(domain detection)"))
-    # a resource used in the problem → its declaration in the domain
-    word = "ram" if "ram" in text else "mounted"
+    # a resource used in the problem → its declaration (ram: robot-base's compute domain, imported)
+    word = "ram"
+    declared = ROOT / "stdlib_domains" / "compute.cat"
     locs = await client.text_document_definition_async(
         types.DefinitionParams(types.TextDocumentIdentifier(uri), _pos(text, f"(= {word}", 3))
     )
-    assert locs and Path(locs[0].uri.removeprefix("file://")).resolve() == DOMAIN.resolve()
-    line = dom_text.split("\n")[locs[0].range.start.line]
+    assert locs and Path(locs[0].uri.removeprefix("file://")).resolve() == declared.resolve()
+    line = declared.read_text().split("\n")[locs[0].range.start.line]
     assert line[locs[0].range.start.character :].startswith(word)
 
 
@@ -171,7 +172,7 @@ async def test_document_symbols(client: LanguageClient) -> None:
     )
     assert [s.name for s in syms] == ["detection"]
     children = {(c.name, c.detail) for c in syms[0].children}
-    assert ("ram", "resource") in children and ("camera-driver", "morphism") in children
+    assert ("detects", "resource") in children and ("camera-driver", "morphism") in children
 
 
 def test_missing_pygls_message() -> None:
@@ -233,7 +234,7 @@ def test_imported_domain_definitions_and_hover() -> None:
     # robot-base (the standard library) is imported: its resources are in scope
     assert "budget" in names_in_scope(a)
     budget = lookup(a, "budget")
-    assert budget and budget[0].span.file.endswith("robot-base.cat")
+    assert budget and budget[0].span.file.endswith("external.cat")  # robot-base imports external
     assert "**resource** `budget`" in hover_text(a, "budget")
     assert "(enum bright dark)" in hover_text(a, "lighting")
     assert "**hole** `new-skill`" in hover_text(a, "new-skill")

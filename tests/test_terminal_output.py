@@ -20,7 +20,7 @@ UNIT = f"u{OSC}{CLEAR}[bold]U[/bold][/]"
 DOC = f"doc{OSC}[bold]B[/bold]"
 MODEL = (
     "(define (domain d) (:requirements :numeric)\n"
-    f'  (:resources (x real :unit "{UNIT}") (y real :unit "{UNIT}"))\n'
+    "  (:resources (x real :unit GB) (y real :unit GB))\n"
     f'  (:morphism inc :uses 1 :doc "{DOC}" :precondition (>= y 1) :effect (increase x 1)))\n'
     "; a comment that clears the screen " + CLEAR + "\n"
     "(define (problem p) (:domain d) (:init (= x 0) (= y 0)) (:goal (>= x 1)))\n"
@@ -67,7 +67,7 @@ def test_query_text_on_a_pipe(model_path, query):
     assert res.exit_code in (0, 1), res.output
     hostile(res.output)
     if query == "relax":
-        assert "[bold]U[/bold][/]" in res.stdout  # the unit, as written (markup included)
+        assert "GB" in res.stdout  # the unit (a unit is now checked: a hostile one is E0314, below)
     if query == "diagnose":
         assert "[bold]B[/bold]" in res.stdout and "\\x1b]0;PWNED\\x07" in res.stdout  # the doc in the excerpt
 
@@ -96,7 +96,7 @@ def test_query_text_on_a_terminal(model_path, query, monkeypatch):
 
     shown = Text.from_ansi(text).plain
     if query == "relax":
-        assert "[bold]U[/bold][/]" in shown
+        assert "GB" in shown
     else:
         assert "[bold]B[/bold]" in shown
 
@@ -148,3 +148,15 @@ def test_fmt_diff_shows_control_characters_as_escapes(tmp_path):
     res = run_catc("fmt", "--diff", path)
     assert res.exit_code == 1
     hostile(res.output)
+
+
+def test_a_hostile_unit_is_refused_with_escapes(tmp_path):
+    """Units are checked against the registry (docs/language.md, units): a :unit with control
+    characters and markup is E0314, and the diagnostic shows it escaped, as written."""
+    path = tmp_path / "unit.cat"
+    path.write_text(f'(define (domain d) (:requirements :numeric) (:resources (x real :unit "{UNIT}")))\n')
+    for fmt in ("text", "github"):
+        res = run_catc("check", path, "--format", fmt)
+        assert res.exit_code == 1 and "E0314" in res.output
+        hostile(res.output)
+    assert "u\\x1b]0;PWNED\\x07\\x1b[2J[bold]U[/bold][/]" in run_catc("check", path).stdout

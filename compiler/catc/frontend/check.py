@@ -19,8 +19,10 @@ from catc.ir import BOOL, INT, REAL, Sort, SortKind
 from catc.ir.fold import ConstantTooLarge, FoldError, fold_constant
 from catc.ir.grounding import Deployment
 from catc.ir.numbers import ratio_text
+from catc.ir.views import project_instance
 from catgrammar import ast, codes, limits
 from catgrammar.diagnostics import Diagnostics, Fix, Note, Suggestion
+from catgrammar.record import Record
 from catgrammar.span import Span
 from catgrammar.symbols import (
     HOLE_OPTIONS,
@@ -35,7 +37,8 @@ from catgrammar.symbols import (
     expand_requirements,
 )
 
-if TYPE_CHECKING:  # pragma: no cover
+if TYPE_CHECKING:
+    from catc.frontend.units import Unit  # pragma: no cover
     from catc.frontend.workspace import Workspace
 
 
@@ -185,6 +188,7 @@ class DomainChecker:
         self.imported: list[str] = []
         self.imported_domains: list[ir.Domain] = []
         self.failed = False
+        self.cost_unit: tuple[Unit, str] | None = None  # the unit of the first :cost with one
 
     # ------------------------------------------------------------------ names
     def _fold(self, expr: ir.Expr) -> ir.Const | ir.SetLit | None:
@@ -498,13 +502,13 @@ class DomainChecker:
                 _value(opts[Option.BOUNDS.value], ast.Bounds), sort, self.diags, f"resource '{r.name.text}'"
             )
         group = opts.get(Option.GROUP.value)
-        unit = opts.get(Option.UNIT.value)
+        unit = _declared_unit(opts.get(Option.UNIT.value), sort, f"resource '{r.name.text}'", self.diags)
         doc = opts.get(Option.DOC.value)
         self.resources[r.name.text] = ir.Resource(
             r.name.text,
             sort,
             group=_value(group, ast.Name).text if group else None,
-            unit=_value(unit, ast.Name).text if unit else None,
+            unit=unit,
             lower=lo,
             upper=hi,
             doc=_value(doc, ast.Name).text if doc else None,
@@ -579,6 +583,8 @@ class DomainChecker:
         if Option.COST.value in opts:
             node: ast.Expr = opts[Option.COST.value].value  # type: ignore[assignment]  # :cost is an expression
             cost = checker.numeric(node, Context.COST)
+            if cost is not None:
+                cost = self._cost_in_unit(checker, cost, node, name)
             folded = self._fold(cost) if cost is not None else None
             if isinstance(folded, ir.Const) and folded.value < 0:  # type: ignore[operator]
                 self.diags.report(codes.BAD_VALUE, ":cost must not be negative", node.span)
@@ -602,6 +608,26 @@ class DomainChecker:
             grounding=grounding,
             span=m.name.span,
         )
+
+    def _cost_in_unit(self, checker: ExprChecker, cost: ir.Expr, node: ast.Expr, morphism: str) -> ir.Expr | None:
+        """(total-cost) adds the costs up: the first cost with a unit fixes it, a later one is
+        converted to it (E0312 for another dimension)."""
+        unit = checker.unit(cost)
+        if unit is None:
+            return cost
+        if self.cost_unit is None:
+            self.cost_unit = (unit, morphism)
+            return cost
+        first, owner = self.cost_unit
+        unified = checker.unify(
+            [cost],
+            [node],
+            codes.UNIT_MISMATCH_ARITH,
+            lambda a, b: f"(total-cost) cannot add {b} to {a}",
+            first,
+            f"the cost of '{owner}'",
+        )
+        return unified[0][0] if unified is not None else None
 
     def _params(self, m: ast.MorphismDecl, opt: ast.Opt | None) -> list[ir.Param]:
         if opt is None:
@@ -652,7 +678,8 @@ class DomainChecker:
                 b = _value(popts[Option.BOUNDS.value], ast.Bounds)
                 lo, hi, _ = _bounds(b, sort, self.diags, f"parameter '{pname}'")
                 bspan = b.span
-            param = ir.Param(pname, sort, lo, hi, Option.FIXED.value in popts, p.name.span, bspan)
+            unit = _declared_unit(popts.get(Option.UNIT.value), sort, f"parameter '{pname}'", self.diags)
+            param = ir.Param(pname, sort, lo, hi, Option.FIXED.value in popts, p.name.span, bspan, unit)
             seen[pname] = param
             out.append(param)
         return out
@@ -688,6 +715,9 @@ class DomainChecker:
         if not isinstance(node, ast.Call) or node.head.text not in self._EFFECT_HEADS:
             self._not_an_effect(node)
             return None
+        merged = checker.merge_quantities(node.args)
+        if merged is not node.args:
+            node = ast.Call(node.head, merged, node.span)
         if not checker._arity(node, 2, 2):
             return None
         target_node, value_node = node.args
@@ -781,6 +811,27 @@ class DomainChecker:
         if not assignable(want, value.sort, self.sorts):  # type: ignore[arg-type]
             self.diags.report(codes.TYPE_MISMATCH, mismatch.format(value=describe(value.sort)), value_node.span)
             return None
+        if res.sort.is_numeric and value.sort.is_numeric:
+            verb = {
+                ir.EffectKind.ASSIGN: lambda a, b: f"cannot assign {b} to {a}",
+                ir.EffectKind.INCREASE: lambda a, b: f"cannot increase {a} by {b}",
+                ir.EffectKind.DECREASE: lambda a, b: f"cannot decrease {a} by {b}",
+            }[kind]
+            unified = checker.unify(
+                [value],
+                [value_node],
+                codes.UNIT_MISMATCH_EFFECT,
+                verb,
+                checker.scope.unit_of(res.name),
+                res.name,
+            )
+            if unified is None:
+                return None
+            value = unified[0][0]
+            _unitless_target(checker, res, value, value_node, self.diags)
+            if not assignable(want, value.sort, self.sorts):  # type: ignore[arg-type]  # converted to a non-integer
+                self.diags.report(codes.TYPE_MISMATCH, mismatch.format(value=describe(value.sort)), value_node.span)
+                return None
         return value
 
     # ------------------------------------------------------------------ holes
@@ -875,6 +926,7 @@ class ProblemChecker:
         self.node = node
         self.path = path
         self.diags = diags
+        self.left_out: set[str] = set()
 
     def _single(self, cls, what: str):
         found = [s for s in self.node.sections if isinstance(s, cls)]
@@ -949,7 +1001,32 @@ class ProblemChecker:
             span=node.span,
             horizon_span=horizon_sec.span if horizon_sec else None,
         )
-        return ir.Instance(domain, problem)
+        inst = ir.Instance(domain, problem)
+        if self.left_out:  # imported resources the model never mentions: projected away, as a view would
+            inst = project_instance(inst, frozenset(domain.resources) - self.left_out, None)
+        return inst
+
+    def _unmentioned_imports(self) -> frozenset[str]:
+        """Resources declared by an imported domain (another file) that need no initial value and
+        are left out: a number or symbol that neither the domain's own morphisms nor the problem
+        mention; a bool or set (whose default, false or empty, stays otherwise) that no morphism at
+        all reads or writes.  docs/stdlib.md."""
+        own = self.domain.span.file if self.domain.span else None
+        mentioned: set[str] = set(_names_in(self.node))
+        touched: set[str] = set()
+        for m in self.domain.morphisms.values():
+            touched |= m.reads | m.writes
+            if m.span is None or m.span.file == own:
+                mentioned |= m.reads | m.writes
+        return frozenset(
+            r.name
+            for r in self.domain.resources.values()
+            if r.span is not None
+            and own is not None
+            and r.span.file != own
+            and r.name not in mentioned
+            and (r.sort.kind not in (SortKind.BOOL, SortKind.SET) or r.name not in touched)
+        )
 
     def _objects(self) -> dict[str, ir.Constant]:
         out: dict[str, ir.Constant] = {}
@@ -1033,11 +1110,14 @@ class ProblemChecker:
                     continue
                 out[name] = ir.InitValue(name, value, f"init/{name}", lit.span)
         dropped = self.domain.views[view].dropped if view else frozenset()
+        unmentioned = self._unmentioned_imports()
         missing = []
         for res in resources.values():
             if res.name in out:
                 continue
-            if res.sort.kind is SortKind.BOOL:
+            if res.name in unmentioned and res.name not in attempted:
+                self.left_out.add(res.name)
+            elif res.sort.kind is SortKind.BOOL:
                 out[res.name] = ir.InitValue(res.name, ir.Const(False, BOOL), f"init/{res.name}", None)
             elif res.sort.kind is SortKind.SET:
                 out[res.name] = ir.InitValue(res.name, ir.SetLit((), res.sort), f"init/{res.name}", None)
@@ -1067,6 +1147,10 @@ class ProblemChecker:
             and res[lit.args[0].name].sort.kind is SortKind.BOOL
         ):
             return lit.args[0].name, ir.Const(False, BOOL, lit.span)
+        if isinstance(lit, ast.Call) and lit.head.text == "=":
+            merged = self.checker.merge_quantities(lit.args)
+            if merged is not lit.args:
+                lit = ast.Call(lit.head, merged, lit.span)
         if not (isinstance(lit, ast.Call) and lit.head.text == "=" and len(lit.args) == 2):
             self.diags.report(
                 codes.BAD_INIT,
@@ -1091,6 +1175,11 @@ class ProblemChecker:
         value = self.checker.term(value_node, Context.CONSTANT, r.sort)
         if value is None:
             return None
+        if r.sort.is_numeric and value.sort.is_numeric:
+            converted = self._init_in_unit(r, value, value_node)
+            if converted is None:
+                return None
+            value = converted
         try:
             folded = fold_constant(value)
         except FoldError as exc:
@@ -1119,6 +1208,21 @@ class ProblemChecker:
                 return None
             folded = ir.Const(v, r.sort, folded.span)
         return target.name, folded
+
+    def _init_in_unit(self, r: ir.Resource, value: ir.Expr, value_node: ast.Expr) -> ir.Expr | None:
+        """An initial value converted to the resource's unit (E0313 for another dimension)."""
+        unified = self.checker.unify(
+            [value],
+            [value_node],
+            codes.UNIT_MISMATCH_EFFECT,
+            lambda a, b: f"{a} cannot start as {b}",
+            self.checker.scope.unit_of(r.name),
+            r.name,
+        )
+        if unified is None:
+            return None
+        _unitless_target(self.checker, r, unified[0][0], value_node, self.diags)
+        return unified[0][0]
 
     def _softs(self) -> list[ir.Soft]:
         out = []
@@ -1231,3 +1335,55 @@ def _unwrapped(span: Span | None, shift: int, text: str) -> Span | None:
 
     (line, column), (end_line, end_column) = position(start), position(end)
     return span._replace(line=line, column=column, end_line=end_line, end_column=end_column, start=start, end=end)
+
+
+def _declared_unit(opt: ast.Opt | None, sort: Sort, what: str, diags: Diagnostics) -> str | None:
+    """The text of a ``:unit`` option, checked: a unit of the registry (E0314) on a number
+    (E0315).  Only a model that declares a unit imports pint."""
+    if opt is None:
+        return None
+    name = _value(opt, ast.Name)
+    if not sort.is_numeric:
+        diags.report(codes.UNIT_ON_NON_NUMBER, f"{what} is {describe(sort)}; only numbers have units", opt.span)
+        return None
+    from catc.frontend import units
+
+    try:
+        units.parse(name.text)
+    except units.UnitError as exc:
+        hint = Suggestion(name.text, units.COMMON, name.span)
+        diags.report(codes.UNKNOWN_UNIT, f"{exc}{hint.hint}", name.span, fixes=hint.fixes)
+        return None
+    return name.text
+
+
+def _unitless_target(
+    checker: ExprChecker, res: ir.Resource, value: ir.Expr, node: ast.Expr, diags: Diagnostics
+) -> None:
+    """W0107 when a resource without :unit is given a quantity with one."""
+    unit = checker.unit(value)
+    if res.unit is None and unit is not None:
+        diags.report(
+            codes.UNITLESS_RESOURCE,
+            f"resource '{res.name}' has no :unit but is given {unit.text} here, "
+            f"so it is read in {unit.text}; declare its :unit",
+            node.span,
+        )
+
+
+def _names_in(node: object) -> set[str]:
+    """Every name an AST subtree refers to (references and call heads), without recursion limits."""
+    out: set[str] = set()
+    stack: list[object] = [node]
+    while stack:
+        n = stack.pop()
+        if isinstance(n, ast.Ref):
+            out.add(n.name)
+        elif isinstance(n, ast.Name):
+            out.add(n.text)
+        elif isinstance(n, (tuple, list)):
+            stack.extend(n)
+        elif isinstance(n, Record):
+            fields: tuple[str, ...] = n.__slots__  # every node names its slots
+            stack.extend(getattr(n, f) for f in fields if f != "span")
+    return out

@@ -227,18 +227,28 @@ def _head(node: Node) -> str | None:
 
 
 def _units(children: list[Node]) -> list[Unit]:
-    """``:key value`` pairs stay together; everything else is a unit of its own."""
+    """``:key value`` pairs stay together, and so does a number with the name after it (a
+    quantity, ``512 MB``: a broken list never splits it); everything else is a unit of its own."""
     units: list[Unit] = []
     i = 0
     while i < len(children):
         c = children[i]
-        if _is_key(c) and i + 1 < len(children) and not _is_key(children[i + 1]):
+        if (_is_key(c) or _is_number(c)) and i + 1 < len(children) and not _is_key(children[i + 1]):
+            after = children[i + 1]
+            if _is_number(c) and not (isinstance(after, Atom) and after.tok.kind == "NAME"):
+                units.append([c])
+                i += 1
+                continue
             units.append([c, children[i + 1]])
             i += 2
         else:
             units.append([c])
             i += 1
     return units
+
+
+def _is_number(node: Node) -> bool:
+    return isinstance(node, Atom) and node.tok.kind == "NUMBER"
 
 
 def _typed_units(children: list[Node]) -> list[Unit]:

@@ -64,7 +64,9 @@ def check_parsed(
                 instances[inst.problem.name] = inst
                 checked.append(inst)
     for dom in ws.checked_domains():
-        lint_domain(dom, diags, is_user_file, [i.problem for i in checked if i.domain is dom])
+        # an instance may hold a projection of its domain (imported resources left out): same name and place
+        mine = [i.problem for i in checked if i.domain is dom or (i.domain.name, i.domain.span) == (dom.name, dom.span)]
+        lint_domain(dom, diags, is_user_file, mine)
     for inst in checked:
         lint_instance(inst, diags, is_user_file)
     return domains, instances

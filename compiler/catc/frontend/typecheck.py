@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from enum import Enum
 from fractions import Fraction
+from typing import TYPE_CHECKING
 
 from catc import ir
 from catc.ir import BOOL, INT, REAL, Sort, SortKind
@@ -17,6 +18,9 @@ from catc.ir.fold import ConstantTooLarge, bounded_arith
 from catgrammar import ast, codes
 from catgrammar.diagnostics import Diagnostics, Fix, Note, Suggestion
 from catgrammar.span import Span
+
+if TYPE_CHECKING:
+    from catc.frontend.units import Unit
 from catgrammar.symbols import (
     EFFECT_OPERATORS,
     EXPRESSION_OPERATORS,
@@ -67,6 +71,28 @@ class Scope:
         self.resources = resources
         self.params = params
         self.morphisms = morphisms
+
+    def declares(self, name: str) -> bool:
+        return (
+            name in self.params
+            or name in self.resources
+            or name in self.constants
+            or (self.morphisms is not None and name in self.morphisms)
+        )
+
+    def unit_of(self, name: str) -> Unit | None:
+        """The parsed ``:unit`` of a resource or parameter (None: it declares none, or one
+        that is reported where it is declared)."""
+        decl = self.params.get(name) or self.resources.get(name)
+        text = decl.unit if decl is not None else None
+        if not text:
+            return None
+        from catc.frontend import units
+
+        try:
+            return units.parse(text)
+        except units.UnitError:
+            return None
 
     def parent_of(self, name: str) -> str | None:
         sort = self.sorts.get(name)
@@ -160,6 +186,97 @@ class ExprChecker:
         # every constant arithmetic node made so far, by id, with its value (kept here, so no
         # id is reused): each value is computed once from its arguments', and bounded
         self._values: dict[int, tuple[ir.Arith, Fraction]] = {}
+        # the unit of every numeric expression that has one, by id (kept with the expression,
+        # so no id is reused); an expression without an entry has no unit of its own and takes
+        # its context's (a bare number, a resource or parameter declared without :unit)
+        self._units: dict[int, tuple[ir.Expr, Unit]] = {}
+
+    # ------------------------------------------------------------ units
+    def unit(self, expr: ir.Expr) -> Unit | None:
+        entry = self._units.get(id(expr))
+        return entry[1] if entry is not None and entry[0] is expr else None
+
+    def _with_unit(self, expr: ir.Expr, unit: Unit | None) -> ir.Expr:
+        if unit is not None:
+            self._units[id(expr)] = (expr, unit)
+        return expr
+
+    def merge_quantities(self, args: tuple[ast.Expr, ...]) -> tuple[ast.Expr, ...]:
+        """``512 MB`` in an argument list: a number followed by a name that is no declared
+        name but a unit becomes one :class:`ast.Quantity` (declared names win)."""
+        if not any(isinstance(a, ast.Num) for a in args[:-1]):
+            return args
+        out: list[ast.Expr] = []
+        i = 0
+        while i < len(args):
+            a = args[i]
+            nxt = args[i + 1] if i + 1 < len(args) else None
+            if isinstance(a, ast.Num) and isinstance(nxt, ast.Ref) and not self.scope.declares(nxt.name):
+                from catc.frontend import units
+
+                if units.is_unit(nxt.name):
+                    out.append(ast.Quantity(a, ast.Name(nxt.name, nxt.span), a.span.cover(nxt.span)))
+                    i += 2
+                    continue
+            out.append(a)
+            i += 1
+        return tuple(out)
+
+    def unify(
+        self,
+        exprs: list[ir.Expr],
+        nodes: list[ast.Expr],
+        code: str,
+        verb: Callable[[str, str], str],
+        target: Unit | None = None,
+        target_label: str | None = None,
+    ) -> tuple[list[ir.Expr], Unit | None] | None:
+        """Bring numeric ``exprs`` to one unit (``target``, else the first declared unit among
+        them, else the first literal's): units of another dimension are an error ``code``,
+        ``verb(a, b)`` naming both sides; a literal is converted exactly, any other expression
+        of another unit of the same dimension is multiplied by the exact factor.  Expressions
+        without a unit take the result's.  None after reporting."""
+        units_ = [self.unit(e) for e in exprs]
+        if target is None:
+            pick = next(
+                (i for i, (e, u) in enumerate(zip(exprs, units_)) if u is not None and not _is_literal(e)),
+                next((i for i, u in enumerate(units_) if u is not None), None),
+            )
+            if pick is None:
+                return exprs, None
+            target, target_label = units_[pick], show_node(nodes[pick])
+        assert target is not None
+        from catc.frontend import units
+
+        out: list[ir.Expr] = []
+        for e, u, n in zip(exprs, units_, nodes):
+            if u is None:
+                if isinstance(e, ir.ResourceRef):
+                    self.diags.report(
+                        codes.UNITLESS_RESOURCE,
+                        f"resource '{e.name}' has no :unit but meets {target_label} [{target.show()}] here, "
+                        f"so it is read in {target.text}; declare its :unit",
+                        n.span,
+                    )
+                out.append(e)
+                continue
+            if not u.same_dimension(target):
+                self.diags.report(
+                    code,
+                    verb(f"{target_label} [{target.show()}]", f"{show_node(n)} [{u.show()}]"),
+                    n.span,
+                )
+                return None
+            out.append(self._scaled(e, units.factor(u, target), target))
+        return out, target
+
+    def _scaled(self, e: ir.Expr, f: Fraction, unit: Unit) -> ir.Expr:
+        if f == 1:
+            return self._with_unit(e, unit)
+        if isinstance(e, ir.Const) and isinstance(e.value, Fraction):
+            return self._with_unit(const_number(e.value * f, e.span), unit)
+        scaled = ir.Arith(ir.ArithOp.MUL, (e, const_number(f, e.span)), REAL, e.span)
+        return self._with_unit(scaled, unit)
 
     # ------------------------------------------------------------ entry points
     def condition(self, node: ast.Expr, ctx: Context = Context.CONDITION) -> ir.Expr | None:
@@ -187,6 +304,10 @@ class ExprChecker:
             return self._ref(node, ctx)
         if isinstance(node, ast.SetLit):
             return self._set_literal(node, ctx, expected)
+        if isinstance(node, ast.Quantity):
+            from catc.frontend import units
+
+            return self._with_unit(const_number(node.number.value, node.span), units.parse(node.unit.text))
         return self._call(node, ctx, expected)
 
     # ------------------------------------------------------------ names
@@ -195,7 +316,7 @@ class ExprChecker:
         sc = self.scope
         if name in sc.params:
             p = sc.params[name]
-            return ir.ParamRef(name, p.sort, node.span)
+            return self._with_unit(ir.ParamRef(name, p.sort, node.span), sc.unit_of(name) if p.unit else None)
         if name in sc.resources:
             if ctx in (Context.COST, Context.CONSTANT):
                 where = "a morphism's :cost" if ctx is Context.COST else "an initial value"
@@ -206,7 +327,7 @@ class ExprChecker:
                 )
                 return None
             r = sc.resources[name]
-            return ir.ResourceRef(name, r.sort, node.span)
+            return self._with_unit(ir.ResourceRef(name, r.sort, node.span), sc.unit_of(name) if r.unit else None)
         if name in sc.constants:
             c = sc.constants[name]
             return ir.Const(name, c.sort, node.span)
@@ -277,6 +398,10 @@ class ExprChecker:
         if head not in allowed:
             self._bad_head(node, ctx, allowed)
             return None
+        if isinstance(node, ast.Call) and len(node.args) > 1:
+            merged = self.merge_quantities(node.args)
+            if merged is not node.args:
+                node = ast.Call(node.head, merged, node.span)
         args = node.args
         if head in _BOOL:
             return self._boolean(node, ctx)
@@ -299,8 +424,16 @@ class ExprChecker:
                     node.span,
                 )
                 return None
+            unit = None
+            if then.sort.is_numeric and orelse.sort.is_numeric:
+                unified = self.unify(
+                    [then, orelse], [args[1], args[2]], codes.UNIT_MISMATCH_ARITH, _verb("'if' branches differ:", "and")
+                )
+                if unified is None:
+                    return None
+                (then, orelse), unit = unified
             sort = numeric_join([then, orelse]) if then.sort.is_numeric else then.sort
-            return ir.Ite(cond, then, orelse, sort, node.span)
+            return self._with_unit(ir.Ite(cond, then, orelse, sort, node.span), unit)
         if head == "member":
             return self._member(node, ctx)
         return self._objective_term(node)
@@ -386,6 +519,13 @@ class ExprChecker:
                         n.span,
                     )
                     return None
+        if left.sort.is_numeric and right.sort.is_numeric:
+            unified = self.unify(
+                [left, right], [left_node, right_node], codes.UNIT_MISMATCH_COMPARE, _verb("cannot compare", "with")
+            )
+            if unified is None:
+                return None
+            left, right = unified[0]
         return ir.Compare(op, left, right, node.span)
 
     def _arith(self, node: ast.Call, ctx: Context) -> ir.Expr | None:
@@ -411,6 +551,18 @@ class ExprChecker:
                     n.span,
                 )
                 return None
+        unit = None
+        if op in (ir.ArithOp.MUL, ir.ArithOp.DIV):
+            unit = self._product_unit(op, args)
+        else:
+            verb = {
+                ir.ArithOp.ADD: _verb("cannot add", "and"),
+                ir.ArithOp.SUB: _verb("cannot subtract", "from", swap=True),
+            }.get(op, _verb(f"'{node.head.text}' of", "and"))
+            unified = self.unify(args, list(node.args), codes.UNIT_MISMATCH_ARITH, verb)
+            if unified is None:
+                return None
+            args, unit = unified
         if op is ir.ArithOp.DIV:
             divisor = args[1]
             if isinstance(divisor, ir.Const) and divisor.value == 0:
@@ -419,8 +571,32 @@ class ExprChecker:
             sort = REAL
         else:
             sort = numeric_join(args)
-        out = ir.Arith(op, tuple(args), sort, node.span)
-        return out if self._bounded(out) else None
+        out: ir.Expr = ir.Arith(op, tuple(args), sort, node.span)
+        if not self._bounded(out):  # type: ignore[arg-type]
+            return None
+        if unit is not None and unit.dimensionless and unit.text != "1":
+            # GB/MB is a pure number once scaled: (/ ram disk) with ram in GB, disk in MB
+            from catc.frontend import units
+
+            one = units.parse("dimensionless")
+            return self._scaled(self._with_unit(out, unit), units.factor(unit, one), one)
+        return self._with_unit(out, unit)
+
+    def _product_unit(self, op: ir.ArithOp, args: list[ir.Expr]) -> Unit | None:
+        """The unit of a product or quotient: the units of its factors combined (a factor
+        without a unit counts as a pure number); None when no factor has one."""
+        units_ = [self.unit(a) for a in args]
+        if all(u is None for u in units_):
+            return None
+        result: Unit | None = None
+        for i, u in enumerate(units_):
+            if u is None:
+                continue
+            if result is None:
+                result = u if (op is ir.ArithOp.MUL or i == 0) else u.inverse()
+            else:
+                result = result.times(u) if op is ir.ArithOp.MUL else result.over(u)
+        return result
 
     def _bounded(self, e: ir.Arith) -> bool:
         """Whether ``e``, when all its arguments are constant, has a value within the
@@ -508,7 +684,15 @@ class ExprChecker:
                 *([Note("the parameter is declared here", p.span)] if p.span else []),
             )
             return None
-        return ir.ParamValue(m.name, p.name, p.sort, node.span)
+        unit = None
+        if p.unit:
+            from catc.frontend import units
+
+            try:
+                unit = units.parse(p.unit)
+            except units.UnitError:
+                unit = None
+        return self._with_unit(ir.ParamValue(m.name, p.name, p.sort, node.span), unit)
 
     def _morphism_arg(self, node: ast.Expr, morphisms: Mapping[str, ir.Morphism]) -> ir.Morphism | None:
         if isinstance(node, ast.Ref) and node.name in morphisms:
@@ -517,3 +701,31 @@ class ExprChecker:
         hint = Suggestion(label, list(morphisms), node.span if isinstance(node, ast.Ref) else None)
         self.diags.report(codes.UNKNOWN_NAME, f"unknown morphism '{label}'{hint.hint}", node.span, fixes=hint.fixes)
         return None
+
+
+def _is_literal(e: ir.Expr) -> bool:
+    return isinstance(e, ir.Const) and isinstance(e.value, Fraction)
+
+
+def _verb(before: str, between: str, *, swap: bool = False) -> Callable[[str, str], str]:
+    """A mismatch message naming both sides: ``cannot compare A with B``."""
+    if swap:
+        return lambda a, b: f"{before} {b} {between} {a}"
+    return lambda a, b: f"{before} {a} {between} {b}"
+
+
+def show_node(node: ast.Expr, limit: int = 40) -> str:
+    """An expression as written, compact (for diagnostics)."""
+    if isinstance(node, ast.Ref):
+        text = node.name
+    elif isinstance(node, ast.Num):
+        text = node.text
+    elif isinstance(node, ast.Quantity):
+        text = f"{node.number.text} {node.unit.text}"
+    elif isinstance(node, ast.BoolLit):
+        text = "true" if node.value else "false"
+    elif isinstance(node, ast.SetLit):
+        text = "{" + " ".join(show_node(e, limit) for e in node.elements) + "}"
+    else:
+        text = "(" + " ".join([node.head.text, *(show_node(a, limit) for a in node.args)]) + ")"
+    return text if len(text) <= limit else text[: limit - 1] + "…"

@@ -221,6 +221,16 @@ def _grounding_text(g: object) -> str:
     return "no grounding: `catc ground` writes nothing for it (W0106)"
 
 
+def _unit_text(text: str) -> str:
+    """``GB (information)``: the unit with its dimension (docs/language.md §Units)."""
+    from catc.frontend import units
+
+    try:
+        return f"{text} ({units.parse(text).dimension})"
+    except units.UnitError:
+        return text
+
+
 def _declaration(a: Analysis, d: Definition, max_lines: int = 8) -> str | None:
     """The declaration of ``d`` as written (its first line and an ellipsis when long)."""
     text = a.text if _same(d.whole.file, a.path) else a.sources.get(d.whole.file)
@@ -309,7 +319,8 @@ def _morphism_details(m: Any) -> list[str]:
         rows = []
         for p in m.params:
             b = f" in {_bounds(p.lower, p.upper)}" if p.lower is not None or p.upper is not None else ""
-            rows.append(f"- `{p.name}` : {_sort_text(p.sort)}{b}{' (fixed)' if p.fixed else ''}")
+            u = f" [{p.unit}]" if p.unit else ""
+            rows.append(f"- `{p.name}` : {_sort_text(p.sort)}{u}{b}{' (fixed)' if p.fixed else ''}")
         blocks += ["parameters:", "\n".join(rows)]
     if m.pre:
         blocks += ["preconditions:", "\n".join(f"- `{to_text(lit.expr)}`" for lit in m.pre)]
@@ -334,14 +345,15 @@ def _details(a: Analysis, name: str, d: Definition | None) -> list[str] | None:
             if m is not None and p is not None:
                 b = f" in {bounds(p.lower, p.upper)}" if p.lower is not None or p.upper is not None else ""
                 fixed = " (fixed: one value for the composition)" if p.fixed else ""
-                return [f"**parameter** `{name}` : {_sort_text(p.sort)}{b}{fixed}", where("morphism", m)]
+                u = f" [{_unit_text(p.unit)}]" if p.unit else ""
+                return [f"**parameter** `{name}` : {_sort_text(p.sort)}{u}{b}{fixed}", where("morphism", m)]
         return None
     for dom in a.domains:
         r = dom.resources.get(name)
         if r is not None:
             facts = []
             if r.unit:
-                facts.append(f"unit: {r.unit}")
+                facts.append(f"unit: {_unit_text(r.unit)}")
             if r.group:
                 facts.append(f"group: {r.group}")
             if r.lower is not None or r.upper is not None:

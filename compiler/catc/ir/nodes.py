@@ -465,7 +465,7 @@ class Resource(Record):
 class Param(Record):
     """A free parameter θ of a morphism."""
 
-    __slots__ = ("name", "sort", "lower", "upper", "fixed", "span", "bounds_span")
+    __slots__ = ("name", "sort", "lower", "upper", "fixed", "span", "bounds_span", "unit")
     name: str
     sort: Sort
     lower: Fraction | None
@@ -473,6 +473,7 @@ class Param(Record):
     fixed: bool  # one value for the whole composition (else per activation)
     span: Span | None
     bounds_span: Span | None
+    unit: str | None  # as declared (:unit); values and bounds are in this unit
 
     def __init__(
         self,
@@ -483,6 +484,7 @@ class Param(Record):
         fixed: bool = False,
         span: Span | None = None,
         bounds_span: Span | None = None,
+        unit: str | None = None,
     ) -> None:
         _set(self, "name", name)
         _set(self, "sort", sort)
@@ -491,6 +493,7 @@ class Param(Record):
         _set(self, "fixed", fixed)
         _set(self, "span", span)
         _set(self, "bounds_span", bounds_span)
+        _set(self, "unit", unit)
 
 
 class Literal(Record):

@@ -31,8 +31,9 @@ def print_composition(console: Console, inst: ir.Instance, plan: Plan, states: S
     for i, step in enumerate(plan.steps, 1):
         for j, a in enumerate(step):
             marker = str(i) if j == 0 else "⊗"
-            kind = inst.morphisms[a.morphism].kind.value
-            table.add_row(marker, a.morphism, kind, params_text(a.params, plan.fresh))
+            m = inst.morphisms[a.morphism]
+            units = {p.name: p.unit for p in m.params if p.unit}
+            table.add_row(marker, a.morphism, m.kind.value, params_text(a.params, plan.fresh, units))
     console.print(table)
     if not states:
         return

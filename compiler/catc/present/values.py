@@ -33,12 +33,25 @@ def show_value(v: Any, fresh: Mapping[str, str] | None = None, unit: str | None 
     return f"{text} {unit}" if unit and isinstance(v, Fraction) else text
 
 
-def params_text(params: Mapping[str, Any], fresh: Mapping[str, str]) -> str:
-    return ", ".join(f"{k} = {show_value(v, fresh)}" for k, v in params.items())
+def params_text(params: Mapping[str, Any], fresh: Mapping[str, str], units: Mapping[str, str] | None = None) -> str:
+    """``need = 1000 MB, out = image-raw``: values in their parameters' declared units."""
+    units = units or {}
+    return ", ".join(f"{k} = {show_value(v, fresh, units.get(k))}" for k, v in params.items())
 
 
 def state_json(state: Mapping[str, Any]) -> dict:
     return {k: value_to_json(v) for k, v in state.items()}
+
+
+def units_json(inst: ir.Instance) -> dict[str, str]:
+    """The declared unit of every resource that has one (state values are in these units)."""
+    return {r.name: r.unit for r in inst.resources.values() if r.unit}
+
+
+def parameter_units_json(inst: ir.Instance) -> dict[str, dict[str, str]]:
+    """``{morphism: {parameter: unit}}`` for the parameters declared with a unit."""
+    out = {m.name: {p.name: p.unit for p in m.params if p.unit} for m in inst.morphisms.values()}
+    return {name: units for name, units in out.items() if units}
 
 
 def timings_json(timings: Mapping[str, float]) -> dict:

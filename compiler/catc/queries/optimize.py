@@ -21,7 +21,7 @@ from catc.ir.numbers import decimal_text, fraction_text, number_text, ratio_text
 from catc.ir.text import to_text
 from catc.present.composition import print_composition, where_text
 from catc.present.console import Console, Table, counted
-from catc.present.values import show_value, state_json, steps_json, timings_json
+from catc.present.values import parameter_units_json, show_value, state_json, steps_json, timings_json, units_json
 from catc.queries.base import (
     ExitCode,
     Kind,
@@ -644,6 +644,9 @@ def optimize_json(inst: ir.Instance, result: OptResult) -> dict:
         doc["fresh"] = dict(result.plan.fresh)
         if result.states:
             doc["final_state"] = state_json(result.states[-1])
+            doc["units"] = units_json(inst)
+            if parameter_units := parameter_units_json(inst):  # only when some parameter declares one
+                doc["parameter_units"] = parameter_units
     return doc
 
 

@@ -425,6 +425,14 @@ def _finish(result, start: float):
 # ====================================================================== output
 
 
+def _unit_json(inst: ir.Instance, rel: Relaxation, info: LabelInfo) -> dict[str, str]:
+    """``{"unit": "USD"}`` for a relaxed initial value of a resource with a unit (the delta's unit)."""
+    if rel.kind != "initial value" or info.owner not in inst.resources:
+        return {}
+    unit = inst.resources[info.owner].unit  # type: ignore[index]  # owner checked above
+    return {"unit": unit} if unit else {}
+
+
 def relaxation_text(inst: ir.Instance, rel: Relaxation, info: LabelInfo) -> str:
     if rel.kind == "initial value":
         name = info.owner
@@ -453,7 +461,12 @@ def relax_json(inst: ir.Instance, result: RelaxResult) -> dict:
         "cost": value_to_json(result.cost) if result.cost is not None else None,
         "proven": result.proven,
         "relaxations": [
-            {**label_json(index[r.label]), "delta": value_to_json(r.delta), "weight": value_to_json(r.weight)}
+            {
+                **label_json(index[r.label]),
+                "delta": value_to_json(r.delta),
+                "weight": value_to_json(r.weight),
+                **_unit_json(inst, r, index[r.label]),
+            }
             for r in result.relaxations
         ],
         "dropped": [label_json(index[label]) for label in result.dropped],

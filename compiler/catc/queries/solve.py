@@ -20,7 +20,7 @@ from typing import Any
 from catc import ir
 from catc.present.composition import print_composition, where_text
 from catc.present.console import Console, counted
-from catc.present.values import state_json, steps_json, timings_json
+from catc.present.values import parameter_units_json, state_json, steps_json, timings_json, units_json
 from catc.queries.base import (
     ExitCode,
     Kind,
@@ -439,6 +439,9 @@ def solve_json(inst: ir.Instance, result: SolveResult) -> dict:
         if result.states:
             doc["initial_state"] = state_json(result.states[0])
             doc["final_state"] = state_json(result.states[-1])
+            doc["units"] = units_json(inst)
+            if parameter_units := parameter_units_json(inst):  # only when some parameter declares one
+                doc["parameter_units"] = parameter_units
     if result.status is SolveStatus.UNSAT:
         proof = result.refutation
         doc["unsat"] = {
