@@ -28,7 +28,7 @@ else:
     MISSING = None
     needs_lsp = pytest.mark.asyncio
 
-EXAMPLE = ROOT / "examples" / "detection"
+EXAMPLE = ROOT / "tests" / "fixtures" / "lsp" / "detection"  # examples/detection, every resource its own
 DOMAIN = EXAMPLE / "domain.cat"
 PROBLEM = EXAMPLE / "person.cat"
 
@@ -139,15 +139,26 @@ async def test_definition_across_files(client: LanguageClient) -> None:
     assert locs and Path(locs[0].uri.removeprefix("file://")).resolve() == DOMAIN.resolve()
     dom_text = DOMAIN.read_text()
     assert locs[0].range.start.line == dom_text.count("\n", 0, dom_text.index("(domain detection)"))
-    # a resource used in the problem → its declaration (ram: robot-base's compute domain, imported)
-    word = "ram"
-    declared = ROOT / "stdlib_domains" / "compute.cat"
+    # a resource used in the problem → its declaration in the domain
+    await _definition_of_ram(client, uri, text, DOMAIN)
+
+
+async def _definition_of_ram(client: LanguageClient, uri: str, text: str, declared: Path) -> None:
     locs = await client.text_document_definition_async(
-        types.DefinitionParams(types.TextDocumentIdentifier(uri), _pos(text, f"(= {word}", 3))
+        types.DefinitionParams(types.TextDocumentIdentifier(uri), _pos(text, "(= ram", 3))
     )
     assert locs and Path(locs[0].uri.removeprefix("file://")).resolve() == declared.resolve()
     line = declared.read_text().split("\n")[locs[0].range.start.line]
-    assert line[locs[0].range.start.character :].startswith(word)
+    assert line[locs[0].range.start.character :].startswith("ram")
+
+
+@needs_lsp
+async def test_definition_of_an_imported_standard_library_resource(client: LanguageClient) -> None:
+    """examples/detection imports robot-base: its ram is declared in the stdlib's compute domain."""
+    problem = ROOT / "examples" / "detection" / "person.cat"
+    uri = _open(client, problem)
+    await _diagnostics(client, uri)
+    await _definition_of_ram(client, uri, problem.read_text(), ROOT / "stdlib_domains" / "compute.cat")
 
 
 @needs_lsp

@@ -13,7 +13,7 @@ from conftest import ROOT
 from catc.interfaces.lsp import analyse
 from catgrammar.span import Source
 
-DETECTION = ROOT / "examples" / "detection"
+DETECTION = ROOT / "tests" / "fixtures" / "lsp" / "detection"  # examples/detection, every resource its own
 INVALID = sorted((ROOT / "tests" / "fixtures" / "invalid").glob("*.cat"))
 
 #: Broken texts, one per place that makes a did-you-mean: (text, misspelt word, suggestion).
@@ -238,7 +238,7 @@ def test_every_option_of_the_grammar_has_signature_help() -> None:
     "needle, shift, form, active",
     [
         ("    :kind software :uses 1\n    :parameters ((out", 25, "morphism", ":uses"),
-        ("(ram-req real :bounds (0.5 2))", 23, "parameter", ":bounds"),
+        ("(ram-req real :unit GB :bounds (0.5 2))", 32, "parameter", ":bounds"),
         ("(ram real :group compute :unit GB", 33, "resource", ":unit"),
         ("(ram real :group compute", 9, "resource", None),
         ("(:morphism open-vocab-detector", 30, "morphism", None),
@@ -376,3 +376,25 @@ def test_a_morphism_used_as_a_number_gets_the_uses_fix_in_an_objective() -> None
     goal = head + " (:goal (>= camera-driver 1)))"
     [d] = [d for d in analyse(str(problem), goal).diagnostics if "'camera-driver' is a morphism" in d.message]
     assert d.fixes == ()
+
+
+def test_references_of_an_imported_standard_library_resource_reach_the_importers() -> None:
+    """examples/detection imports robot-base, which imports compute, which declares ram: its
+    references are the declaration and every use in the domain and both problems (the domain
+    beside the problems is the importer itself, not a rival domain of that name)."""
+    from catc.interfaces import lsp_tools
+
+    folder = ROOT / "examples" / "detection"
+    domain = folder / "domain.cat"
+    text = domain.read_text()
+    a = analyse(str(domain), text)
+    name, at = _span(domain, text, "(>= ram ram-req)", 4)
+    found = lsp_tools.references(a, name, at, lsp_tools.workspace_files(a, {}))
+    by_file: dict[str, list[int]] = {}
+    for s in found:
+        by_file.setdefault(Path(s.file).resolve().name, []).append(s.start)
+    expected = {p.name: _uses(p.read_text(), "ram") for p in folder.glob("*.cat")}
+    compute = ROOT / "stdlib_domains" / "compute.cat"
+    expected["compute.cat"] = _uses(compute.read_text(), "ram")  # its declaration
+    assert by_file == {k: v for k, v in expected.items() if v}
+    assert set(by_file) == {"domain.cat", "person.cat", "unmodeled-class.cat", "compute.cat"}

@@ -28,7 +28,7 @@ else:
     MISSING = None
     needs_lsp = pytest.mark.asyncio
 
-DETECTION = ROOT / "examples" / "detection"
+DETECTION = ROOT / "tests" / "fixtures" / "lsp" / "detection"  # examples/detection, every resource its own
 
 if MISSING is None:
 
@@ -400,7 +400,7 @@ async def test_hover_is_markdown_that_renders(client: LanguageClient, model: Pat
     assert pre.split("\n") == ["- `(member rgb-camera mounted)`", "- `(>= ram ram-req)`"]  # a list, one item a line
     assert not any(p.startswith("\n") or p.endswith("\n") for p in paragraphs[1:])
     value = await hover(_pos(text, "(>= ram ram-req)", 9))  # a θ parameter
-    assert "**parameter** `ram-req` : real in (0.5 2)" in value.split("\n\n")
+    assert "**parameter** `ram-req` : real [GB (information)] in (0.5 2)" in value.split("\n\n")
     # an error elsewhere in the file: the hover is as full as before, from the last check
     broken = text.replace("(>= ram 4)", "(>= rom 4)")
     _change(client, uri, 2, broken)
@@ -410,7 +410,7 @@ async def test_hover_is_markdown_that_renders(client: LanguageClient, model: Pat
     blocks = value.split("\n\n")
     assert blocks[0] == "```cat\n(ram real :group compute :unit GB :bounds (0 *))\n```"
     assert blocks[1] == "**resource** `ram` : real"
-    assert blocks[2].split("\n") == ["- unit: GB", "- group: compute", "- bounds: (0 *)"]
+    assert blocks[2].split("\n") == ["- unit: GB (information)", "- group: compute", "- bounds: (0 *)"]
     assert "as it last checked" in blocks[-1]
 
 

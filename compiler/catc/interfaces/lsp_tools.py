@@ -183,10 +183,18 @@ def workspace_files(a: Analysis, texts: Mapping[str, str]) -> dict[str, str]:
     return out
 
 
-def _related(text: str, path: str, owner_domains: set[str], definition_file: str, files: Mapping[str, str]) -> bool:
+def _related(
+    text: str,
+    path: str,
+    owner_domains: set[str],
+    definition_file: str,
+    files: Mapping[str, str],
+    loaded: frozenset[str] = frozenset(),
+) -> bool:
     """Whether a file may use names of the domains ``owner_domains``: it is the defining
     file, or it names one of them (``(:domain NAME)``, ``(:import NAME)``) and its own folder
-    defines no other domain of that name (which it would use instead)."""
+    defines no other domain of that name (which it would use instead) — a file the analysis
+    itself read (``loaded``, keys of :func:`_key`) is the domain of that name, not another."""
     from catc.frontend.workspace import defined_domains
 
     if _key(path) == _key(definition_file):
@@ -199,7 +207,8 @@ def _related(text: str, path: str, owner_domains: set[str], definition_file: str
     if folder == Path(definition_file).resolve().parent:
         return True
     for other, other_text in files.items():  # a domain of that name beside it wins
-        beside = _key(other) != _key(definition_file) and Path(other).resolve().parent == folder
+        beside = _key(other) not in loaded and _key(other) != _key(definition_file)
+        beside = beside and Path(other).resolve().parent == folder
         if beside and owner_domains & set(defined_domains(other_text)):
             return False
     return True
@@ -242,7 +251,8 @@ def references(
         for path, text in files.items():
             if name not in text or (problem_local and _key(path) != _key(d.span.file)):
                 continue
-            if _related(text, path, owners, d.span.file, files):
+            loaded = frozenset(_key(p) for p in (*a.sources, a.path))
+            if _related(text, path, owners, d.span.file, files, loaded):
                 hidden = param_scopes(a, path).get(name, [])  # a θ of that name hides it there
                 out += [
                     w.span
