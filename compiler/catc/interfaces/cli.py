@@ -38,6 +38,7 @@ LAZY_COMMANDS: dict[str, str] = {
     "export": "catc.interfaces.export_cli:export_command",
     "ground": "catc.interfaces.ground:ground_command",
     "bench": "catc.bench.cli:bench_command",
+    "import": "catc.interfaces.import_cli:import_command",
 }
 
 

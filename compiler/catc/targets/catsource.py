@@ -225,7 +225,7 @@ def domain_text(domain: ir.Domain, *, header: str | None = None) -> str:
     comment above it."""
     out = [f"(define (domain {_name(domain.name, 'domain')})"]
     if domain.requirements:
-        out.append("(:requirements " + " ".join(r for r in sorted(domain.requirements)) + ")")
+        out.append("(:requirements " + " ".join(_flags(domain.requirements)) + ")")
     declared = [s for s in domain.sorts.values() if s.kind in (ir.SortKind.SYMBOL, ir.SortKind.ENUM)]
     if declared:
         out.append("(:sorts " + " ".join(_sort(s) for s in _parents_first(declared)) + ")")
@@ -240,6 +240,11 @@ def domain_text(domain: ir.Domain, *, header: str | None = None) -> str:
     if domain.deployment is not None:
         out.append(_deployment(domain.deployment))
     return _comment(header) + "\n".join(out) + ")\n"
+
+
+def _flags(names: Iterable[str]) -> list[str]:
+    """Requirement flags as written (``:numeric``; an IR built in code may leave out the colon)."""
+    return sorted({n if n.startswith(":") else ":" + n for n in names})
 
 
 def _parents_first(sorts: list[ir.Sort]) -> list[ir.Sort]:
@@ -292,9 +297,9 @@ def problem_text(inst: ir.Instance, *, header: str | None = None) -> str:
     """The problem of ``inst`` as ``.cat`` text (unformatted); it names ``inst.domain``."""
     p, d = inst.problem, inst.domain
     out = [f"(define (problem {_name(p.name, 'problem')})", f"(:domain {_name(d.name, 'domain')})"]
-    own = p.requirements - d.requirements
+    own = set(_flags(p.requirements)) - set(_flags(d.requirements))
     if own:
-        out.append("(:requirements " + " ".join(r for r in sorted(own)) + ")")
+        out.append("(:requirements " + " ".join(_flags(own)) + ")")
     if p.objects:
         out.append("(:objects " + _typed((_name(c.name, "object"), c.sort.name) for c in p.objects.values()) + ")")
     if p.init:

@@ -1,0 +1,326 @@
+"""``catc bench --corpus``: PDDL problems nobody here wrote, imported and solved by catc beside ENHSP.
+
+The corpus is the PDDL shipped inside unified-planning's wheel (``unified_planning/test/pddl``)
+plus two generated families for growth with instance size: *counters* (n counters that must end
+strictly increasing, IPC numeric style; the shortest plan has n(n-1)/2 actions) and *sailing*
+(one boat, p persons to save at fixed distances). For each problem:
+
+1. ``catc import pddl`` (:func:`catc.interfaces.import_cli.import_pddl`) — imported, or refused
+   with the reasons of its import report;
+2. ENHSP on the original PDDL (``sat-hadd``, or ``opt-blind`` where the PDDL has a metric);
+3. catc on the imported ``.cat``: ``solve --sequential`` (the shortest plan), or ``optimize
+   --sequential`` where the PDDL has a metric, with the horizon ENHSP's plan length (enough: a
+   cheaper plan than a proven optimum cannot exist) or :data:`CAP` when ENHSP found none;
+4. every plan (ENHSP's and catc's) checked by unified-planning's sequential plan validator on
+   the problem UP's reader read from the original PDDL — a validator catc did not write;
+5. the round trip: ``catc export pddl`` of the imported instance, solved again by ENHSP.
+
+Agreement: both SAT or both UNSAT; where both optimise, the same cost; catc's plan (the
+shortest, sequential) no longer than ENHSP's.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import time
+from dataclasses import dataclass, field
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+CAP = 30  # the horizon when ENHSP found no plan
+
+_STEP = re.compile(r"^\s*\d+(?:\.\d+)?\s*:\s*(\([^()]*\))", re.MULTILINE)
+
+
+@dataclass
+class Case:
+    family: str
+    name: str
+    domain: Path
+    problem: Path
+    size: int | None = None  # the family's size parameter (counters: n; sailing: persons)
+
+    @property
+    def temporal(self) -> bool:
+        text = self.domain.read_text(encoding="utf-8", errors="replace").lower()
+        return ":durative-action" in text
+
+
+@dataclass
+class Row:
+    case: Case
+    imported: bool = False
+    refused: list[tuple[str, str]] = field(default_factory=list)
+    error: str | None = None
+    morphisms: int | None = None
+    metric: str | None = None
+    enhsp: str = "-"  # sat | unsat | timeout | error
+    enhsp_cost: Fraction | None = None
+    enhsp_len: int | None = None
+    enhsp_time: float | None = None
+    enhsp_valid: bool | None = None
+    catc: str = "-"
+    catc_cost: Fraction | None = None
+    catc_len: int | None = None
+    catc_time: float | None = None
+    catc_valid: bool | None = None
+    roundtrip: str = "-"
+    roundtrip_cost: Fraction | None = None
+
+    @property
+    def agrees(self) -> bool | None:
+        """None when there is nothing to compare (refused, or a tool gave up); the round trip
+        counts where the export is whole."""
+        if not self.imported or self.enhsp not in ("sat", "unsat") or self.catc not in ("sat", "unsat"):
+            return None
+        if self.enhsp != self.catc:
+            return False
+        if self.enhsp == "unsat":
+            return True
+        if self.metric is not None and self.enhsp_cost is not None and self.catc_cost != self.enhsp_cost:
+            return False
+        if self.metric is None and self.enhsp_len is not None and (self.catc_len or 0) > self.enhsp_len:
+            return False
+        if self.roundtrip in ("sat", "unsat") and (
+            self.roundtrip != self.enhsp or (self.metric is not None and self.roundtrip_cost != self.enhsp_cost)
+        ):
+            return False
+        return bool(self.catc_valid) and bool(self.enhsp_valid)
+
+
+def wheel_dir() -> Path | None:
+    """``unified_planning/test/pddl`` of the installed wheel, or None."""
+    try:
+        import unified_planning
+    except ImportError:
+        return None
+    d = Path(os.path.dirname(unified_planning.__file__)) / "test" / "pddl"
+    return d if d.is_dir() else None
+
+
+def wheel_cases() -> list[Case]:
+    """Every domain/problem pair shipped in unified-planning's wheel (temporal ones included)."""
+    root = wheel_dir()
+    if root is None:
+        return []
+    out = []
+    for d in sorted(p for p in root.iterdir() if p.is_dir() and not p.name.startswith("__")):
+        files = sorted(f for f in d.iterdir() if f.suffix in (".pddl", ".hddl"))
+        doms = [f for f in files if f.stem in ("domain", "d")]
+        if not doms:
+            continue
+        for prob in (f for f in files if f not in doms):
+            name = d.name if prob.stem in ("problem", "p") else f"{d.name}/{prob.stem}"
+            out.append(Case(d.name, name, doms[0], prob))
+    return out
+
+
+COUNTERS_DOMAIN = """(define (domain fn-counters)
+  (:requirements :typing :numeric-fluents)
+  (:types counter)
+  (:functions (value ?c - counter) (max_int))
+  (:action increment :parameters (?c - counter)
+    :precondition (<= (+ (value ?c) 1) (max_int)) :effect (increase (value ?c) 1))
+  (:action decrement :parameters (?c - counter)
+    :precondition (>= (value ?c) 1) :effect (decrease (value ?c) 1)))
+"""
+
+
+def counters_problem(n: int) -> str:
+    """n counters from 0, each below the next at the end; max_int = 2n (as the IPC instances)."""
+    cs = [f"c{i}" for i in range(n)]
+    init = " ".join(f"(= (value {c}) 0)" for c in cs)
+    goal = " ".join(f"(<= (+ (value {a}) 1) (value {b}))" for a, b in zip(cs, cs[1:]))
+    return (
+        f"(define (problem counters-{n}) (:domain fn-counters)\n  (:objects {' '.join(cs)} - counter)\n"
+        f"  (:init (= (max_int) {2 * n}) {init})\n  (:goal (and {goal})))\n"
+    )
+
+
+def sailing_problem(persons: int) -> str:
+    """One boat at the origin; person i at distance d = -(10 + 7 i) (UP's sailing domain)."""
+    ps = [f"p{i}" for i in range(persons)]
+    init = " ".join(f"(= (d {p}) {-(10 + 7 * i)})" for i, p in enumerate(ps))
+    goal = " ".join(f"(saved {p})" for p in ps)
+    return (
+        f"(define (problem sailing-1-{persons}) (:domain sailing)\n  (:objects b0 - boat {' '.join(ps)} - person)\n"
+        f"  (:init (= (x b0) 0) (= (y b0) 0) {init})\n  (:goal (and {goal})))\n"
+    )
+
+
+def family_cases(work: Path, counters: range = range(2, 7), sailing: range = range(1, 5)) -> list[Case]:
+    """The generated families, written into ``work``."""
+    root = wheel_dir()
+    out = []
+    fam = work / "families"
+    fam.mkdir(parents=True, exist_ok=True)
+    cdom = fam / "counters-domain.pddl"
+    cdom.write_text(COUNTERS_DOMAIN)
+    for n in counters:
+        p = fam / f"counters-{n}.pddl"
+        p.write_text(counters_problem(n))
+        out.append(Case("counters", f"counters-{n}", cdom, p, n))
+    if root is not None:
+        for k in sailing:
+            p = fam / f"sailing-1-{k}.pddl"
+            p.write_text(sailing_problem(k))
+            out.append(Case("sailing", f"sailing-1-{k}", root / "sailing" / "domain.pddl", p, k))
+    return out
+
+
+# ---------------------------------------------------------------- running one case
+
+
+def _up_plan(up_problem: Any, steps: list[str]) -> Any:
+    from unified_planning.io import PDDLReader
+
+    return PDDLReader().parse_plan_string(up_problem, "\n".join(steps) + "\n")
+
+
+def up_validates(up_problem: Any, steps: list[str]) -> bool:
+    """unified-planning's sequential plan validator on the PDDL plan ``steps`` ("(a x y)")."""
+    from unified_planning.engines import ValidationResultStatus
+    from unified_planning.engines.plan_validator import SequentialPlanValidator
+
+    plan = _up_plan(up_problem, steps)
+    res = SequentialPlanValidator(environment=up_problem.environment).validate(up_problem, plan)
+    return bool(res.status is ValidationResultStatus.VALID)
+
+
+def _fraction(x: float | None) -> Fraction | None:
+    return None if x is None else Fraction(str(x)).limit_denominator(10**6)
+
+
+def run_case(case: Case, work: Path, timeout: float = 60.0, *, roundtrip: bool = True) -> Row:
+    """Import, ENHSP, catc, the validator and the round trip for one case (see the module)."""
+    from catc.interfaces.import_cli import ImportFailed, import_pddl
+    from catc.targets.enhsp import run_enhsp
+
+    row = Row(case)
+    out = work / case.name.replace("/", "-")
+    try:
+        res = import_pddl(case.domain, case.problem, out)
+    except ImportFailed as exc:
+        row.refused = exc.refused or [(exc.code, exc.message)]
+        row.error = f"{exc.code}: {exc.message}" if not exc.refused else None
+        return row
+    row.imported, row.morphisms, row.metric = True, len(res.instance.domain.morphisms), res.optimal_metric
+    from unified_planning.io import PDDLReader
+
+    up_problem = PDDLReader().parse_problem(str(case.domain), str(case.problem))
+    planner = "opt-blind" if row.metric is not None else "sat-hadd"
+    en = run_enhsp(case.domain, case.problem, planner=planner, timeout=timeout)
+    row.enhsp, row.enhsp_time = en.status, en.wall
+    steps: list[str] = []
+    if en.status == "sat":
+        steps = [s.lower() for s in _STEP.findall(en.output)]
+        row.enhsp_len = len(steps)
+        row.enhsp_cost = _fraction(en.metric) if row.metric is not None else None
+        row.enhsp_valid = up_validates(up_problem, steps)
+    horizon = row.enhsp_len if row.enhsp_len is not None else CAP
+    _run_catc(row, res, up_problem, horizon, timeout)
+    if roundtrip:
+        _roundtrip(row, res, out, planner, timeout)
+    return row
+
+
+def _run_catc(row: Row, res: Any, up_problem: Any, horizon: int, timeout: float) -> None:
+    from catc.queries.optimize import OptStatus, optimize
+    from catc.queries.solve import SolveStatus, solve
+
+    start = time.perf_counter()
+    if row.metric is not None:
+        o = optimize(res.instance, horizon=horizon, sequential=True, timeout=timeout)
+        row.catc = {OptStatus.OPT: "sat", OptStatus.UNSAT: "unsat"}.get(o.status, o.status.value)
+        plan = o.plan if o.status is OptStatus.OPT else None
+        if plan is not None and o.values:
+            row.catc_cost = o.values[0].value
+    else:
+        s = solve(res.instance, horizon=horizon, sequential=True, timeout=timeout)
+        row.catc = {SolveStatus.SAT: "sat", SolveStatus.UNSAT: "unsat"}.get(s.status, s.status.value)
+        plan = s.plan if s.status is SolveStatus.SAT else None
+    row.catc_time = time.perf_counter() - start
+    if row.catc == "unsat" and row.enhsp_len is None:
+        row.catc = "unsat"  # within CAP steps only: the table says so
+    if plan is not None:
+        steps = [res.actions[a.morphism] for step in plan.steps for a in step]
+        row.catc_len = len(steps)
+        row.catc_valid = up_validates(up_problem, steps)
+
+
+def _roundtrip(row: Row, res: Any, out: Path, planner: str, timeout: float) -> None:
+    from catc.targets.enhsp import run_enhsp
+    from catc.targets.pddl import ExportError, export_pddl
+
+    try:
+        ex = export_pddl(res.instance)
+    except ExportError as exc:
+        row.roundtrip = f"export refused: {exc}"
+        return
+    lossy = [t for c, t in ex.report.items if c == "components"]
+    if lossy:  # a partial domain: ENHSP's answer on it is not the problem's answer
+        row.roundtrip = f"not comparable: the export leaves out {len(lossy)} morphisms ({lossy[0].split(': ', 1)[-1]})"
+        return
+    d = out / "export"
+    d.mkdir(exist_ok=True)
+    (d / "domain.pddl").write_text(ex.domain)
+    (d / "problem.pddl").write_text(ex.problem)
+    en = run_enhsp(d / "domain.pddl", d / "problem.pddl", planner=planner, timeout=timeout)
+    row.roundtrip = en.status
+    if en.status == "sat" and row.metric is not None:
+        row.roundtrip_cost = _fraction(en.metric)
+
+
+# ---------------------------------------------------------------- the table
+
+
+def _num(x: Fraction | None) -> str:
+    if x is None:
+        return "-"
+    return str(x.numerator) if x.denominator == 1 else f"{float(x):.4g}"
+
+
+def _t(x: float | None) -> str:
+    return "-" if x is None else f"{x:.2f}"
+
+
+def _ok(x: bool | None) -> str:
+    return "-" if x is None else ("valid" if x else "INVALID")
+
+
+def markdown(rows: list[Row], command: str) -> str:
+    lines = [f"Produced by `{command}`.", ""]
+    lines.append(
+        "| problem | import | morphisms | metric | ENHSP | cost/len | s | UP validator | catc | cost/len | s | "
+        "UP validator | round trip (ENHSP on catc's export) | agree |"
+    )
+    lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        if not r.imported:
+            why = "; ".join(w for w, _ in r.refused)
+            lines.append(f"| {r.case.name} | refused: {why} | | | | | | | | | | | | |")
+            continue
+        ec = f"{_num(r.enhsp_cost)}/{r.enhsp_len}" if r.enhsp_len is not None else "-"
+        cc = f"{_num(r.catc_cost)}/{r.catc_len}" if r.catc_len is not None else "-"
+        rt = r.roundtrip + (f" {_num(r.roundtrip_cost)}" if r.roundtrip_cost is not None else "")
+        agree = {None: "-", True: "yes", False: "NO"}[r.agrees]
+        lines.append(
+            f"| {r.case.name} | ok | {r.morphisms} | {r.metric or '-'} | {r.enhsp} | {ec} | {_t(r.enhsp_time)} | "
+            f"{_ok(r.enhsp_valid)} | {r.catc} | {cc} | {_t(r.catc_time)} | {_ok(r.catc_valid)} | {rt} | {agree} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def growth_markdown(rows: list[Row]) -> str:
+    """Runtime against the family's size parameter (counters: n; sailing: persons)."""
+    lines = ["| family | size | morphisms | plan length (catc/ENHSP) | catc s | ENHSP s |", "|---|---|---|---|---|---|"]
+    for r in rows:
+        if r.case.size is None or not r.imported:
+            continue
+        lines.append(
+            f"| {r.case.family} | {r.case.size} | {r.morphisms} | {r.catc_len if r.catc_len is not None else '-'}/"
+            f"{r.enhsp_len if r.enhsp_len is not None else '-'} | {_t(r.catc_time)} | {_t(r.enhsp_time)} |"
+        )
+    return "\n".join(lines) + "\n"
