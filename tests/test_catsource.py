@@ -154,7 +154,7 @@ def test_what_cat_text_cannot_spell_is_refused():
     r = next(iter(inst.domain.resources.values()))
     bad = ir.Resource("not a name", r.sort)
     dom = ir.Domain(inst.domain.name, inst.domain.requirements, resources=ir.frozen({"x": bad}))
-    with pytest.raises(CatSourceError, match="'not a name' is not a .cat name"):
+    with pytest.raises(CatSourceError, match=r"'not a name' is not a \.cat name"):
         domain_text(dom)
     doc = ir.Resource("ok", r.sort, doc="two\nlines")
     with pytest.raises(CatSourceError, match="line break"):

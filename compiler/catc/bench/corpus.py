@@ -7,10 +7,13 @@ strictly increasing, IPC numeric style; the shortest plan has n(n-1)/2 actions) 
 
 1. ``catc import pddl`` (:func:`catc.interfaces.import_cli.import_pddl`) — imported, or refused
    with the reasons of its import report;
-2. ENHSP on the original PDDL (``sat-hadd``, or ``opt-blind`` where the PDDL has a metric);
-3. catc on the imported ``.cat``: ``solve --sequential`` (the shortest plan), or ``optimize
-   --sequential`` where the PDDL has a metric, with the horizon ENHSP's plan length (enough: a
-   cheaper plan than a proven optimum cannot exist) or :data:`CAP` when ENHSP found none;
+2. ENHSP (``sat-hadd``) on the original PDDL, then catc ``solve --sequential`` on the imported
+   ``.cat`` (the shortest plan) with ENHSP's plan length as the horizon (:data:`CAP` when
+   ENHSP found none: then catc's UNSAT means "none within CAP steps" unless its relaxed
+   reachability proves more);
+3. where the PDDL has a metric: ENHSP ``opt-blind`` for the optimal cost, then catc
+   ``optimize --sequential`` with the optimal plan's length as the horizon (enough: no plan is
+   cheaper than a proven optimum, and one that cheap has that many steps);
 4. every plan (ENHSP's and catc's) checked by unified-planning's sequential plan validator on
    the problem UP's reader read from the original PDDL — a validator catc did not write;
 5. the round trip: ``catc export pddl`` of the imported instance, solved again by ENHSP.
@@ -21,6 +24,7 @@ shortest, sequential) no longer than ENHSP's.
 
 from __future__ import annotations
 
+import itertools
 import os
 import re
 import time
@@ -132,7 +136,7 @@ def counters_problem(n: int) -> str:
     """n counters from 0, each below the next at the end; max_int = 2n (as the IPC instances)."""
     cs = [f"c{i}" for i in range(n)]
     init = " ".join(f"(= (value {c}) 0)" for c in cs)
-    goal = " ".join(f"(<= (+ (value {a}) 1) (value {b}))" for a, b in zip(cs, cs[1:]))
+    goal = " ".join(f"(<= (+ (value {a}) 1) (value {b}))" for a, b in itertools.pairwise(cs))
     return (
         f"(define (problem counters-{n}) (:domain fn-counters)\n  (:objects {' '.join(cs)} - counter)\n"
         f"  (:init (= (max_int) {2 * n}) {init})\n  (:goal (and {goal})))\n"
@@ -210,28 +214,39 @@ def run_case(case: Case, work: Path, timeout: float = 60.0, *, roundtrip: bool =
     from unified_planning.io import PDDLReader
 
     up_problem = PDDLReader().parse_problem(str(case.domain), str(case.problem))
-    planner = "opt-blind" if row.metric is not None else "sat-hadd"
-    en = run_enhsp(case.domain, case.problem, planner=planner, timeout=timeout)
+    en = run_enhsp(case.domain, case.problem, planner="sat-hadd", timeout=timeout)
     row.enhsp, row.enhsp_time = en.status, en.wall
-    steps: list[str] = []
     if en.status == "sat":
-        steps = [s.lower() for s in _STEP.findall(en.output)]
+        steps = _steps(en.output)
         row.enhsp_len = len(steps)
-        row.enhsp_cost = _fraction(en.metric) if row.metric is not None else None
         row.enhsp_valid = up_validates(up_problem, steps)
-    horizon = row.enhsp_len if row.enhsp_len is not None else CAP
-    _run_catc(row, res, up_problem, horizon, timeout)
+    _run_catc(row, res, up_problem, row.enhsp_len if row.enhsp_len is not None else CAP, timeout, optimise=False)
+    if row.metric is not None and row.enhsp == "sat":  # the optimum: ENHSP's opt-blind, then catc's
+        opt = run_enhsp(case.domain, case.problem, planner="opt-blind", timeout=timeout)
+        row.enhsp_time = (row.enhsp_time or 0) + opt.wall
+        if opt.status == "sat":
+            steps = _steps(opt.output)
+            row.enhsp_cost = _fraction(opt.metric)
+            row.enhsp_len = len(steps)
+            row.enhsp_valid = bool(row.enhsp_valid) and up_validates(up_problem, steps)
+            _run_catc(row, res, up_problem, len(steps), timeout, optimise=True)
     if roundtrip:
-        _roundtrip(row, res, out, planner, timeout)
+        _roundtrip(row, res, out, "opt-blind" if row.enhsp_cost is not None else "sat-hadd", timeout)
     return row
 
 
-def _run_catc(row: Row, res: Any, up_problem: Any, horizon: int, timeout: float) -> None:
+def _steps(output: str) -> list[str]:
+    return [s.lower() for s in _STEP.findall(output)]
+
+
+def _run_catc(row: Row, res: Any, up_problem: Any, horizon: int, timeout: float, *, optimise: bool) -> None:
+    """catc on the imported instance: ``solve --sequential`` (shortest plan) or, with
+    ``optimise``, ``optimize --sequential``; its plan checked by UP's validator."""
     from catc.queries.optimize import OptStatus, optimize
     from catc.queries.solve import SolveStatus, solve
 
     start = time.perf_counter()
-    if row.metric is not None:
+    if optimise:
         o = optimize(res.instance, horizon=horizon, sequential=True, timeout=timeout)
         row.catc = {OptStatus.OPT: "sat", OptStatus.UNSAT: "unsat"}.get(o.status, o.status.value)
         plan = o.plan if o.status is OptStatus.OPT else None
@@ -241,13 +256,11 @@ def _run_catc(row: Row, res: Any, up_problem: Any, horizon: int, timeout: float)
         s = solve(res.instance, horizon=horizon, sequential=True, timeout=timeout)
         row.catc = {SolveStatus.SAT: "sat", SolveStatus.UNSAT: "unsat"}.get(s.status, s.status.value)
         plan = s.plan if s.status is SolveStatus.SAT else None
-    row.catc_time = time.perf_counter() - start
-    if row.catc == "unsat" and row.enhsp_len is None:
-        row.catc = "unsat"  # within CAP steps only: the table says so
+    row.catc_time = (row.catc_time or 0) + time.perf_counter() - start
     if plan is not None:
         steps = [res.actions[a.morphism] for step in plan.steps for a in step]
         row.catc_len = len(steps)
-        row.catc_valid = up_validates(up_problem, steps)
+        row.catc_valid = (row.catc_valid is not False) and up_validates(up_problem, steps)
 
 
 def _roundtrip(row: Row, res: Any, out: Path, planner: str, timeout: float) -> None:

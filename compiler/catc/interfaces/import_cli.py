@@ -122,7 +122,7 @@ def _read(domain: Path, problem: Path) -> Any:
     reader = _up_reader()
     try:
         dom_text = domain.read_text(encoding="utf-8")
-        prob_text = problem.read_text(encoding="utf-8")
+        problem.read_text(encoding="utf-8")  # readable and UTF-8, as the reader needs
     except (OSError, UnicodeDecodeError) as exc:
         raise ImportFailed(codes.UNREADABLE_FILE, f"cannot read the PDDL: {exc}") from None
     try:
@@ -153,6 +153,12 @@ def _locate(feature: str, files: Iterable[Path]) -> str | None:
                 col = m.start() - (text.rfind("\n", 0, m.start()) + 1) + 1
                 return f"{f}:{line}:{col}"
     return None
+
+
+def _position(loc: str) -> tuple[int, int, int]:
+    """``file:line:col`` → a key that orders the domain's locations before the problem's."""
+    file, line, col = loc.rsplit(":", 2)
+    return (0 if file.endswith(("domain.pddl", "d.pddl")) else 1, int(line), int(col))
 
 
 def _count(inst: ir.Instance) -> dict[str, int]:
@@ -273,7 +279,7 @@ def import_pddl(domain: Path, problem: Path, out: Path, *, horizon: int | None =
     except UpImportError as exc:
         refused = [(w, r, _locate(w, (domain, problem))) for w, r in exc.report.refused]
         report_file.write_text(_report(domain, problem, up_problem, exc.report, None, refused, None), encoding="utf-8")
-        first = next((loc for _, _, loc in refused if loc), None)
+        first = min((loc for _, _, loc in refused if loc), key=_position, default=None)  # the first in the files
         reasons = "; ".join(f"{w}: {r}" for w, r, _ in refused)
         raise ImportFailed(
             codes.IMPORT_UNSUPPORTED,
@@ -295,12 +301,13 @@ def import_pddl(domain: Path, problem: Path, out: Path, *, horizon: int | None =
     diags = Diagnostics()
     checked = load_checked(written[1], written[0], diags)
     if checked is None or diags.has_errors:
-        first = next(iter(diags.errors), None)
-        where = str(first.span) if first is not None and first.span is not None else str(written[0])
+        err = next(iter(diags.errors), None)
+        span = err.span if err is not None else None
+        where = f"{span.file}:{span.line}:{span.column}" if span is not None else str(written[0])
         raise ImportFailed(
             codes.IMPORT_RECHECK_FAILED,
             "the written .cat files do not check (a bug in catc import: please report it): "
-            + (first.message if first is not None else "no instance"),
+            + (err.message if err is not None else "no instance"),
             where,
         )
     return ImportResult(
