@@ -16,12 +16,12 @@ import pytest
 
 pytest.importorskip("unified_planning")
 
-from conftest import run_catc  # noqa: E402
+from conftest import run_catc
 
-from catc.bench import corpus  # noqa: E402
-from catc.frontend.formatter import format_text  # noqa: E402
-from catc.interfaces import import_cli  # noqa: E402
-from catc.queries.solve import SolveStatus, solve  # noqa: E402
+from catc.bench import corpus
+from catc.frontend.formatter import format_text
+from catc.interfaces import import_cli
+from catc.queries.solve import SolveStatus, solve
 
 WHEEL = corpus.wheel_dir()
 assert WHEEL is not None

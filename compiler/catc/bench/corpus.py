@@ -72,6 +72,10 @@ class Row:
     catc_valid: bool | None = None
     roundtrip: str = "-"
     roundtrip_cost: Fraction | None = None
+    lpg: str = "-"  # LPG through up-lpg, where it is installed: solved | unsolvable | error | timeout
+    lpg_len: int | None = None
+    lpg_time: float | None = None
+    lpg_valid: bool | None = None
 
     @property
     def agrees(self) -> bool | None:
@@ -232,7 +236,51 @@ def run_case(case: Case, work: Path, timeout: float = 60.0, *, roundtrip: bool =
             _run_catc(row, res, up_problem, len(steps), timeout, optimise=True)
     if roundtrip:
         _roundtrip(row, res, out, "opt-blind" if row.enhsp_cost is not None else "sat-hadd", timeout)
+    _run_lpg(row, up_problem, timeout)
     return row
+
+
+def lpg_available() -> bool:
+    """Whether LPG (PyPI ``up-lpg``: a UP engine wrapping the LPG-td binary) is installed."""
+    import importlib.util
+
+    return importlib.util.find_spec("up_lpg") is not None
+
+
+def _run_lpg(row: Row, up_problem: Any, timeout: float) -> None:
+    """LPG on the problem UP read (a satisficing planner for numeric PDDL); its plan checked by
+    UP's validator like the others."""
+    if not lpg_available():
+        return
+    import warnings
+
+    from unified_planning.engines import PlanGenerationResultStatus as S
+    from unified_planning.shortcuts import OneshotPlanner
+
+    factory = up_problem.environment.factory
+    if "lpg" not in factory.engines:
+        factory.add_engine("lpg", "up_lpg.lpg_planner", "LPGEngine")
+    start = time.perf_counter()
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            with OneshotPlanner(name="lpg", environment=up_problem.environment) as planner:
+                res = planner.solve(up_problem, timeout=timeout)
+    except Exception as exc:  # the engine refuses the problem's kind, or the binary fails
+        row.lpg, row.lpg_time = f"error: {type(exc).__name__}", time.perf_counter() - start
+        return
+    row.lpg_time = time.perf_counter() - start
+    solved = (S.SOLVED_SATISFICING, S.SOLVED_OPTIMALLY)
+    row.lpg = {S.UNSOLVABLE_PROVEN: "unsat", S.TIMEOUT: "timeout"}.get(
+        res.status, "sat" if res.status in solved else "error"
+    )
+    if res.plan is not None and res.status in solved:
+        from unified_planning.engines import ValidationResultStatus
+        from unified_planning.engines.plan_validator import SequentialPlanValidator
+
+        row.lpg_len = len(res.plan.actions)
+        check = SequentialPlanValidator(environment=up_problem.environment).validate(up_problem, res.plan)
+        row.lpg_valid = check.status is ValidationResultStatus.VALID
 
 
 def _steps(output: str) -> list[str]:
@@ -305,15 +353,17 @@ def _ok(x: bool | None) -> str:
 
 def markdown(rows: list[Row], command: str) -> str:
     lines = [f"Produced by `{command}`.", ""]
+    lpg = any(r.lpg != "-" for r in rows)
     lines.append(
         "| problem | import | morphisms | metric | ENHSP | cost/len | s | UP validator | catc | cost/len | s | "
         "UP validator | round trip (ENHSP on catc's export) | agree |"
+        + (" LPG (up-lpg) len/s/validator |" if lpg else "")
     )
-    lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|" + ("---|" if lpg else ""))
     for r in rows:
         if not r.imported:
             why = "; ".join(w for w, _ in r.refused)
-            lines.append(f"| {r.case.name} | refused: {why} | | | | | | | | | | | | |")
+            lines.append(f"| {r.case.name} | refused: {why} | | | | | | | | | | | | |" + (" |" if lpg else ""))
             continue
         ec = f"{_num(r.enhsp_cost)}/{r.enhsp_len}" if r.enhsp_len is not None else "-"
         cc = f"{_num(r.catc_cost)}/{r.catc_len}" if r.catc_len is not None else "-"
@@ -322,6 +372,11 @@ def markdown(rows: list[Row], command: str) -> str:
         lines.append(
             f"| {r.case.name} | ok | {r.morphisms} | {r.metric or '-'} | {r.enhsp} | {ec} | {_t(r.enhsp_time)} | "
             f"{_ok(r.enhsp_valid)} | {r.catc} | {cc} | {_t(r.catc_time)} | {_ok(r.catc_valid)} | {rt} | {agree} |"
+            + (
+                f" {r.lpg} {r.lpg_len if r.lpg_len is not None else '-'}/{_t(r.lpg_time)}/{_ok(r.lpg_valid)} |"
+                if lpg
+                else ""
+            )
         )
     return "\n".join(lines) + "\n"
 
@@ -337,3 +392,35 @@ def growth_markdown(rows: list[Row]) -> str:
             f"{r.enhsp_len if r.enhsp_len is not None else '-'} | {_t(r.catc_time)} | {_t(r.enhsp_time)} |"
         )
     return "\n".join(lines) + "\n"
+
+
+def run_corpus(
+    work: Path,
+    timeout: float,
+    only: tuple[str, ...] = (),
+    *,
+    families: bool = True,
+    log: Any = None,
+) -> tuple[list[Row], str]:
+    """Every case of the wheel (temporal ones too: they are refused, by kind) and the families;
+    the rows and the Markdown (the corpus table, then growth with size)."""
+    import shlex
+    import sys
+
+    cases = wheel_cases() + (family_cases(work) if families else [])
+    cases = [c for c in cases if not only or any(t in c.name for t in only)]
+    rows = []
+    for c in cases:
+        if log is not None:
+            log(f"corpus: {c.name}")
+        rows.append(run_case(c, work, timeout))
+    argv = (
+        ["catc", "bench"] + sys.argv[2:]
+        if len(sys.argv) > 1 and sys.argv[1] == "bench"
+        else ["catc", "bench", "--corpus"]
+    )
+    command = " ".join(shlex.quote(a) for a in argv)
+    text = "## The PDDL corpus\n\n" + markdown(rows, command)
+    if any(r.case.size is not None for r in rows):
+        text += "\n## Growth with instance size\n\n" + growth_markdown(rows)
+    return rows, text
