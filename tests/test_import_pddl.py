@@ -233,3 +233,16 @@ def test_every_non_temporal_wheel_problem_agrees_or_is_refused_with_reasons(case
         return
     assert row.agrees is not False, row
     assert row.enhsp_valid is not False and row.catc_valid is not False, row
+
+
+@needs_enhsp
+def test_bench_corpus_prints_the_corpus_and_growth_tables(tmp_path):
+    r = run_catc(
+        "bench", "--corpus", "--only", "counters-2", "--only", "matchcellar", "--timeout", "60", "--no-compile"
+    )
+    assert r.exit_code == 0, r.output
+    assert "| matchcellar | refused: CONTINUOUS_TIME" in r.stdout
+    row = next(line for line in r.stdout.splitlines() if line.startswith("| counters-2 | ok"))
+    # two counters from 0, c0 < c1: one increment; both tools find it, the validator accepts both
+    assert "| sat | -/1 |" in row and row.count("| valid |") == 2 and row.endswith("| yes |")
+    assert "## Growth with instance size" in r.stdout and "| counters | 2 | 4 | 1/1 |" in r.stdout

@@ -155,10 +155,10 @@ def _locate(feature: str, files: Iterable[Path]) -> str | None:
     return None
 
 
-def _position(loc: str) -> tuple[int, int, int]:
+def _position(loc: str, domain: Path) -> tuple[int, int, int]:
     """``file:line:col`` → a key that orders the domain's locations before the problem's."""
     file, line, col = loc.rsplit(":", 2)
-    return (0 if file.endswith(("domain.pddl", "d.pddl")) else 1, int(line), int(col))
+    return (0 if file == str(domain) else 1, int(line), int(col))
 
 
 def _count(inst: ir.Instance) -> dict[str, int]:
@@ -279,7 +279,8 @@ def import_pddl(domain: Path, problem: Path, out: Path, *, horizon: int | None =
     except UpImportError as exc:
         refused = [(w, r, _locate(w, (domain, problem))) for w, r in exc.report.refused]
         report_file.write_text(_report(domain, problem, up_problem, exc.report, None, refused, None), encoding="utf-8")
-        first = min((loc for _, _, loc in refused if loc), key=_position, default=None)  # the first in the files
+        # the first in the files: the domain's before the problem's
+        first = min((loc for _, _, loc in refused if loc), key=lambda loc: _position(loc, domain), default=None)
         reasons = "; ".join(f"{w}: {r}" for w, r, _ in refused)
         raise ImportFailed(
             codes.IMPORT_UNSUPPORTED,
