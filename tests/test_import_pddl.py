@@ -193,7 +193,7 @@ def test_generated_families_import(tmp_path):
 
 
 @needs_enhsp
-@pytest.mark.parametrize("folder", ["counters", "depot"])
+@pytest.mark.parametrize("folder", ["counters", "safe_road", "depot"])
 def test_small_wheel_problems_agree_with_enhsp(folder, tmp_path):
     """ENHSP on the original PDDL, catc on the import: both SAT, catc's shortest plan no longer
     than ENHSP's, both plans valid for UP's validator, and ENHSP on catc's export of the import
