@@ -218,6 +218,12 @@ def test_the_corpus_table_marks_disagreement():
     assert corpus.Row(case, imported=True, enhsp="sat", catc="sat", enhsp_len=3, catc_len=4).agrees is False
     cost = corpus.Row(case, imported=True, metric="cost", enhsp="sat", catc="sat", enhsp_cost=5, catc_cost=6)
     assert cost.agrees is False
+    par = corpus.Row(case, imported=True, enhsp="sat", catc="unknown", par="sat", par_valid=True, enhsp_valid=True)
+    assert par.agrees is True  # the parallel run settles the answer when the sequential one gives up
+    par.par_valid = False
+    assert par.agrees is False
+    assert corpus.Row(case, imported=True, enhsp="sat", catc="sat", par="unsat").agrees is False
+    assert corpus.Row(case, imported=True, enhsp="timeout", catc="sat").agrees is None
     refused = corpus.Row(case, refused=[("PROCESSES", "why")])
     assert refused.agrees is None and "refused: PROCESSES" in corpus.markdown([refused], "cmd")
 

@@ -72,6 +72,11 @@ class Row:
     catc_valid: bool | None = None
     roundtrip: str = "-"
     roundtrip_cost: Fraction | None = None
+    par: str = "-"  # catc with parallel steps (no --sequential), its plan linearised step by step
+    par_steps: int | None = None
+    par_len: int | None = None
+    par_time: float | None = None
+    par_valid: bool | None = None
     lpg: str = "-"  # LPG through up-lpg, where it is installed: solved | unsolvable | error | timeout
     lpg_len: int | None = None
     lpg_time: float | None = None
@@ -79,23 +84,27 @@ class Row:
 
     @property
     def agrees(self) -> bool | None:
-        """None when there is nothing to compare (refused, or a tool gave up); the round trip
-        counts where the export is whole."""
-        if not self.imported or self.enhsp not in ("sat", "unsat") or self.catc not in ("sat", "unsat"):
+        """None when there is nothing to compare (refused, or every catc run or ENHSP gave up).
+        catc's sequential and parallel answers must both match ENHSP's where given, every plan
+        must be valid, an optimal cost found by both must be equal, catc's shortest plan no
+        longer than ENHSP's, and the round trip (where the export is whole) the same."""
+        if not self.imported or self.enhsp not in ("sat", "unsat"):
             return None
-        if self.enhsp != self.catc:
+        answers = [a for a in (self.catc, self.par) if a in ("sat", "unsat")]
+        if not answers:
+            return None
+        if any(a != self.enhsp for a in answers) or False in (self.catc_valid, self.par_valid, self.enhsp_valid):
             return False
-        if self.enhsp == "unsat":
+        if self.enhsp == "sat":
+            both_costs = None not in (self.enhsp_cost, self.catc_cost)
+            if self.metric is not None and both_costs and self.catc_cost != self.enhsp_cost:
+                return False
+            if self.metric is None and self.catc == "sat" and (self.catc_len or 0) > (self.enhsp_len or 0):
+                return False
+        if self.roundtrip not in ("sat", "unsat"):
             return True
-        if self.metric is not None and self.enhsp_cost is not None and self.catc_cost != self.enhsp_cost:
-            return False
-        if self.metric is None and self.enhsp_len is not None and (self.catc_len or 0) > self.enhsp_len:
-            return False
-        if self.roundtrip in ("sat", "unsat") and (
-            self.roundtrip != self.enhsp or (self.metric is not None and self.roundtrip_cost != self.enhsp_cost)
-        ):
-            return False
-        return bool(self.catc_valid) and bool(self.enhsp_valid)
+        same_cost = None in (self.roundtrip_cost, self.enhsp_cost) or self.roundtrip_cost == self.enhsp_cost
+        return self.roundtrip == self.enhsp and same_cost
 
 
 def wheel_dir() -> Path | None:
@@ -225,6 +234,7 @@ def run_case(case: Case, work: Path, timeout: float = 60.0, *, roundtrip: bool =
         row.enhsp_len = len(steps)
         row.enhsp_valid = up_validates(up_problem, steps)
     _run_catc(row, res, up_problem, row.enhsp_len if row.enhsp_len is not None else CAP, timeout, optimise=False)
+    _run_parallel(row, res, up_problem, row.enhsp_len if row.enhsp_len is not None else CAP, timeout)
     if row.metric is not None and row.enhsp == "sat":  # the optimum: ENHSP's opt-blind, then catc's
         opt = run_enhsp(case.domain, case.problem, planner="opt-blind", timeout=timeout)
         row.enhsp_time = (row.enhsp_time or 0) + opt.wall
@@ -257,14 +267,14 @@ def _run_lpg(row: Row, up_problem: Any, timeout: float) -> None:
     from unified_planning.engines import PlanGenerationResultStatus as S
     from unified_planning.shortcuts import OneshotPlanner
 
-    factory = up_problem.environment.factory
-    if "lpg" not in factory.engines:
+    factory = up_problem.environment.factory  # UP knows "lpg" by name once up-lpg is installed
+    if "lpg" not in factory.engines:  # pragma: no cover - an older UP
         factory.add_engine("lpg", "up_lpg.lpg_planner", "LPGEngine")
     start = time.perf_counter()
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            with OneshotPlanner(name="lpg", environment=up_problem.environment) as planner:
+            with OneshotPlanner(name="lpg") as planner:
                 res = planner.solve(up_problem, timeout=timeout)
     except Exception as exc:  # the engine refuses the problem's kind, or the binary fails
         row.lpg, row.lpg_time = f"error: {type(exc).__name__}", time.perf_counter() - start
@@ -296,7 +306,8 @@ def _run_catc(row: Row, res: Any, up_problem: Any, horizon: int, timeout: float,
     start = time.perf_counter()
     if optimise:
         o = optimize(res.instance, horizon=horizon, sequential=True, timeout=timeout)
-        row.catc = {OptStatus.OPT: "sat", OptStatus.UNSAT: "unsat"}.get(o.status, o.status.value)
+        if o.status in (OptStatus.OPT, OptStatus.UNSAT) or row.catc not in ("sat", "unsat"):
+            row.catc = {OptStatus.OPT: "sat", OptStatus.UNSAT: "unsat"}.get(o.status, o.status.value)
         plan = o.plan if o.status is OptStatus.OPT else None
         if plan is not None and o.values:
             row.catc_cost = o.values[0].value
@@ -309,6 +320,23 @@ def _run_catc(row: Row, res: Any, up_problem: Any, horizon: int, timeout: float,
         steps = [res.actions[a.morphism] for step in plan.steps for a in step]
         row.catc_len = len(steps)
         row.catc_valid = (row.catc_valid is not False) and up_validates(up_problem, steps)
+
+
+def _run_parallel(row: Row, res: Any, up_problem: Any, horizon: int, timeout: float) -> None:
+    """catc ``solve`` with parallel steps: a step's activations do not interfere (none reads or
+    assigns what another writes), so any order of them is a sequential plan; the steps are
+    written out in catc's order and UP's validator judges the sequence."""
+    from catc.queries.solve import SolveStatus, solve
+
+    start = time.perf_counter()
+    s = solve(res.instance, horizon=horizon, sequential=False, timeout=timeout)
+    row.par_time = time.perf_counter() - start
+    row.par = {SolveStatus.SAT: "sat", SolveStatus.UNSAT: "unsat"}.get(s.status, s.status.value)
+    if s.status is SolveStatus.SAT and s.plan is not None:
+        steps = [res.actions[a.morphism] for step in s.plan.steps for a in step]
+        row.par_steps = sum(1 for step in s.plan.steps if step)
+        row.par_len = len(steps)
+        row.par_valid = up_validates(up_problem, steps)
 
 
 def _roundtrip(row: Row, res: Any, out: Path, planner: str, timeout: float) -> None:
@@ -330,7 +358,7 @@ def _roundtrip(row: Row, res: Any, out: Path, planner: str, timeout: float) -> N
     (d / "problem.pddl").write_text(ex.problem)
     en = run_enhsp(d / "domain.pddl", d / "problem.pddl", planner=planner, timeout=timeout)
     row.roundtrip = en.status
-    if en.status == "sat" and row.metric is not None:
+    if en.status == "sat" and planner == "opt-blind":  # an optimum, comparable with the original's
         row.roundtrip_cost = _fraction(en.metric)
 
 
@@ -356,22 +384,27 @@ def markdown(rows: list[Row], command: str) -> str:
     lpg = any(r.lpg != "-" for r in rows)
     lines.append(
         "| problem | import | morphisms | metric | ENHSP | cost/len | s | UP validator | catc | cost/len | s | "
-        "UP validator | round trip (ENHSP on catc's export) | agree |"
+        "UP validator | catc parallel steps/len/s/validator | round trip (ENHSP on catc's export) | agree |"
         + (" LPG (up-lpg) len/s/validator |" if lpg else "")
     )
-    lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|" + ("---|" if lpg else ""))
+    lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|" + ("---|" if lpg else ""))
     for r in rows:
         if not r.imported:
             why = "; ".join(w for w, _ in r.refused)
-            lines.append(f"| {r.case.name} | refused: {why} | | | | | | | | | | | | |" + (" |" if lpg else ""))
+            lines.append(f"| {r.case.name} | refused: {why} | | | | | | | | | | | | | |" + (" |" if lpg else ""))
             continue
         ec = f"{_num(r.enhsp_cost)}/{r.enhsp_len}" if r.enhsp_len is not None else "-"
         cc = f"{_num(r.catc_cost)}/{r.catc_len}" if r.catc_len is not None else "-"
         rt = r.roundtrip + (f" {_num(r.roundtrip_cost)}" if r.roundtrip_cost is not None else "")
         agree = {None: "-", True: "yes", False: "NO"}[r.agrees]
+        par = r.par
+        if r.par_len is not None:
+            par += f" {r.par_steps}/{r.par_len}/{_t(r.par_time)}/{_ok(r.par_valid)}"
+        elif r.par_time is not None:
+            par += f" -/-/{_t(r.par_time)}/-"
         lines.append(
             f"| {r.case.name} | ok | {r.morphisms} | {r.metric or '-'} | {r.enhsp} | {ec} | {_t(r.enhsp_time)} | "
-            f"{_ok(r.enhsp_valid)} | {r.catc} | {cc} | {_t(r.catc_time)} | {_ok(r.catc_valid)} | {rt} | {agree} |"
+            f"{_ok(r.enhsp_valid)} | {r.catc} | {cc} | {_t(r.catc_time)} | {_ok(r.catc_valid)} | {par} | {rt} | {agree} |"
             + (
                 f" {r.lpg} {r.lpg_len if r.lpg_len is not None else '-'}/{_t(r.lpg_time)}/{_ok(r.lpg_valid)} |"
                 if lpg
@@ -383,13 +416,18 @@ def markdown(rows: list[Row], command: str) -> str:
 
 def growth_markdown(rows: list[Row]) -> str:
     """Runtime against the family's size parameter (counters: n; sailing: persons)."""
-    lines = ["| family | size | morphisms | plan length (catc/ENHSP) | catc s | ENHSP s |", "|---|---|---|---|---|---|"]
+    lines = [
+        "| family | size | morphisms | plan length (catc/ENHSP) | catc s | catc parallel steps/len | catc parallel s | ENHSP s |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for r in rows:
         if r.case.size is None or not r.imported:
             continue
         lines.append(
             f"| {r.case.family} | {r.case.size} | {r.morphisms} | {r.catc_len if r.catc_len is not None else '-'}/"
-            f"{r.enhsp_len if r.enhsp_len is not None else '-'} | {_t(r.catc_time)} | {_t(r.enhsp_time)} |"
+            f"{r.enhsp_len if r.enhsp_len is not None else '-'} | {_t(r.catc_time)} | "
+            f"{r.par_steps if r.par_steps is not None else '-'}/{r.par_len if r.par_len is not None else '-'} | "
+            f"{_t(r.par_time)} | {_t(r.enhsp_time)} |"
         )
     return "\n".join(lines) + "\n"
 
