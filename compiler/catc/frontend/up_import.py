@@ -1,4 +1,6 @@
-"""A front end for unified-planning: a UP ``Problem`` → catc's checked IR (:class:`~catc.ir.Instance`).
+"""unified-planning problems into catc's IR.
+
+A front end: a UP ``Problem`` → catc's checked IR (:class:`~catc.ir.Instance`).
 
 The problem is *grounded* first with unified-planning's own compilers (quantifiers removed by
 ``up_quantifiers_remover``, actions instantiated by ``up_grounder``, which drops the ground
@@ -17,10 +19,13 @@ delete); two assignments of different values to a numeric or object fluent, or a
 and an increase of one fluent, make the action inapplicable (a precondition says they do not
 happen); increases and decreases add up; conditional effects become ``if`` terms.
 
+Action costs that read fluents the actions change are summed in a resource of their own (each
+in the state before its action, as UP evaluates them) and minimised in the final state.
+
 What catc cannot express — time, processes, hierarchies, undefined initial values, trajectory
-constraints, unbounded or real action parameters, action costs that change with the state, a
-makespan metric — is refused: :func:`up_to_instance` raises :class:`UpImportError` (code
-``E1201``) whose :class:`ImportReport` lists every reason; nothing is dropped silently.
+constraints, unbounded or real action parameters, a makespan metric — is refused:
+:func:`up_to_instance` raises :class:`UpImportError` (code ``E1201``) whose
+:class:`ImportReport` lists every reason; nothing is dropped silently.
 
 unified-planning is imported only inside these functions (the ``up`` extra).
 """
@@ -36,7 +41,7 @@ from catc import ir
 from catc.ir import BOOL, INT, REAL, Sort, SortKind
 from catc.ir.fold import FoldError, fold_constant
 from catc.semantics.plan import Plan
-from catgrammar import codes
+from catgrammar import codes, limits
 from catgrammar.symbols import RESERVED_NAMES
 
 __all__ = [
@@ -91,6 +96,7 @@ SUPPORTED_FEATURES: tuple[str, ...] = (
     "STATIC_FLUENTS_IN_ACTIONS_COST",
     "INT_NUMBERS_IN_ACTIONS_COST",
     "REAL_NUMBERS_IN_ACTIONS_COST",
+    "FLUENTS_IN_ACTIONS_COST",
     "INT_NUMBERS_IN_OVERSUBSCRIPTION",
     "REAL_NUMBERS_IN_OVERSUBSCRIPTION",
     "STATE_INVARIANTS",
@@ -98,11 +104,25 @@ SUPPORTED_FEATURES: tuple[str, ...] = (
 
 #: Why a feature outside :data:`SUPPORTED_FEATURES` is refused (the import report's words).
 WHY_NOT: Mapping[str, str] = {
-    "UNDEFINED_INITIAL_NUMERIC": "a fluent without an initial value: catc's initial state is complete",
-    "UNDEFINED_INITIAL_SYMBOLIC": "a fluent without an initial value: catc's initial state is complete",
+    "UNDEFINED_INITIAL_NUMERIC": "a fluent without an initial value: catc's initial state is complete, "
+    "and UP leaves open what reading an undefined value means",
+    "UNDEFINED_INITIAL_SYMBOLIC": "a fluent without an initial value: catc's initial state is complete, "
+    "and UP leaves open what reading an undefined value means",
+    "HIERARCHICAL": "tasks and methods: catc has no task networks",
+    "CONTINUOUS_TIME": "time: catc's steps are instantaneous",
+    "DISCRETE_TIME": "time: catc's steps are instantaneous",
+    "SCHEDULING": "scheduling needs time: catc's steps are instantaneous",
+    "PROCESSES": "processes are continuous change over time",
+    "EVENTS": "events fire in time (PDDL+)",
+    "INCREASE_CONTINUOUS_EFFECTS": "continuous change over time",
+    "DECREASE_CONTINUOUS_EFFECTS": "continuous change over time",
+    "NON_LINEAR_CONTINUOUS_EFFECTS": "continuous change over time",
+    "CONTINGENT": "sensing and contingent plans",
+    "ACTION_BASED_MULTI_AGENT": "several agents",
+    "TAMP": "motion planning (TAMP)",
+    "TEMPORAL_OVERSUBSCRIPTION": "a temporal metric",
     "UNBOUNDED_INT_ACTION_PARAMETERS": "an unbounded int action parameter cannot be grounded",
     "REAL_ACTION_PARAMETERS": "a real action parameter cannot be grounded",
-    "FLUENTS_IN_ACTIONS_COST": "an action cost that changes with the state: catc's :cost is fixed per action",
     "MAKESPAN": "a makespan metric is temporal",
     "TRAJECTORY_CONSTRAINTS": "trajectory constraints other than state invariants",
     "SIMULATED_EFFECTS": "simulated effects are Python code, not a model",
@@ -171,29 +191,27 @@ def _up() -> Any:
 
 def supported_kind() -> Any:
     """The UP ``ProblemKind`` catc accepts."""
-    from unified_planning.model import ProblemKind
+    from unified_planning.model.problem_kind import LATEST_PROBLEM_KIND_VERSION, ProblemKind
 
-    kind = ProblemKind(version=2)
-    for feature in SUPPORTED_FEATURES:
-        kind.set(_category(feature), feature)
-    return kind
-
-
-def _category(feature: str) -> str:
-    from unified_planning.model.problem_kind import FEATURES
-
-    for category, names in FEATURES.items():
-        if feature in names:
-            return category
-    raise KeyError(feature)
+    return ProblemKind(set(SUPPORTED_FEATURES), version=LATEST_PROBLEM_KIND_VERSION)
 
 
 def refusals(kind: Any) -> list[tuple[str, str]]:
     """The features of ``kind`` catc does not accept, each with its reason."""
+    from unified_planning.model.problem_kind import FEATURES
+
+    by_category = {
+        "TIME": "time: catc's steps are instantaneous",
+        "EXPRESSION_DURATION": "durations: catc's steps are instantaneous",
+        "HIERARCHICAL": "tasks and methods: catc has no task networks",
+        "MULTI_AGENT": "several agents",
+    }
+    category = {f: c for c, names in FEATURES.items() for f in names}
     out = []
     for feature in sorted(kind.features):
         if feature not in SUPPORTED_FEATURES:
-            out.append((feature, WHY_NOT.get(feature, "not expressible in catc (see docs/interop.md)")))
+            why = WHY_NOT.get(feature) or by_category.get(category.get(feature, ""), "not expressible in catc")
+            out.append((feature, why))
     return out
 
 
@@ -232,7 +250,8 @@ def up_to_instance(problem: Any, *, name: str | None = None) -> tuple[ir.Instanc
     (``report.sequential``); its problem has no horizon (pass one to the query). Map a catc
     composition back with :func:`plan_to_up` (``report.actions``). Raises :class:`UpImportError`
     (code ``E1201``, ``.report.refused`` non-empty) when the problem uses anything catc cannot
-    express, and :class:`UpMissing` (an ``ImportError``, code ``E1202``) naming the ``up`` extra
+    express, :class:`~catgrammar.limits.LimitExceeded` when the grounded problem has more
+    resources or morphisms than the limits allow (``E1104``/``E1105``), and :class:`UpMissing` (an ``ImportError``, code ``E1202``) naming the ``up`` extra
     without unified-planning. The
     signature is stable: ``catc import pddl`` builds on it."""
     _up()
@@ -245,7 +264,27 @@ def up_to_instance(problem: Any, *, name: str | None = None) -> tuple[ir.Instanc
     inst = _Converter(ground, back, report, name or problem.name).run()
     if not report.ok:
         raise UpImportError(report)
+    _within_limits(inst)
+    report.notes += [
+        f"grounded by unified-planning's grounder: {len(inst.morphisms)} ground actions → morphisms without "
+        f"parameters, {len(inst.resources)} ground fluents read or written → resources",
+        "static fluents (written by no action) replaced by their initial values",
+        "sequential semantics: solve with sequential=True (one action per step); catc's parallel steps "
+        "could put two UP actions in one step",
+    ]
     return inst, report
+
+
+def _within_limits(inst: ir.Instance) -> None:
+    """The checker's limits on resources and morphisms hold for an imported instance too."""
+    for name, count in (("resources", len(inst.resources)), ("morphisms", len(inst.morphisms))):
+        limit = limits.BY_NAME[name]
+        most = getattr(limits.current(), limit.field)
+        if count > most:
+            raise limits.LimitExceeded(
+                limit.code,
+                f"the grounded problem has {count} {name}, more than the {name} limit ({most}); {limit.how_to_raise}",
+            )
 
 
 def _ground(problem: Any) -> tuple[Any, Callable[[Any], Any]]:
@@ -288,6 +327,7 @@ class _Converter:
         self.resource_of: dict[Any, str] = {}  # ground fluent FNode → resource name
         self.numeric = False
         self.symbols = False
+        self.cost_resource: str | None = None  # the summed costs, when they read changing fluents
 
     # ------------------------------------------------------------ the whole
 
@@ -303,6 +343,11 @@ class _Converter:
         softs, metric = self._metric()
         self._invariants_hold_initially(goal)
         init = self._initial_state()
+        if self.cost_resource is not None:
+            init[self.cost_resource] = ir.InitValue(
+                self.cost_resource, ir.Const(Fraction(0), REAL), f"init/{self.cost_resource}"
+            )
+            self.report.labels[f"init/{self.cost_resource}"] = "no cost at first"
         reqs = {"numeric", "optimization"} if (self.numeric or metric or softs) else set()
         if self.symbols:
             reqs.add("symbols")
@@ -361,6 +406,8 @@ class _Converter:
             self.resource_of[node] = name
             self.resources[name] = ir.Resource(name, sort, lower=lo, upper=hi, doc=f"UP fluent {node}")
             self.report.fluents[name] = str(node)
+            if lo is not None or hi is not None:
+                self.report.labels[f"bounds/{name}"] = f"the bounds of {node.fluent().type} on {node}"
         return name
 
     def _initial_state(self) -> dict[str, ir.InitValue]:
@@ -377,6 +424,7 @@ class _Converter:
         if node.is_int_constant() or node.is_real_constant():
             return ir.Const(Fraction(node.constant_value()), INT if sort.kind is SortKind.INT else REAL)
         if node.is_object_exp():
+            self.symbols = True
             return ir.Const(self.object_names[node.object().name], self._sort_by_up[node.object().type.name])
         raise _Refused(f"value {node}", "not a constant")
 
@@ -429,7 +477,7 @@ class _Converter:
 
     # ------------------------------------------------------------ actions
 
-    def _morphism(self, action: Any, costs: Mapping[Any, Fraction]) -> ir.Morphism | None:
+    def _morphism(self, action: Any, costs: Mapping[Any, Fraction | ir.Expr]) -> ir.Morphism | None:
         name = self.names.fresh(action.name)
         from unified_planning.plans import ActionInstance
 
@@ -446,6 +494,13 @@ class _Converter:
             self.report.refuse(r.what, r.why)
             return None
         cost = costs.get(action)
+        if self.cost_resource is not None and cost is not None:  # costs summed in a resource
+            amount = ir.Const(cost, REAL) if isinstance(cost, Fraction) else cost
+            label = f"eff/{name}/{len(effects)}"
+            effects.append(ir.Effect(ir.EffectKind.INCREASE, self.cost_resource, amount, label))
+            self.report.labels[label] = f"the cost of {up_name}"
+            cost = None
+        assert cost is None or isinstance(cost, Fraction)  # a fixed cost, else summed above
         return ir.Morphism(
             name,
             ir.MorphismKind.BEHAVIOR,
@@ -479,42 +534,59 @@ class _Converter:
         invs = self.g.state_invariants
         if not invs:
             return
-        from unified_planning.engines.sequential_simulator import UPSequentialSimulator
+        from unified_planning.model import UPState
+        from unified_planning.model.walkers import StateEvaluator
 
-        with UPSequentialSimulator(self.g, error_on_failed_checks=False) as sim:
-            state = sim.get_initial_state()
-            for i, inv in enumerate(invs):
-                if not sim._se.evaluate(inv, state).bool_constant_value():
-                    label = f"goal/{len(goal)}"
-                    goal.append(ir.Literal(ir.Const(False, BOOL), label))
-                    self.report.labels[label] = f"state invariant {i + 1} is false in the initial state: {inv}"
+        state, evaluator = UPState(self.g.initial_values, self.g), StateEvaluator(self.g)
+        for i, inv in enumerate(invs):
+            if not evaluator.evaluate(inv, state).bool_constant_value():
+                label = f"goal/{len(goal)}"
+                goal.append(ir.Literal(ir.Const(False, BOOL), label))
+                self.report.labels[label] = f"state invariant {i + 1} is false in the initial state: {inv}"
 
     # ------------------------------------------------------------ the metric
 
-    def _costs(self) -> dict[Any, Fraction]:
+    def _costs(self) -> dict[Any, Fraction | ir.Expr]:
+        """Each ground action's cost: a number, or (when it reads fluents that actions change)
+        a term over the state before the action, summed in a resource of its own."""
         from unified_planning.model.metrics import MinimizeActionCosts, MinimizeSequentialPlanLength
 
-        out: dict[Any, Fraction] = {}
+        out: dict[Any, Fraction | ir.Expr] = {}
         for m in self.g.quality_metrics:
             if isinstance(m, MinimizeSequentialPlanLength):
                 out.update((a, Fraction(1)) for a in self.g.actions)
             elif isinstance(m, MinimizeActionCosts):
                 for a in self.g.actions:
                     node = m.get_action_cost(a)
-                    out[a] = Fraction(0) if node is None else self._fixed_cost(node, a)
+                    if node is None:
+                        self.report.refuse(f"cost of {a.name}", "no cost and no default: UP cannot evaluate the metric")
+                        continue
+                    out[a] = self._cost(node, a)
+        if any(not isinstance(c, Fraction) for c in out.values()):
+            name = self.names.fresh("total-cost")
+            self.cost_resource = name
+            self.resources[name] = ir.Resource(name, REAL, doc="the sum of the UP action costs so far")
+            self.report.notes.append(
+                f"action costs that read changing fluents: summed in the resource {name} (each in the state "
+                "before its action, as UP evaluates them), minimised in the final state"
+            )
         return out
 
-    def _fixed_cost(self, node: Any, action: Any) -> Fraction:
+    def _cost(self, node: Any, action: Any) -> Fraction | ir.Expr:
         try:
-            value = fold_constant(self.expr(node))
-        except (_Refused, FoldError):
-            value = None
-        if value is None or not isinstance(value, ir.Const) or isinstance(value.value, (bool, str)):
-            self.report.refuse(f"cost of {action.name}", "the cost changes with the state; catc's :cost is fixed")
+            term = self.expr(node)
+        except _Refused as r:
+            self.report.refuse(r.what, r.why)
             return Fraction(0)
-        if value.value < 0:
-            self.report.refuse(f"cost of {action.name}", "a negative action cost; catc's :cost is non-negative")
-        return Fraction(value.value)
+        try:
+            value = fold_constant(term)
+        except FoldError:
+            value = None
+        if isinstance(value, ir.Const) and isinstance(value.value, Fraction):
+            if value.value < 0:
+                self.report.refuse(f"cost of {action.name}", "a negative action cost; catc's :cost is non-negative")
+            return value.value
+        return term
 
     def _metric(self) -> tuple[list[ir.Soft], ir.Metric | None]:
         from unified_planning.model import metrics as um
@@ -527,6 +599,9 @@ class _Converter:
             return [], None
         m = metrics[0]
         self.numeric = True
+        if self.cost_resource is not None:
+            self.report.optimal_metric = "final"
+            return [], _single(ir.Sense.MINIMIZE, ir.ResourceRef(self.cost_resource, REAL))
         if isinstance(m, (um.MinimizeActionCosts, um.MinimizeSequentialPlanLength)):
             self.report.optimal_metric = "cost" if isinstance(m, um.MinimizeActionCosts) else "length"
             return [], _single(ir.Sense.MINIMIZE, ir.TotalCost())

@@ -1,0 +1,359 @@
+"""catc as a unified-planning planning engine.
+
+``OneshotPlanner(name="catc")`` and ``AnytimePlanner(name="catc")``.
+
+Register it once per process (UP 1.3 finds engines by its factory, not by entry points)::
+
+    get_environment().factory.add_engine("catc", "catc.interfaces.up_engine", "CatcEngine")
+
+or in an ``up.ini`` (``[engine catc]`` with ``module_name = catc.interfaces.up_engine`` and
+``class_name = CatcEngine``). The problem is converted to catc's IR directly
+(:mod:`catc.frontend.up_import`, no text in between) and solved with sequential steps, so a
+catc composition is a UP ``SequentialPlan``; every plan is replayed by catc's validator before
+it is returned.
+
+Statuses, honestly:
+
+* ``SOLVED_SATISFICING`` — a plan; with a metric, one not proven optimal (the time ran out, or
+  the metric has no bound on the length of better plans).
+* ``SOLVED_OPTIMALLY`` — only with a metric, when optimality holds for *every* plan length,
+  not only within catc's horizon: plan length (the shortest plan is found by deepening one
+  step at a time); action costs all positive (a plan cheaper than the first one found, of cost
+  C, has at most ⌊C / c_min⌋ actions, and catc optimises over exactly that horizon); any
+  metric of the final state or of non-negative costs when the state space is finite, of N ≤
+  ``max_horizon`` + 1 states (some best plan visits no state twice: N − 1 actions); and
+  oversubscription when every goal is reached. Otherwise ``SOLVED_SATISFICING``.
+* ``UNSOLVABLE_PROVEN`` — catc's answer is a proof for every horizon: the relaxed-reachability
+  refutation, or a finite state space (Boolean and object fluents only) whose every state is
+  within the horizon searched.
+* ``UNSOLVABLE_INCOMPLETELY`` — no plan within the horizon searched (``max_horizon``), or the
+  solver could not decide. ``TIMEOUT`` — the time ran out before any answer.
+* ``UNSUPPORTED_PROBLEM`` — what catc cannot express (the import report in the log).
+
+Unsolvable answers carry catc's diagnosis — an irreducible set of the problem's constraints
+that together admit no plan, in UP's words — in the result's ``log_messages``.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from collections.abc import Iterator
+from fractions import Fraction
+from typing import IO, Any
+
+from catc import ir
+from catc.frontend import up_import
+from catc.frontend.up_import import ImportReport, UpImportError, plan_to_up, up_to_instance
+from catc.queries.diagnose import DiagnoseStatus, diagnose
+from catc.queries.optimize import OptStatus, optimize
+from catc.queries.solve import SolveResult, SolveStatus, solve
+from catc.semantics.plan import Plan
+from catgrammar import limits
+
+try:
+    import unified_planning as up
+    from unified_planning.engines import Credits, Engine, LogLevel, LogMessage, PlanGenerationResult
+    from unified_planning.engines import PlanGenerationResultStatus as Status
+    from unified_planning.engines.mixins import AnytimePlannerMixin, OneshotPlannerMixin
+    from unified_planning.engines.mixins.anytime_planner import AnytimeGuarantee
+    from unified_planning.engines.mixins.oneshot_planner import OptimalityGuarantee
+except ImportError as exc:  # the module is only imported by UP's factory, or by hand
+    raise up_import.UpMissing(up_import.MISSING) from exc
+
+__all__ = ["DEFAULT_MAX_HORIZON", "DEFAULT_OPT_HORIZON", "CatcEngine", "register"]
+
+#: The most actions of a plan the engine searches for (each horizon is checked in turn).
+DEFAULT_MAX_HORIZON = 200
+
+#: The horizon a metric is optimised over when it bounds no plan length (final values, gains,
+#: zero-cost actions): at least the first plan's length.
+DEFAULT_OPT_HORIZON = 20
+
+#: Seconds the diagnosis of an unsolvable problem may take (within the call's timeout).
+DIAGNOSIS_TIME = 10.0
+
+_CREDITS = Credits(
+    "catc",
+    "the catc authors",
+    "see the catc repository",
+    "https://github.com/",
+    "see the catc distribution",
+    "An SMT-based compiler for robot recomposition, used as a bounded sequential planner.",
+    "catc grounds the problem with unified-planning's grounder, encodes it to SMT (Z3) with "
+    "sequential steps, deepens the horizon one step at a time, optimises the metric, and "
+    "replays every plan in an independent validator; unsolvable problems are diagnosed.",
+)
+
+
+class CatcEngine(Engine, OneshotPlannerMixin, AnytimePlannerMixin):
+    """catc behind UP's ``OneshotPlanner`` / ``AnytimePlanner``.
+
+    Parameters (``OneshotPlanner(name="catc", params={...})``): ``max_horizon`` (the most
+    actions searched, default :data:`DEFAULT_MAX_HORIZON`), ``opt_horizon`` (the most actions
+    optimised over when the metric gives no bound, default :data:`DEFAULT_OPT_HORIZON`), ``optimize`` (default True: with a
+    metric, optimise it; False: the shortest plan only), ``diagnose`` (default True)."""
+
+    def __init__(
+        self,
+        max_horizon: int = DEFAULT_MAX_HORIZON,
+        opt_horizon: int = DEFAULT_OPT_HORIZON,
+        optimize: bool = True,
+        diagnose: bool = True,
+    ) -> None:
+        Engine.__init__(self)
+        OneshotPlannerMixin.__init__(self)
+        AnytimePlannerMixin.__init__(self)
+        self.max_horizon = int(max_horizon)
+        self.opt_horizon = int(opt_horizon)
+        most = limits.current().horizon
+        if not (0 <= self.max_horizon <= most and 0 <= self.opt_horizon <= most):
+            raise ValueError(
+                f"max_horizon and opt_horizon must be between 0 and the horizon limit ({most}); "
+                "raise it for a block with catgrammar.limits.using(Limits(horizon=N))"
+            )
+        self.optimize = bool(optimize)
+        self.diagnose = bool(diagnose)
+
+    @property
+    def name(self) -> str:
+        return "catc"
+
+    @staticmethod
+    def supported_kind() -> Any:
+        return up_import.supported_kind()
+
+    @staticmethod
+    def supports(problem_kind: Any) -> bool:
+        return bool(problem_kind <= up_import.supported_kind())
+
+    @staticmethod
+    def satisfies(optimality_guarantee: Any) -> bool:
+        # catc optimises a metric, but its horizon bounds the search: it cannot promise an
+        # optimal plan for every problem, so it does not declare SOLVED_OPTIMALLY; each answer's
+        # status says whether that one is proven optimal (above)
+        return bool(optimality_guarantee == OptimalityGuarantee.SATISFICING)
+
+    @staticmethod
+    def ensures(anytime_guarantee: Any) -> bool:
+        return bool(anytime_guarantee == AnytimeGuarantee.INCREASING_QUALITY)
+
+    @staticmethod
+    def get_credits(**kwargs: Any) -> Any:
+        return _CREDITS
+
+    # ------------------------------------------------------------ UP's entry points
+
+    def _solve(
+        self,
+        problem: Any,
+        heuristic: Any = None,
+        timeout: float | None = None,
+        output_stream: IO[str] | None = None,
+    ) -> Any:
+        if heuristic is not None:
+            warnings.warn("catc ignores the heuristic: it searches by SMT, not by states", stacklevel=2)
+        return list(_Run(self, problem, timeout).results())[-1]
+
+    def _get_solutions(self, problem: Any, timeout: float | None = None, output_stream: IO[str] | None = None) -> Any:
+        run = _Run(self, problem, timeout, anytime=True)
+        yield from run.results()
+
+
+class _Run:
+    """One call: convert, solve, optimise, diagnose; the results as they come."""
+
+    def __init__(self, engine: CatcEngine, problem: Any, timeout: float | None, anytime: bool = False) -> None:
+        self.engine, self.problem, self.anytime = engine, problem, anytime
+        self.deadline = None if timeout is None else time.monotonic() + timeout
+        self.log: list[Any] = []
+
+    def remaining(self) -> float | None:
+        """Seconds left (None: no limit); at least a millisecond, so that a query whose time
+        is up says so (UNKNOWN, "timeout") rather than refusing a zero limit."""
+        return None if self.deadline is None else max(0.001, self.deadline - time.monotonic())
+
+    def result(self, status: Any, plan: Plan | None = None, metrics: dict[str, str] | None = None) -> Any:
+        up_plan = None if plan is None else plan_to_up(plan, self.report, self.problem)
+        return PlanGenerationResult(status, up_plan, "catc", metrics=metrics or {}, log_messages=list(self.log))
+
+    def say(self, message: str, level: Any = None) -> None:
+        self.log.append(LogMessage(level or LogLevel.INFO, message))
+
+    def results(self) -> Iterator[Any]:
+        self.report = ImportReport()
+        try:
+            self.inst, self.report = up_to_instance(self.problem)
+        except UpImportError as refused:
+            self.report = refused.report
+            self.say(
+                "catc cannot express this problem (import report, E1201):\n" + refused.report.text(), LogLevel.ERROR
+            )
+            yield self.result(Status.UNSUPPORTED_PROBLEM)
+            return
+        except limits.LimitExceeded as past:  # grounded too large for catc's limits
+            self.say(f"catc: {past.message} ({past.code})", LogLevel.ERROR)
+            yield self.result(Status.UNSUPPORTED_PROBLEM)
+            return
+        for note in self.report.notes:
+            self.say("catc import: " + note, LogLevel.DEBUG)
+        first = solve(
+            self.inst, horizon=self.engine.max_horizon, sequential=True, timeout=self.remaining(), presolve=True
+        )
+        if first.status is not SolveStatus.SAT:
+            yield self._no_plan(first)
+            return
+        assert first.plan is not None
+        if self.problem.quality_metrics and self.engine.optimize:
+            if self.anytime:
+                yield self.result(Status.INTERMEDIATE, first.plan)
+            yield self._optimised(first.plan)
+        else:
+            self.say(f"catc: a shortest plan ({_length(first.plan)} actions, sequential steps)")
+            yield self.result(Status.SOLVED_SATISFICING, first.plan)
+
+    # ------------------------------------------------------------ no plan
+
+    def _no_plan(self, r: SolveResult) -> Any:
+        if r.status is SolveStatus.UNKNOWN:
+            if r.reason in ("timeout", "interrupted"):
+                self.say(
+                    f"catc: the time ran out after {r.horizons_tried} of {r.horizon + 1} horizons (0 to {r.horizon})"
+                )
+                return self.result(Status.TIMEOUT)
+            self.say(f"catc: the solver could not decide ({r.reason})", LogLevel.WARNING)
+            return self.result(Status.UNSOLVABLE_INCOMPLETELY)
+        states = _finite_states(self.inst, r.horizon + 1)
+        proven = r.final or states is not None
+        if r.refutation is not None:
+            why = f"no plan of any length: {r.refutation.reason} (relaxed reachability)"
+        elif r.final:
+            why = f"no plan of any length: no plan within {r.horizon} actions, the most any plan can take"
+        elif states is not None:
+            why = (
+                f"no plan of any length: no plan within {r.horizon} actions, and the problem has at most "
+                f"{states} states, each reachable within {states - 1} actions if at all"
+            )
+        else:
+            why = f"no plan of at most {r.horizon} actions (longer plans were not searched: max_horizon)"
+        self.say("catc: " + why)
+        if self.engine.diagnose:
+            self._diagnosis(min(r.horizon, 2 * len(self.inst.morphisms) + 2))
+        return self.result(Status.UNSOLVABLE_PROVEN if proven else Status.UNSOLVABLE_INCOMPLETELY)
+
+    def _diagnosis(self, horizon: int) -> None:
+        budget = DIAGNOSIS_TIME if self.remaining() is None else min(DIAGNOSIS_TIME, self.remaining() or 0.0)
+        d = diagnose(self.inst, horizon=horizon, sequential=True, relative_to=(), timeout=budget)
+        if d.status is DiagnoseStatus.UNSAT and d.cores:
+            self.report.labels.setdefault("horizon", f"at most {horizon} actions (longer plans were not searched)")
+            lines = [f"  - {self.report.describe(label)}" for label in d.cores[0]]
+            self.say(
+                f"catc diagnose: these constraints conflict: together they admit no plan of at most {horizon} "
+                "actions, and without any one of them the others do (an irreducible set):\n" + "\n".join(lines)
+            )
+        else:
+            self.say(f"catc diagnose: no core found ({d.status.value}{', ' + d.reason if d.reason else ''})")
+
+    # ------------------------------------------------------------ a metric
+
+    def _optimised(self, first: Plan) -> Any:
+        kind = self.report.optimal_metric
+        horizon, bound_proves = self._opt_horizon(first, kind)
+        if kind == "length":
+            self.say(f"catc: a shortest plan ({_length(first)} actions): optimal for plan length")
+            return self.result(Status.SOLVED_OPTIMALLY, first, _metric(_length(first)))
+        r = optimize(self.inst, horizon=horizon, sequential=True, timeout=self.remaining())
+        if r.plan is None:  # the time ran out (or the solver gave up) before anything was settled
+            self.say(f"catc optimize: {r.status.value} ({r.reason}); the first plan found is returned")
+            return self.result(Status.SOLVED_SATISFICING, first)
+        value = r.values[0].value if r.values else None
+        shown = None if value is None else value
+        if kind == "gain":
+            shown = _gain(self.inst, r)
+        proven = r.status is OptStatus.OPT and (bound_proves or (kind == "gain" and _all_softs_met(r)))
+        if r.status is OptStatus.OPT and not proven:
+            self.say(f"catc: optimal among plans of at most {horizon} actions (longer plans were not searched)")
+        elif proven:
+            self.say(f"catc: optimal (value {shown}) over every plan length")
+        else:
+            self.say(f"catc: the best plan found before the time ran out ({r.status.value})")
+        return self.result(Status.SOLVED_OPTIMALLY if proven else Status.SOLVED_SATISFICING, r.plan, _metric(shown))
+
+    def _opt_horizon(self, first: Plan, kind: str | None) -> tuple[int, bool]:
+        """The horizon to optimise over, and whether optimality over it is optimality over
+        every plan length. Two bounds prove it: with every action cost c ≥ c_min > 0, a plan
+        cheaper than the first one found (cost C) has at most ⌊C / c_min⌋ actions; with a
+        finite state space of N states, some best plan visits no state twice (the metric
+        depends on the final state, or on costs that are never negative), so it has at most
+        N − 1 actions."""
+        most = self.engine.max_horizon
+        length = _length(first)
+        bounds = []
+        states = _finite_states(self.inst, most + 1)
+        if states is not None:
+            bounds.append(states - 1)
+        if kind == "cost":
+            c_min = min((_cost(m) for m in self.inst.morphisms.values()), default=Fraction(0))
+            if c_min > 0:
+                c0 = sum((_cost(self.inst.morphisms[a.morphism]) for step in first.steps for a in step), Fraction(0))
+                bounds.append(int(c0 // c_min))
+        if bounds and max(length, min(bounds)) <= most:
+            return max(length, min(bounds)), True
+        return max(length, min(most, self.engine.opt_horizon)), False
+
+
+def _cost(m: ir.Morphism) -> Fraction:
+    if m.cost is None:
+        return Fraction(1)
+    assert isinstance(m.cost, ir.Const) and isinstance(m.cost.value, Fraction)
+    return m.cost.value
+
+
+def _length(plan: Plan) -> int:
+    return sum(len(step) for step in plan.steps)
+
+
+def _metric(value: Any) -> dict[str, str]:
+    return {} if value is None else {"catc_metric_value": str(value)}
+
+
+def _all_softs_met(r: Any) -> bool:
+    return all(not s.violated for s in r.softs)
+
+
+def _gain(inst: ir.Instance, r: Any) -> Fraction:
+    return sum((s.soft.weight for s in r.softs if not s.violated), Fraction(0))
+
+
+def _finite_states_within(inst: ir.Instance, horizon: int) -> bool:
+    """Every reachable state is reachable within ``horizon`` steps."""
+    return _finite_states(inst, horizon + 1) is not None
+
+
+def _finite_states(inst: ir.Instance, most: int) -> int | None:
+    """An upper bound on the number of states when it is finite and at most ``most`` (Boolean,
+    object and bounded int fluents only; a shortest plan visits no state twice, so it has
+    fewer actions than that), else None."""
+    size = 1
+    for r in inst.resources.values():
+        if r.sort.kind is ir.SortKind.BOOL:
+            size *= 2
+        elif r.sort.kind is ir.SortKind.SYMBOL:
+            size *= max(1, len(inst.constants_of(r.sort)))
+        elif r.sort.kind is ir.SortKind.INT and r.lower is not None and r.upper is not None:
+            size *= max(1, int(r.upper - r.lower) + 1)
+        else:
+            return None
+        if size > most:
+            return None
+    return size
+
+
+def register(environment: Any = None) -> None:
+    """Add the engine to UP's factory as ``catc`` (once; the documented one-liner does the same)."""
+    env = environment or up.environment.get_environment()
+    if "catc" not in env.factory.engines:
+        env.factory.add_engine("catc", __name__, "CatcEngine")
+
+
+_ = up  # the package itself: imported above so that a missing extra fails here
