@@ -103,11 +103,13 @@ def test_a_temporal_domain_is_refused_at_its_first_durative_action(tmp_path):
     assert "CONTINUOUS_TIME" in report and "## Refused" in report and not (out / "domain.cat").exists()
 
 
-def test_a_state_dependent_action_cost_is_refused_with_its_reason(tmp_path):
+def test_an_undefined_initial_value_is_refused_at_the_init(tmp_path):
+    """tpp_metric's :init gives no value to some functions: catc's initial state is complete."""
     r, out = _import(tmp_path, "tpp_metric")
-    assert r.exit_code == 2 and "E1201" in r.stderr
+    assert r.exit_code == 2
+    assert f"{_line_col(WHEEL / 'tpp_metric' / 'problem.pddl', '(:init')}: error[E1201]" in r.stderr
     report = (out / "import-report.md").read_text()
-    assert "FLUENTS_IN_ACTIONS_COST" in report and "catc's :cost is fixed per action" in report
+    assert "UNDEFINED_INITIAL_NUMERIC" in report and "catc's initial state is complete" in report
 
 
 def test_a_process_is_refused(tmp_path):

@@ -172,7 +172,7 @@ def _count(inst: ir.Instance) -> dict[str, int]:
 
 _METRIC_WORDS = {
     "cost": "`(:metric minimize (total-cost))` → `(:metric minimize (total-cost))`, each action's fixed cost as the "
-    "morphism's `:cost`",
+    "morphism's `:cost` (costs that read changing functions: summed in a resource, see the notes)",
     "length": "minimise the plan length → `(:metric minimize (total-cost))` with `:cost 1` on every morphism",
     "final": "an expression over the final state → `(:metric minimize|maximize TERM)` over the ground fluents",
     "gain": "oversubscription goals → `(:soft GOAL :weight GAIN)`: the weight of the goals missed is minimised",
@@ -257,7 +257,7 @@ def _report(
         lines.append("")
         if up_report.notes:
             lines += ["## Notes", ""] + [f"- {x}" for x in up_report.notes] + [""]
-    return "\n".join(lines)
+    return "\n".join(lines).rstrip("\n") + "\n"
 
 
 def import_pddl(domain: Path, problem: Path, out: Path, *, horizon: int | None = None) -> ImportResult:
