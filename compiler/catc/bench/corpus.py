@@ -72,6 +72,7 @@ class Row:
     catc_valid: bool | None = None
     roundtrip: str = "-"
     roundtrip_cost: Fraction | None = None
+    roundtrip_valid: bool | None = None  # UP's validator on ENHSP's plan for the exported PDDL
     par: str = "-"  # catc with parallel steps (no --sequential), its plan linearised step by step
     par_steps: int | None = None
     par_len: int | None = None
@@ -93,7 +94,8 @@ class Row:
         answers = [a for a in (self.catc, self.par) if a in ("sat", "unsat")]
         if not answers:
             return None
-        if any(a != self.enhsp for a in answers) or False in (self.catc_valid, self.par_valid, self.enhsp_valid):
+        valid = (self.catc_valid, self.par_valid, self.enhsp_valid, self.roundtrip_valid)
+        if any(a != self.enhsp for a in answers) or False in valid:
             return False
         if self.enhsp == "sat":
             both_costs = None not in (self.enhsp_cost, self.catc_cost)
@@ -360,6 +362,11 @@ def _roundtrip(row: Row, res: Any, out: Path, planner: str, timeout: float) -> N
     row.roundtrip = en.status
     if en.status == "sat" and planner == "opt-blind":  # an optimum, comparable with the original's
         row.roundtrip_cost = _fraction(en.metric)
+    if en.status == "sat":  # ENHSP's plan for catc's export, checked by UP on the exported files
+        from unified_planning.io import PDDLReader
+
+        exported = PDDLReader().parse_problem(str(d / "domain.pddl"), str(d / "problem.pddl"))
+        row.roundtrip_valid = up_validates(exported, _steps(en.output))
 
 
 # ---------------------------------------------------------------- the table
@@ -396,6 +403,7 @@ def markdown(rows: list[Row], command: str) -> str:
         ec = f"{_num(r.enhsp_cost)}/{r.enhsp_len}" if r.enhsp_len is not None else "-"
         cc = f"{_num(r.catc_cost)}/{r.catc_len}" if r.catc_len is not None else "-"
         rt = r.roundtrip + (f" {_num(r.roundtrip_cost)}" if r.roundtrip_cost is not None else "")
+        rt += f" ({_ok(r.roundtrip_valid)})" if r.roundtrip_valid is not None else ""
         agree = {None: "-", True: "yes", False: "NO"}[r.agrees]
         par = r.par
         if r.par_len is not None:
