@@ -272,6 +272,24 @@ CODES: dict[str, Code] = {
             E,
             "Importing needs an optional package that is not installed (the message names the pip extra).",
         ),
+        Code(
+            "E1210",
+            "pddl-unreadable",
+            E,
+            "unified-planning's PDDL reader rejects a file given to catc import pddl (at the line and column it names).",
+        ),
+        Code(
+            "E1211",
+            "import-recheck-failed",
+            E,
+            "The .cat files catc import wrote do not pass catc check (a bug in the import; the files are kept).",
+        ),
+        Code(
+            "E1212",
+            "import-unspellable",
+            E,
+            "An imported model holds something .cat text cannot spell (a name or a string); the message says what.",
+        ),
         # W01xx — lints (errors under --strict)
         Code("W0101", "unused-resource", W, "A resource is declared but nothing reads or writes it."),
         Code("W0102", "unused-sort", W, "A sort is declared but never used."),
@@ -380,6 +398,9 @@ OUT_OF_MEMORY = "E1110"
 BAD_LIMIT = "E1111"
 IMPORT_UNSUPPORTED = "E1201"
 IMPORT_NEEDS_EXTRA = "E1202"
+PDDL_UNREADABLE = "E1210"
+IMPORT_RECHECK_FAILED = "E1211"
+IMPORT_UNSPELLABLE = "E1212"
 UNUSED_RESOURCE = "W0101"
 UNUSED_SORT = "W0102"
 UNREACHABLE_MORPHISM = "W0103"

@@ -361,3 +361,44 @@ def test_a_malformed_export_is_rejected_by_the_strict_parser(tmp_path):
     assert check_pddl(dom, prob)  # the lax default parser reads it
     with pytest.raises(Exception):  # noqa: B017 - the parser's own error type
         check_pddl(dom, prob, strict=True)
+
+
+TOGGLE = """(define (domain toggle)
+  (:resources (a bool) (b bool) (c bool))
+  (:morphism flip :precondition (not c) :effect (and (assign b (not b)) (assign c true)))
+  (:morphism copy :effect (assign a (and b c))))
+(define (problem toggle-p)
+  (:domain toggle)
+  (:init INIT)
+  (:goal GOAL))
+"""
+
+
+@pytest.mark.parametrize(
+    ("init", "goal", "answer"),
+    [
+        # flip turns b from false to true and c true (once: it needs c false); copy then sets a
+        ("(not b)", "(and a b c)", "sat"),
+        # b starts true: flip makes it false and c true, so b and c are never both true and a
+        # (b and c when copy runs) never becomes true
+        ("b", "(and a (not b))", "unsat"),
+    ],
+)
+def test_a_state_dependent_bool_assignment_is_a_pair_of_conditional_effects(tmp_path, init, goal, answer):
+    """(assign b (not b)) is exported as (when (not (b)) (b)) (when (not (not (b))) (not (b))):
+    both read the state before the action, as catc's effects do; ENHSP agrees with catc (and
+    with the hand count above)."""
+    from catc.api import loads
+
+    text = TOGGLE.replace("INIT", init).replace("GOAL", goal)
+    model = loads({f"{tmp_path}/t.cat": text}, f"{tmp_path}/t.cat")
+    ex = export_pddl(model.instance)
+    flip = _action_block(ex.domain, "a-flip")
+    assert "(when (not (b)) (b))" in flip and "(when (not (not (b))) (not (b)))" in flip
+    assert ":conditional-effects" in ex.domain and not [t for c, t in ex.report.items if c == "components"]
+    assert model.solve(horizon=4, sequential=True).status.value == answer
+    if _enhsp_missing() is None:
+        from catc.targets.enhsp import run_enhsp
+
+        dom, prob = _write(ex, tmp_path)
+        assert run_enhsp(dom, prob, timeout=60).status == answer

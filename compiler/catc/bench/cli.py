@@ -187,6 +187,12 @@ def _run(
 @click.option(
     "--keep", "keep_dir", type=click.Path(file_okay=False), help="Keep the exported PDDL files in this folder."
 )
+@click.option(
+    "--corpus",
+    is_flag=True,
+    help="Instead: the PDDL corpus (unified-planning's wheel and the counters/sailing families) imported by "
+    "catc import pddl and solved beside ENHSP (docs/interop.md); --only and --timeout apply.",
+)
 def bench_command(
     runs: int,
     quick: bool,
@@ -198,6 +204,7 @@ def bench_command(
     no_compile: bool,
     save_json: str | None,
     keep_dir: str | None,
+    corpus: bool = False,
 ) -> None:
     """Run catc and ENHSP on the same example problems and print the comparison tables.
 
@@ -211,6 +218,9 @@ def bench_command(
         enhsp_jar()
     except BaselineMissing as exc:
         _input_error(exc)
+    if corpus:
+        _corpus(timeout, only, keep_dir, save_json)
+        return
     examples = Path(examples_dir) if examples_dir else default_examples()
     if not examples.is_dir():
         _input_error(f"examples folder not found: {examples} (pass --examples DIR)")
@@ -225,3 +235,22 @@ def bench_command(
         click.echo(text)
     else:
         click.echo(markdown(doc))
+
+
+def _corpus(timeout: float, only: tuple[str, ...], keep_dir: str | None, save_json: str | None) -> None:
+    """``--corpus``: the corpus and growth tables (docs/interop.md), Markdown on stdout."""
+    from catc.bench.corpus import run_corpus, wheel_dir
+
+    if wheel_dir() is None:
+        _input_error("the corpus is unified-planning's test PDDL: pip install 'catc-lang[up]'")
+    with tempfile.TemporaryDirectory(prefix="catc-corpus-") as tmp:
+        work = Path(keep_dir) if keep_dir else Path(tmp)
+        work.mkdir(parents=True, exist_ok=True)
+        rows, text = run_corpus(work, timeout, only, log=_log)
+    if save_json:
+        doc = [
+            {k: str(v) if v is not None else None for k, v in vars(r).items() if k != "case"} | {"problem": r.case.name}
+            for r in rows
+        ]
+        Path(save_json).write_text(json.dumps(doc, indent=1) + "\n")
+    click.echo(text)

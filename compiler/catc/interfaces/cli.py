@@ -40,6 +40,7 @@ LAZY_COMMANDS: dict[str, str] = {
     "bench": "catc.bench.cli:bench_command",
     "init": "catc.interfaces.conveniences:init_command",
     "explain": "catc.interfaces.conveniences:explain_command",
+    "import": "catc.interfaces.import_cli:import_command",
 }
 
 

@@ -466,11 +466,13 @@ class _Exporter:
                     post = f"(- {f} {amount})"
                 pres.extend(self._bound_checks(r, post))
             elif k is SortKind.BOOL:
-                if not isinstance(v, ir.Const):
-                    raise Unsupported(
-                        f"state-dependent assignment to bool resource '{r.name}' (would need conditional effects)"
-                    )
                 p = f"({self.pred[('bool', r.name)]})"
+                if not isinstance(v, ir.Const):  # its new value is a condition on the state before
+                    c = self.cond(v)
+                    self.requirements.update((":conditional-effects", ":negative-preconditions"))
+                    effs.append(f"(when {c} {p})")
+                    effs.append(f"(when (not {c}) (not {p}))")
+                    continue
                 effs.append(p if v.value else f"(not {p})")
             elif k is SortKind.SET:
                 if eff.kind in (EffectKind.ADD, EffectKind.REMOVE):
