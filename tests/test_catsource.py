@@ -20,14 +20,20 @@ from catc.frontend.workspace import Workspace, load_instance
 from catc.queries.solve import solve
 from catc.targets.catsource import CatSourceError, domain_text, instance_texts
 from catgrammar.diagnostics import Diagnostics
-from catgrammar.record import Record
+from catgrammar.record import Record, replace
 
 VIRTUAL = "/catsource-virtual"
 
 
 def norm(x):
     """A record as nested tuples of its fields without spans (and without ``imports``: the
-    writer writes a self-contained domain)."""
+    writer writes a self-contained domain); a domain's views over its own resources only (an
+    instance whose unmentioned imported resources were left out keeps their names in its views'
+    lists, where they mean nothing)."""
+    if isinstance(x, ir.Domain):
+        have = frozenset(x.resources)
+        views = {n: ir.View(v.name, v.kept & have, v.dropped & have, v.span) for n, v in x.views.items()}
+        x = replace(x, views=ir.frozen(views))
     if isinstance(x, Record):
         fields = [f for f in type(x)._fields if "span" not in f and f != "imports"]
         return (type(x).__name__, *((f, norm(getattr(x, f))) for f in fields))
@@ -116,8 +122,18 @@ def test_stdlib_domains_are_written_back_alike(path):
         text = format_text(domain_text(dom))
         diags2 = Diagnostics()
         back, _ = check_files_text(text, diags2)
+        if path.stem in UNIT_LITERALS_IN_ARITHMETIC:
+            # the known limit (docs/interop.md, "The .cat writer"): the IR keeps no unit on a
+            # literal such as (/ 0.5 m 1 s), so the text written back has bare numbers whose
+            # dimensions no longer agree — refused by the check, never a different model
+            assert {d.code for d in diags2.errors} <= {"E0311", "E0312", "E0313"} and diags2.has_errors
+            continue
         assert not diags2.has_errors, [d.message for d in diags2.errors]
         assert norm(back[dom.name]) == norm(dom)
+
+
+#: stdlib domains with a literal carrying a unit inside arithmetic of no declared unit
+UNIT_LITERALS_IN_ARITHMETIC = {"mobility"}
 
 
 def check_files_text(text: str, diags: Diagnostics):

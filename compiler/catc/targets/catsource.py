@@ -115,7 +115,8 @@ def _resource(r: ir.Resource) -> str:
 
 
 def _param(p: ir.Param) -> str:
-    return f"({_name(p.name, 'parameter')} {p.sort}{_bounds(p.lower, p.upper)}{' :fixed' if p.fixed else ''})"
+    unit = "" if p.unit is None else f" :unit {_word(p.unit)}"
+    return f"({_name(p.name, 'parameter')} {p.sort}{unit}{_bounds(p.lower, p.upper)}{' :fixed' if p.fixed else ''})"
 
 
 def _effect(e: ir.Effect) -> str:
@@ -196,10 +197,13 @@ def _morphism(m: ir.Morphism) -> str:
     return "\n".join(lines) + ")"
 
 
-def _view(v: ir.View) -> str:
-    if v.dropped and len(v.kept) > len(v.dropped):
-        return f"(:view {v.name} :drop ({' '.join(sorted(v.dropped))}))"
-    return f"(:view {v.name} :keep ({' '.join(sorted(v.kept))}))"
+def _view(v: ir.View, resources: frozenset[str]) -> str:
+    """A view over the domain's ``resources``: names it lists that the domain no longer has
+    (an instance's projection left them out: docs/stdlib.md) mean nothing and are not written."""
+    kept, dropped = v.kept & resources, v.dropped & resources
+    if dropped and len(kept) > len(dropped):
+        return f"(:view {v.name} :drop ({' '.join(sorted(dropped))}))"
+    return f"(:view {v.name} :keep ({' '.join(sorted(kept))}))"
 
 
 def _hole(h: ir.Hole) -> str:
@@ -235,7 +239,7 @@ def domain_text(domain: ir.Domain, *, header: str | None = None) -> str:
     if domain.resources:
         out.append("(:resources\n" + "\n".join(_resource(r) for r in domain.resources.values()) + ")")
     out.extend(_morphism(m) for m in domain.morphisms.values())
-    out.extend(_view(v) for v in domain.views.values())
+    out.extend(_view(v, frozenset(domain.resources)) for v in domain.views.values())
     out.extend(_hole(h) for h in domain.holes.values())
     if domain.deployment is not None:
         out.append(_deployment(domain.deployment))
