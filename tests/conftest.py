@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 from dataclasses import dataclass
@@ -79,3 +80,14 @@ def run_catc_process(*args: str, timeout: float = 120, input: bytes | None = Non
 @pytest.fixture
 def catc():
     return run_catc
+
+
+def word_uses(text: str, name: str) -> list[int]:
+    """By hand (a regex, not catc's tokenizer): offsets of ``name`` as a whole word outside
+    comments and strings — what the language server's references are checked against."""
+    out = []
+    for m in re.finditer(rf"(?<![\w-]){re.escape(name)}(?![\w-])", text):  # names may hold '-'
+        before = text[text.rfind("\n", 0, m.start()) + 1 : m.start()]
+        if ";" not in before and before.count('"') % 2 == 0:
+            out.append(m.start())
+    return out

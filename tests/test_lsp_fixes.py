@@ -8,7 +8,7 @@ import re
 from pathlib import Path
 
 import pytest
-from conftest import ROOT
+from conftest import ROOT, word_uses
 
 from catc.interfaces.lsp import analyse
 from catgrammar.span import Source
@@ -137,18 +137,6 @@ def _span(path: Path, text: str, needle: str, shift: int = 0):
     return m.group(), Source(str(path), text).span(i, m.end())
 
 
-def _uses(text: str, name: str) -> list[int]:
-    """Offsets of ``name`` as a whole word outside comments and strings (by hand: a regex)."""
-    out = []
-    for m in re.finditer(rf"(?<![\w-]){re.escape(name)}(?![\w-])", text):
-        line_start = text.rfind("\n", 0, m.start()) + 1
-        before = text[line_start : m.start()]
-        if ";" in before or before.count('"') % 2:
-            continue
-        out.append(m.start())
-    return out
-
-
 def test_references_of_a_resource_span_the_domain_and_its_problems() -> None:
     from catc.interfaces import lsp_tools
 
@@ -162,7 +150,7 @@ def test_references_of_a_resource_span_the_domain_and_its_problems() -> None:
     by_file: dict[str, list[int]] = {}
     for s in found:
         by_file.setdefault(Path(s.file).resolve().name, []).append(s.start)
-    expected = {p.name: _uses(p.read_text(), "ram") for p in DETECTION.glob("*.cat")}
+    expected = {p.name: word_uses(p.read_text(), "ram") for p in DETECTION.glob("*.cat")}
     expected = {k: v for k, v in expected.items() if v}
     assert by_file == expected
     assert set(expected) == {"domain.cat", "person.cat", "unmodeled-class.cat"}
@@ -393,8 +381,8 @@ def test_references_of_an_imported_standard_library_resource_reach_the_importers
     by_file: dict[str, list[int]] = {}
     for s in found:
         by_file.setdefault(Path(s.file).resolve().name, []).append(s.start)
-    expected = {p.name: _uses(p.read_text(), "ram") for p in folder.glob("*.cat")}
+    expected = {p.name: word_uses(p.read_text(), "ram") for p in folder.glob("*.cat")}
     compute = ROOT / "stdlib_domains" / "compute.cat"
-    expected["compute.cat"] = _uses(compute.read_text(), "ram")  # its declaration
+    expected["compute.cat"] = word_uses(compute.read_text(), "ram")  # its declaration
     assert by_file == {k: v for k, v in expected.items() if v}
     assert set(by_file) == {"domain.cat", "person.cat", "unmodeled-class.cat", "compute.cat"}

@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import ROOT
+from conftest import ROOT, word_uses
 
 try:
     import pytest_asyncio  # noqa: F401  (a pytest-lsp dependency)
@@ -94,20 +94,6 @@ def _apply(text: str, edits) -> str:
     return text
 
 
-def _whole_word(name: str) -> re.Pattern:
-    return re.compile(rf"(?<![\w-]){re.escape(name)}(?![\w-])")
-
-
-def _uses(text: str, name: str) -> list[int]:
-    """By hand (a regex, not the tokenizer): offsets of a whole word outside comments."""
-    out = []
-    for m in _whole_word(name).finditer(text):
-        before = text[text.rfind("\n", 0, m.start()) + 1 : m.start()]
-        if ";" not in before and before.count('"') % 2 == 0:
-            out.append(m.start())
-    return out
-
-
 # ---------------------------------------------------------------- references and rename
 
 
@@ -128,7 +114,7 @@ async def test_references_across_domain_and_problems(client: LanguageClient, mod
     for loc in locs:
         path = Path(loc.uri.removeprefix("file://"))
         got.setdefault(path.name, []).append(_offset(path.read_text(), loc.range.start))
-    expected = {p.name: _uses(p.read_text(), "ram") for p in model.glob("*.cat")}
+    expected = {p.name: word_uses(p.read_text(), "ram") for p in model.glob("*.cat")}
     assert {k: sorted(v) for k, v in got.items()} == {k: v for k, v in expected.items() if v}
     assert {"domain.cat", "person.cat", "unmodeled-class.cat"} <= set(got)
     # without the declaration: one fewer, the one in (:resources ...)
@@ -169,7 +155,7 @@ async def test_rename_a_resource_across_files(client: LanguageClient, model: Pat
         after = _apply(before, edits)
         # the same as replacing the whole word by hand, outside comments
         expected = before
-        for i in reversed(_uses(before, "ram")):
+        for i in reversed(word_uses(before, "ram")):
             expected = expected[:i] + "memory" + expected[i + 3 :]
         assert after == expected
         assert "ram-req" in after or path.name != "domain.cat"  # another name that contains it is kept
@@ -317,12 +303,12 @@ async def test_semantic_tokens_colour_names_by_kind(client: LanguageClient, mode
     assert ("type", frozenset({"defaultLibrary"})) in tokens["symbol"]
     # a comment, a keyword and a string hold no token
     assert not ({"Detection", "and", "member", "software", "usb_cam"} & set(tokens))
-    n_ram = len(_uses(text, "ram"))
+    n_ram = len(word_uses(text, "ram"))
     assert sum(1 for w in _decode(result.data, legend) if lines[w[0]][w[1] : w[1] + w[2]] == "ram") == n_ram
 
 
 @needs_lsp
-async def test_inlay_hints_show_units_after_uses(client: LanguageClient, model: Path) -> None:
+async def test_inlay_hints_show_units_afterword_uses(client: LanguageClient, model: Path) -> None:
     domain = model / "domain.cat"
     text = domain.read_text()
     uri = _open(client, domain)
@@ -335,7 +321,7 @@ async def test_inlay_hints_show_units_after_uses(client: LanguageClient, model: 
     )
     ends = sorted(_offset(text, h.position) for h in hints)
     declared = text.index("(ram real") + 1
-    assert ends == [i + 3 for i in _uses(text, "ram") if i != declared]  # every use, not the declaration
+    assert ends == [i + 3 for i in word_uses(text, "ram") if i != declared]  # every use, not the declaration
     assert all(h.label == "GB" for h in hints)
     # a range holding only the first use
     first = _pos(text, "(>= ram ram-req)", 4)
