@@ -127,8 +127,9 @@ class UnexpectedEOF(UnexpectedInput):
 END = "$END"
 
 
-def _reducer(origin: str, pattern: str, alias: str | None, expand1: bool, builder: Any) -> Callable[[list], Any]:
-    """The function that turns a rule's children (a fresh list) into the rule's value.
+def _reducer(origin: str, pattern: str, alias: str | None, expand1: bool, kind: type) -> Callable[[Any, list], Any]:
+    """The function that turns a rule's children (a fresh list) into the rule's value, called
+    as ``reduce(builder, children)`` with a builder of class ``kind``.
 
     ``pattern`` has one letter per symbol of the rule: ``k`` keep, ``d`` drop (a filtered
     ``_TERMINAL``), ``s`` splice (the value of an inlined ``_rule``, itself a list)."""
@@ -137,6 +138,7 @@ def _reducer(origin: str, pattern: str, alias: str | None, expand1: bool, builde
     if len(ops) == len(pattern) and not any(splice for _, splice in ops):
         filt = None  # keep every child as it is
     elif pattern == "sk":  # ``__x_star: __x_star item`` — grow the list in place
+
         def grow(children: list) -> list:
             first = children[0]
             first.append(children[1])
@@ -159,38 +161,55 @@ def _reducer(origin: str, pattern: str, alias: str | None, expand1: bool, builde
         filt = gather
 
     if origin.startswith("_"):  # inlined: the value is the list of children
-        return filt or (lambda children: children)
+        if filt is None:
+            return lambda builder, children: children
+        only = filt
+        return lambda builder, children: only(children)
     name = alias or origin
     try:
-        fn = getattr(builder, name)
+        fn = getattr(kind, name)  # the function behind the builder's method
     except AttributeError:
-        raise TypeError(f"{type(builder).__name__} has no callback {name!r} for rule {origin!r}") from None
+        raise TypeError(f"{kind.__name__} has no callback {name!r} for rule {origin!r}") from None
     if expand1 and not alias:
         if filt is None:
-            return lambda children: children[0] if len(children) == 1 else fn(children)
+            return lambda builder, children: children[0] if len(children) == 1 else fn(builder, children)
 
-        def single(children: list) -> Any:
+        def single(builder: Any, children: list) -> Any:
             children = filt(children)
-            return children[0] if len(children) == 1 else fn(children)
+            return children[0] if len(children) == 1 else fn(builder, children)
 
         return single
     if filt is None:
         return fn
-    return lambda children: fn(filt(children))
+    return lambda builder, children: fn(builder, filt(children))
+
+
+#: The rules' reducers for each builder class, made once (a parse then costs no set-up:
+#: a domain that imports six others is parsed seven times in one process).
+_REDUCERS: dict[type, tuple[tuple[int, str, Callable[[Any, list], Any]], ...]] = {}
+
+
+def _reducers(kind: type) -> tuple[tuple[int, str, Callable[[Any, list], Any]], ...]:
+    found = _REDUCERS.get(kind)
+    if found is None:
+        found = tuple(
+            (size, origin, _reducer(origin, pattern, alias, expand1, kind))
+            for origin, size, pattern, alias, expand1 in RULES
+        )
+        _REDUCERS[kind] = found
+    return found
 
 
 class Parser:
     """The LALR(1) driver over the generated tables, building values with ``builder``.
 
     ``builder`` has one method per rule (or alias) name taking the list of children
-    (tokens and values) and returning the value — Lark's ``Transformer`` convention."""
+    (tokens and values) and returning the value — Lark's ``Transformer`` convention.  The
+    methods are looked up on the builder's class, once per class."""
 
     def __init__(self, builder: Any) -> None:
         self.builder = builder
-        self._rules = tuple(
-            (size, origin, _reducer(origin, pattern, alias, expand1, builder))
-            for origin, size, pattern, alias, expand1 in RULES
-        )
+        self._rules = _reducers(type(builder))
 
     @staticmethod
     def expected(state: int) -> set[str]:
@@ -204,6 +223,7 @@ class Parser:
         :class:`UnexpectedCharacters`) propagate unchanged."""
         states = STATES
         rules = self._rules
+        builder = self.builder
         state = START_STATE
         row = states[state]
         stack = [state]
@@ -230,7 +250,7 @@ class Parser:
                     del stack[-size:]
                 else:
                     children = []
-                push_value(reduce(children))
+                push_value(reduce(builder, children))
                 state = states[stack[-1]][origin]
                 push_state(state)
                 row = states[state]
@@ -252,7 +272,7 @@ class Parser:
                 del stack[-size:]
             else:
                 children = []
-            push_value(reduce(children))
+            push_value(reduce(builder, children))
             state = states[stack[-1]][origin]
             if state == END_STATE:
                 return values[-1]
