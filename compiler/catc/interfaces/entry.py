@@ -11,6 +11,7 @@ file system (``--path``, ``--diagram``, ``--plot``), objective terms, plan files
 to the click command line in :mod:`catc.interfaces.cli`, which then parses it as always.
 Whatever it accepts, it reads exactly as click does (a property test compares the two on
 generated command lines), and both routes run the same :func:`catc.interfaces.command.run_query`.
+A plain ``catc check`` is run by :mod:`catc.interfaces.check_command`, also without click.
 """
 
 from __future__ import annotations
@@ -123,6 +124,18 @@ def main(argv: list[str] | None = None) -> None:
     args = sys.argv[1:] if argv is None else list(argv)
     from catc.queries import registry
 
+    if args[:1] == ["check"]:
+        from catc.interfaces import check_command
+
+        found = check_command.parse_check(args[1:])
+        if found is not None:
+            from catc.interfaces import command
+
+            try:
+                command.guarded(check_command.run_check, **found)
+            except KeyboardInterrupt:  # Ctrl-C before the command could take it (exit 130)
+                command.echo("catc: interrupted", err=True)
+                sys.exit(command.ExitCode.INTERRUPTED)
     if args and args[0] in registry.QUERIES:
         params = parse_query(registry.get(args[0]), args[1:])
         if params is not None:
