@@ -45,7 +45,10 @@ def parse_solve(args: list[str]) -> dict | None:
 def test_defaults_are_clicks(name):
     query = registry.get(name)
     if any(o.kind is Kind.PLAN_FILE for o in query.options):
-        assert parse_query(query, ["p.cat"]) is None  # a plan file: always click's
+        assert parse_query(query, ["p.cat"]) is None  # no plan file: click's usage error
+        for args in (["p.cat", "plan.json"], ["d.cat", "p.cat", "plan.json"]):
+            assert parse_query(query, args) == click_params(args, name) is not None
+        assert parse_query(query, ["p.cat", "tests"]) is None  # a folder: click's error
         return
     assert parse_query(query, ["p.cat"]) == click_params(["p.cat"], name)
 

@@ -176,3 +176,27 @@ def test_both_routes_of_check_print_the_same(args):
 )
 def test_other_check_command_lines_are_left_to_click(args):
     assert parse_check(args) is None
+
+
+# ------------------------------------------------------------------ catc validate without click
+
+
+def test_both_routes_of_validate_answer_alike(tmp_path):
+    """A plain ``catc validate PROBLEM PLAN_FILE`` is read without click, and answers as
+    click's route does, for a valid plan and for one the validator rejects."""
+    person = str(ROOT / "examples/detection/person.cat")
+    solved = run_catc("solve", person, "--json")
+    assert solved.exit_code == 0
+    good = tmp_path / "good.json"
+    good.write_text(solved.stdout)
+    doc = json.loads(solved.stdout)
+    doc["steps"] = list(reversed(doc["steps"]))  # the same components in the wrong order
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(doc))
+    for plan, codes in ((good, {0}), (bad, {1})):
+        for extra in ([], ["--json"]):
+            fast, slow = (run_catc("validate", person, str(plan), *extra, via_click=v) for v in (False, True))
+            assert (fast.exit_code, fast.stdout, fast.stderr) == (slow.exit_code, slow.stdout, slow.stderr)
+            assert fast.exit_code in codes
+    _, names = loaded("validate", "examples/detection/person.cat", str(good))
+    assert "click" not in names and "z3" not in names

@@ -7,7 +7,7 @@ Z3 script, docs/benchmarks.md) cannot be met with it.  So :func:`parse_query` re
 common forms of a query's options itself, from the same option table the click command is
 built from, and hands anything else — help, an unknown or malformed option, a value click
 would reject or might read differently, options whose values click checks against the
-file system (``--path``, ``--diagram``, ``--plot``), objective terms, plan files, ``--`` —
+file system (``--path``, ``--diagram``, ``--plot``), objective terms, ``--`` —
 to the click command line in :mod:`catc.interfaces.cli`, which then parses it as always.
 Whatever it accepts, it reads exactly as click does (a property test compares the two on
 generated command lines), and both routes run the same :func:`catc.interfaces.command.run_query`.
@@ -17,6 +17,7 @@ A plain ``catc check`` is run by :mod:`catc.interfaces.check_command`, also with
 from __future__ import annotations
 
 import gc
+import os
 import sys
 from typing import Any
 
@@ -92,7 +93,12 @@ def parse_query(query: Query, args: list[str]) -> dict[str, Any] | None:
             params[option.name] = (*(params[option.name] or ()), converted)
         else:
             params[option.name] = converted
-    if len(paths) not in (1, 2) or any(o.kind is Kind.PLAN_FILE for o in query.options):
+    for option in query.options:
+        if option.kind is Kind.PLAN_FILE:  # the last word, as click gives it (a file, not a folder)
+            if len(paths) not in (2, 3) or not paths[-1] or os.path.isdir(paths[-1]):
+                return None
+            params[option.name] = paths.pop()
+    if len(paths) not in (1, 2):
         return None
     params["paths"] = tuple(paths)
     return params
