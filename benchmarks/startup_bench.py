@@ -1,0 +1,138 @@
+"""Every query as a whole process against a hand-written Z3 script, side by side in one run
+(the target: each ≤ 1.2× its yardstick; docs/benchmarks.md, "Start-up of every query").
+
+    python benchmarks/startup_bench.py [--runs N] [--no-compile]
+
+Each row is one ``catc`` command line, run as ``python -m catc ...`` (which enters
+:func:`catc.interfaces.entry.main` as the installed ``catc`` script does), and its yardstick:
+
+* the hand-written script of benchmarks/reference/ answering the same question, where there
+  is one (solve on detection, optimize on gpu-allocation and navigation);
+* otherwise the least a hand-written Z3 script does at all — ``import z3``, make a solver,
+  one ``check()`` — so the ratio is an upper bound of what catc adds to *any* Z3 script
+  (a script answering the same question does more than that).
+
+``catc check`` needs no solver and so is measured against the same floor.  All commands
+run once untimed (warm caches; every exit code is checked), then interleaved, ``--runs``
+rounds.  Wall time (a monotonic clock around the child) and CPU time (the child's user +
+system, from ``os.wait4``) are given as medians; the ratio is the median of the per-round
+ratios, so a drift of the machine's speed during the run moves both sides of a round alike.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from solve_bench import compile_catc  # benchmarks/ is on sys.path when run as a script
+
+from catc.bench.machine import cpu_text
+
+ROOT = Path(__file__).resolve().parent.parent
+PY = sys.executable
+CATC = [PY, "-m", "catc"]
+FLOOR = "import z3; z3.Solver().check()"
+
+#: (row, catc arguments, expected exit code, hand-written script or None for the floor)
+ROWS: list[tuple[str, list[str], int, str | None]] = [
+    ("solve detection/person", ["solve", "examples/detection/person.cat", "--json"], 0, "detection_z3.py"),
+    (
+        "optimize gpu-allocation/max-confidence",
+        ["optimize", "examples/gpu-allocation/max-confidence.cat", "--json"],
+        0,
+        "gpu_z3.py",
+    ),
+    ("optimize navigation/farthest", ["optimize", "examples/navigation/farthest.cat", "--json"], 0, "navigation_z3.py"),
+    ("diagnose lifelong/budget-cut", ["diagnose", "examples/lifelong/budget-cut.cat", "--json"], 0, None),
+    ("relax lifelong/budget-cut", ["relax", "examples/lifelong/budget-cut.cat", "--json"], 0, None),
+    ("recompose lifelong/cheaper-camera", ["recompose", "examples/lifelong/cheaper-camera.cat", "--json"], 0, None),
+    ("pareto pareto-design/design", ["pareto", "examples/pareto-design/design.cat", "--json"], 0, None),
+    ("validate detection/person PLAN", ["validate", "examples/detection/person.cat", "PLAN", "--json"], 0, None),
+    ("check detection/person", ["check", "examples/detection/person.cat"], 0, None),
+]
+
+
+def timed(cmd: list[str]) -> tuple[float, float, int]:
+    """Wall seconds, CPU seconds (user + system) and exit code of one run of ``cmd``."""
+    start = time.perf_counter()
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=ROOT)
+    _, status, usage = os.wait4(proc.pid, 0)
+    wall = time.perf_counter() - start
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    return wall, usage.ru_utime + usage.ru_stime, proc.returncode
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--runs", type=int, default=21)
+    ap.add_argument("--no-compile", action="store_true", help="do not byte-compile catc first")
+    args = ap.parse_args()
+    if not args.no_compile:
+        compile_catc()
+    print(
+        f"command: python benchmarks/startup_bench.py --runs {args.runs}" + (" --no-compile" if args.no_compile else "")
+    )
+    print(f"machine: {cpu_text()}\n")
+
+    with tempfile.TemporaryDirectory() as tmp:
+        plan = Path(tmp) / "plan.json"
+        solved = subprocess.run(
+            CATC + ["solve", "examples/detection/person.cat", "--json"], capture_output=True, text=True, cwd=ROOT
+        )
+        json.loads(solved.stdout)  # a catc.plan/1-compatible answer, or this fails
+        plan.write_text(solved.stdout)
+
+        commands: dict[str, list[str]] = {}
+        for label, words, expected, script in ROWS:
+            catc_cmd = CATC + [str(plan) if w == "PLAN" else w for w in words]
+            yard = [PY, f"benchmarks/reference/{script}"] if script else [PY, "-c", FLOOR]
+            for cmd, want in ((catc_cmd, expected), (yard, 0)):
+                code = subprocess.run(cmd, capture_output=True, cwd=ROOT).returncode
+                if code != want:
+                    raise SystemExit(f"{' '.join(cmd)} exited {code}, not {want}")
+            commands[f"catc {label}"] = catc_cmd
+            commands[f"yard {label}"] = yard
+
+        # the floor is one command: run it once a round, shared by the rows that use it
+        unique: dict[tuple[str, ...], str] = {}
+        for key, cmd in commands.items():
+            unique.setdefault(tuple(cmd), key)
+        wall: dict[str, list[float]] = {key: [] for key in unique.values()}
+        cpu: dict[str, list[float]] = {key: [] for key in unique.values()}
+        for _ in range(args.runs):
+            for cmd, key in unique.items():
+                w, c, _ = timed(list(cmd))
+                wall[key].append(w)
+                cpu[key].append(c)
+
+    def series(key: str, table: dict[str, list[float]]) -> list[float]:
+        return table[unique[tuple(commands[key])]]
+
+    print(f"Whole processes, interleaved, {args.runs} rounds, bytecode compiled.  Yardstick: the")
+    print(f"hand-written script of benchmarks/reference/, or (*) the floor `python -c '{FLOOR}'`.\n")
+    print("| query | catc wall (s) | yardstick wall (s) | wall ratio | catc CPU (s) | yardstick CPU (s) | CPU ratio |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
+    worst = 0.0
+    for label, _, _, script in ROWS:
+        cw, yw = series(f"catc {label}", wall), series(f"yard {label}", wall)
+        cc, yc = series(f"catc {label}", cpu), series(f"yard {label}", cpu)
+        wr = statistics.median(a / b for a, b in zip(cw, yw))
+        cr = statistics.median(a / b for a, b in zip(cc, yc) if b > 0)
+        worst = max(worst, wr)
+        star = "" if script else " (*)"
+        print(
+            f"| {label}{star} | {statistics.median(cw):.3f} | {statistics.median(yw):.3f} | {wr:.2f}× "
+            f"| {statistics.median(cc):.3f} | {statistics.median(yc):.3f} | {cr:.2f}× |"
+        )
+    print(f"\nLargest wall ratio: {worst:.2f}× (target ≤ 1.2×: {'met' if worst <= 1.2 else 'not met'}).")
+
+
+if __name__ == "__main__":
+    main()
