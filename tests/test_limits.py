@@ -277,9 +277,9 @@ def test_validating_tiny_rationals_is_not_slowed_by_their_text(tmp_path):
 def test_the_validator_stops_at_the_time_limit(tmp_path, monkeypatch):
     from catc.api import load
     from catc.semantics.validate import validate
-    from catgrammar import limits
+    from catgrammar import deadlines, limits
 
-    monkeypatch.setattr(limits, "FINISH_GRACE", 0.0)  # no time to finish an answer either
+    monkeypatch.setattr(deadlines, "FINISH_GRACE", 0.0)  # no time to finish an answer either
     model = load(write(tmp_path, TINY_STEPS))
     answer = model.solve(strategy="single")
     assert answer.status.value == "sat"
