@@ -113,6 +113,9 @@ class Workspace:
         #: files loaded while looking for a domain (the others were given)
         self.discovered: set[str] = set()
         self._defines: dict[str, list[str]] = {}  # a file not loaded → the domains it defines
+        self._listed: dict[Path, list[Path]] = {}  # a folder → its .cat files, sorted (listed once)
+        self._resolved: dict[str, Path] = {}  # a file → its folder, resolved (once)
+        self._real: dict[Path, Path] = {}  # a folder → itself, resolved (once)
 
     # -------------------------------------------------------------- files
     def load(self, path: str) -> ast.SourceFile | None:
@@ -183,7 +186,10 @@ class Workspace:
         """The files of ``folder`` not loaded yet whose tokens define domain ``name``
         (``NAME.cat`` first): regular files of at most ``scan_max_bytes``, valid UTF-8."""
         preferred = folder / f"{name}.cat"
-        for p in [preferred, *sorted(p for p in folder.glob("*.cat") if p != preferred)]:
+        listed = self._listed.get(folder)
+        if listed is None:
+            listed = self._listed[folder] = sorted(folder.glob("*.cat"))
+        for p in [preferred, *(p for p in listed if p != preferred)]:
             key = normalise_path(str(p))
             if key in self.files:
                 continue
@@ -209,9 +215,14 @@ class Workspace:
         return decode_source(path, data, Diagnostics())
 
     def _in_folder(self, name: str, folder: Path) -> tuple[ast.Domain, str] | None:
-        target = folder.resolve()
+        target = self._real.get(folder)
+        if target is None:
+            target = self._real[folder] = folder.resolve()
         for d, p in self.domains.get(name, []):
-            if _folder(p) == target:
+            found = self._resolved.get(p)
+            if found is None:
+                found = self._resolved[p] = _folder(p)
+            if found == target:
                 return d, p
         return None
 
