@@ -109,6 +109,15 @@ def test_reference_bench_runs_and_checks_its_answers():
     assert "Largest catc / hand-written:" in out
 
 
+def test_startup_bench_runs_every_query():
+    """benchmarks/startup_bench.py exits non-zero when a command's exit code is not the one
+    expected (every query answers its example; the yardsticks run)."""
+    out = run("benchmarks/startup_bench.py", "--runs", "1", "--no-compile")
+    for query in ("solve", "optimize", "diagnose", "relax", "recompose", "pareto", "validate", "check"):
+        assert re.search(rf"^\| {query} [^|]* \| [\d.]+ \|", out, re.M), query
+    assert "Largest wall ratio:" in out
+
+
 def test_maxsmt_bench_runs_and_both_churn_encodings_agree():
     """benchmarks/maxsmt_bench.py exits non-zero when an optimum's churn differs from the one
     derived in its docstring (SAR: 0 and 4, expect.toml; the retired catalog: 2)."""
