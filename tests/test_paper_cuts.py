@@ -446,7 +446,7 @@ def test_explain_prints_a_codes_explanation_from_docs_errors_md():
     assert lines[2] == "A name is used but never declared."  # its row in docs/errors.md
     assert "did you mean 'ram'?" in res.stdout  # its explanation there
     assert run_catc("explain", "unknown-name").stdout == res.stdout
-    limits = run_catc("explain", "E1109").stdout  # a code with its section's prose and no explanation of its own
+    limits = run_catc("explain", "E1109").stdout  # its section's prose too, before its own explanation
     assert "Each message says how to raise the limit" in limits
     listing = run_catc("explain").stdout.splitlines()
     from catgrammar.codes import CODES
