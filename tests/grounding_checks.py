@@ -16,7 +16,6 @@ independently of catc's writers (catc.targets.grounding).
 from __future__ import annotations
 
 import functools
-
 import json
 import re
 import xml.etree.ElementTree as ET
