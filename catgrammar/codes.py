@@ -308,6 +308,13 @@ CODES: dict[str, Code] = {
             W,
             "A resource declared without :unit meets a quantity with a unit; it silently takes that unit.",
         ),
+        Code(
+            "W0108",
+            "unexecuted-behaviour-tree",
+            W,
+            "A grounded composition has behaviours but the domain names no (:deployment :executor ...) image: "
+            "bt.xml is written and nothing runs it.",
+        ),
     )
 }
 
@@ -408,3 +415,4 @@ UNWRITABLE_GOAL = "W0104"
 UNBOUNDED_PARAMETER = "W0105"
 UNGROUNDED_MORPHISM = "W0106"
 UNITLESS_RESOURCE = "W0107"
+UNEXECUTED_TREE = "W0108"

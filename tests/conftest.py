@@ -91,3 +91,11 @@ def word_uses(text: str, name: str) -> list[int]:
         if ";" not in before and before.count('"') % 2 == 0:
             out.append(m.start())
     return out
+
+
+def pytest_report_header(config):
+    """Which real tools check the grounding artifacts in this run (tests/test_deploy.py)."""
+    from fake_docker import real_compose
+    from grounding_checks import rcl_checker_name
+
+    return [f"ROS 2 parameter files: {rcl_checker_name()}", f"Docker Compose v2: {real_compose() or 'absent'}"]

@@ -15,6 +15,7 @@ independently of catc's writers (catc.targets.grounding).
 
 from __future__ import annotations
 
+import functools
 import json
 import re
 import xml.etree.ElementTree as ET
@@ -98,8 +99,78 @@ def _validate_name(path: str) -> None:
         raise RclError(f"invalid node name {node!r}")
 
 
+@functools.cache
+def real_rcl_checker() -> str | None:
+    """The path of ``ros2-params-check`` — the real rcl parser (rcl_yaml_param_parser) with
+    rclcpp's load rules, built from shared/tools/ros2-params — or None where it is absent:
+    ``$CATC_ROS2_PARAMS_CHECK``, else on PATH, else built once from ``../shared/tools``
+    beside the repository (gcc and libyaml-dev needed)."""
+    return _find_real_rcl()
+
+
+def _find_real_rcl() -> str | None:
+    import os
+    import shutil
+    import subprocess
+    import tempfile
+    from pathlib import Path
+
+    given = os.environ.get("CATC_ROS2_PARAMS_CHECK")
+    if given:
+        return given
+    found = shutil.which("ros2-params-check")
+    if found:
+        return found
+    tools = Path(__file__).resolve().parents[2] / "shared" / "tools" / "ros2-params"
+    if not (tools / "build.sh").exists() or shutil.which("gcc") is None:
+        return None
+    out = Path(tempfile.mkdtemp(prefix="ros2-params-"))
+    proc = subprocess.run(["bash", str(tools / "build.sh"), str(out)], capture_output=True, cwd=out)
+    binary = out / "ros2-params-check"
+    return str(binary) if proc.returncode == 0 and binary.exists() else None
+
+
+def rcl_checker_name() -> str:
+    """Which checker :func:`rcl_params` uses here (the tests' report header says it)."""
+    real = real_rcl_checker()
+    return f"the real rcl parser with rclcpp's load rules ({real})" if real else "the re-implemented rcl rules"
+
+
+_RCL_TYPES = {"bool", "int64", "double", "string", "bool_array", "int64_array", "double_array", "string_array"}
+
+
+def real_rcl_params(text: str, checker: str) -> dict[str, dict[str, object]]:
+    """:func:`rcl_params`, answered by the real parser: the file is written and checked."""
+    import json
+    import subprocess
+    import tempfile
+
+    with tempfile.NamedTemporaryFile("w", suffix=".yaml", encoding="utf-8", delete=False) as fh:
+        fh.write(text)
+    proc = subprocess.run([checker, fh.name], capture_output=True, text=True)
+    first = proc.stdout.splitlines()[0] if proc.stdout else proc.stderr
+    if proc.returncode != 0 or not first.startswith("ACCEPTED"):
+        raise RclError(first.split(": ", 1)[-1] if "REJECTED" in first else first)
+    out: dict[str, dict[str, object]] = {}
+    for line in proc.stdout.splitlines()[1:]:
+        node, name, kind, value = line[1:].split("\t", 3)
+        assert kind in _RCL_TYPES, line
+        out.setdefault(node, {})[name] = json.loads(value)
+    return out
+
+
 def rcl_params(text: str) -> dict[str, dict[str, object]]:
-    """The parameters per node (full node path → name → typed value), as rcl reads them."""
+    """The parameters per node (full node path → name → typed value), as rcl reads them:
+    by the real parser where it is here (:func:`real_rcl_checker`), else by the rules
+    re-implemented below."""
+    checker = real_rcl_checker()
+    if checker is not None:
+        return real_rcl_params(text, checker)
+    return reimplemented_rcl_params(text)
+
+
+def reimplemented_rcl_params(text: str) -> dict[str, dict[str, object]]:
+    """rcl's rules re-implemented (where the real parser cannot be built)."""
     for event in yaml.parse(text):
         if isinstance(event, yaml.AliasEvent):
             raise RclError("Will not support aliasing")

@@ -22,7 +22,7 @@ EX = ROOT / "examples"
 GOLDEN = ROOT / "tests" / "golden" / "grounding"
 CASES = ["detection/person", "search-and-rescue/event1-fresh", "search-and-rescue/event2-out-of-range",
          "search-and-rescue/event4-dark"]  # fmt: skip
-FILES = ("instructions.md", "compose.yaml", "params.yaml", "bt.xml", "manifest.json")
+FILES = ("instructions.md", "compose.yaml", ".env", "params.yaml", "bt.xml", "manifest.json")
 
 
 def ground(case: str, out: Path, *extra: str):
@@ -191,7 +191,10 @@ def test_the_sar_diff_for_the_cheaper_camera(tmp_path):
     assert diff["unmount"] == ["mount-rgb-camera"] and diff["mount"] == ["mount-rgb-camera-lite"]
     assert diff["stop"] == ["rgb-driver"] and diff["start"] == ["rgb-lite-driver"] and not diff["tree_changed"]
     text = run_catc("ground", model_file, "--diff", str(a), str(b)).stdout
-    assert "docker compose -p search-and-rescue -f compose.yaml up -d --remove-orphans" in text
+    assert (
+        "docker compose -p search-and-rescue -f compose.yaml --profile drivers --profile skillsets --profile "
+        "executors up -d --remove-orphans"
+    ) in text  # every profile in use is activated: a service in an inactive profile is not started
 
 
 def _grounded_of(case: str):

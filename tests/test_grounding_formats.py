@@ -9,12 +9,22 @@ from fractions import Fraction
 
 import pytest
 import yaml
-from grounding_checks import RclError, bt_errors, bt_loads_in_btcpp, compose_errors, rcl_params, rcl_value
+from grounding_checks import (
+    RclError,
+    bt_errors,
+    bt_loads_in_btcpp,
+    compose_errors,
+    rcl_params,
+    rcl_value,
+    real_rcl_checker,
+    real_rcl_params,
+    reimplemented_rcl_params,
+)
 
 from catc.ir.grounding import Profile
 from catc.semantics.plan import Activation, Plan
 from catc.targets.grounding.bt import bt_xml
-from catc.targets.grounding.compose import compose_yaml
+from catc.targets.grounding.compose import compose_env, compose_yaml
 from catc.targets.grounding.diff import ground_diff
 from catc.targets.grounding.params import params_yaml
 from catc.targets.grounding.resolve import BehaviorNode, Grounded, HardwareStep, Key, Real, Service
@@ -113,7 +123,21 @@ def test_what_rcl_types_is_quoted():
 )
 def test_the_rcl_checker_refuses_what_rcl_refuses(text, complaint):
     with pytest.raises(RclError, match=complaint):
-        rcl_params(text)
+        reimplemented_rcl_params(text)
+    real = real_rcl_checker()
+    if real is not None:  # the real parser refuses them too (in its own words)
+        with pytest.raises(RclError):
+            real_rcl_params(text, real)
+
+
+def test_rclcpp_refuses_an_empty_list_which_rcl_parses():
+    """rcl reads ``[]`` as a parameter with no value; rclcpp's parameter_value_from throws
+    "No parameter value set", so a node given the file does not start."""
+    real = real_rcl_checker()
+    if real is None:
+        pytest.skip("the real rcl parser could not be built here (gcc, libyaml-dev, shared/tools)")
+    with pytest.raises(RclError, match="No parameter value set"):
+        real_rcl_params("/**:\n  n:\n    ros__parameters:\n      a: []\n", real)
 
 
 def test_the_rcl_checker_types_values_as_rcl_does():
@@ -130,9 +154,18 @@ def test_compose_passes_the_compose_spec_schema_and_our_checks():
     assert compose_errors(text) == []
     doc = yaml.safe_load(text)
     driver = doc["services"]["camera-driver"]
-    assert driver["profiles"] == ["drivers"] and driver["environment"]["BT_FILE"] == "/catc/bt.xml"
+    assert driver["profiles"] == ["drivers"] and "BT_FILE" not in driver["environment"]  # a driver runs no tree
+    assert all("bt.xml" not in v for v in driver["volumes"])
     assert driver["command"][-2:] == ["-r", "image_raw:=camera/image"]
-    assert doc["services"]["bt-executor"]["profiles"] == ["executors"]
+    executor = doc["services"]["bt-executor"]
+    assert executor["profiles"] == ["executors"] and executor["environment"]["BT_FILE"] == "/catc/bt.xml"
+    assert "./bt.xml:/catc/bt.xml:ro" in executor["volumes"]
+
+
+def test_the_env_file_activates_exactly_the_profiles_in_use():
+    assert compose_env(grounded()) == "COMPOSE_PROFILES=drivers,executors\n"
+    only = grounded(services=(Service("s", "s", "i:1", "n", Profile.SKILLSETS),), behaviours=())
+    assert compose_env(only) == "COMPOSE_PROFILES=skillsets\n"
 
 
 def test_compose_checks_catch_what_the_schema_allows():

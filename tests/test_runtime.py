@@ -17,6 +17,7 @@ import sys
 from fractions import Fraction
 from pathlib import Path
 
+import fake_docker as fake_docker_module
 import pytest
 from conftest import ROOT
 
@@ -313,14 +314,14 @@ def test_verify_finds_a_tampered_state_and_generation(state: Path):
 
 
 def fake_docker(tmp_path: Path, exit_code: int = 0) -> Path:
-    """A ``docker`` that records its arguments and working folder, then exits."""
-    bin_dir = tmp_path / "bin"
-    bin_dir.mkdir(exist_ok=True)
-    log = tmp_path / "docker.log"
-    script = bin_dir / "docker"
-    script.write_text(f'#!/bin/sh\necho "$PWD|$*" >> {log}\necho "boom" >&2\nexit {exit_code}\n')
-    script.chmod(0o755)
-    return bin_dir
+    """A ``docker`` that records its arguments and working folder (tests/fake_docker.py:
+    ``compose config`` by the real Compose binary, ``up`` exits ``exit_code``)."""
+    return fake_docker_module.install(tmp_path, up_exit=exit_code)
+
+
+def compose_calls(tmp_path: Path) -> list[str]:
+    """The docker calls that change the robot (not ``version`` and ``ps``)."""
+    return [c for c in (tmp_path / "docker.log").read_text().splitlines() if " up " in c + " "]
 
 
 def test_the_compose_enactor_runs_docker_compose_on_the_generation(tmp_path: Path, state: Path):
@@ -329,9 +330,10 @@ def test_the_compose_enactor_runs_docker_compose_on_the_generation(tmp_path: Pat
     res = catrt("run", state, "--events", "-", "--enactor", "compose", stdin="", env=env)
     assert res.returncode == 0, res.stderr
     gen = (state / "generations" / "000001").resolve()
-    calls = (tmp_path / "docker.log").read_text().splitlines()
+    calls = compose_calls(tmp_path)
     project = json.loads((gen / "manifest.json").read_text())["project"]
-    assert calls == [f"{gen}|compose -p {project} -f {gen / 'compose.yaml'} up -d --remove-orphans"]
+    profiles = "--profile drivers --profile skillsets"  # the detection example's two services' profiles
+    assert calls == [f"{gen}|compose -p {project} -f {gen / 'compose.yaml'} {profiles} up -d --remove-orphans"]
     assert "generation 1 enacted" in res.stdout
     assert_consistent(state)
 
@@ -345,8 +347,8 @@ def test_the_compose_files_are_named_absolutely_whatever_the_state_path(tmp_path
     res = catrt("run", "rel", "--events", "-", "--enactor", "compose", stdin="", env=env, cwd=tmp_path)
     assert res.returncode == 0 and "E1011" not in res.stderr, res.stderr
     gen = (tmp_path / "rel" / "generations" / "000001").resolve()
-    (call,) = (tmp_path / "docker.log").read_text().splitlines()
-    assert f"-f {gen / 'compose.yaml'} up" in call
+    (call,) = compose_calls(tmp_path)
+    assert f"-f {gen / 'compose.yaml'} --profile" in call
 
 
 def test_an_events_path_that_does_not_exist_is_an_error_not_a_new_spool(state: Path, tmp_path: Path):

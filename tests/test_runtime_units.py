@@ -746,7 +746,7 @@ def test_the_template_and_a_full_config_load(tmp_path: Path):
 
     (tmp_path / "config.toml").write_text(TEMPLATE, encoding="utf-8")
     assert load_config(tmp_path) == Config({"compose": 120, "diagnose": 30, "relax": 30},
-                                           {"kind": "dry", "docker": "docker", "timeout": 600}, ())  # fmt: skip
+                                           {"kind": "dry", "docker": "docker", "timeout": 600, "ready": 60}, ())  # fmt: skip
     (tmp_path / "config.toml").write_text(
         '[[sensor]]\nname = "bat.0"\nresource = "ram"\nargv = ["/bin/echo", "5"]\ntimeout = 0.5\nevery = 3\n'
         '[[sensor]]\nname = "b"\nresource = "ram"\nargv = ["/bin/echo"]\n',

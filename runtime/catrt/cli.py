@@ -279,14 +279,51 @@ def approve(state: str, request: str, reject: bool) -> None:
 @main.command()
 @click.argument("state", type=click.Path(file_okay=False))
 @click.option("--json", "as_json", is_flag=True, help="Print a catrt.status/1 document.")
-def status(state: str, as_json: bool) -> None:
+@click.option("--plan", "plan", is_flag=True, help="Also show the deployed composition: steps, components, θ.")
+def status(state: str, as_json: bool, plan: bool) -> None:
     """The model, the deployed composition A₀, pending requests and the last decision."""
     from catrt.views import status_document, status_text
 
     store = open_store(state, write=False)
     doc = status_document(store, Path(state))
     store.close()
-    echo(json.dumps(doc, indent=2) if as_json else status_text(doc))
+    echo(json.dumps(doc, indent=2) if as_json else status_text(doc, plan))
+
+
+@main.command()
+@click.argument("state", type=click.Path(file_okay=False))
+@click.argument("generations", nargs=-1, type=click.IntRange(min=1))
+@click.option("--json", "as_json", is_flag=True, help="Print a catc.ground-diff/1 document.")
+def diff(state: str, generations: tuple[int, ...], as_json: bool) -> None:
+    """What changes on the robot between two generations: GEN_A GEN_B, or GEN_B against the
+    one before it, or (none given) the deployed generation against the one before it."""
+    from catc.targets.grounding.diff import NotAGrounding, diff_artifacts, read_grounding
+    from catrt.views import diff_text, generation_folder
+
+    if len(generations) > 2:
+        fail("E0701", "give at most two generations: catrt diff STATE [GEN_A] [GEN_B]")
+    store = open_store(state, write=False)
+    incumbent = store.get("incumbent")
+    store.close()
+    if not generations:
+        if incumbent is None:
+            fail("E0701", f"{state}: nothing is deployed yet: no generation to compare")
+        generations = (incumbent["generation"],)
+    old, new = (generations[0] - 1, generations[0]) if len(generations) == 1 else generations
+    if old < 1:
+        fail("E0701", f"generation {new} is the first: give two generations to compare")
+    try:
+        a, b = (read_grounding(str(generation_folder(Path(state), g))) for g in (old, new))
+    except NotAGrounding as exc:
+        fail("E1005", str(exc))
+    d = diff_artifacts(a, b)
+    if as_json:
+        keys = ("added", "removed", "unmount", "mount", "stop", "start", "recreate")
+        doc = {"schema": "catc.ground-diff/1", "from": old, "to": new, **{k: list(getattr(d, k)) for k in keys},
+               "tree_changed": d.tree_changed, "commands": d.commands()}  # fmt: skip
+        echo(json.dumps(doc, indent=2))
+    else:
+        echo(diff_text(d, old, new))
 
 
 @main.command()

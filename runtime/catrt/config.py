@@ -8,8 +8,10 @@ hand), checked against a JSON schema so that a typo is an error, not a silent de
 
     [enactor]
     kind = "dry"          # or "compose"
-    docker = "docker"     # the docker executable (compose)
+    docker = "docker"     # the docker executable (compose): runs `docker compose`
+    compose = "docker-compose"  # or a Compose v2 binary of its own (instead of `docker compose`)
     timeout = 600         # seconds per command
+    ready = 60            # seconds for every service to run after `up`
 
     [[sensor]]            # shell sensors: only with `catrt run --allow-shell`
     name = "battery"
@@ -39,6 +41,7 @@ relax = 30
 kind = "dry"        # dry: write generations, run nothing; compose: docker compose up
 docker = "docker"
 timeout = 600       # seconds per command
+ready = 60          # seconds for every service to be running after `up` (else E1011)
 
 # Shell sensors (the paper's shell-evaluated conditions) run only with `catrt run --allow-shell`.
 # Each is an argument list, never a shell string; its output is parsed strictly into the
@@ -67,7 +70,14 @@ _SCHEMA: dict[str, Any] = {
             "properties": {
                 "kind": {"enum": ["dry", "compose"]},
                 "docker": {"type": "string", "minLength": 1},
+                "compose": {
+                    "oneOf": [
+                        {"type": "string", "minLength": 1},
+                        {"type": "array", "items": {"type": "string", "minLength": 1}, "minItems": 1},
+                    ]
+                },
                 "timeout": _NUMBER,
+                "ready": _NUMBER,
             },
         },
         "sensor": {

@@ -11,10 +11,16 @@ manifest and leaves it alone (enacting again after a crash is idempotent).
 Enactors (a registry: one class each):
 
 * ``dry`` — runs nothing; says what would be run.  The default.
-* ``compose`` — ``docker compose -p PROJECT -f GEN/compose.yaml up -d --remove-orphans``,
+* ``compose`` — ``docker compose -p PROJECT -f GEN/compose.yaml --profile P... up -d
+  --remove-orphans`` (every profile the generation's services are in: a service in a profile
+  that is not active is not started, and Compose says "no service selected" and exits 0),
   then ``up -d --no-deps --force-recreate`` for the services whose image, node, parameters
   or remappings changed (Compose does not restart a container when only a mounted file
-  changed).  Hardware steps are for a person: they are listed, never run.
+  changed).  Then it asks ``ps --all --format json`` until every service of the generation
+  is running (or has exited 0, a one-shot service) — ``ready`` seconds at most, 60 by
+  default; otherwise the enactment fails (E1011) and the deployed generation stays.  A
+  missing Compose plugin is said as such (``docker compose version`` is asked first).
+  Hardware steps are for a person: they are listed, never run.
 """
 
 from __future__ import annotations
@@ -130,6 +136,16 @@ class Enacted:
                 "diff": self.diff}  # fmt: skip
 
 
+def compose_services(folder: Path) -> tuple[list[str], list[str]]:
+    """(the services of the generation's compose.yaml, the profiles they are in)."""
+    import yaml
+
+    doc = yaml.safe_load((folder / "compose.yaml").read_text(encoding="utf-8")) or {}
+    services = doc.get("services") or {}
+    profiles = sorted({p for s in services.values() for p in (s.get("profiles") or [])})
+    return list(services), profiles
+
+
 class Enactor:
     name: ClassVar[str]
     #: Runs commands that change the robot.
@@ -138,10 +154,22 @@ class Enactor:
     def __init__(self, options: Mapping[str, Any] | None = None) -> None:
         self.options = dict(options or {})
 
+    def compose(self) -> list[str]:
+        """The Compose command: ``enactor.compose`` (e.g. ``["docker-compose"]``), else
+        ``DOCKER compose``."""
+        given = self.options.get("compose")
+        if given:
+            return [given] if isinstance(given, str) else list(given)
+        return [self.options.get("docker", "docker"), "compose"]
+
+    def base(self, project: str, folder: Path) -> list[str]:
+        compose = str(folder.resolve() / "compose.yaml")  # absolute: the commands run inside the folder
+        _, profiles = compose_services(folder)
+        return [*self.compose(), "-p", project, "-f", compose, *(a for p in profiles for a in ("--profile", p))]
+
     def plan(self, project: str, folder: Path, diff: GroundDiff | None) -> Enacted:
         """The commands that bring the robot to ``folder``'s generation."""
-        compose = str(folder.resolve() / "compose.yaml")  # absolute: the commands run inside the folder
-        base = [self.options.get("docker", "docker"), "compose", "-p", project, "-f", compose]
+        base = self.base(project, folder)
         commands = [[*base, "up", "-d", "--remove-orphans"]]
         if diff is not None and diff.recreate:
             commands.append([*base, "up", "-d", "--no-deps", "--force-recreate", *diff.recreate])
@@ -171,13 +199,74 @@ class ComposeEnactor(Enactor):
     def enact(self, project: str, folder: Path, diff: GroundDiff | None) -> Enacted:
         done = self.plan(project, folder, diff)
         timeout = float(self.options.get("timeout", 600))
+        self._check_plugin(folder, timeout)
         for argv in done.commands:
             out = _run(argv, folder, timeout)
             done.outputs.append(out)
             if out["exit"] != 0:
                 raise EnactError(f"{' '.join(argv)} failed (exit {out['exit']}): {out['stderr'][-500:]}")
+        done.outputs.append(self._wait_running(project, folder, timeout))
         done.ran = True
         return done
+
+    def _check_plugin(self, folder: Path, timeout: float) -> None:
+        argv = [*self.compose(), "version"]
+        out = _run(argv, folder, timeout)
+        if out["exit"] != 0:
+            raise EnactError(
+                f"Docker Compose v2 is not available: `{' '.join(argv)}` failed (exit {out['exit']}: "
+                f"{(out['stderr'] or out['stdout']).strip()[-300:]}); install the compose plugin (Debian: "
+                'docker-compose-plugin) or name a Compose binary in config.toml: [enactor] compose = "docker-compose"'
+            )
+
+    def _wait_running(self, project: str, folder: Path, timeout: float) -> dict[str, Any]:
+        """Ask ``ps`` until every service runs (or exited 0), ``ready`` seconds at most."""
+        import time
+
+        expected, _ = compose_services(folder)
+        ready = float(self.options.get("ready", 60))
+        argv = [*self.base(project, folder), "ps", "--all", "--format", "json"]
+        start = time.monotonic()
+        while True:
+            out = _run(argv, folder, timeout)
+            if out["exit"] != 0:
+                raise EnactError(f"{' '.join(argv)} failed (exit {out['exit']}): {out['stderr'][-500:]}")
+            states = ps_states(out["stdout"])
+            bad = not_running(expected, states)
+            if not bad:
+                return out
+            if time.monotonic() - start >= ready:
+                raise EnactError(f"after {ready:g} s not every service runs: {'; '.join(bad)}")
+            time.sleep(min(1.0, ready / 10))
+
+
+def ps_states(text: str) -> dict[str, dict[str, Any]]:
+    """``docker compose ps --format json`` by service: one JSON array (Compose before 2.21)
+    or one object a line (since)."""
+    text = text.strip()
+    if not text:
+        return {}
+    try:
+        doc = json.loads(text)
+        rows = doc if isinstance(doc, list) else [doc]
+    except ValueError:
+        rows = [json.loads(line) for line in text.splitlines() if line.strip()]
+    return {str(r.get("Service")): r for r in rows if isinstance(r, dict)}
+
+
+def not_running(expected: Sequence[str], states: Mapping[str, Mapping[str, Any]]) -> list[str]:
+    """Each expected service that is neither running nor exited 0, said why."""
+    bad = []
+    for name in expected:
+        row = states.get(name)
+        if row is None:
+            bad.append(f"{name}: not created")
+            continue
+        state = str(row.get("State", "")).lower()
+        if state == "running" or (state == "exited" and row.get("ExitCode") == 0):
+            continue
+        bad.append(f"{name}: {state or 'unknown'}" + (f" (exit {row.get('ExitCode')})" if state == "exited" else ""))
+    return bad
 
 
 def _run(argv: Sequence[str], cwd: Path, timeout: float) -> dict[str, Any]:

@@ -284,7 +284,7 @@ class Runtime:
             return None, f"the composition cannot be grounded: {exc}"
         digest = hashlib.sha256("\n".join(sorted(hashlib.sha256(t.encode()).hexdigest()
                                                  for t in candidate.files.values())).encode()).hexdigest()  # fmt: skip
-        return (files, manifest(grounded, files, digest)), None
+        return (files, manifest(grounded, files, digest, candidate.instance)), None
 
     def _deployed_as(self, files: dict[str, bytes]) -> bool:
         """The deployed generation has exactly these artifacts."""

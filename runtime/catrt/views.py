@@ -18,6 +18,70 @@ def _components(plan: dict[str, Any] | None) -> list[str]:
     return sorted({a["morphism"] for step in plan["steps"] for a in step})
 
 
+def generation_folder(folder: Path, generation: int) -> Path:
+    return folder / "generations" / f"{generation:06d}"
+
+
+def deployed_composition(generation: Path) -> dict[str, Any] | None:
+    """The composition a generation grounded, from its manifest: steps of
+    ``{"morphism", "kind", "params": {name: {"value", "unit"}}}``."""
+    try:
+        manifest = json.loads((generation / "manifest.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    kinds, units = manifest.get("kinds", {}), manifest.get("units", {})
+    steps = [
+        [
+            {
+                "morphism": a["morphism"],
+                "kind": kinds.get(a["morphism"]),
+                "params": {
+                    k: {"value": v, **({"unit": units[a["morphism"]][k]} if k in units.get(a["morphism"], {}) else {})}
+                    for k, v in a["params"].items()
+                },
+            }
+            for a in step
+        ]
+        for step in manifest["plan"]["steps"]
+    ]
+    return {"steps": steps, "fresh": manifest["plan"].get("fresh", {}), "services": manifest.get("services", [])}
+
+
+def _value_text(value: Any, unit: str | None) -> str:
+    from fractions import Fraction
+
+    from catc.ir.numbers import decimal_text
+
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, list):
+        return "{" + " ".join(str(v) for v in value) + "}"
+    if isinstance(value, str):
+        try:
+            number = Fraction(value)
+        except ValueError:
+            return value
+        return decimal_text(number) + (f" {unit}" if unit else "")
+    return str(value)
+
+
+def plan_text(composition: dict[str, Any]) -> list[str]:
+    """The deployed composition as a table: step, morphism, kind, θ with units."""
+    rows = [(str(i), a["morphism"], a["kind"] or "", ", ".join(
+        f"{k} = {_value_text(p['value'], p.get('unit'))}" for k, p in a["params"].items()))
+        for i, step in enumerate(composition["steps"], 1) for a in step]  # fmt: skip
+    width = max([len("morphism"), *(len(r[1]) for r in rows)])
+    lines = [f"  step  {'morphism':<{width}}  kind      θ"]
+    last = ""
+    for step, morphism, kind, theta in rows:
+        shown = step if step != last else "⊗"
+        last = step
+        lines.append(f"  {shown:>4}  {morphism:<{width}}  {kind:<8}  {theta}".rstrip())
+    if composition.get("services"):
+        lines.append(f"  services: {', '.join(composition['services'])}")
+    return lines
+
+
 def status_document(store: Store, folder: Path) -> dict[str, Any]:
     model = store.get("model")
     incumbent = store.get("incumbent")
@@ -43,7 +107,8 @@ def status_document(store: Store, folder: Path) -> dict[str, Any]:
             "generation": incumbent["generation"],
             "steps": len(incumbent["plan"]["steps"]),
             "components": _components(incumbent["plan"]),
-            "folder": str(folder / "generations" / f"{incumbent['generation']:06d}"),
+            "folder": str(generation_folder(folder, incumbent["generation"])),
+            "composition": deployed_composition(generation_folder(folder, incumbent["generation"])),
         },
         "last_enactment": None
         if enacted is None
@@ -64,7 +129,7 @@ def status_document(store: Store, folder: Path) -> dict[str, Any]:
     }
 
 
-def status_text(doc: dict[str, Any]) -> str:
+def status_text(doc: dict[str, Any], plan: bool = False) -> str:
     m = doc["model"]
     lines = [f"{doc['state']}: problem {m['problem']} of domain {m['domain']}; goal {m['goal']}"]
     if m["metric"]:
@@ -79,6 +144,10 @@ def status_text(doc: dict[str, Any]) -> str:
     else:
         lines.append(f"deployed: generation {d['generation']}, {d['steps']} steps, {len(d['components'])} components"
                      f" ({d['folder']})")  # fmt: skip
+        if plan and d.get("composition"):
+            lines += plan_text(d["composition"])
+        elif plan:
+            lines.append("  (the generation's manifest cannot be read: catrt verify says why)")
     lines += _enactment_lines(doc["last_enactment"])
     if doc["enacting"]:
         lines.append(f"enacting: generation {doc['enacting']['generation']} (interrupted: the next run finishes it)")
@@ -131,3 +200,16 @@ def entry_text(entry: dict[str, Any]) -> str:
         what = data["error"] or f"{data['resource']} = {data['value']}"
         return f"{head}{data['sensor']}: {what}"
     return f"{head}{json.dumps(data, ensure_ascii=False)[:160]}"
+
+
+def diff_text(d: Any, old: int, new: int) -> str:
+    """What changes on the robot from generation ``old`` to ``new``."""
+    if d.empty:
+        return f"generations {old} → {new}: no change"
+    lines = [f"generations {old} → {new}: components added: {', '.join(d.added) or 'none'}; "
+             f"removed: {', '.join(d.removed) or 'none'}"]  # fmt: skip
+    for what in ("unmount", "mount", "stop", "start", "recreate"):
+        if getattr(d, what):
+            lines.append(f"  {what:9} {', '.join(getattr(d, what))}")
+    lines.append(f"  behaviour tree {'changed' if d.tree_changed else 'unchanged'}")
+    return "\n".join(lines)

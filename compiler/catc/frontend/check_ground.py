@@ -20,6 +20,7 @@ from catc.ir.grounding import (
     Grounding,
     HardwareGrounding,
     Profile,
+    RealLiteral,
     SoftwareGrounding,
     Template,
     Value,
@@ -317,7 +318,8 @@ class GroundChecker:
 
     def value(self, node: ast.Datum, keys: bool) -> Value | None:
         if isinstance(node, ast.Num):
-            return Value(ValueKind.LITERAL, literal=node.value, span=node.span)
+            real = any(c in node.text for c in ".eE")  # written as a real: a real, even when whole
+            return Value(ValueKind.LITERAL, literal=RealLiteral(node.value) if real else node.value, span=node.span)
         if isinstance(node, ast.Str):
             return Value(ValueKind.LITERAL, literal=node.text, span=node.span)
         if isinstance(node, ast.BoolLit):

@@ -50,7 +50,7 @@ def model_sha256(inst: ir.Instance) -> str:
     return hashlib.sha256("\n".join(sorted(digests)).encode()).hexdigest()
 
 
-def replayed(inst: ir.Instance, plan: Plan, where: str) -> tuple[Mapping[str, object], ...]:
+def replayed(inst: ir.Instance, plan: Plan, where: str, *, diff_hint: bool = False) -> tuple[Mapping[str, object], ...]:
     """The validator's states for ``plan``, or exit 1 listing every violation."""
     from catc.semantics.validate import validate
 
@@ -59,6 +59,12 @@ def replayed(inst: ir.Instance, plan: Plan, where: str) -> tuple[Mapping[str, ob
         command.echo(f"invalid: {where} is not a composition of this model:", err=True)
         for v in report.violations:
             command.echo(f"  {f'step {v.step}: ' if v.step is not None else ''}{v.kind}: {v.message}", err=True)
+        if diff_hint:
+            command.echo(
+                "  (to compare with a composition of an earlier world, diff the two groundings instead: "
+                "catc ground --diff OLD_DIR NEW_DIR, e.g. two of catrt's generation folders)",
+                err=True,
+            )
         sys.exit(ExitCode.FAIL)
     return tuple(report.states)
 
@@ -95,18 +101,42 @@ def warn_missing(inst: ir.Instance, missing: Sequence[str], strict: bool) -> Non
         sys.exit(ExitCode.INPUT)
 
 
+def warn_unexecuted(inst: ir.Instance, grounded: Any, strict: bool) -> None:
+    """W0108 when the composition has behaviours and no executor runs bt.xml (located at the
+    first behaviour's annotation); with ``strict``, an error and exit 2."""
+    from catc.targets.grounding.resolve import unexecuted
+
+    if not unexecuted(grounded):
+        return
+    first = grounded.behaviours[0][0].morphism
+    g = inst.morphisms[first].grounding
+    diags = Diagnostics()
+    diags.report(
+        codes.UNEXECUTED_TREE,
+        f"the composition runs behaviours ({', '.join(n.morphism for step in grounded.behaviours for n in step)}) "
+        "but the domain names no executor: bt.xml is written and no service runs it; add "
+        '(:deployment :executor "IMAGE") to the domain',
+        g.span if g is not None else inst.morphisms[first].span,
+    )
+    if strict:
+        diags.promote_warnings()
+    command.echo(format_text(_sourced(diags)), err=True)
+    if strict:
+        sys.exit(ExitCode.INPUT)
+
+
 def ground_artifacts(
     inst: ir.Instance, plan: Plan, states: Sequence[Mapping[str, object]], as_json: bool
 ) -> tuple[Any, dict, dict]:
     """(the resolved grounding, the artifacts' bytes by name, the manifest), or exit 2 with a
     located error when the composition cannot be grounded."""
     from catc.targets.grounding.artifacts import artifacts, manifest
-    from catc.targets.grounding.resolve import GroundingConflict, ground
+    from catc.targets.grounding.resolve import GroundingError, ground
 
     try:
         grounded = ground(inst, plan, states)
         files = artifacts(grounded)
-    except GroundingConflict as exc:
+    except GroundingError as exc:
         diags = Diagnostics()
         diags.report(
             codes.BAD_GROUNDING, str(exc), exc.span, *([Note("the other one", exc.first)] if exc.first else [])
@@ -114,7 +144,7 @@ def ground_artifacts(
         command.input_errors(_sourced(diags), as_json)
     except ValueError as exc:  # a value no artifact can carry (a real beyond a double)
         command.argument_error(str(exc), codes.BAD_GROUNDING, as_json)
-    return grounded, files, manifest(grounded, files, model_sha256(inst))
+    return grounded, files, manifest(grounded, files, model_sha256(inst), inst)
 
 
 def _plan_to_ground(inst: ir.Instance, plan_file: str | None, horizon: int | None, timeout: float | None) -> Plan:
@@ -150,6 +180,10 @@ def ground_command_body(
     problem_name: str | None,
     timeout: float | None,
 ) -> None:
+    if diff is not None and _diff_groundings(diff, as_json):
+        return
+    if not paths:
+        raise click.UsageError("give PROBLEM or DOMAIN PROBLEM (only --diff of two groundings needs no model)")
     inst = command.instance(paths, view, search_paths, problem_name, as_json)
     if diff is not None:
         _diff(inst, diff, strict, as_json)
@@ -160,6 +194,7 @@ def ground_command_body(
     states = replayed(inst, plan, plan_file or "the solver's composition")
     grounded, files, doc = ground_artifacts(inst, plan, states, as_json)
     warn_missing(inst, grounded.missing, strict)
+    warn_unexecuted(inst, grounded, strict)
     from catc.targets.grounding.artifacts import write
 
     try:
@@ -180,6 +215,29 @@ def ground_command_body(
         console.print(f"  {escape(str(path))}" + (f"  sha256 {digest[:12]}…" if digest else ""))
 
 
+def _diff_groundings(files: tuple[str, str], as_json: bool) -> bool:
+    """``--diff`` of two groundings (folders or manifest.json files, e.g. two generations of
+    the runtime): answered from their files, with no model — the old composition need not
+    hold in today's world.  False when the two are not groundings (plan files)."""
+    from catc.targets.grounding.diff import NotAGrounding, diff_artifacts, is_grounding, read_grounding
+
+    kinds = [is_grounding(f) for f in files]
+    if not any(kinds):
+        return False
+    if not all(kinds):
+        command.argument_error(
+            "--diff takes two groundings (folders or manifest.json files) or two plan files, not one of each",
+            codes.BAD_ARGUMENT,
+            as_json,
+        )
+    try:
+        old, new = (read_grounding(f) for f in files)
+    except NotAGrounding as exc:
+        command.argument_error(str(exc), codes.BAD_ARGUMENT, as_json)
+    _show_diff(diff_artifacts(old, new), as_json)
+    return True
+
+
 def _diff(inst: ir.Instance, files: tuple[str, str], strict: bool, as_json: bool) -> None:
     from catc.targets.grounding.diff import ground_diff
 
@@ -189,10 +247,13 @@ def _diff(inst: ir.Instance, files: tuple[str, str], strict: bool, as_json: bool
             plan = command.read_plan_file(inst, name)
         except command.PlanFileError as exc:
             command.argument_error(str(exc), exc.code, as_json, location=exc.location)
-        g, _, _ = ground_artifacts(inst, plan, replayed(inst, plan, name), as_json)
+        g, _, _ = ground_artifacts(inst, plan, replayed(inst, plan, name, diff_hint=True), as_json)
         grounded.append(g)
     warn_missing(inst, [*grounded[0].missing, *grounded[1].missing], strict)  # each morphism named once
-    d = ground_diff(grounded[0], grounded[1])
+    _show_diff(ground_diff(grounded[0], grounded[1]), as_json)
+
+
+def _show_diff(d: Any, as_json: bool) -> None:
     if as_json:
         doc = {
             "schema": "catc.ground-diff/1",
@@ -228,11 +289,12 @@ def _print_diff(d: Any) -> None:
 
 
 @click.command("ground")
-@click.argument("paths", nargs=-1, required=True, type=click.Path())
+@click.argument("paths", nargs=-1, type=click.Path())
 @click.option("-o", "--output", "out", type=click.Path(file_okay=False), help="Folder for the artifacts (created).")
 @click.option("--plan", "plan_file", type=click.Path(dir_okay=False), help="Ground this catc.plan/1 composition.")
-@click.option("--diff", nargs=2, type=click.Path(dir_okay=False), metavar="OLD NEW",
-              help="What changes on the robot from composition OLD to NEW (catc.plan/1 files).")  # fmt: skip
+@click.option("--diff", nargs=2, type=click.Path(), metavar="OLD NEW",
+              help="What changes on the robot from OLD to NEW: two groundings (folders or manifest.json; no "
+                   "model needed) or two catc.plan/1 files of this model.")  # fmt: skip
 @click.option("--strict", is_flag=True, help="A morphism without grounding is an error (exit 2), not a warning.")
 @click.option(
     "--json", "as_json", is_flag=True, help="Print the manifest (catc.ground/1) or the diff (catc.ground-diff/1)."
@@ -270,7 +332,7 @@ def ground_command(
     bt.xml and manifest.json to -o DIR.  Exit 0 written (or diffed), 1 no composition or an
     invalid plan, 2 input error, 3 the solver gave up.  Needs the 'grounding' extra.
     """
-    if len(paths) not in (1, 2):
+    if len(paths) not in (1, 2) and not (diff is not None and not paths):
         raise click.UsageError("give PROBLEM or DOMAIN PROBLEM")
     try:
         import yaml  # noqa: F401

@@ -32,6 +32,11 @@ class ValueKind(str, Enum):
     KEY = "key"  # a blackboard entry (behaviour ports): written as {key}
 
 
+class RealLiteral(Fraction):
+    """A number literal written as a real (``2.0``, ``1e3``): a real even when it is whole, so
+    an artifact writes it as a float (rclcpp refuses an integer for a double parameter)."""
+
+
 class Value(Record):
     """Where a bound value comes from: ``name`` for PARAM, RESOURCE and KEY; ``literal``
     (a Fraction, a bool or a str) for LITERAL."""

@@ -28,6 +28,8 @@ PLAN_SCHEMA = "catc.plan/1"
 #: The ``--json`` answers whose ``steps`` and ``fresh`` are a plan too: ``catc validate`` reads
 #: them as it reads a ``catc.plan/1`` document (their other fields are ignored).
 ANSWER_SCHEMAS = ("catc.solve/1", "catc.optimize/1", "catc.recompose/1")
+#: A grounding's manifest (``catc ground``, a runtime generation) carries its composition under "plan".
+MANIFEST_SCHEMA = "catc.ground/1"
 
 
 def fresh_name(sort: str, n: int) -> str:
@@ -133,9 +135,13 @@ def plan_from_json(doc: Any, param_sorts: Mapping[str, Mapping[str, str]]) -> Pl
     the validator can report them."""
     if not isinstance(doc, dict):
         raise PlanFormatError('a plan is a JSON object with a "steps" list')
+    if doc.get("schema") == MANIFEST_SCHEMA:  # a grounding's manifest: the composition it grounded
+        doc = doc.get("plan")
+        if not isinstance(doc, dict):
+            raise PlanFormatError('this catc.ground/1 manifest holds no composition ("plan")')
     schema = doc.get("schema", PLAN_SCHEMA)
     if schema != PLAN_SCHEMA and schema not in ANSWER_SCHEMAS:
-        accepted = ", ".join(repr(s) for s in (PLAN_SCHEMA, *ANSWER_SCHEMAS))
+        accepted = ", ".join(repr(s) for s in (PLAN_SCHEMA, *ANSWER_SCHEMAS, MANIFEST_SCHEMA))
         raise PlanFormatError(f"unsupported plan schema {schema!r}; expected one of {accepted}")
     steps_doc = doc.get("steps")
     if schema in ANSWER_SCHEMAS and steps_doc is None:

@@ -11,15 +11,17 @@ import json
 import os
 from pathlib import Path
 
+from catc import ir
+from catc.present.values import parameter_units_json
 from catc.semantics.plan import plan_to_json
 from catc.targets.grounding.bt import bt_xml
-from catc.targets.grounding.compose import compose_yaml
+from catc.targets.grounding.compose import compose_env, compose_yaml
 from catc.targets.grounding.instructions import instructions_md
 from catc.targets.grounding.params import params_yaml
 from catc.targets.grounding.resolve import Grounded
 
 MANIFEST_SCHEMA = "catc.ground/1"
-ARTIFACTS = ("instructions.md", "compose.yaml", "params.yaml", "bt.xml")
+ARTIFACTS = ("instructions.md", "compose.yaml", ".env", "params.yaml", "bt.xml")
 
 
 def sha256(data: bytes) -> str:
@@ -31,13 +33,22 @@ def artifacts(grounded: Grounded) -> dict[str, bytes]:
     texts = {
         "instructions.md": instructions_md(grounded),
         "compose.yaml": compose_yaml(grounded),
+        ".env": compose_env(grounded),
         "params.yaml": params_yaml(grounded),
         "bt.xml": bt_xml(grounded),
     }
     return {name: text.encode("utf-8") for name, text in texts.items()}
 
 
-def manifest(grounded: Grounded, files: dict[str, bytes], model_sha256: str) -> dict:
+def manifest(grounded: Grounded, files: dict[str, bytes], model_sha256: str, inst: ir.Instance | None = None) -> dict:
+    """What was grounded: the composition, each artifact's hash, the services and hardware;
+    with the model (``inst``), each component's kind and its parameters' units, so the
+    composition can be shown without the model (``catrt status --plan``)."""
+    used = sorted(grounded.plan.components)
+    described = {} if inst is None else {
+        "kinds": {m: inst.morphisms[m].kind.value for m in used if m in inst.morphisms},
+        "units": {m: u for m, u in parameter_units_json(inst).items() if m in grounded.plan.components},
+    }  # fmt: skip
     return {
         "schema": MANIFEST_SCHEMA,
         "project": grounded.project,
@@ -48,6 +59,7 @@ def manifest(grounded: Grounded, files: dict[str, bytes], model_sha256: str) -> 
         "hardware_steps": len(grounded.hardware),
         "hardware": [{"step": h.step, "morphism": h.morphism, "instruction": h.instruction} for h in grounded.hardware],
         "missing_grounding": list(grounded.missing),
+        **described,
     }
 
 

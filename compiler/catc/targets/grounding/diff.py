@@ -10,11 +10,16 @@ the answer.
 
 from __future__ import annotations
 
+import hashlib
 import json
 from collections.abc import Mapping
+from pathlib import Path
 from typing import Any
 
+from catc.ir.grounding import Profile
+from catc.targets.grounding.artifacts import MANIFEST_SCHEMA
 from catc.targets.grounding.bt import bt_xml
+from catc.targets.grounding.compose import profiles
 from catc.targets.grounding.resolve import Grounded, Service
 from catgrammar.record import Record, set_field
 
@@ -30,6 +35,7 @@ class GroundDiff(Record):
         "start",
         "recreate",
         "tree_changed",
+        "profiles",
     )
     project: str
     added: tuple[str, ...]  # components (morphisms) in the new composition only
@@ -40,12 +46,13 @@ class GroundDiff(Record):
     start: tuple[str, ...]
     recreate: tuple[str, ...]
     tree_changed: bool
+    profiles: tuple[str, ...]  # the Compose profiles the new composition's services are in
 
     def __init__(self, project: str, added: tuple[str, ...], removed: tuple[str, ...], unmount: tuple[str, ...],
                  mount: tuple[str, ...], stop: tuple[str, ...], start: tuple[str, ...], recreate: tuple[str, ...],
-                 tree_changed: bool) -> None:  # fmt: skip
+                 tree_changed: bool, profiles: tuple[str, ...] = ()) -> None:  # fmt: skip
         for name, value in zip(self.__slots__, (project, added, removed, unmount, mount, stop, start, recreate,
-                                                tree_changed)):  # fmt: skip
+                                                tree_changed, profiles)):  # fmt: skip
             set_field(self, name, value)
 
     @property
@@ -54,8 +61,11 @@ class GroundDiff(Record):
                     or self.recreate or self.tree_changed)  # fmt: skip
 
     def commands(self) -> list[list[str]]:
-        """The Compose command lines that enact the change (in order)."""
+        """The Compose command lines that enact the change (in order), run in the new
+        composition's folder; every profile in use is activated (the folder's ``.env`` does
+        the same for a plain ``docker compose up``)."""
         base = ["docker", "compose", "-p", self.project, "-f", "compose.yaml"]
+        base += [a for p in self.profiles for a in ("--profile", p)]
         out = []
         if self.start or self.stop or self.recreate or self.tree_changed:
             out.append([*base, "up", "-d", "--remove-orphans"])
@@ -89,6 +99,7 @@ def ground_diff(old: Grounded, new: Grounded) -> GroundDiff:
         tuple(sorted(new_sv.keys() - old_sv.keys())),
         tuple(sorted(recreate)),
         tree_changed,
+        tuple(profiles(new)),
     )
 
 
@@ -131,4 +142,54 @@ def diff_artifacts(old: Mapping[str, bytes], new: Mapping[str, bytes]) -> Ground
         tuple(sorted(s_new.keys() - s_old.keys())),
         tuple(sorted(recreate)),
         tree_changed,
+        tuple(sorted({p for s in s_new.values() for p in (s.get("profiles") or [])}, key=_profile_order)),
     )
+
+
+def _profile_order(name: str) -> tuple[int, str]:
+    order = [p.value for p in Profile]
+    return (order.index(name) if name in order else len(order), name)
+
+
+class NotAGrounding(ValueError):
+    """A path that is neither a grounding's folder nor its manifest.json, or whose files do
+    not match their manifest."""
+
+
+def is_grounding(path: str) -> bool:
+    """``path`` is a folder with a manifest.json, or a manifest.json (not a plan file)."""
+    p = Path(path)
+    if p.is_dir():
+        return (p / "manifest.json").is_file()
+    try:
+        doc = json.loads(p.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return False
+    return isinstance(doc, dict) and doc.get("schema") == MANIFEST_SCHEMA
+
+
+def read_grounding(path: str) -> dict[str, bytes]:
+    """The artifacts (and manifest.json) of a grounding given by its folder or its manifest,
+    each checked against the manifest's sha256."""
+    p = Path(path)
+    folder = p if p.is_dir() else p.parent
+    try:
+        manifest_bytes = (folder / "manifest.json").read_bytes() if p.is_dir() else p.read_bytes()
+        manifest = json.loads(manifest_bytes)
+        if not isinstance(manifest, dict) or manifest.get("schema") != MANIFEST_SCHEMA:
+            raise NotAGrounding(f"{path}: not a catc grounding (no {MANIFEST_SCHEMA} manifest)")
+        files = {"manifest.json": manifest_bytes}
+        for name, entry in manifest["artifacts"].items():
+            data = (folder / name).read_bytes()
+            if hashlib.sha256(data).hexdigest() != entry["sha256"]:
+                raise NotAGrounding(f"{folder / name}: changed since it was written (its sha256 is not the manifest's)")
+            files[name] = data
+    except OSError as exc:
+        raise NotAGrounding(f"{path}: {exc.strerror or exc}") from None
+    except (ValueError, KeyError, TypeError) as exc:
+        if isinstance(exc, NotAGrounding):
+            raise
+        raise NotAGrounding(f"{path}: not a catc grounding manifest ({exc})") from None
+    for needed in ("compose.yaml", "params.yaml", "bt.xml"):
+        files.setdefault(needed, b"")
+    return files

@@ -19,6 +19,7 @@ from catc.ir.grounding import (
     Deployment,
     HardwareGrounding,
     Profile,
+    RealLiteral,
     SoftwareGrounding,
     Template,
     Value,
@@ -135,14 +136,24 @@ class Grounded(Record):
         set_field(self, "plan", plan)
 
 
-class GroundingConflict(ValueError):
+class GroundingError(ValueError):
+    """A composition that cannot be grounded, located: ``span`` is the annotation at fault,
+    ``first`` another one it clashes with (or None)."""
+
+    def __init__(self, message: str, span: Span | None, first: Span | None = None) -> None:
+        super().__init__(message)
+        self.span, self.first = span, first
+
+
+class GroundingConflict(GroundingError):
     """Two components of one composition would be the same thing on the robot (one ROS 2
     node name, one service name).  ``span`` is the second one's grounding, ``first`` the
     first one's."""
 
-    def __init__(self, message: str, span: Span | None, first: Span | None) -> None:
-        super().__init__(message)
-        self.span, self.first = span, first
+
+def unexecuted(grounded: Grounded) -> bool:
+    """The composition has behaviours and no service runs its tree (no executor image)."""
+    return bool(grounded.behaviours) and not any(s.profile is Profile.EXECUTORS for s in grounded.services)
 
 
 def fresh_text(symbol: str) -> str:
@@ -187,7 +198,8 @@ class _Resolver:
             r = self.inst.resources.get(v.name or "")
             return r.sort if r is not None else None
         if v.kind is ValueKind.LITERAL and isinstance(v.literal, Fraction):
-            return ir.INT if v.literal.denominator == 1 else ir.REAL
+            whole = v.literal.denominator == 1 and not isinstance(v.literal, RealLiteral)
+            return ir.INT if whole else ir.REAL
         return None
 
     def text(self, template: Template, step: int, params: Mapping[str, object], m: ir.Morphism) -> str:
@@ -289,6 +301,14 @@ def _software(
     r: _Resolver, g: SoftwareGrounding, i: int, params: Mapping[str, object], m: ir.Morphism, name: str
 ) -> Service:
     values = tuple((k, r.value(v, i, params, r.sort_of(m, v))) for k, v in g.params)
+    for (k, v), (_, source) in zip(values, g.params):
+        if v == []:  # rcl reads `[]` as a parameter with no value, and rclcpp refuses to load it
+            raise GroundingError(
+                f"ROS 2 parameter '{k}' of {m.name} would be an empty list in step {i + 1}: rcl reads [] as no "
+                "value and rclcpp refuses to load the file; bind a set that cannot be empty here, or leave the "
+                "parameter out and give the node a default",
+                source.span or (g.span if g is not None else None),
+            )
     remap = tuple((k, topic_name(port_text(r.value(v, i, params, r.sort_of(m, v))))) for k, v in g.remap)
     node = g.node or ros_node_name(m.name)
     if name != m.name:
