@@ -129,13 +129,12 @@ class _Replay:
             self._valid(seq, enacting["plan"])
 
     def _valid(self, seq: int, plan_doc: Any) -> None:
-        from catc.queries.validate import param_sorts
-        from catc.semantics.plan import PlanFormatError, plan_from_json
-        from catc.semantics.validate import validate
+        from catc.api import read_plan, validate
+        from catc.semantics.plan import PlanFormatError
 
         assert self.candidate is not None
         try:
-            plan = plan_from_json(plan_doc, param_sorts(self.candidate.instance))
+            plan = read_plan(self.candidate.instance, plan_doc)
         except PlanFormatError as exc:
             self.problem(seq, f"the deployed composition does not read: {exc}")
             return
