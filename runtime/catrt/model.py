@@ -5,10 +5,13 @@ The model is kept as data, not as edited files, so that an event changes exactly
 names and the journal can be replayed: the initial values of the resources (typed, exact),
 the goal, metric, soft constraints and horizon as ``.cat`` text, and the catalogue — the
 morphisms the events added (as ``.cat`` text), removed, or reported failed.  :func:`texts`
-writes the model out as files: the sources with removed and failed morphisms cut out and
-added ones appended to the domain, and a problem file generated from the problem's data.
-Every piece of generated text remembers where it came from (a :class:`Region`), so that an
-error the checker finds in it is reported against the event field that put it there.
+writes the model out as the files catc checks: the sources with removed and failed
+morphisms cut out and added ones appended to the domain, and a problem file generated from
+the problem's data.  Every piece of generated text remembers where it came from (a
+:class:`Region`), so that an error the checker finds in it is reported against the event
+field that put it there.  Once checked, the problem file written to disk is catc's own
+(:func:`problem_file`: catc's ``.cat`` writer, ``catc fmt``'s layout).  The sources are cut
+and spliced by the offsets catc gives (:func:`catc.api.outline`); nothing here parses.
 """
 
 from __future__ import annotations
@@ -22,7 +25,7 @@ from pathlib import PurePosixPath
 from typing import Any
 
 from catc import ir
-from catc.api import CatError, Definition, Section, initial_state, outline
+from catc.api import CatError, Definition, Section, initial_state, outline, problem_source
 from catc.ir.numbers import number_text, ratio_text
 
 SCHEMA = "catrt.model/1"
@@ -317,9 +320,23 @@ def _domain_close(text: str, domain: str) -> int:
     raise ValueError(f"domain {domain} is not defined in its source")
 
 
+HEADER = "Written by catrt from its store: the model as it is now."
+
+
+def problem_file(inst: ir.Instance) -> str:
+    """``problem.cat`` as the runtime writes it to ``STATE/model/``: the problem of the
+    checked instance, written and laid out by catc (:func:`catc.api.problem_source`), so
+    that ``catc fmt --check`` leaves it as it is."""
+    return problem_source(inst, header=HEADER)
+
+
 def problem_text(p: ProblemState, path: str, origins: Mapping[str, str]) -> tuple[str, list[Region]]:
+    """The problem as the text catc checks: the sections an event brings are spliced in as
+    the event gave them, each remembered as a :class:`Region`, so that an error in one is
+    reported in the event's field.  Only checked, never written: the file on disk is
+    :func:`problem_file` of the checked instance."""
     w = _Writer(path)
-    w.put(f"; Written by catrt from its store: the model as it is now.\n(define (problem {p.name})\n")
+    w.put(f"; {HEADER}\n(define (problem {p.name})\n")
     w.put(f"  (:domain {p.domain})\n")
     for r in p.requirements:
         w.put("  ")

@@ -41,7 +41,7 @@ from catrt.enact import (
     write_generation,
 )
 from catrt.events import Event, EventError, parse_event
-from catrt.model import ModelState
+from catrt.model import PROBLEM_FILE, ModelState, problem_file
 from catrt.store import Store, dumps
 
 MODEL_FOLDER = "model"
@@ -136,6 +136,7 @@ class Runtime:
 
         folder = self.folder / MODEL_FOLDER
         names = {Path(p).name: t.encode("utf-8") for p, t in candidate.files.items()}
+        names[PROBLEM_FILE] = problem_file(candidate.instance).encode("utf-8")  # catc's writer, catc fmt's layout
         write_files(folder, names, {"schema": "catrt.model-files/1", "model_sha256": model_sha(candidate.state)})
 
     @property

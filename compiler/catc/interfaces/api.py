@@ -27,7 +27,9 @@ policy (:func:`deploy_query`), a query's outcome as data (:func:`composed`,
 (:func:`validate`, :func:`initial_state`), the deployment artifacts of a composition and
 their difference (:func:`deployment`, :func:`write_files`, :func:`diff_artifacts`), the
 outline of a source — its definitions and sections, with offsets — (:func:`outline`) and
-the language's tokens (:func:`tokens`), so that no program parses ``.cat`` text itself.
+the language's tokens (:func:`tokens`), so that no program parses ``.cat`` text itself, and
+a problem written as a formatted ``.cat`` file (:func:`problem_source`), so that no program
+writes one.
 """
 
 from __future__ import annotations
@@ -362,6 +364,17 @@ def diff_artifacts(old: Mapping[str, bytes], new: Mapping[str, bytes]) -> Ground
     from catc.targets.grounding.diff import diff_artifacts as diff
 
     return diff(old, new)
+
+
+def problem_source(inst: ir.Instance, *, header: str | None = None) -> str:
+    """The problem of the checked instance ``inst`` as a ``.cat`` file in ``catc fmt``'s
+    layout (written by :mod:`catc.targets.catsource`, laid out by the formatter), with
+    ``header`` as a comment on top; it names ``inst``'s domain and reads back as the same
+    problem."""
+    from catc.frontend.formatter import format_text
+    from catc.targets.catsource import problem_text
+
+    return format_text(problem_text(inst, header=header))
 
 
 @dataclass(frozen=True)
