@@ -265,9 +265,10 @@ def event(state: str, file: str) -> None:
 def approve(state: str, request: str, reject: bool) -> None:
     """Approve (or --reject) the pending request REQUEST (see catrt status)."""
     from catrt.spool import drop
+    from catrt.store import Verdict
 
     store = open_store(state, write=False)
-    pending = {a["id"] for a in store.approvals("pending")}
+    pending = {a["id"] for a in store.approvals(Verdict.PENDING)}
     store.close()
     if request not in pending:
         fail("E1010", f"no pending request '{request}' (pending: {', '.join(sorted(pending)) or 'none'})")

@@ -17,6 +17,7 @@ from rich.text import Text
 
 from catgrammar.terminal import printable
 from catrt.runtime import Outcome, Runtime, Status
+from catrt.store import Verdict
 
 STYLE = {Status.ACCEPTED: "green", Status.REJECTED: "red", Status.DUPLICATE: "dim"}
 
@@ -76,7 +77,7 @@ class LiveView:
 
     def _pending(self) -> Text:
         rt = self.runtime
-        pending = rt.store.approvals("pending") if rt is not None else []
+        pending = rt.store.approvals(Verdict.PENDING) if rt is not None else []
         if not pending:
             return Text("no request waits", style="dim")
         lines = []

@@ -42,11 +42,18 @@ from catrt.enact import (
 )
 from catrt.events import Event, EventError, parse_event
 from catrt.model import PROBLEM_FILE, ModelState, problem_file
-from catrt.store import Store, dumps
+from catrt.store import Store, Verdict, dumps
 
 MODEL_FOLDER = "model"
 GENERATIONS = "generations"
-APPROVE_MODES = ("auto", "never", "ask")
+
+
+class Approve(StrEnum):
+    """Who approves a proposal (``--approve``)."""
+
+    AUTO = "auto"  # the runtime itself, at once
+    NEVER = "never"  # nobody here: requests wait for an approve event
+    ASK = "ask"  # the person at the terminal
 
 
 #: Called with the name of each point where a crash must lose nothing (``after-journal``,
@@ -110,7 +117,7 @@ class Runtime:
         config: Config,
         *,
         enactor: str | None = None,
-        approve: str = "never",
+        approve: str = Approve.NEVER,
         say: Callable[[Outcome], None] | None = None,
         ask: Callable[[dict[str, Any]], bool] | None = None,
         crash: CrashHook = no_crash,
@@ -154,7 +161,7 @@ class Runtime:
                                                 "note": "enact-begin without enact-done: enacting again"})  # fmt: skip
             out.append(self.enact())
             self.say(out[-1])
-        if self.incumbent is None and not self.store.approvals("pending"):
+        if self.incumbent is None and not self.store.approvals(Verdict.PENDING):
             outcome = self._decide_and_commit(Event("start", {}, "start", False), self.current, kind="start")
             self.say(outcome)
             out.append(outcome)
@@ -209,7 +216,7 @@ class Runtime:
 
     def _approval(self, event: Event) -> Outcome:
         request = str(event.body.get("approve") or event.body.get("reject"))
-        pending = {a["id"]: a for a in self.store.approvals("pending")}
+        pending = {a["id"]: a for a in self.store.approvals(Verdict.PENDING)}
         if request not in pending:
             known = {a["id"]: a["status"] for a in self.store.approvals()}
             why = f"'{request}' is {known[request]}" if request in known else f"no request '{request}'"
@@ -218,8 +225,8 @@ class Runtime:
             with self.store.transaction():
                 seq = self.store.journal("event", {"where": event.where, "event": event.to_json(),
                                                    "model_sha256": model_sha(self.state)}, event.id)  # fmt: skip
-                self.store.journal("approval", {"request": request, "verdict": "rejected", "event": seq})
-                self.store.settle_approval(request, "rejected")
+                self.store.journal("approval", {"request": request, "verdict": Verdict.REJECTED, "event": seq})
+                self.store.settle_approval(request, Verdict.REJECTED)
             return Outcome(Status.ACCEPTED, event.id, event.where, f"request {request} rejected", seq=seq)
         proposal = pending[request]["proposal"]
         change = Event(event.id, {"set": proposal["set"]}, event.where, event.given_id)
@@ -242,14 +249,14 @@ class Runtime:
         with self.store.transaction():
             cause = self._journal_cause(event, candidate, kind, approval)
             if approval is not None:
-                self.store.settle_approval(approval, "approved")
+                self.store.settle_approval(approval, Verdict.APPROVED)
             self.store.put("model", candidate.state.to_json())
             seq = self.store.journal("decision", {"cause": cause, **decision.to_json()})
             generation = None
-            superseded = [a["id"] for a in self.store.approvals("pending")] if approval is None else []
+            superseded = [a["id"] for a in self.store.approvals(Verdict.PENDING)] if approval is None else []
             for old in superseded:  # the world moved on: a new decision replaces the request
-                self.store.settle_approval(old, "superseded")
-                self.store.journal("approval", {"request": old, "verdict": "superseded", "decision": seq})
+                self.store.settle_approval(old, Verdict.SUPERSEDED)
+                self.store.journal("approval", {"request": old, "verdict": Verdict.SUPERSEDED, "decision": seq})
             if decision.action is Action.RESTORE:
                 request = f"r{len(self.store.approvals()) + 1}"  # r1, r2, ...: an events file can name them
                 self.store.add_approval(request, seq, decision.proposal or {})
@@ -288,7 +295,7 @@ class Runtime:
             return self.store.journal("start", {"model_sha256": data["model_sha256"]})
         seq = self.store.journal("event", data, event.id)
         if approval is not None:
-            self.store.journal("approval", {"request": approval, "verdict": "approved", "event": seq})
+            self.store.journal("approval", {"request": approval, "verdict": Verdict.APPROVED, "event": seq})
         return seq
 
     def _artifacts(self, candidate: Candidate, plan: Any) -> tuple[Any, str | None]:
@@ -349,12 +356,12 @@ class Runtime:
 
     # ------------------------------------------------------------ approvals
     def _maybe_approve(self, outcome: Outcome) -> None:
-        pending = self.store.approvals("pending")
+        pending = self.store.approvals(Verdict.PENDING)
         if not pending:
             return
         request = pending[-1]
-        if self.approve == "auto" or (self.approve == "ask" and self.ask is not None and self.ask(request)):
-            by = "auto" if self.approve == "auto" else "terminal"
+        if self.approve == Approve.AUTO or (self.approve == Approve.ASK and self.ask is not None and self.ask(request)):
+            by = "auto" if self.approve == Approve.AUTO else "terminal"
             self.handle(Event(f"{by}-approve-{request['id']}", {"approve": request["id"]}, by, False))
 
     # ------------------------------------------------------------ sensors
