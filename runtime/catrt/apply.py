@@ -16,10 +16,9 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from catc import ir
-from catc.api import CatError, Model, loads
+from catc.api import CatError, Model, Token, TokenError, loads, tokens
 from catc.ir.numbers import ratio_text
 from catgrammar.diagnostics import Diagnostic, did_you_mean
-from catgrammar.tokens import tokenize
 from catrt.events import Event, exact
 from catrt.model import ModelState, Region, StoredValue, morphisms_in_sources, texts
 
@@ -62,61 +61,60 @@ class Candidate:
 # ---------------------------------------------------------------- text fields
 
 
-def _balanced(text: str, what: str) -> list[Any]:
+def _balanced(text: str, what: str) -> list[Token]:
     """The tokens of ``text`` when it is balanced (never closes more than it opened, closes
     all it opens), else Rejection."""
     try:
-        tokens = list(tokenize(text))
-    except Exception as exc:  # UnexpectedCharacters from the tokenizer
-        column = getattr(exc, "column", None)
+        found = tokens(text)
+    except TokenError as exc:
+        column = exc.column
         raise Rejection(
             f"{what}: a character the language does not have" + (f" at column {column}" if column else "")
         ) from None
     depth = 0
-    for tok in tokens:
-        if tok.type == "LPAR":
+    for tok in found:
+        if tok.opens:
             depth += 1
-        elif tok.type == "RPAR":
+        elif tok.closes:
             depth -= 1
             if depth < 0:
                 raise Rejection(f"{what}: a ')' at {tok.line}:{tok.column} closes more than the text opened")
     if depth:
-        raise Rejection(f"{what}: {depth} '(' never closed (the text ends at {tokens[-1].line}:{tokens[-1].column})")
-    if not tokens:
+        raise Rejection(f"{what}: {depth} '(' never closed (the text ends at {found[-1].line}:{found[-1].column})")
+    if not found:
         raise Rejection(f"{what}: empty")
-    return tokens
+    return found
 
 
 def _one_expression(text: str, what: str) -> None:
-    tokens = _balanced(text, what)
     depth, tops = 0, 0
-    for tok in tokens:
+    for tok in _balanced(text, what):
         if depth == 0:
             tops += 1
-        depth += (tok.type == "LPAR") - (tok.type == "RPAR")
+        depth += tok.opens - tok.closes
     if tops != 1:
         raise Rejection(f"{what}: one condition is expected, {tops} were given (combine them with (and ...))")
 
 
 def _morphisms(text: str) -> list[tuple[str, str, int]]:
     """``(:morphism NAME ...) ...`` → [(NAME, its text, where it starts)], else Rejection."""
-    tokens = _balanced(text, "catalog.add")
+    found = _balanced(text, "catalog.add")
     out: list[tuple[str, str, int]] = []
     i = 0
-    while i < len(tokens):
-        tok = tokens[i]
-        if tok.type != "LPAR" or i + 2 >= len(tokens) or tokens[i + 1].value != ":morphism":
+    while i < len(found):
+        tok = found[i]
+        if not tok.opens or i + 2 >= len(found) or found[i + 1].text != ":morphism":
             raise Rejection(
-                f"catalog.add: only (:morphism NAME ...) declarations, found '{tok.value}' at {tok.line}:{tok.column}"
+                f"catalog.add: only (:morphism NAME ...) declarations, found '{tok.text}' at {tok.line}:{tok.column}"
             )
-        name = tokens[i + 2].value
+        name = found[i + 2].text
         depth, j = 0, i
         while True:
-            depth += (tokens[j].type == "LPAR") - (tokens[j].type == "RPAR")
+            depth += found[j].opens - found[j].closes
             if depth == 0:
                 break
             j += 1
-        out.append((name, text[tok.start_pos : tokens[j].end_pos], tok.start_pos))
+        out.append((name, text[tok.start : found[j].end], tok.start))
         i = j + 1
     return out
 

@@ -126,6 +126,8 @@ def init(state: str, paths: tuple[str, ...], problem_name: str | None, search_pa
 
 
 def _say(as_json: bool) -> Any:
+    from catrt.runtime import Status
+
     def say(o: Any) -> None:
         if as_json:
             doc = {"status": o.status, "event": o.event_id, "where": o.where, "message": o.message,
@@ -137,7 +139,7 @@ def _say(as_json: bool) -> Any:
         took = sum(o.timings.values()) if o.timings else None
         head = f"{o.where}: " + (f"{o.event_id}: " if o.event_id and o.event_id != o.where else "")
         tail = f"  [{took:.2f} s]" if took is not None and o.decision is not None else ""
-        stream_err = o.status == "rejected"
+        stream_err = o.status is Status.REJECTED
         echo(f"{head}{o.status}: {o.message}{tail}", err=stream_err)
         if o.enactment is not None:
             echo(f"{o.enactment.where}: {o.enactment.message}", err=True)
@@ -189,7 +191,7 @@ def run(state: str, source: str | None, once: bool, approve: str | None, enactor
     from catrt.config import ConfigError, load_config
     from catrt.loop import loop
     from catrt.mqtt import MqttError
-    from catrt.runtime import Runtime
+    from catrt.runtime import Crash, Runtime, no_crash
 
     folder = Path(state)
     store = open_store(state, write=True)
@@ -206,7 +208,9 @@ def run(state: str, source: str | None, once: bool, approve: str | None, enactor
     mode = approve or ("ask" if sys.stdin.isatty() and source != "-" else "never")
     view = _live_view() if not as_json and sys.stdout.isatty() else None
     say, ask = (view.say, view.asking(_ask)) if view is not None else (_say(as_json), _ask)
-    runtime = Runtime(folder, store, config, enactor=enactor, approve=mode, say=say, ask=ask)
+    crash = os.environ.get("CATRT_CRASH_AT")  # the crash tests (docs/runtime.md)
+    runtime = Runtime(folder, store, config, enactor=enactor, approve=mode, say=say, ask=ask,
+                      crash=Crash(crash) if crash else no_crash)  # fmt: skip
     stop = threading.Event()
     try:
         if view is not None:
@@ -261,9 +265,10 @@ def event(state: str, file: str) -> None:
 def approve(state: str, request: str, reject: bool) -> None:
     """Approve (or --reject) the pending request REQUEST (see catrt status)."""
     from catrt.spool import drop
+    from catrt.store import Verdict
 
     store = open_store(state, write=False)
-    pending = {a["id"] for a in store.approvals("pending")}
+    pending = {a["id"] for a in store.approvals(Verdict.PENDING)}
     store.close()
     if request not in pending:
         fail("E1010", f"no pending request '{request}' (pending: {', '.join(sorted(pending)) or 'none'})")
@@ -297,7 +302,7 @@ def status(state: str, as_json: bool, plan: bool) -> None:
 def diff(state: str, generations: tuple[int, ...], as_json: bool) -> None:
     """What changes on the robot between two generations: GEN_A GEN_B, or GEN_B against the
     one before it, or (none given) the deployed generation against the one before it."""
-    from catc.targets.grounding.diff import NotAGrounding, diff_artifacts, read_grounding
+    from catc.api import diff_artifacts, read_grounding
     from catrt.views import diff_text, generation_folder
 
     if len(generations) > 2:
@@ -314,7 +319,7 @@ def diff(state: str, generations: tuple[int, ...], as_json: bool) -> None:
         fail("E0701", f"generation {new} is the first: give two generations to compare")
     try:
         a, b = (read_grounding(str(generation_folder(Path(state), g))) for g in (old, new))
-    except NotAGrounding as exc:
+    except ValueError as exc:  # a generation folder that is not whole
         fail("E1005", str(exc))
     d = diff_artifacts(a, b)
     if as_json:

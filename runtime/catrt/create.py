@@ -16,10 +16,7 @@ from pathlib import Path
 
 from catc import __version__ as catc_version
 from catc import ir
-from catc.api import load
-from catgrammar import ast
-from catgrammar.diagnostics import Diagnostics
-from catgrammar.parser import parse_text
+from catc.api import CatError, load, outline
 from catrt.apply import check
 from catrt.config import CONFIG_NAME, TEMPLATE
 from catrt.model import initial_model
@@ -40,10 +37,11 @@ def model_files(inst: ir.Instance) -> list[str]:
 
 def without_problems(path: str, text: str) -> str:
     """``text`` with every ``(define (problem ...))`` cut out (the store keeps the problem as data)."""
-    tree = parse_text(text, path, Diagnostics())
-    if tree is None:
+    try:
+        definitions = outline(text, path)
+    except CatError:
         return text
-    cuts = sorted((d.span.start, d.span.end) for d in tree.definitions if isinstance(d, ast.Problem))
+    cuts = sorted((d.start, d.end) for d in definitions if d.kind == "problem")
     out, pos = [], 0
     for start, end in cuts:
         out += [text[pos:start], "; (a problem: the runtime keeps it in its store)"]

@@ -17,18 +17,17 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from enum import StrEnum
 from fractions import Fraction
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 from catc import ir
-from catc.api import Model
+from catc.api import Model, composed, deploy_query, read_plan, refuted, stopped_early, validate
 from catc.ir.numbers import ratio_text
-from catc.queries.diagnose import diagnose as run_diagnose
-from catc.queries.recompose import recompose as run_recompose
-from catc.queries.relax import relax as run_relax
-from catc.queries.solve import WarmStart
-from catc.semantics.plan import Plan, PlanFormatError, plan_from_json, plan_to_json
-from catc.semantics.validate import validate
+from catc.semantics.plan import Plan, PlanFormatError, plan_to_json
+
+if TYPE_CHECKING:  # pragma: no cover
+    from catc.api import Diagnosis, Recomposition, RelaxResult, WarmStart
 
 
 @dataclass(frozen=True)
@@ -40,12 +39,28 @@ class Limits:
     relax: float | None = 30.0
 
 
+class Action(StrEnum):
+    """What a decision does (its value is the journal's ``action``)."""
+
+    KEEP = "keep"  # the deployed composition is still valid
+    COMPOSE = "compose"  # nothing was deployed: a composition
+    RECOMPOSE = "recompose"  # the deployed one no longer holds: the least change
+    RESTORE = "restore"  # no composition exists: a restoration waits for approval
+    STUCK = "stuck"  # no composition, nothing to propose
+    UNDECIDED = "undecided"  # a query ran out of time; the deployed composition stays
+    INFEASIBLE = "infeasible"  # (within decide only) no composition: restore or stuck follows
+
+    @property
+    def deploys(self) -> bool:
+        """The decision's plan is the one to deploy."""
+        return self in (Action.KEEP, Action.COMPOSE, Action.RECOMPOSE)
+
+
 @dataclass
 class Decision:
-    """``action``: keep | compose | recompose | restore (a proposal waits for approval) |
-    stuck (nothing to propose) | undecided (a query ran out of time)."""
+    """What to do about the model as it is now (:class:`Action`), why, and what it took."""
 
-    action: str
+    action: Action
     reason: str
     plan: Plan | None = None
     documents: dict[str, Any] = field(default_factory=dict)  # query → its --json document
@@ -73,13 +88,11 @@ def incumbent_plan(inst: ir.Instance, doc: dict[str, Any] | None) -> tuple[Plan 
     """A₀ read against the model as it is now, or (None, why it cannot be)."""
     if doc is None:
         return None, None
-    from catc.queries.validate import param_sorts
-
     missing = sorted({a["morphism"] for step in doc["steps"] for a in step} - set(inst.morphisms))
     if missing:
         return None, f"{', '.join(missing)} {'is' if len(missing) == 1 else 'are'} no longer in the catalogue"
     try:
-        return plan_from_json(doc, param_sorts(inst)), None
+        return read_plan(inst, doc), None
     except PlanFormatError as exc:
         return None, str(exc)
 
@@ -96,7 +109,7 @@ def decide(model: Model, incumbent: dict[str, Any] | None, limits: Limits, warm:
             report = validate(inst, plan)
             timings["validate"] = time.perf_counter() - t
             if report.ok:
-                return Decision("keep", "the deployed composition is still valid (replayed step by step)", plan,
+                return Decision(Action.KEEP, "the deployed composition is still valid (replayed step by step)", plan,
                                 timings=timings)  # fmt: skip
             why = "; ".join(_violation_text(v) for v in report.violations[:3])
         timings.setdefault("validate", time.perf_counter() - t)
@@ -104,7 +117,7 @@ def decide(model: Model, incumbent: dict[str, Any] | None, limits: Limits, warm:
     else:
         decision = _compose(model, limits, warm)
     decision.timings = {**timings, **decision.timings}
-    if decision.action != "infeasible":
+    if decision.action is not Action.INFEASIBLE:
         return decision
     restore = _restore(model, incumbent, limits)
     restore.timings = {**decision.timings, **restore.timings}
@@ -128,43 +141,43 @@ def _recompose(model: Model, incumbent: dict[str, Any], limits: Limits, why: str
     deployed = _components(incumbent)
     vanished = [c for c in deployed if c not in inst.morphisms]
     t = time.perf_counter()
-    rec = run_recompose(inst, deployed=[c for c in deployed if c in inst.morphisms], priority="stability",
-                        timeout=limits.compose)  # fmt: skip
+    rec = cast("Recomposition", model.query("recompose", deployed=[c for c in deployed if c in inst.morphisms],
+                                            priority="stability", timeout=limits.compose))  # fmt: skip
     took = {"recompose": time.perf_counter() - t}
     doc = model.to_json(rec)
     plan = rec.result.plan
-    if plan is not None and rec.status.value in ("opt", "subopt"):
+    if composed(rec):
         changes = doc["changes"] + [
             {"morphism": c, "change": "removed", "weight": None, "vanished": True} for c in vanished
         ]
         churn = ratio_text(rec.churn) if rec.churn is not None else None
-        note = "" if rec.status.value == "opt" else " (the best found in the time limit)"
+        note = "" if not stopped_early(rec) else " (the best found in the time limit)"
         if vanished:
             note += f", besides removing {', '.join(vanished)}, which must go"
-        return Decision("recompose", f"the deployed composition no longer holds: {why}; recomposed with least churn"
+        return Decision(Action.RECOMPOSE, f"the deployed composition no longer holds: {why}; recomposed with least churn"
                         f" {churn}{note}", plan, {"recompose": doc}, took, 1, churn=churn, changes=changes)  # fmt: skip
-    if rec.status.value == "unsat":
-        return Decision("infeasible", f"the deployed composition no longer holds: {why}; no composition exists",
+    if refuted(rec):
+        return Decision(Action.INFEASIBLE, f"the deployed composition no longer holds: {why}; no composition exists",
                         documents={"recompose": doc}, timings=took, solver_calls=1)  # fmt: skip
-    return Decision("undecided", f"the deployed composition no longer holds: {why}; recomposition ran out of time"
+    return Decision(Action.UNDECIDED, f"the deployed composition no longer holds: {why}; recomposition ran out of time"
                     " (the deployed composition stays)", documents={"recompose": doc}, timings=took, solver_calls=1)  # fmt: skip
 
 
 def _compose(model: Model, limits: Limits, warm: WarmStart | None) -> Decision:
     inst = model.instance
-    name = "optimize" if inst.problem.metric is not None or inst.problem.softs else "solve"
+    name = deploy_query(inst)
     t = time.perf_counter()
     result = model.query(name, timeout=limits.compose, **({"warm": warm} if name == "solve" else {}))
     took = {name: time.perf_counter() - t}
     doc = model.to_json(result)
     plan = getattr(result, "plan", None)
     status = result.status.value
-    if plan is not None and status in ("sat", "opt", "subopt"):
-        return Decision("compose", f"nothing is deployed: composed ({name}, {status})", plan, {name: doc}, took, 1)
-    if status == "unsat":
-        return Decision("infeasible", "nothing is deployed and no composition exists", documents={name: doc},
+    if composed(result):
+        return Decision(Action.COMPOSE, f"nothing is deployed: composed ({name}, {status})", plan, {name: doc}, took, 1)
+    if refuted(result):
+        return Decision(Action.INFEASIBLE, "nothing is deployed and no composition exists", documents={name: doc},
                         timings=took, solver_calls=1)  # fmt: skip
-    return Decision("undecided", f"nothing is deployed and {name} ran out of time", documents={name: doc},
+    return Decision(Action.UNDECIDED, f"nothing is deployed and {name} ran out of time", documents={name: doc},
                     timings=took, solver_calls=1)  # fmt: skip
 
 
@@ -174,14 +187,14 @@ def _restore(model: Model, incumbent: dict[str, Any] | None, limits: Limits) -> 
     relative = _components(incumbent) if incumbent is not None else []
     relative = [c for c in relative if c in inst.morphisms]
     t = time.perf_counter()
-    diag = run_diagnose(inst, relative_to=relative, timeout=limits.diagnose)
+    diag = cast("Diagnosis", model.query("diagnose", relative_to=relative, timeout=limits.diagnose))
     timings = {"diagnose": time.perf_counter() - t}
     documents = {"diagnose": model.to_json(diag)}
     core = diag.cores[0] if diag.cores else []
     t = time.perf_counter()
-    rel = run_relax(inst, only=["init/"], relative_to=relative, timeout=limits.relax)
+    rel = cast("RelaxResult", model.query("relax", only=["init/"], relative_to=relative, timeout=limits.relax))
     if relative and not rel.relaxations:  # nothing restores the deployed composition: any composition
-        rel = run_relax(inst, only=["init/"], relative_to=(), timeout=limits.relax)
+        rel = cast("RelaxResult", model.query("relax", only=["init/"], relative_to=(), timeout=limits.relax))
     timings["relax"] = time.perf_counter() - t
     documents["relax"] = model.to_json(rel)
     values: dict[str, str] = {}
@@ -191,7 +204,7 @@ def _restore(model: Model, incumbent: dict[str, Any] | None, limits: Limits) -> 
         values[resource] = ratio_text(Fraction(old.value) + r.delta)  # type: ignore[union-attr]
     core_text = ", ".join(core) or "none found in the time limit"
     if not values:
-        return Decision("stuck", f"no composition exists (core: {core_text}) and no change of initial values "
+        return Decision(Action.STUCK, f"no composition exists (core: {core_text}) and no change of initial values "
                         "restores one: waiting for a change of the task or the catalogue", documents=documents,
                         timings=timings, solver_calls=2)  # fmt: skip
     proposal = {
@@ -207,5 +220,5 @@ def _restore(model: Model, incumbent: dict[str, Any] | None, limits: Limits) -> 
     least = (
         "the least restoration" if rel.proven else "a restoration (the least found in the time limit, not proven least)"
     )
-    return Decision("restore", f"no composition exists (core: {core_text}); {least}: {said}",
+    return Decision(Action.RESTORE, f"no composition exists (core: {core_text}); {least}: {said}",
                     documents=documents, timings=timings, solver_calls=2, proposal=proposal)  # fmt: skip

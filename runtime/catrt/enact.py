@@ -33,9 +33,12 @@ import subprocess
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
-from catc.targets.grounding.diff import GroundDiff, diff_artifacts
+from catc.api import diff_artifacts, write_files
+
+if TYPE_CHECKING:  # pragma: no cover
+    from catc.api import GroundDiff
 
 MANIFEST = "manifest.json"
 
@@ -73,8 +76,6 @@ def write_generation(
     crash: Any = None,
 ) -> Path:  # fmt: skip
     """The generation folder, written atomically (see the module's description)."""
-    from catc.targets.grounding.artifacts import write
-
     root.mkdir(parents=True, exist_ok=True)
     final = root / generation_name(generation)
     if final.exists():
@@ -86,10 +87,10 @@ def write_generation(
     tmp = root / f".tmp-{generation_name(generation)}-{os.getpid()}"
     tmp.mkdir()
     names = list(files)
-    write(tmp, {n: files[n] for n in names[: len(names) // 2]}, dict(manifest), durable=True)
+    write_files(tmp, {n: files[n] for n in names[: len(names) // 2]}, dict(manifest), durable=True)
     if crash is not None:
         crash("mid-artifacts")
-    write(tmp, dict(files), dict(manifest), durable=True)
+    write_files(tmp, dict(files), dict(manifest), durable=True)
     (tmp / "decision.json").write_text(json.dumps(extra, indent=2, sort_keys=True) + "\n", encoding="utf-8")
     with open(tmp / "decision.json", "rb") as fh:
         os.fsync(fh.fileno())

@@ -16,9 +16,10 @@ from rich.table import Table
 from rich.text import Text
 
 from catgrammar.terminal import printable
-from catrt.runtime import Outcome, Runtime
+from catrt.runtime import Outcome, Runtime, Status
+from catrt.store import Verdict
 
-STYLE = {"accepted": "green", "rejected": "red", "duplicate": "dim"}
+STYLE = {Status.ACCEPTED: "green", Status.REJECTED: "red", Status.DUPLICATE: "dim"}
 
 
 class LiveView:
@@ -61,7 +62,7 @@ class LiveView:
             took = sum(o.timings.values()) if o.timings else None
             action = o.decision.action if o.decision is not None else o.status
             table.add_row(Text(printable(o.where)), Text(printable(o.event_id if o.event_id != o.where else "")),
-                          Text(action, style=STYLE.get(o.status, "")), f"{took:.2f}" if took is not None else "",
+                          Text(str(action), style=STYLE.get(o.status, "")), f"{took:.2f}" if took is not None else "",
                           Text(printable(o.message)))  # fmt: skip
         return Group(Panel(table, title=self._title(), title_align="left"), self._pending())
 
@@ -76,7 +77,7 @@ class LiveView:
 
     def _pending(self) -> Text:
         rt = self.runtime
-        pending = rt.store.approvals("pending") if rt is not None else []
+        pending = rt.store.approvals(Verdict.PENDING) if rt is not None else []
         if not pending:
             return Text("no request waits", style="dim")
         lines = []

@@ -5,10 +5,13 @@ The model is kept as data, not as edited files, so that an event changes exactly
 names and the journal can be replayed: the initial values of the resources (typed, exact),
 the goal, metric, soft constraints and horizon as ``.cat`` text, and the catalogue — the
 morphisms the events added (as ``.cat`` text), removed, or reported failed.  :func:`texts`
-writes the model out as files: the sources with removed and failed morphisms cut out and
-added ones appended to the domain, and a problem file generated from the problem's data.
-Every piece of generated text remembers where it came from (a :class:`Region`), so that an
-error the checker finds in it is reported against the event field that put it there.
+writes the model out as the files catc checks: the sources with removed and failed
+morphisms cut out and added ones appended to the domain, and a problem file generated from
+the problem's data.  Every piece of generated text remembers where it came from (a
+:class:`Region`), so that an error the checker finds in it is reported against the event
+field that put it there.  Once checked, the problem file written to disk is catc's own
+(:func:`problem_file`: catc's ``.cat`` writer, ``catc fmt``'s layout).  The sources are cut
+and spliced by the offsets catc gives (:func:`catc.api.outline`); nothing here parses.
 """
 
 from __future__ import annotations
@@ -22,10 +25,8 @@ from pathlib import PurePosixPath
 from typing import Any
 
 from catc import ir
+from catc.api import CatError, Definition, Section, initial_state, outline, problem_source
 from catc.ir.numbers import number_text, ratio_text
-from catgrammar import ast
-from catgrammar.diagnostics import Diagnostics
-from catgrammar.parser import parse_text
 
 SCHEMA = "catrt.model/1"
 PROBLEM_FILE = "problem.cat"
@@ -176,48 +177,44 @@ def sha256_text(text: str) -> str:
 # ---------------------------------------------------------------- from the user's files
 
 
-def _parse(path: str, text: str) -> ast.SourceFile:
-    diags = Diagnostics()
-    tree = parse_text(text, path, diags)
-    if tree is None or diags.has_errors:  # the sources were checked when they were stored
-        raise ValueError(f"{path} no longer parses")
-    return tree
+def _parse(path: str, text: str) -> list[Definition]:
+    try:
+        return outline(text, path)
+    except CatError:  # the sources were checked when they were stored
+        raise ValueError(f"{path} no longer parses") from None
 
 
-def morphisms_in_sources(sources: Mapping[str, str]) -> dict[str, tuple[str, ast.MorphismDecl]]:
+def morphisms_in_sources(sources: Mapping[str, str]) -> dict[str, tuple[str, Section]]:
     """Every morphism declared in the sources: name → (source name, its declaration)."""
-    out: dict[str, tuple[str, ast.MorphismDecl]] = {}
+    out: dict[str, tuple[str, Section]] = {}
     for name, text in sources.items():
-        for d in _parse(name, text).definitions:
-            if isinstance(d, ast.Domain):
+        for d in _parse(name, text):
+            if d.kind == "domain":
                 for section in d.sections:
-                    if isinstance(section, ast.MorphismDecl):
-                        out[section.name.text] = (name, section)
+                    if section.keyword == "morphism" and section.name is not None:
+                        out[section.name] = (name, section)
     return out
 
 
 def initial_model(inst: ir.Instance, problem_text: str, domain_file: str) -> ModelState:
     """The model state of a checked instance whose problem is written in ``problem_text``."""
-    from catc.semantics.validate import initial_state
-
-    tree = _parse("<problem>", problem_text)
-    problems = [d for d in tree.definitions if isinstance(d, ast.Problem) and d.name.text == inst.problem.name]
+    problems = [d for d in _parse("<problem>", problem_text) if d.kind == "problem" and d.name == inst.problem.name]
     node = problems[0]
-    cut = lambda span: problem_text[span.start : span.end]  # noqa: E731
+    cut = lambda start, end: problem_text[start:end]  # noqa: E731
     requirements: list[str] = []
     objects: str | None = None
     goal, metric, softs = "true", None, []
     for s in node.sections:
-        if isinstance(s, ast.Requirements):
-            requirements.append(cut(s.span))
-        elif isinstance(s, ast.Objects):
-            objects = cut(s.span)
-        elif isinstance(s, ast.Goal):
-            goal = cut(s.condition.span)
-        elif isinstance(s, ast.Soft):
-            softs.append(_inner(cut(s.span), ":soft"))
-        elif isinstance(s, ast.Metric):
-            metric = _inner(cut(s.span), ":metric")
+        if s.keyword == "requirements":
+            requirements.append(cut(s.start, s.end))
+        elif s.keyword == "objects":
+            objects = cut(s.start, s.end)
+        elif s.keyword == "goal" and s.body is not None:
+            goal = cut(*s.body)
+        elif s.keyword == "soft":
+            softs.append(_inner(cut(s.start, s.end), ":soft"))
+        elif s.keyword == "metric":
+            metric = _inner(cut(s.start, s.end), ":metric")
     init = {name: stored_value(v) for name, v in initial_state(inst).items()}
     problem = ProblemState(
         name=inst.problem.name,
@@ -288,7 +285,7 @@ def texts(
     regions: list[Region] = []
     for name, text in sources.items():
         path = str(PurePosixPath(folder) / name)
-        spans = sorted((d.span.start, d.span.end) for m, (src, d) in declared.items() if src == name and m in cut)
+        spans = sorted((d.start, d.end) for m, (src, d) in declared.items() if src == name and m in cut)
         w = _Writer(path)
         pos = 0
         for start, end in spans:
@@ -317,16 +314,29 @@ def texts(
 
 def _domain_close(text: str, domain: str) -> int:
     """The offset of the ``)`` that closes ``(define (domain NAME) ...)`` in ``text``."""
-    tree = _parse("<domain>", text)
-    for d in tree.definitions:
-        if isinstance(d, ast.Domain) and d.name.text == domain:
-            return d.span.end - 1
+    for d in _parse("<domain>", text):
+        if d.kind == "domain" and d.name == domain:
+            return d.end - 1
     raise ValueError(f"domain {domain} is not defined in its source")
 
 
+HEADER = "Written by catrt from its store: the model as it is now."
+
+
+def problem_file(inst: ir.Instance) -> str:
+    """``problem.cat`` as the runtime writes it to ``STATE/model/``: the problem of the
+    checked instance, written and laid out by catc (:func:`catc.api.problem_source`), so
+    that ``catc fmt --check`` leaves it as it is."""
+    return problem_source(inst, header=HEADER)
+
+
 def problem_text(p: ProblemState, path: str, origins: Mapping[str, str]) -> tuple[str, list[Region]]:
+    """The problem as the text catc checks: the sections an event brings are spliced in as
+    the event gave them, each remembered as a :class:`Region`, so that an error in one is
+    reported in the event's field.  Only checked, never written: the file on disk is
+    :func:`problem_file` of the checked instance."""
     w = _Writer(path)
-    w.put(f"; Written by catrt from its store: the model as it is now.\n(define (problem {p.name})\n")
+    w.put(f"; {HEADER}\n(define (problem {p.name})\n")
     w.put(f"  (:domain {p.domain})\n")
     for r in p.requirements:
         w.put("  ")

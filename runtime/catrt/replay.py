@@ -22,7 +22,7 @@ from catrt.enact import complete, generation_name
 from catrt.events import Event
 from catrt.model import ModelState
 from catrt.runtime import GENERATIONS, MODEL_FOLDER, model_sha
-from catrt.store import Store
+from catrt.store import Store, Verdict
 
 STATE_KEYS = ("model", "incumbent", "enacting", "generation")
 
@@ -94,12 +94,12 @@ class _Replay:
 
     def _approval_request(self, seq: int, data: dict[str, Any], st: dict[str, Any]) -> None:
         self.proposals[data["request"]] = data
-        self.out.approvals[data["request"]] = "pending"
+        self.out.approvals[data["request"]] = Verdict.PENDING
 
     def _approval(self, seq: int, data: dict[str, Any], st: dict[str, Any]) -> None:
         request, verdict = data["request"], data["verdict"]
         self.out.approvals[request] = verdict
-        if verdict != "approved" or self.candidate is None:
+        if verdict != Verdict.APPROVED or self.candidate is None:
             return
         state = ModelState.from_json(st["model"])
         change = Event(request, {"set": self.proposals[request]["set"]}, "replay")
@@ -129,13 +129,12 @@ class _Replay:
             self._valid(seq, enacting["plan"])
 
     def _valid(self, seq: int, plan_doc: Any) -> None:
-        from catc.queries.validate import param_sorts
-        from catc.semantics.plan import PlanFormatError, plan_from_json
-        from catc.semantics.validate import validate
+        from catc.api import read_plan, validate
+        from catc.semantics.plan import PlanFormatError
 
         assert self.candidate is not None
         try:
-            plan = plan_from_json(plan_doc, param_sorts(self.candidate.instance))
+            plan = read_plan(self.candidate.instance, plan_doc)
         except PlanFormatError as exc:
             self.problem(seq, f"the deployed composition does not read: {exc}")
             return

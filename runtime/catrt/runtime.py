@@ -22,12 +22,14 @@ import signal
 import time
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
+from enum import StrEnum
 from pathlib import Path
 from typing import Any
 
+from catc.api import warm_start
 from catrt.apply import Candidate, Rejection, apply_change, check
 from catrt.config import Config
-from catrt.decide import Decision, Limits, WarmStart, decide
+from catrt.decide import Action, Decision, Limits, decide
 from catrt.enact import (
     ENACTORS,
     EnactError,
@@ -39,20 +41,36 @@ from catrt.enact import (
     write_generation,
 )
 from catrt.events import Event, EventError, parse_event
-from catrt.model import ModelState
-from catrt.store import Store, dumps
+from catrt.model import PROBLEM_FILE, ModelState, problem_file
+from catrt.store import Store, Verdict, dumps
 
 MODEL_FOLDER = "model"
 GENERATIONS = "generations"
-APPROVE_MODES = ("auto", "never", "ask")
+
+
+class Approve(StrEnum):
+    """Who approves a proposal (``--approve``)."""
+
+    AUTO = "auto"  # the runtime itself, at once
+    NEVER = "never"  # nobody here: requests wait for an approve event
+    ASK = "ask"  # the person at the terminal
+
+
+#: Called with the name of each point where a crash must lose nothing (``after-journal``,
+#: ``mid-artifacts``, ``before-enact-done``): the crash tests kill the process there.
+CrashHook = Callable[[str], None]
+
+
+def no_crash(point: str) -> None:
+    """The crash hook of a runtime nobody tests: nothing happens."""
 
 
 class Crash:
-    """Fault injection for the crash tests: ``CATRT_CRASH_AT=POINT[:N]`` kills the process
-    (SIGKILL, no clean-up) the N-th time (default 1st) it reaches POINT."""
+    """Fault injection for the crash tests: ``Crash("POINT[:N]")`` kills the process
+    (SIGKILL, no clean-up) the N-th time (default 1st) it reaches POINT.  The command line
+    makes one of ``CATRT_CRASH_AT``; the runtime's core reads no environment."""
 
-    def __init__(self) -> None:
-        spec = os.environ.get("CATRT_CRASH_AT", "")
+    def __init__(self, spec: str) -> None:
         point, _, n = spec.partition(":")
         self.point, self.n, self.hits = point, int(n or 1), 0
 
@@ -63,11 +81,19 @@ class Crash:
                 os.kill(os.getpid(), signal.SIGKILL)
 
 
+class Status(StrEnum):
+    """What became of an event."""
+
+    ACCEPTED = "accepted"
+    REJECTED = "rejected"
+    DUPLICATE = "duplicate"
+
+
 @dataclass
 class Outcome:
     """What became of one event (for the person watching, and the API)."""
 
-    status: str  # accepted | rejected | duplicate
+    status: Status
     event_id: str
     where: str
     message: str = ""
@@ -91,19 +117,20 @@ class Runtime:
         config: Config,
         *,
         enactor: str | None = None,
-        approve: str = "never",
+        approve: str = Approve.NEVER,
         say: Callable[[Outcome], None] | None = None,
         ask: Callable[[dict[str, Any]], bool] | None = None,
+        crash: CrashHook = no_crash,
     ) -> None:
         self.folder, self.store, self.config = folder, store, config
         # solve's encoding, from one decision to the next; sensed values start behind literals
-        self.warm = WarmStart(s.resource for s in config.sensors)
+        self.warm = warm_start(s.resource for s in config.sensors)
         limits = {**{"compose": 120.0, "diagnose": 30.0, "relax": 30.0}, **config.limits}
         self.limits = Limits(limits["compose"], limits["diagnose"], limits["relax"])
         kind = enactor or config.enactor.get("kind", "dry")
         self.enactor: Enactor = ENACTORS[kind](config.enactor)
         self.approve, self.say, self.ask = approve, say or (lambda outcome: None), ask
-        self.crash = Crash()
+        self.crash = crash
         self.sources = store.sources()
         self.state = ModelState.from_json(store.get("model"))
         self.current: Candidate = check(self.state, self.sources, str(folder / MODEL_FOLDER))
@@ -112,11 +139,12 @@ class Runtime:
     # ------------------------------------------------------------ the model on disk
     def write_model(self, candidate: Candidate) -> None:
         """``STATE/model/``: the model as files a person can read and give to catc."""
-        from catc.targets.grounding.artifacts import write
+        from catc.api import write_files
 
         folder = self.folder / MODEL_FOLDER
         names = {Path(p).name: t.encode("utf-8") for p, t in candidate.files.items()}
-        write(folder, names, {"schema": "catrt.model-files/1", "model_sha256": model_sha(candidate.state)})
+        names[PROBLEM_FILE] = problem_file(candidate.instance).encode("utf-8")  # catc's writer, catc fmt's layout
+        write_files(folder, names, {"schema": "catrt.model-files/1", "model_sha256": model_sha(candidate.state)})
 
     @property
     def incumbent(self) -> dict[str, Any] | None:
@@ -133,11 +161,11 @@ class Runtime:
                                                 "note": "enact-begin without enact-done: enacting again"})  # fmt: skip
             out.append(self.enact())
             self.say(out[-1])
-        if self.incumbent is None and not self.store.approvals("pending"):
+        if self.incumbent is None and not self.store.approvals(Verdict.PENDING):
             outcome = self._decide_and_commit(Event("start", {}, "start", False), self.current, kind="start")
             self.say(outcome)
             out.append(outcome)
-            if outcome.decision is not None and outcome.decision.action == "restore":
+            if outcome.decision is not None and outcome.decision.action is Action.RESTORE:
                 self._maybe_approve(outcome)
         return out
 
@@ -151,20 +179,20 @@ class Runtime:
             with self.store.transaction():
                 seq = self.store.journal("rejected", {"where": exc.where, "code": "E1001", "message": exc.message,
                                                       "line": text})  # fmt: skip
-            outcome = Outcome("rejected", "", exc.where, f"error[E1001]: {exc.message}", seq=seq)
+            outcome = Outcome(Status.REJECTED, "", exc.where, f"error[E1001]: {exc.message}", seq=seq)
             self.say(outcome)
             return outcome
         return self.handle(event)
 
     def handle(self, event: Event) -> Outcome:
         if self.store.accepted(event.id):
-            outcome = Outcome("duplicate", event.id, event.where, "already accepted: nothing to do")
+            outcome = Outcome(Status.DUPLICATE, event.id, event.where, "already accepted: nothing to do")
         elif event.is_approval:
             outcome = self._approval(event)
         else:
             outcome = self._change(event)
         self.say(outcome)
-        if outcome.decision is not None and outcome.decision.action == "restore":
+        if outcome.decision is not None and outcome.decision.action is Action.RESTORE:
             self._maybe_approve(outcome)
         return outcome
 
@@ -172,7 +200,7 @@ class Runtime:
         with self.store.transaction():
             seq = self.store.journal("rejected", {"where": event.where, "event": event.to_json(), "code": code,
                                                   **rejection.to_json()}, event.id)  # fmt: skip
-        return Outcome("rejected", event.id, event.where, f"error[{code}]: {rejection.text()}", seq=seq)
+        return Outcome(Status.REJECTED, event.id, event.where, f"error[{code}]: {rejection.text()}", seq=seq)
 
     def _change(self, event: Event) -> Outcome:
         t = time.perf_counter()
@@ -188,7 +216,7 @@ class Runtime:
 
     def _approval(self, event: Event) -> Outcome:
         request = str(event.body.get("approve") or event.body.get("reject"))
-        pending = {a["id"]: a for a in self.store.approvals("pending")}
+        pending = {a["id"]: a for a in self.store.approvals(Verdict.PENDING)}
         if request not in pending:
             known = {a["id"]: a["status"] for a in self.store.approvals()}
             why = f"'{request}' is {known[request]}" if request in known else f"no request '{request}'"
@@ -197,9 +225,9 @@ class Runtime:
             with self.store.transaction():
                 seq = self.store.journal("event", {"where": event.where, "event": event.to_json(),
                                                    "model_sha256": model_sha(self.state)}, event.id)  # fmt: skip
-                self.store.journal("approval", {"request": request, "verdict": "rejected", "event": seq})
-                self.store.settle_approval(request, "rejected")
-            return Outcome("accepted", event.id, event.where, f"request {request} rejected", seq=seq)
+                self.store.journal("approval", {"request": request, "verdict": Verdict.REJECTED, "event": seq})
+                self.store.settle_approval(request, Verdict.REJECTED)
+            return Outcome(Status.ACCEPTED, event.id, event.where, f"request {request} rejected", seq=seq)
         proposal = pending[request]["proposal"]
         change = Event(event.id, {"set": proposal["set"]}, event.where, event.given_id)
         try:
@@ -214,22 +242,22 @@ class Runtime:
                            approval: str | None = None) -> Outcome:  # fmt: skip
         incumbent = self.incumbent
         decision = decide(candidate.model, incumbent["plan"] if incumbent else None, self.limits, self.warm)
-        plan = decision.plan if decision.action in ("compose", "recompose", "keep") else None
+        plan = decision.plan if decision.action.deploys else None
         artifacts, why_not = self._artifacts(candidate, plan) if plan is not None else (None, None)
-        enact = artifacts is not None and (decision.action != "keep" or not self._deployed_as(artifacts[0]))
+        enact = artifacts is not None and (decision.action is not Action.KEEP or not self._deployed_as(artifacts[0]))
         request: str | None = None
         with self.store.transaction():
             cause = self._journal_cause(event, candidate, kind, approval)
             if approval is not None:
-                self.store.settle_approval(approval, "approved")
+                self.store.settle_approval(approval, Verdict.APPROVED)
             self.store.put("model", candidate.state.to_json())
             seq = self.store.journal("decision", {"cause": cause, **decision.to_json()})
             generation = None
-            superseded = [a["id"] for a in self.store.approvals("pending")] if approval is None else []
+            superseded = [a["id"] for a in self.store.approvals(Verdict.PENDING)] if approval is None else []
             for old in superseded:  # the world moved on: a new decision replaces the request
-                self.store.settle_approval(old, "superseded")
-                self.store.journal("approval", {"request": old, "verdict": "superseded", "decision": seq})
-            if decision.action == "restore":
+                self.store.settle_approval(old, Verdict.SUPERSEDED)
+                self.store.journal("approval", {"request": old, "verdict": Verdict.SUPERSEDED, "decision": seq})
+            if decision.action is Action.RESTORE:
                 request = f"r{len(self.store.approvals()) + 1}"  # r1, r2, ...: an events file can name them
                 self.store.add_approval(request, seq, decision.proposal or {})
                 self.store.journal(
@@ -249,11 +277,11 @@ class Runtime:
         message = decision.reason + (
             f"; request {request} waits for approval: catrt approve {self.folder} {request}" if request else ""
         )
-        outcome = Outcome("accepted", event.id, event.where, message, decision, generation, cause,
+        outcome = Outcome(Status.ACCEPTED, event.id, event.where, message, decision, generation, cause,
                           dict(decision.timings))  # fmt: skip
         if generation is not None:
             done = self.enact(artifacts)
-            if done.status == "rejected":  # the decision stands; enacting it failed (E1011)
+            if done.status is Status.REJECTED:  # the decision stands; enacting it failed (E1011)
                 outcome.message += f"; generation {generation} not enacted (below)"
                 outcome.enactment = done
             else:
@@ -267,24 +295,19 @@ class Runtime:
             return self.store.journal("start", {"model_sha256": data["model_sha256"]})
         seq = self.store.journal("event", data, event.id)
         if approval is not None:
-            self.store.journal("approval", {"request": approval, "verdict": "approved", "event": seq})
+            self.store.journal("approval", {"request": approval, "verdict": Verdict.APPROVED, "event": seq})
         return seq
 
     def _artifacts(self, candidate: Candidate, plan: Any) -> tuple[Any, str | None]:
         """(files, manifest) of ``plan`` grounded in the candidate model, or (None, why not)."""
-        from catc.semantics.validate import validate
-        from catc.targets.grounding.artifacts import artifacts, manifest
-        from catc.targets.grounding.resolve import ground
+        from catc.api import deployment
 
-        try:
-            states = validate(candidate.instance, plan).states
-            grounded = ground(candidate.instance, plan, states)
-            files = artifacts(grounded)
-        except ValueError as exc:  # GroundingConflict, a real no artifact can carry
-            return None, f"the composition cannot be grounded: {exc}"
         digest = hashlib.sha256("\n".join(sorted(hashlib.sha256(t.encode()).hexdigest()
                                                  for t in candidate.files.values())).encode()).hexdigest()  # fmt: skip
-        return (files, manifest(grounded, files, digest, candidate.instance)), None
+        try:
+            return deployment(candidate.instance, plan, digest), None
+        except ValueError as exc:  # GroundingConflict, a real no artifact can carry
+            return None, f"the composition cannot be grounded: {exc}"
 
     def _deployed_as(self, files: dict[str, bytes]) -> bool:
         """The deployed generation has exactly these artifacts."""
@@ -299,10 +322,9 @@ class Runtime:
         enacting = self.store.get("enacting")
         generation = enacting["generation"]
         if artifacts is None:  # recovering: the same model and plan ground to the same bytes
-            from catc.queries.validate import param_sorts
-            from catc.semantics.plan import plan_from_json
+            from catc.api import read_plan
 
-            plan = plan_from_json(enacting["plan"], param_sorts(self.current.instance))
+            plan = read_plan(self.current.instance, enacting["plan"])
             artifacts, why_not = self._artifacts(self.current, plan)
             if artifacts is None:
                 return self._enact_failed(generation, why_not or "")
@@ -324,22 +346,22 @@ class Runtime:
             self.store.put("incumbent", {"generation": generation, "plan": enacting["plan"]})
             self.store.put("enacting", None)
         what = "enacted" if done.ran else f"written ({self.enactor.name}: nothing run)"
-        return Outcome("accepted", "", "enact", f"generation {generation} {what}", generation=generation, seq=seq)
+        return Outcome(Status.ACCEPTED, "", "enact", f"generation {generation} {what}", generation=generation, seq=seq)
 
     def _enact_failed(self, generation: int, why: str) -> Outcome:
         with self.store.transaction():
             seq = self.store.journal("enact-failed", {"generation": generation, "code": "E1011", "message": why})
             self.store.put("enacting", None)
-        return Outcome("rejected", "", "enact", f"error[E1011]: generation {generation}: {why}", seq=seq)
+        return Outcome(Status.REJECTED, "", "enact", f"error[E1011]: generation {generation}: {why}", seq=seq)
 
     # ------------------------------------------------------------ approvals
     def _maybe_approve(self, outcome: Outcome) -> None:
-        pending = self.store.approvals("pending")
+        pending = self.store.approvals(Verdict.PENDING)
         if not pending:
             return
         request = pending[-1]
-        if self.approve == "auto" or (self.approve == "ask" and self.ask is not None and self.ask(request)):
-            by = "auto" if self.approve == "auto" else "terminal"
+        if self.approve == Approve.AUTO or (self.approve == Approve.ASK and self.ask is not None and self.ask(request)):
+            by = "auto" if self.approve == Approve.AUTO else "terminal"
             self.handle(Event(f"{by}-approve-{request['id']}", {"approve": request["id"]}, by, False))
 
     # ------------------------------------------------------------ sensors
@@ -353,7 +375,9 @@ class Runtime:
                 seq = self.store.journal("sensor", {**reading.to_json(), "argv": list(sensor.argv),
                                                     **({"code": "E1009"} if reading.error else {})})  # fmt: skip
             if reading.error is not None:
-                outcome = Outcome("rejected", "", f"sensor {sensor.name}", f"error[E1009]: {reading.error}", seq=seq)
+                outcome = Outcome(
+                    Status.REJECTED, "", f"sensor {sensor.name}", f"error[E1009]: {reading.error}", seq=seq
+                )
                 self.say(outcome)
                 out.append(outcome)
             elif self.state.problem.init.get(sensor.resource) != reading.value:

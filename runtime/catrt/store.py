@@ -29,6 +29,7 @@ import json
 import os
 import sqlite3
 from collections.abc import Iterator, Mapping
+from enum import StrEnum
 from pathlib import Path
 from typing import Any
 
@@ -53,6 +54,15 @@ _SCHEMA = (
 
 #: Migrations from an older schema version: version → the statements that bring it to version + 1.
 MIGRATIONS: dict[int, tuple[str, ...]] = {}
+
+
+class Verdict(StrEnum):
+    """Where a request for approval stands (its value is what the store and the journal keep)."""
+
+    PENDING = "pending"  # waits for approve or reject
+    APPROVED = "approved"
+    REJECTED = "rejected"
+    SUPERSEDED = "superseded"  # a later decision replaced it before anyone answered
 
 
 class StoreError(RuntimeError):
@@ -210,14 +220,16 @@ class Store:
 
     # ------------------------------------------------------------ approvals
     def add_approval(self, approval_id: str, seq: int, proposal: Mapping[str, Any]) -> None:
-        self.db.execute("INSERT INTO approvals VALUES (?, ?, 'pending', ?)", (approval_id, seq, dumps(proposal)))
+        self.db.execute(
+            "INSERT INTO approvals VALUES (?, ?, ?, ?)", (approval_id, seq, Verdict.PENDING, dumps(proposal))
+        )
 
-    def approvals(self, status: str | None = None) -> list[dict[str, Any]]:
+    def approvals(self, status: Verdict | None = None) -> list[dict[str, Any]]:
         query = "SELECT id, seq, status, proposal FROM approvals" + (" WHERE status = ?" if status else "")
         rows = self.db.execute(query + " ORDER BY seq", (status,) if status else ())
         return [{"id": i, "seq": s, "status": st, "proposal": json.loads(p)} for i, s, st, p in rows]
 
-    def settle_approval(self, approval_id: str, status: str) -> None:
+    def settle_approval(self, approval_id: str, status: Verdict) -> None:
         self.db.execute("UPDATE approvals SET status = ? WHERE id = ?", (status, approval_id))
 
     # ------------------------------------------------------------ checks

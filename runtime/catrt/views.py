@@ -7,7 +7,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from catrt.store import Store
+from catrt.store import Store, Verdict
 
 STATUS_SCHEMA = "catrt.status/1"
 
@@ -114,7 +114,7 @@ def status_document(store: Store, folder: Path) -> dict[str, Any]:
         if enacted is None
         else {k: enacted["data"].get(k) for k in ("generation", "enactor", "ran", "hardware", "diff", "commands")},
         "enacting": store.get("enacting"),
-        "pending": [{"id": a["id"], **a["proposal"]} for a in store.approvals("pending")],
+        "pending": [{"id": a["id"], **a["proposal"]} for a in store.approvals(Verdict.PENDING)],
         "last_decision": None
         if last is None
         else {

@@ -19,6 +19,17 @@ before printing), and :meth:`Model.to_json` turns any result into the command's 
 The long queries (solve, optimize, diagnose, relax, recompose) take ``progress``, a function
 called with a message as each phase starts (what the command line shows on its status
 line).  Nothing here imports click.
+
+Below the queries, the part of the API a program embedding catc relies on (the runtime,
+catrt, uses nothing else of catc but the IR and :mod:`catc.semantics.plan`): the deploy
+policy (:func:`deploy_query`), a query's outcome as data (:func:`composed`,
+:func:`refuted`), plans read against a model (:func:`read_plan`), the independent validator
+(:func:`validate`, :func:`initial_state`), the deployment artifacts of a composition and
+their difference (:func:`deployment`, :func:`write_files`, :func:`diff_artifacts`), the
+outline of a source — its definitions and sections, with offsets — (:func:`outline`) and
+the language's tokens (:func:`tokens`), so that no program parses ``.cat`` text itself, and
+a problem written as a formatted ``.cat`` file (:func:`problem_source`), so that no program
+writes one.
 """
 
 from __future__ import annotations
@@ -26,12 +37,18 @@ from __future__ import annotations
 import functools
 import os
 from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass
 from fractions import Fraction
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover
     from catc import ir
     from catc.queries.base import Result
+    from catc.queries.solve import WarmStart
+    from catc.semantics.plan import Plan
+    from catc.semantics.validate import Report
+    from catc.targets.grounding.diff import GroundDiff
     from catgrammar.diagnostics import Diagnostic, Diagnostics
     from catgrammar.limits import Limits
 
@@ -248,3 +265,225 @@ class Model:
         from catc.queries import registry
 
         return registry.for_result(result).to_json(self.instance, result)
+
+
+# ---------------------------------------------------------------- for programs embedding catc
+
+
+def deploy_query(inst: ir.Instance) -> str:
+    """The query that finds the composition to deploy: ``optimize`` when the problem says
+    what is best (a metric or soft constraints), else ``solve``."""
+    from catc.queries.registry import deploy_query as policy
+
+    return policy(inst)
+
+
+def read_plan(inst: ir.Instance, doc: Any) -> Plan:
+    """A plan document (``catc.plan/1``, or an answer holding one) read against ``inst``;
+    :class:`catc.semantics.plan.PlanFormatError` when it is malformed."""
+    from catc.semantics.plan import read_plan as read
+
+    return read(inst, doc)
+
+
+def composed(result: Any) -> bool:
+    """``result`` (of solve, optimize or recompose) holds a composition: satisfiable, an
+    optimum, or the best found in the time limit."""
+    from catc.queries.optimize import OptStatus
+    from catc.queries.solve import SolveStatus
+
+    found = (SolveStatus.SAT, OptStatus.OPT, OptStatus.SUBOPT)
+    return getattr(result, "plan", None) is not None and result.status in found
+
+
+def refuted(result: Any) -> bool:
+    """``result`` proves that no composition exists (``unsat``)."""
+    from catc.queries.optimize import OptStatus
+    from catc.queries.solve import SolveStatus
+
+    return bool(result.status in (SolveStatus.UNSAT, OptStatus.UNSAT))
+
+
+def stopped_early(result: Any) -> bool:
+    """``result`` holds the best composition found before the time limit, not one proven
+    optimal (``subopt``)."""
+    from catc.queries.optimize import OptStatus
+
+    return bool(result.status is OptStatus.SUBOPT)
+
+
+def warm_start(literal_resources: Iterable[str] = ()) -> WarmStart:
+    """What ``solve`` keeps from one call to the next (``model.solve(warm=...)``) to answer on
+    the previous encoding when only initial values or the goal changed; the initial values
+    of ``literal_resources`` (sensed, say) are kept behind literals from the start."""
+    from catc.queries.solve import WarmStart
+
+    return WarmStart(literal_resources)
+
+
+def validate(inst: ir.Instance, plan: Plan) -> Report:
+    """Replay ``plan`` on ``inst`` with the independent validator (no solver):
+    ``report.ok``, ``report.violations``, ``report.states``."""
+    from catc.semantics.validate import validate as replay
+
+    return replay(inst, plan)
+
+
+def initial_state(inst: ir.Instance) -> dict[str, object]:
+    """The value of every resource before the first step."""
+    from catc.semantics.validate import initial_state as initial
+
+    return initial(inst)
+
+
+def deployment(inst: ir.Instance, plan: Plan, model_sha256: str) -> tuple[dict[str, bytes], dict[str, Any]]:
+    """The deployment artifacts of ``plan`` (valid in ``inst``) as ``catc ground`` writes
+    them: file name → bytes, and the manifest naming them (with ``model_sha256``).
+    ValueError when the composition cannot be grounded (a grounding conflict, a value no
+    artifact can carry)."""
+    from catc.semantics.validate import validate as replay
+    from catc.targets.grounding.artifacts import artifacts, manifest
+    from catc.targets.grounding.resolve import ground
+
+    grounded = ground(inst, plan, replay(inst, plan).states)
+    files = artifacts(grounded)
+    return files, manifest(grounded, files, model_sha256, inst)
+
+
+def write_files(folder: Path, files: dict[str, bytes], document: dict[str, Any], *, durable: bool = False) -> None:
+    """Write ``files`` and the manifest ``document`` into ``folder`` as ``catc ground`` does
+    (each file replaced atomically; ``durable``: synced to the disk)."""
+    from catc.targets.grounding.artifacts import write
+
+    write(folder, files, document, durable=durable)
+
+
+def read_grounding(path: str) -> dict[str, bytes]:
+    """The files of a grounding (a folder ``catc ground`` or the runtime wrote, or its
+    manifest.json), each checked against the manifest's sha256; a ValueError
+    (``NotAGrounding``) says what is wrong."""
+    from catc.targets.grounding.diff import read_grounding as read
+
+    return read(path)
+
+
+def diff_artifacts(old: Mapping[str, bytes], new: Mapping[str, bytes]) -> GroundDiff:
+    """What changes from one set of deployment artifacts to the next (services added,
+    removed, restarted; the commands that do it)."""
+    from catc.targets.grounding.diff import diff_artifacts as diff
+
+    return diff(old, new)
+
+
+def problem_source(inst: ir.Instance, *, header: str | None = None) -> str:
+    """The problem of the checked instance ``inst`` as a ``.cat`` file in ``catc fmt``'s
+    layout (written by :mod:`catc.targets.catsource`, laid out by the formatter), with
+    ``header`` as a comment on top; it names ``inst``'s domain and reads back as the same
+    problem."""
+    from catc.frontend.formatter import format_text
+    from catc.targets.catsource import problem_text
+
+    return format_text(problem_text(inst, header=header))
+
+
+@dataclass(frozen=True)
+class Section:
+    """A section of a definition: ``keyword`` (``morphism``, ``goal``, ``soft``, ``metric``,
+    ``requirements``, ``objects``, ...), its ``name`` when it declares one (a morphism's),
+    its offsets in the text (``start``, ``end``) and those of its ``body`` — the condition
+    of a goal or a soft constraint — when it has one."""
+
+    keyword: str
+    name: str | None
+    start: int
+    end: int
+    body: tuple[int, int] | None = None
+
+
+@dataclass(frozen=True)
+class Definition:
+    """``(define (domain NAME) ...)`` or ``(define (problem NAME) ...)`` in a source:
+    ``kind`` is ``domain`` or ``problem``; offsets in the text; its sections in order."""
+
+    kind: str
+    name: str
+    start: int
+    end: int
+    sections: tuple[Section, ...]
+
+
+def outline(text: str, path: str = "<string>") -> list[Definition]:
+    """The definitions of a ``.cat`` source and their sections, located by offset — for
+    programs that cut and splice sources without parsing them.  Raises :class:`CatError`
+    when the text does not parse (nothing is checked beyond the syntax)."""
+    from catgrammar import ast
+    from catgrammar.diagnostics import Diagnostics
+    from catgrammar.parser import parse_text
+
+    diags = Diagnostics()
+    tree = parse_text(text, path, diags)
+    if tree is None or diags.has_errors:
+        raise CatError(diags)
+    keywords = {ast.MorphismDecl: "morphism", ast.HoleDecl: "hole", ast.Requirements: "requirements",
+                ast.Objects: "objects", ast.Goal: "goal", ast.Soft: "soft", ast.Metric: "metric",
+                ast.Horizon: "horizon", ast.Init: "init", ast.Deployed: "deployed", ast.DomainRef: "domain"}  # fmt: skip
+    out: list[Definition] = []
+    for d in tree.definitions:
+        if not isinstance(d, (ast.Domain, ast.Problem)):
+            continue
+        sections = []
+        for s in d.sections:
+            name = getattr(s, "name", None)
+            condition = getattr(s, "condition", None)
+            sections.append(
+                Section(
+                    keywords.get(type(s), type(s).__name__.lower()),
+                    name.text if isinstance(name, ast.Name) else None,
+                    s.span.start,
+                    s.span.end,
+                    (condition.span.start, condition.span.end) if condition is not None else None,
+                )
+            )
+        kind = "domain" if isinstance(d, ast.Domain) else "problem"
+        out.append(Definition(kind, d.name.text, d.span.start, d.span.end, tuple(sections)))
+    return out
+
+
+@dataclass(frozen=True)
+class Token:
+    """A token of the language: its ``text``, offsets, line and column (from 1)."""
+
+    text: str
+    start: int
+    end: int
+    line: int
+    column: int
+
+    @property
+    def opens(self) -> bool:
+        return self.text == "("
+
+    @property
+    def closes(self) -> bool:
+        return self.text == ")"
+
+
+class TokenError(ValueError):
+    """A character the language does not have, at ``line``:``column`` (None when unknown)."""
+
+    def __init__(self, message: str, line: int | None, column: int | None) -> None:
+        super().__init__(message)
+        self.line, self.column = line, column
+
+
+def tokens(text: str) -> list[Token]:
+    """The tokens of ``text`` (comments and white space dropped); :class:`TokenError` at a
+    character the language does not have."""
+    from catgrammar._lalr import UnexpectedInput
+    from catgrammar.tokens import tokenize
+
+    try:
+        return [Token(t.value, t.start_pos or 0, t.end_pos or 0, t.line or 0, t.column or 0) for t in tokenize(text)]
+    except UnexpectedInput as exc:
+        column = getattr(exc, "column", None)
+        raise TokenError(f"unexpected character at column {column}", getattr(exc, "line", None), column) from None

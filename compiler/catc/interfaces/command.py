@@ -242,8 +242,7 @@ def read_plan_file(inst: ir.Instance, path: str) -> Any:
     """A ``catc.plan/1`` file → a Plan (unreadable: E0001; not JSON: E0801; not a plan: E0802)."""
     import json
 
-    from catc.queries.validate import param_sorts
-    from catc.semantics.plan import PlanFormatError, plan_from_json
+    from catc.semantics.plan import PlanFormatError, read_plan
 
     try:
         with open(path, encoding="utf-8") as fh:
@@ -255,7 +254,7 @@ def read_plan_file(inst: ir.Instance, path: str) -> Any:
     except ValueError as exc:  # a JSON integer of more digits than Python reads
         raise PlanFileError(path, f"cannot read the plan: {exc}", codes.BAD_PLAN) from None
     try:
-        return plan_from_json(doc, param_sorts(inst))
+        return read_plan(inst, doc)
     except PlanFormatError as exc:
         raise PlanFileError(path, str(exc), codes.BAD_PLAN) from None
 

@@ -156,9 +156,7 @@ def _plan_to_ground(inst: ir.Instance, plan_file: str | None, horizon: int | Non
         return given
     from catc.queries import registry
 
-    # the composition to deploy: the optimum when the problem says what is best, else the shortest
-    name = "optimize" if inst.problem.metric is not None or inst.problem.softs else "solve"
-    query = registry.get(name)
+    query = registry.get(registry.deploy_query(inst))
     result = query.run(inst, horizon=horizon, timeout=timeout)
     if result.exit_code is not ExitCode.OK or getattr(result, "plan", None) is None:
         query.render(command.console(), inst, result, {})

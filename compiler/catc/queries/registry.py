@@ -5,8 +5,12 @@ answering one query loads only its own module."""
 from __future__ import annotations
 
 import importlib
+from typing import TYPE_CHECKING
 
 from catc.queries.base import Query
+
+if TYPE_CHECKING:  # pragma: no cover
+    from catc import ir
 
 QUERIES: dict[str, str] = {
     "solve": "catc.queries.solve",
@@ -36,3 +40,10 @@ def for_result(result: object) -> Query:
     if name not in QUERIES:
         raise TypeError(f"not a catc query result: {type(result).__name__}")
     return get(name)
+
+
+def deploy_query(inst: ir.Instance) -> str:
+    """The query that finds the composition to deploy (``catc ground``, the runtime): the
+    optimum when the problem says what is best — a metric or soft constraints — else the
+    shortest (``solve``)."""
+    return "optimize" if inst.problem.metric is not None or inst.problem.softs else "solve"

@@ -14,7 +14,8 @@ from catc import ir
 from catc.present.console import Console, counted, escape
 from catc.present.values import state_json
 from catc.queries.base import ExitCode, Kind, Option, Query, Result, Status, json_option
-from catc.semantics.plan import Plan, plan_from_json
+from catc.semantics.plan import Plan, read_plan
+from catc.semantics.plan import param_sorts as param_sorts  # its old address (catc.interfaces.command)
 from catc.semantics.validate import Report, validate
 
 
@@ -55,14 +56,6 @@ class Validation(Result):
         return tuple(self.report.states)
 
 
-def param_sorts(inst: ir.Instance) -> dict[str, dict[str, str]]:
-    """How to read each parameter of a ``catc.plan/1`` document: 'bool', 'int', 'real' or 'symbol'."""
-    return {
-        m.name: {p.name: (p.sort.kind.value if not p.sort.is_symbolic else "symbol") for p in m.params}
-        for m in inst.morphisms.values()
-    }
-
-
 def validate_plan(
     inst: ir.Instance,
     plan: Plan | Mapping[str, Any],
@@ -73,7 +66,7 @@ def validate_plan(
     """Replay ``plan`` (a Plan or a ``catc.plan/1`` document; a malformed document raises
     :class:`catc.semantics.plan.PlanFormatError`) and collect every violation."""
     if not isinstance(plan, Plan):
-        plan = plan_from_json(plan, param_sorts(inst))
+        plan = read_plan(inst, plan)
     report = validate(inst, plan, horizon=horizon, sequential=sequential)
     return Validation(ValidateStatus.VALID if report.ok else ValidateStatus.INVALID, plan, report)
 

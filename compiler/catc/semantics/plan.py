@@ -14,10 +14,13 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping
 from fractions import Fraction
 from types import MappingProxyType
-from typing import Any, TypeAlias
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 from catc.ir.numbers import fraction_text
 from catgrammar.record import Record, set_field
+
+if TYPE_CHECKING:  # pragma: no cover
+    from catc import ir
 
 Value: TypeAlias = Fraction | bool | str
 SetValue: TypeAlias = frozenset[str]  # of symbol names
@@ -127,6 +130,20 @@ def plan_to_json(plan: Plan) -> dict[str, Any]:
         ],
         "fresh": dict(plan.fresh),
     }
+
+
+def param_sorts(inst: ir.Instance) -> dict[str, dict[str, str]]:
+    """How to read each parameter of a ``catc.plan/1`` document: 'bool', 'int', 'real' or 'symbol'."""
+    return {
+        m.name: {p.name: (p.sort.kind.value if not p.sort.is_symbolic else "symbol") for p in m.params}
+        for m in inst.morphisms.values()
+    }
+
+
+def read_plan(inst: ir.Instance, doc: Any) -> Plan:
+    """A plan document (``catc.plan/1``, or an answer holding one) read against the checked
+    instance ``inst``, each parameter by its sort; :class:`PlanFormatError` when malformed."""
+    return plan_from_json(doc, param_sorts(inst))
 
 
 def plan_from_json(doc: Any, param_sorts: Mapping[str, Mapping[str, str]]) -> Plan:
