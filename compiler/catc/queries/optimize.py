@@ -14,7 +14,7 @@ from __future__ import annotations
 import time
 from collections.abc import Mapping
 from fractions import Fraction
-from typing import Any
+from typing import Any, NamedTuple
 
 from catc import ir
 from catc.ir.numbers import decimal_text, fraction_text, number_text, ratio_text
@@ -44,8 +44,8 @@ from catc.smt.backend import DEFAULT_BACKEND, Backend, Bound, Check, open_backen
 from catc.smt.counting import better_refuted
 from catc.smt.encoder import Encoder
 from catc.smt.readback import read_plan
-from catc.smt.script import real_literal
-from catc.smt.terms import Term, and_, better, eq, or_
+from catc.smt.terms import Term, and_, better, eq, ite, minus, not_, or_, plus
+from catc.smt.terms import to_text as smt_text
 from catgrammar import limits
 
 
@@ -114,8 +114,22 @@ class OptResult(Result):
 #: on the examples with 2–6 steps it costs 1.0–1.3× plain solve, the deepening route
 #: 1.2–2.2× (its extra encodings dominate such small problems; docs/benchmarks.md).
 DEEPEN_FROM = 8
-#: churn objectives as soft-constraint groups (MaxSMT) instead of arithmetic sums
-MAXSMT_CHURN = False
+
+
+class Tactics(NamedTuple):
+    """How :func:`optimize` looks for the optimum (arguments, not process-wide switches).
+
+    ``maxsmt_churn``: churn objectives as soft-constraint groups for Z3's MaxSMT engine
+    instead of arithmetic sums (docs/benchmarks.md compares the two).  ``counting_proofs``:
+    try the counting relaxation's proof that nothing is better (:mod:`catc.smt.counting`)
+    before the SMT refutation; off, only the SMT refutation (lifelong_bench.py's "before")."""
+
+    maxsmt_churn: bool = False
+    counting_proofs: bool = True
+
+
+#: The default tactics.
+DEFAULT_TACTICS = Tactics()
 
 STRATEGIES = ("deepen", "single")
 
@@ -138,6 +152,7 @@ def optimize(
     strategy: str = "deepen",
     deepen_from: int | None = None,
     progress: Progress | None = None,
+    tactics: Tactics = DEFAULT_TACTICS,
 ) -> OptResult:
     """The optimum over every composition of at most ``horizon`` steps.
 
@@ -150,7 +165,8 @@ def optimize(
     horizon alternate with doubling time budgets, as neither is always faster.  Both
     strategies give the same optimum.  Below ``deepen_from`` steps of horizon (default
     :data:`DEEPEN_FROM`) ``deepen`` uses the single encoding, which is then as cheap.
-    ``progress(message)`` is told what is being tried as it starts."""
+    ``progress(message)`` is told what is being tried as it starts; ``tactics`` chooses
+    encodings and proofs (:class:`Tactics`)."""
     say = progress or (lambda message: None)
     objectives = objectives_of(inst) if objectives is None else objectives
     softs = list(inst.problem.softs)
@@ -166,8 +182,9 @@ def optimize(
         try:
             if strategy == "single" or k < (DEEPEN_FROM if deepen_from is None else deepen_from):
                 say(f"optimising over {k} steps")
-                return _done(_optimize_at(inst, objectives, softs, k, sequential, limits.deadline_at(), prune), start)
-            return _done(_Deepening(inst, objectives, softs, k, sequential, prune, say).run(), start)
+                at = _optimize_at(inst, objectives, softs, k, sequential, limits.deadline_at(), prune, tactics)
+                return _done(at, start)
+            return _done(_Deepening(inst, objectives, softs, k, sequential, prune, say, tactics).run(), start)
         except limits.Stopped as stop:  # encoding or validating when the time ran out
             return _done(OptResult(OptStatus.UNKNOWN, k, reason=stop.reason), start)
 
@@ -185,9 +202,10 @@ class _Deepening:
         sequential: bool,
         prune: bool,
         say: Progress,
+        tactics: Tactics,
     ) -> None:
         self.inst, self.objectives, self.softs, self.k = inst, objectives, softs, k
-        self.sequential, self.prune, self.say = sequential, prune, say
+        self.sequential, self.prune, self.say, self.tactics = sequential, prune, say, tactics
         self.start = time.perf_counter()
         self.deadline = limits.deadline_at()
         self.timings: dict[str, float] = {}
@@ -229,7 +247,7 @@ class _Deepening:
             return self._first_plan(OptStatus.OPT)
         self.say(f"optimising over {k0} steps")
         expired = _expired(self.deadline)
-        short = None if expired else _optimize_at(inst, *self._args(k0), self.deadline, self.prune)
+        short = None if expired else _optimize_at(inst, *self._args(k0), self.deadline, self.prune, self.tactics)
         if short is None or (short.plan is None and _expired(self.deadline)):
             # out of time: the first composition is the best known
             return self._first_plan(OptStatus.SUBOPT, limits.stop_reason() or "timeout")
@@ -247,7 +265,7 @@ class _Deepening:
                 short.timings = self.timings
                 return short
             self.say(f"optimising over all {k} steps")
-            whole = _optimize_at(inst, *self._args(k), self.deadline, self.prune)
+            whole = _optimize_at(inst, *self._args(k), self.deadline, self.prune, self.tactics)
             _add_timings(self.timings, whole.timings)
             whole.timings = self.timings
             return whole
@@ -281,7 +299,7 @@ class _Deepening:
         budget0 = max(0.25, time.perf_counter() - self.start)
         limit = _sooner(self.deadline, budget0)
         r = _better_exists(
-            self.inst, self.objectives, self.softs, values0, self.k, self.sequential, limit, self.timings
+            self.inst, self.objectives, self.softs, values0, self.k, self.sequential, limit, self.timings, self.tactics
         )
         return r is Check.UNSAT
 
@@ -307,7 +325,9 @@ class _Deepening:
             if refute:
                 self.say(f"optimum over {k0} steps: {_values_text(values)}; is there a better one within {k} steps?")
                 limit = _sooner(deadline, budget)
-                r = _better_exists(inst, self.objectives, self.softs, values, k, self.sequential, limit, self.timings)
+                r = _better_exists(
+                    inst, self.objectives, self.softs, values, k, self.sequential, limit, self.timings, self.tactics
+                )
                 if r is Check.UNSAT:  # nothing better within the whole horizon: the short optimum is it
                     short.timings = self.timings
                     return self._same_answer(short)
@@ -318,7 +338,7 @@ class _Deepening:
                 break
             limit = _sooner(deadline, None if not refute else budget)
             self.say(f"optimum over {k0} steps: {_values_text(values)}; optimising over all {k} steps")
-            whole = _optimize_at(inst, *self._args(k), limit, self.prune)
+            whole = _optimize_at(inst, *self._args(k), limit, self.prune, self.tactics)
             _add_timings(self.timings, whole.timings)
             if whole.reason not in _STOPPED:  # finished
                 whole.timings = self.timings
@@ -386,13 +406,15 @@ def _objective_terms(
 ) -> list[Term]:
     """The objectives as terms of ``solver``; the first carries the soft penalties ``Σ wᵢ·zᵢ``."""
     soft_terms = [enc.at_state(s.expr, k) for s in softs]
-    penalty = " ".join(f"(ite {t} 0.0 {real_literal(s.weight)})" for s, t in zip(softs, soft_terms))
+    penalty: list[Term] = []
+    for s, t in zip(softs, soft_terms):
+        assert isinstance(t, str)  # a soft constraint is Boolean: its term is text
+        penalty.append(ite(t, Fraction(0), s.weight))
     out = []
     for i, obj in enumerate(objectives):
         term = enc.objective(obj.term, k)
         if i == 0 and penalty:
-            sign = "+" if obj.sense is ir.Sense.MINIMIZE else "-"
-            term = f"({sign} {term} {penalty})"
+            term = smt_text((plus if obj.sense is ir.Sense.MINIMIZE else minus)(term, *penalty))
         out.append(solver.intern(term))
     return out
 
@@ -406,6 +428,7 @@ def _better_exists(
     sequential: bool,
     deadline: float | None,
     timings: dict[str, float],
+    tactics: Tactics,
 ) -> Check:
     """Is there a composition of at most ``k`` steps lexicographically better than ``values``?
 
@@ -417,7 +440,11 @@ def _better_exists(
     t0 = time.perf_counter()
     if _expired(deadline):  # stopped (Ctrl-C or the time limit): no new proof is started
         return Check.UNKNOWN
-    if not softs and better_refuted(inst, objectives, values, timeout=limits.for_check(deadline)):
+    if (
+        tactics.counting_proofs
+        and not softs
+        and better_refuted(inst, objectives, values, timeout=limits.for_check(deadline))
+    ):
         timings["solve"] += time.perf_counter() - t0  # proved by counting activations (catc.smt.counting)
         return Check.UNSAT
     enc, solver = _encode_whole(inst, k, sequential, optimize=False, logic="QF_LRA")
@@ -444,6 +471,7 @@ def _optimize_at(
     sequential: bool,
     deadline: float | None,
     prune: bool,
+    tactics: Tactics,
 ) -> OptResult:
     """One optimisation over an encoding of ``k`` steps (idle steps allowed)."""
     start = time.perf_counter()
@@ -452,11 +480,11 @@ def _optimize_at(
     handles = []
     for i, (obj, term) in enumerate(zip(objectives, _objective_terms(enc, solver, objectives, softs, k))):
         literals = []
-        if MAXSMT_CHURN and isinstance(obj.term, ir.TotalChurn) and not (i == 0 and softs):
+        if tactics.maxsmt_churn and isinstance(obj.term, ir.TotalChurn) and not (i == 0 and softs):
             literals = [(changed, w) for changed, w in enc.churn_literals(k) if w > 0]
         if literals:  # churn as one group of soft constraints, answered by Z3's MaxSMT engine
             for changed, w in literals:
-                handle = solver.add_soft(solver.intern(f"(not {changed})"), w, f"churn{i}")
+                handle = solver.add_soft(solver.intern(smt_text(not_(changed))), w, f"churn{i}")
             handles.append(handle)
         else:
             handles.append(solver.minimize(term) if obj.sense is ir.Sense.MINIMIZE else solver.maximize(term))
