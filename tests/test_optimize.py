@@ -169,7 +169,7 @@ def test_deepen_falls_back_to_the_whole_horizon_when_no_refutation_comes(tmp_pat
     above) is still found and proven."""
     import time as _time
 
-    import catc.queries.optimize as opt
+    import catc.queries.optimum as opt
 
     calls = []
 
@@ -190,7 +190,7 @@ def test_deepen_falls_back_to_the_whole_horizon_when_no_refutation_comes(tmp_pat
 def test_deepen_at_the_deadline_reports_the_short_optimum_as_best_found(tmp_path, monkeypatch):
     import time as _time
 
-    import catc.queries.optimize as opt
+    import catc.queries.optimum as opt
 
     def slow(inst, objectives, softs, values, k, sequential, deadline, timings, tactics):
         _time.sleep(max(0.0, deadline - _time.perf_counter()))
@@ -205,7 +205,7 @@ def test_deepen_at_the_deadline_reports_the_short_optimum_as_best_found(tmp_path
 def test_short_horizons_use_the_single_encoding(tmp_path, monkeypatch):
     """Under the default deepen strategy a horizon below DEEPEN_FROM goes straight to one
     encoding: no deepening solve, no refutation."""
-    import catc.queries.optimize as opt
+    import catc.queries.optimum as opt
 
     def must_not_run(*args, **kwargs):
         raise AssertionError("the deepening route ran on a short horizon")
@@ -253,7 +253,7 @@ def test_the_answer_does_not_depend_on_which_proof_finishes_first(case, query, m
     composition must be the same (else it would depend on the machine's speed, and so would
     every artifact grounded from it): here the refutation never finishes, so the whole
     horizon is optimised, and the answer must equal the unhindered one."""
-    from catc.queries import optimize as opt
+    from catc.queries import optimum as opt
     from catc.smt.backend import Check
 
     path = ROOT / "examples" / case
