@@ -6,7 +6,7 @@ in one run, and the budget cut's UNSAT proof against ENHSP's.
 In process (process start excluded; each query on the loaded model, median of ``--runs``):
 every query with the issue's machinery and without it — ``presolve=False`` (no relaxed
 reachability) for solve and diagnose, ``counting=False`` for relax, and for recompose the
-counting proof of optimality switched off by replacing it with "no proof" for the run.  As
+counting proof of optimality switched off (``Tactics(counting_proofs=False)``).  As
 processes (wall, median): ``catc solve`` on the budget cut against ENHSP ``sat-hadd`` on the
 exported PDDL, interleaved.  Answers are checked against examples/search-and-rescue/expect.toml.
 """
@@ -14,13 +14,12 @@ exported PDDL, interleaved.  Answers are checked against examples/search-and-res
 from __future__ import annotations
 
 import argparse
-import contextlib
 import statistics
 import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from fractions import Fraction
 from pathlib import Path
 
@@ -28,21 +27,10 @@ ROOT = Path(__file__).resolve().parent.parent
 SAR = ROOT / "examples" / "search-and-rescue"
 
 
-@contextlib.contextmanager
-def counting_proofs_off() -> Iterator[None]:
-    from catc.queries import optimize
-
-    saved = optimize.better_refuted
-    optimize.better_refuted = lambda *args, **kwargs: False  # type: ignore[assignment]
-    try:
-        yield
-    finally:
-        optimize.better_refuted = saved  # type: ignore[assignment]
-
-
 def cases(timeout: float) -> list[tuple[str, Callable[[bool], object], Callable[[object], str]]]:
     from catc.api import load
     from catc.queries.diagnose import diagnose
+    from catc.queries.optimize import Tactics
     from catc.queries.recompose import recompose
     from catc.queries.relax import relax
     from catc.queries.solve import solve
@@ -52,10 +40,7 @@ def cases(timeout: float) -> list[tuple[str, Callable[[bool], object], Callable[
 
     def rec(priority: str) -> Callable[[bool], object]:
         def run(new: bool) -> object:
-            if new:
-                return recompose(cheaper, priority=priority, timeout=timeout)
-            with counting_proofs_off():
-                return recompose(cheaper, priority=priority, timeout=timeout)
+            return recompose(cheaper, priority=priority, timeout=timeout, tactics=Tactics(counting_proofs=new))
 
         return run
 

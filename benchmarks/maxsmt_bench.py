@@ -5,7 +5,7 @@ in one run (issue 16, "optimisation proofs").
                                       [--quick]
 
 Each recomposition runs in this process on the loaded model (process start excluded) with
-``catc.queries.optimize.MAXSMT_CHURN`` on and off, interleaved, ``--runs`` rounds; the table
+``Tactics(maxsmt_churn=...)`` (:class:`catc.queries.optimize.Tactics`) on and off, interleaved, ``--runs`` rounds; the table
 gives each median and the ratio MaxSMT / sum.  Two groups of rows:
 
 * search-and-rescue ``cheaper-camera.cat``, both priorities, with the counting proof of
@@ -35,7 +35,6 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path[:0] = [str(ROOT / "compiler"), str(ROOT / "benchmarks")]
 
 from catalogs import catalog  # noqa: E402
-from lifelong_bench import counting_proofs_off  # noqa: E402
 
 
 def retired_catalog(n: int, d: int, seed: int = 16) -> str:
@@ -56,21 +55,26 @@ def retired_catalog(n: int, d: int, seed: int = 16) -> str:
 
 def cases(
     sizes: list[int], depths: list[int], timeout: float, quick: bool = False
-) -> list[tuple[str, Callable[[], object], object]]:
-    """(label, run, expected churn) for every row."""
+) -> list[tuple[str, Callable[[bool], object], object]]:
+    """(label, run(maxsmt), expected churn) for every row."""
     from catc import ir
     from catc.api import load, loads
+    from catc.queries.optimize import Tactics
     from catc.queries.recompose import recompose
 
     sar = ROOT / "examples" / "search-and-rescue"
     cheaper = load(sar / "cheaper-camera.cat", sar / "domain.cat").instance
-    out: list[tuple[str, Callable[[], object], object]] = []
+    out: list[tuple[str, Callable[[bool], object], object]] = []
     for priority, churn in (("stability", 0), ("objective", 4)):
-        out.append((f"SAR {priority}-first", lambda p=priority: recompose(cheaper, priority=p, timeout=timeout), churn))
 
-        def off(p: str = priority) -> object:
-            with counting_proofs_off():
-                return recompose(cheaper, priority=p, timeout=timeout)
+        def shipped(maxsmt: bool, p: str = priority) -> object:
+            return recompose(cheaper, priority=p, timeout=timeout, tactics=Tactics(maxsmt_churn=maxsmt))
+
+        def off(maxsmt: bool, p: str = priority) -> object:
+            tactics = Tactics(maxsmt_churn=maxsmt, counting_proofs=False)
+            return recompose(cheaper, priority=p, timeout=timeout, tactics=tactics)
+
+        out.append((f"SAR {priority}-first", shipped, churn))
 
         if not quick:  # objective-first without the proof runs into the timeout
             out.append((f"SAR {priority}-first, no counting proof", off, churn))
@@ -81,9 +85,9 @@ def cases(
                 continue
             inst = loads({"catalog.cat": retired_catalog(n, d)}, "catalog.cat").instance
 
-            def run(i: object = inst) -> object:
-                with counting_proofs_off():
-                    return recompose(i, priority="stability", objectives=cpu_left, timeout=timeout)  # type: ignore[arg-type]
+            def run(maxsmt: bool, i: object = inst) -> object:
+                tactics = Tactics(maxsmt_churn=maxsmt, counting_proofs=False)
+                return recompose(i, priority="stability", objectives=cpu_left, timeout=timeout, tactics=tactics)  # type: ignore[arg-type]
 
             out.append((f"catalog n={n} d={d}, no counting proof", run, 2))
     return out
@@ -99,8 +103,6 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     if args.quick:
         args.sizes, args.depths = "12", "3"
-    from catc.queries import optimize
-
     sizes, depths = [int(x) for x in args.sizes.split(",")], [int(x) for x in args.depths.split(",")]
     rows = cases(sizes, depths, args.timeout, args.quick)
     times: dict[tuple[str, bool], list[float]] = {}
@@ -108,9 +110,8 @@ def main(argv: list[str] | None = None) -> int:
     for _ in range(args.runs):
         for label, run, churn in rows:
             for maxsmt in (False, True):
-                optimize.MAXSMT_CHURN = maxsmt
                 start = time.perf_counter()
-                rec = run()
+                rec = run(maxsmt)
                 wall = time.perf_counter() - start
                 status = rec.status.value  # type: ignore[attr-defined]
                 got = f"{status} churn {rec.churn}"  # type: ignore[attr-defined]
@@ -124,7 +125,6 @@ def main(argv: list[str] | None = None) -> int:
             a, b = answers[(label, False)], answers[(label, True)]
             if "opt churn" in a and "opt churn" in b and a != b and "subopt" not in a + b:
                 raise SystemExit(f"{label}: the encodings disagree: {a} / {b}")
-    optimize.MAXSMT_CHURN = True
     cmd = "python benchmarks/maxsmt_bench.py " + " ".join(sys.argv[1:] if argv is None else argv)
     print(f"`{cmd.strip()}` — median of {args.runs}, seconds in process; inf = not proven in {args.timeout:g} s\n")
     print("| recomposition | churn as a sum | churn as MaxSMT | ratio | answer |")

@@ -239,7 +239,7 @@ def bench_refutation(runs: int) -> None:
 
     from catc import ir
     from catc.frontend.workspace import load_instance
-    from catc.queries.optimize import _encode_whole, _objective_terms
+    from catc.queries.optimum import _encode_whole, _objective_terms
     from catgrammar.diagnostics import Diagnostics
 
     _, inst = load_instance(None, str(ROOT / "examples/search-and-rescue/event2-out-of-range.cat"), Diagnostics())

@@ -169,11 +169,11 @@ def test_deepen_falls_back_to_the_whole_horizon_when_no_refutation_comes(tmp_pat
     above) is still found and proven."""
     import time as _time
 
-    import catc.queries.optimize as opt
+    import catc.queries.optimum as opt
 
     calls = []
 
-    def no_refutation(inst, objectives, softs, values, k, sequential, deadline, timings):
+    def no_refutation(inst, objectives, softs, values, k, sequential, deadline, timings, tactics):
         calls.append(values)
         if behaviour == "runs out of its budget" and deadline is not None:
             _time.sleep(max(0.0, deadline - _time.perf_counter()))
@@ -190,9 +190,9 @@ def test_deepen_falls_back_to_the_whole_horizon_when_no_refutation_comes(tmp_pat
 def test_deepen_at_the_deadline_reports_the_short_optimum_as_best_found(tmp_path, monkeypatch):
     import time as _time
 
-    import catc.queries.optimize as opt
+    import catc.queries.optimum as opt
 
-    def slow(inst, objectives, softs, values, k, sequential, deadline, timings):
+    def slow(inst, objectives, softs, values, k, sequential, deadline, timings, tactics):
         _time.sleep(max(0.0, deadline - _time.perf_counter()))
         return Check.UNKNOWN
 
@@ -205,7 +205,7 @@ def test_deepen_at_the_deadline_reports_the_short_optimum_as_best_found(tmp_path
 def test_short_horizons_use_the_single_encoding(tmp_path, monkeypatch):
     """Under the default deepen strategy a horizon below DEEPEN_FROM goes straight to one
     encoding: no deepening solve, no refutation."""
-    import catc.queries.optimize as opt
+    import catc.queries.optimum as opt
 
     def must_not_run(*args, **kwargs):
         raise AssertionError("the deepening route ran on a short horizon")
@@ -253,7 +253,7 @@ def test_the_answer_does_not_depend_on_which_proof_finishes_first(case, query, m
     composition must be the same (else it would depend on the machine's speed, and so would
     every artifact grounded from it): here the refutation never finishes, so the whole
     horizon is optimised, and the answer must equal the unhindered one."""
-    from catc.queries import optimize as opt
+    from catc.queries import optimum as opt
     from catc.smt.backend import Check
 
     path = ROOT / "examples" / case
@@ -287,13 +287,12 @@ def brute_force_recompose(nb, morphs, init_bools, init_c, goal, horizon, deploye
     max_examples=30, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow]
 )
 @given(domain=domains(), data=st.data())
-def test_recompose_agrees_with_brute_force(tmp_path, domain, data, maxsmt, monkeypatch):
+def test_recompose_agrees_with_brute_force(tmp_path, domain, data, maxsmt):
     """Minimal churn (with weights, both priorities; the other objective: the final counter,
     maximised) against enumeration — for churn as an arithmetic sum and as MaxSMT soft groups."""
-    from catc.queries import optimize as optimize_module
+    from catc.queries.optimize import Tactics
     from catc.queries.recompose import recompose
 
-    monkeypatch.setattr(optimize_module, "MAXSMT_CHURN", maxsmt)
     n = len(domain[1])
     deployed = data.draw(st.sets(st.integers(0, n - 1)))
     churn = data.draw(st.lists(st.sampled_from([Fraction(1), Fraction(2), Fraction(1, 4)]), min_size=n, max_size=n))
@@ -309,7 +308,7 @@ def test_recompose_agrees_with_brute_force(tmp_path, domain, data, maxsmt, monke
     assert inst is not None, [d.message for d in diags]
     expected = brute_force_recompose(*domain, deployed, churn, priority)
     objective = [ir.Objective(ir.Sense.MAXIMIZE, ir.ResourceRef("c", ir.INT))]
-    rec = recompose(inst, priority=priority, objectives=objective)
+    rec = recompose(inst, priority=priority, objectives=objective, tactics=Tactics(maxsmt_churn=maxsmt))
     if expected is None:
         assert rec.status is OptStatus.UNSAT
         return

@@ -42,7 +42,7 @@ from catc.queries.base import (
     timeout_option,
 )
 from catc.semantics.horizon import horizon_of
-from catc.semantics.relaxed import Relaxation
+from catc.semantics.relaxed import RelaxedAnalysis
 from catc.semantics.witness import witnessed
 from catc.smt.backend import BACKENDS, DEFAULT_BACKEND, Check
 from catc.smt.labelled import LabelledModel
@@ -78,26 +78,26 @@ class _Tests:
         self.model = model
         self.presolve = presolve
         self.components = model.components
-        self.relaxed = 0  # subsets the relaxation refuted
+        self.relaxed = 0  # subsets the relaxed analysis refuted
         self.witnessed = 0  # subsets a composition the validator accepted showed feasible
-        self._relaxations: dict[frozenset[str], Relaxation] = {}
+        self._analyses: dict[frozenset[str], RelaxedAnalysis] = {}
 
     def refuted(self, labels: list[str]) -> bool:
-        """The relaxation proves ``labels`` infeasible (never a solver call)."""
+        """The relaxed analysis proves ``labels`` infeasible (never a solver call)."""
         if not self.presolve:
             return False
-        hit = self._relaxation(labels).refutation is not None
+        hit = self._analysis(labels).refutation is not None
         self.relaxed += hit
         return hit
 
-    def _relaxation(self, labels: list[str]) -> Relaxation:
+    def _analysis(self, labels: list[str]) -> RelaxedAnalysis:
         """The relaxed fixpoint of ``labels`` (once per subset: the refutation and the
         witness's firing order both come from it)."""
         key = frozenset(labels)
-        found = self._relaxations.get(key)
+        found = self._analyses.get(key)
         if found is None:
             limits.check_time("diagnosing")
-            found = self._relaxations[key] = Relaxation(self.model.inst, key, self.components)
+            found = self._analyses[key] = RelaxedAnalysis(self.model.inst, key, self.components)
         return found
 
     def check(self, labels: list[str]) -> tuple[Check, list[str]]:
@@ -110,7 +110,7 @@ class _Tests:
     def _witnessed(self, labels: list[str]) -> bool:
         """A composition satisfying exactly ``labels``, accepted by the validator (no solver)."""
         limits.check_time("diagnosing")
-        model, order = self.model, list(self._relaxation(labels).fired)
+        model, order = self.model, list(self._analysis(labels).fired)
         found = witnessed(model.inst, frozenset(labels), self.components, model.k, model.extended, order)
         self.witnessed += found
         return found

@@ -18,7 +18,7 @@ from catc.present.console import Console, Table, counted
 from catc.present.values import show_value, value_to_json
 from catc.queries import optimize as opt
 from catc.queries.base import Kind, Option, Progress, Query, Result, diagram_option, json_option, timeout_option
-from catc.queries.optimize import OptResult, OptStatus, objectives_of, optimize
+from catc.queries.optimize import DEFAULT_TACTICS, OptResult, OptStatus, Tactics, objectives_of, optimize
 
 
 @dataclass
@@ -64,6 +64,7 @@ def recompose(
     sequential: bool = False,
     timeout: float | None = None,
     progress: Progress | None = None,
+    tactics: Tactics = DEFAULT_TACTICS,
 ) -> Recomposition:
     if deployed is not None:
         inst = ir.Instance(inst.domain, replace(inst.problem, deployed=tuple(deployed)), inst.view)
@@ -71,7 +72,9 @@ def recompose(
     mission = [o for o in mission if not isinstance(o.term, ir.TotalChurn)]
     churn = ir.Objective(ir.Sense.MINIMIZE, ir.TotalChurn())
     order = [churn] + mission if priority == "stability" else mission + [churn]
-    result = optimize(inst, order, horizon=horizon, sequential=sequential, timeout=timeout, progress=progress)
+    result = optimize(
+        inst, order, horizon=horizon, sequential=sequential, timeout=timeout, progress=progress, tactics=tactics
+    )
     rec = Recomposition(result, inst.problem.deployed, priority)
     if result.plan is not None:
         used = result.plan.components

@@ -30,8 +30,8 @@ from catc.smt.backend import Check
 from catc.smt.counting import slack_lower_bound
 from catc.smt.labelled import LabelledModel
 from catc.smt.readback import read_plan
-from catc.smt.script import SmtSort, Symbol, and_text, real_literal
-from catc.smt.terms import Term, and_, eq, le, lt, not_
+from catc.smt.script import SmtSort, Symbol, and_text, int_literal
+from catc.smt.terms import Term, and_, eq, ge, gt, ite, le, lt, minus, not_, plus, times, to_real, to_text
 from catgrammar import limits
 
 
@@ -202,6 +202,9 @@ def _relax(
     return _finish(result, start)
 
 
+_ZERO, _ONE = int_literal(0), int_literal(1)
+
+
 class _SlackSearch:
     """The least weighted slack, found by two copies of the labelled model with slack on
     every eligible requirement: a solver that looks for ever cheaper relaxations (any
@@ -224,9 +227,9 @@ class _SlackSearch:
             base = f"d.{req.label}"
             sort = SmtSort.INT if req.integral else SmtSort.REAL
             if req.kind == "initial value":  # s0 = v + δ⁺ − δ⁻: initial values move either way
-                plus, minus = Symbol(base + ".up", sort), Symbol(base + ".down", sort)
-                slack[req.label] = f"(- {plus} {minus})"
-                self.slack_vars.append((req, [plus, minus]))
+                up, down = Symbol(base + ".up", sort), Symbol(base + ".down", sort)
+                slack[req.label] = to_text(minus(up, down))
+                self.slack_vars.append((req, [up, down]))
             else:
                 q = Symbol(base, sort)
                 slack[req.label] = q
@@ -245,23 +248,24 @@ class _SlackSearch:
                 optimize=optimize,
                 share_with=models[0] if models else None,
             )
-            lm.backend.assert_term(and_text([f"(>= {v} 0)" for v in decls]))
+            lm.backend.assert_term(and_text([to_text(ge(v, _ZERO)) for v in decls]))
             lm.enforce_all()
             models.append(lm)
         self.feas, self.lp = models
-        weighted = []
+        weighted: list[Term] = []
         for req, vs in self.slack_vars:
             for v in vs:
-                amount = f"(to_real {v})" if req.integral else v
-                weighted.append(f"(* {real_literal(req.weight)} {amount})")
-        cost = "(+ 0.0 " + " ".join(weighted) + ")"
-        used = [f"(ite (> {v} 0) 1 0)" for _, vs in self.slack_vars for v in vs]
-        noninit = [f"(ite (> {v} 0) 1 0)" for req, vs in self.slack_vars if req.kind != "initial value" for v in vs]
+                weighted.append(times(req.weight, to_real(v) if req.integral else v))
+        cost = to_text(plus(Fraction(0), *weighted))
+        used = [ite(gt(v, _ZERO), _ONE, _ZERO) for _, vs in self.slack_vars for v in vs]
+        noninit = [
+            ite(gt(v, _ZERO), _ONE, _ZERO) for req, vs in self.slack_vars if req.kind != "initial value" for v in vs
+        ]
         lp = self.lp.backend
         # least cost, then fewest slacks, then fewest weakened conditions (initial values first)
         self.cost_handle = lp.minimize(lp.intern(cost))
-        lp.minimize(lp.intern(f"(+ 0 {' '.join(used)})"))
-        lp.minimize(lp.intern(f"(+ 0 {' '.join(noninit)})"))
+        lp.minimize(lp.intern(to_text(plus(_ZERO, *used))))
+        lp.minimize(lp.intern(to_text(plus(_ZERO, *noninit))))
         self.feas_cost = self.feas.backend.intern(cost)
         self.acts = [q for step in self.feas.enc.act for q in step.values()]
         # a lower bound from counting activations (catc.smt.counting): a restoration that

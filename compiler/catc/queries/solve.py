@@ -42,6 +42,7 @@ from catc.smt.backend import BACKENDS, DEFAULT_BACKEND, Check, open_backend
 from catc.smt.encoder import Encoder
 from catc.smt.readback import read_plan
 from catc.smt.script import SmtSort, Symbol, and_text
+from catc.smt.terms import implies, not_, to_text
 from catgrammar import limits
 
 
@@ -241,15 +242,21 @@ class _Search:
         self.timings["encode"] += time.perf_counter() - t0
 
     def _check(self, t: int) -> Check:
-        """Check the goal and the use limits at horizon ``t`` in a new scope (which
-        :meth:`_end_check` pops)."""
+        """Check the goal and the use limits at horizon ``t`` (:meth:`_end_check` ends the
+        scope :meth:`_goal_at` opened)."""
         self._grow(t)
         t0 = time.perf_counter()
-        extra = [c for _, c in self.enc.goal_constraints(t)] + [c for _, c in self.enc.uses_constraints(t)]
+        assumptions = self._goal_at(t)
         self.timings["encode"] += time.perf_counter() - t0
+        return self._timed_check(assumptions)
+
+    def _goal_at(self, t: int) -> list[Symbol]:
+        """State the goal and the use limits at horizon ``t``: here in a new scope, with
+        nothing to assume."""
+        extra = [c for _, c in self.enc.goal_constraints(t)] + [c for _, c in self.enc.uses_constraints(t)]
         self.solver.push()
         self.solver.add((), [(None, c) for c in extra])
-        return self._timed_check(())
+        return []
 
     def _timed_check(self, assumptions: Sequence[Symbol]) -> Check:
         """One check within the command's time (an exhausted budget still checks, so that
@@ -334,7 +341,7 @@ class _WarmSearch(_Search):
         while len(self.known_goals) > self.KEEP:
             retired.extend(self.known_goals.pop(next(iter(self.known_goals))).values())
         for lit in retired:
-            self.enc.add(None, f"(not {lit})")
+            self.enc.add(None, to_text(not_(lit)))
         self.solver.add(*self.enc.script.take())
         timings["encode"] += time.perf_counter() - t0
 
@@ -343,13 +350,12 @@ class _WarmSearch(_Search):
         if lit is None:
             self.made += 1
             lit = self.enc.script.declare(f"assume.{self.made}", SmtSort.BOOL)
-            self.enc.add(None, f"(=> {lit} {constraint})")
+            self.enc.add(None, to_text(implies(lit, constraint)))
             table[key] = lit
         return lit
 
-    def _check(self, t: int) -> Check:
-        self._grow(t)
-        t0 = time.perf_counter()
+    def _goal_at(self, t: int) -> list[Symbol]:
+        """The goal and the use limits at horizon ``t`` behind literals, to be assumed."""
         goal = self.goals.get(t)
         if goal is None:
             goal = self._literal(self.goals, t, and_text([c for _, c in self.enc.goal_constraints(t, self.goal)]))
@@ -361,8 +367,7 @@ class _WarmSearch(_Search):
         if t in self.uses:
             assumed.append(self.uses[t])
         self.solver.add(*self.enc.script.take())
-        self.timings["encode"] += time.perf_counter() - t0
-        return self._timed_check(assumed)
+        return assumed
 
     def _end_check(self) -> None:
         pass

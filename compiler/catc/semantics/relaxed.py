@@ -30,10 +30,11 @@ from __future__ import annotations
 from collections.abc import Collection, Iterable, Iterator, Mapping
 from fractions import Fraction
 from math import ceil, floor
-from typing import TypeAlias
+from typing import TypeAlias, assert_never
 
 from catc import ir
 from catc.ir import SortKind
+from catc.semantics import transfer
 from catgrammar import limits
 
 # ---------------------------------------------------------------- extended numbers
@@ -215,32 +216,36 @@ class _Eval:
         self.params = params
 
     def __call__(self, e: ir.Expr) -> Value:
-        if isinstance(e, ir.Const):
-            return _const(e)
-        if isinstance(e, ir.ResourceRef):
-            return self.state.get(e.name, top(e.sort))
-        if isinstance(e, ir.ParamRef):
-            return self.params.get(e.name, top(e.sort))
-        if isinstance(e, ir.SetLit):
-            return _set_of([self(x) for x in e.elements])
-        if isinstance(e, ir.Arith):
-            return self.arith(e)
-        if isinstance(e, ir.Compare):
-            return _compare(e.op, self(e.left), self(e.right))
-        if isinstance(e, ir.BoolOp):
-            return self.boolop(e)
-        if isinstance(e, ir.Ite):
-            c = self(e.cond)
-            parts = ([self(e.then)] if can_hold(c) else []) + ([self(e.orelse)] if can_fail(c) else [])
-            out = parts[0] if parts else top(e.sort)
-            for p in parts[1:]:
-                out = _join(out, p)
-            return out
-        if isinstance(e, ir.Member):
-            return _member(self(e.element), self(e.set))
-        if isinstance(e, ir.Uses):
-            return Interval(Fraction(0), None)
-        return top(e.sort)  # objective-only terms: anything of their sort
+        match e:
+            case ir.Const():
+                return _const(e)
+            case ir.ResourceRef():
+                return self.state.get(e.name, top(e.sort))
+            case ir.ParamRef():
+                return self.params.get(e.name, top(e.sort))
+            case ir.SetLit():
+                return _set_of([self(x) for x in e.elements])
+            case ir.Arith():
+                return self.arith(e)
+            case ir.Compare():
+                return _compare(e.op, self(e.left), self(e.right))
+            case ir.BoolOp():
+                return self.boolop(e)
+            case ir.Ite():
+                c = self(e.cond)
+                parts = ([self(e.then)] if can_hold(c) else []) + ([self(e.orelse)] if can_fail(c) else [])
+                out = parts[0] if parts else top(e.sort)
+                for p in parts[1:]:
+                    out = _join(out, p)
+                return out
+            case ir.Member():
+                return _member(self(e.element), self(e.set))
+            case ir.Uses():
+                return Interval(Fraction(0), None)
+            case ir.TotalChurn() | ir.TotalCost() | ir.ParamValue():
+                return top(e.sort)  # objective-only terms: anything of their sort
+            case _:
+                assert_never(e)
 
     def boolop(self, e: ir.BoolOp) -> Value:
         args = [self(a) for a in e.args]
@@ -413,7 +418,7 @@ class Refutation(_Record):
 WIDEN_AFTER = 3
 
 
-class Relaxation:
+class RelaxedAnalysis:
     """The relaxed reachability fixpoint of one instance under a set of enforced labels.
 
     ``components`` (a composition, as ``catc diagnose --relative-to``): only these morphisms
@@ -486,22 +491,8 @@ class Relaxation:
         axioms combine them: increments summed, then an assignment overriding them.  A dropped
         effect may or may not happen."""
         ev = _Eval(self.state, params)
-        out: dict[str, Value] = {}
-        assigned: dict[str, list[Value]] = {}
-        for e in m.effects:
-            if e.kind is ir.EffectKind.ASSIGN:
-                assigned.setdefault(e.resource, []).append(ev(e.value))
-                if e.label not in self.on:
-                    assigned[e.resource].append(out.get(e.resource, self.state[e.resource]))
-                continue
-            cur = out.get(e.resource, self.state[e.resource])
-            new = _effect(e, cur, ev(e.value))
-            out[e.resource] = new if e.label in self.on else _join(cur, new)
-        for name, values in assigned.items():
-            value = values[0]
-            for v in values[1:]:
-                value = _join(value, v)
-            out[name] = value if name not in out else _join(value, out[name])
+        writes = [(e, ev(e.value), e.label in self.on) for e in m.effects]
+        out = transfer.post(VALUES, writes, self.state.__getitem__)
         return {name: self._cut(self.inst.resources[name], v) for name, v in out.items()}
 
     def _update(self, name: str, new: Value) -> bool:
@@ -548,8 +539,23 @@ class Relaxation:
         return None
 
 
-def _effect(e: ir.Effect, old: Value, value: Value) -> Value:
-    kind = e.kind
+class _Values:
+    """The domain of :class:`Interval`, :class:`Finite` and :class:`SetValue` for the
+    transfer function (:mod:`catc.semantics.transfer`)."""
+
+    def join(self, a: Value, b: Value) -> Value:
+        return _join(a, b)
+
+    def change(self, kind: ir.EffectKind, old: Value, amount: Value) -> Value:
+        return _effect(kind, old, amount)
+
+
+#: The abstract values as a transfer-function domain (shared with :mod:`catc.smt.counting`).
+VALUES = _Values()
+
+
+def _effect(kind: ir.EffectKind, old: Value, value: Value) -> Value:
+    """``old`` after one increase, decrease, add or remove by ``value``."""
     if kind is ir.EffectKind.ASSIGN:
         return value
     if kind in (ir.EffectKind.INCREASE, ir.EffectKind.DECREASE):
@@ -572,7 +578,7 @@ def refute(
 ) -> Refutation | None:
     """A reason no composition of any length satisfies the ``enforced`` labels (default: all
     of them), or None when the relaxation cannot tell."""
-    return Relaxation(inst, _Everything() if enforced is None else enforced, components).refutation
+    return RelaxedAnalysis(inst, _Everything() if enforced is None else enforced, components).refutation
 
 
 class _Everything(Collection[str]):

@@ -20,7 +20,7 @@ from fractions import Fraction
 
 from catc import ir
 from catc.semantics.plan import Activation, Plan, Value
-from catc.semantics.relaxed import Relaxation
+from catc.semantics.relaxed import RelaxedAnalysis
 from catc.semantics.validate import validate
 from catgrammar.record import replace
 
@@ -40,7 +40,7 @@ def witnessed(
     ``components``) was found and accepted by the validator.  ``order``: the morphisms in the
     order the relaxation of the same labels first lets them fire (computed when not given)."""
     if order is None:
-        order = list(Relaxation(inst, enforced, components).fired)
+        order = list(RelaxedAnalysis(inst, enforced, components).fired)
     plan = _candidate(inst, enforced, components, order)
     if plan is None:
         return False

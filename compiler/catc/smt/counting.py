@@ -28,9 +28,14 @@ from collections.abc import Collection, Iterable
 from fractions import Fraction
 
 from catc import ir
-from catc.semantics.relaxed import Finite, Interval, SetValue, Value, _Eval, top
+from catc.semantics import transfer
+from catc.semantics.relaxed import VALUES, Finite, Interval, SetValue, Value, _Eval, top
 from catc.smt.backend import DEFAULT_BACKEND, Check, open_backend
-from catc.smt.script import SmtSort, Symbol, real_literal
+from catc.smt.script import SmtSort, Symbol, int_literal
+from catc.smt.terms import Term, and_, eq, ge, gt, implies, ite, le, lt, minus, or_, plus, times, to_real, to_text
+
+_ZERO, _ONE = int_literal(0), int_literal(1)
+_REAL_ZERO = Fraction(0)
 
 #: (label, kind, weight) of an eligible requirement: kind "initial value" | "precondition" | "goal".
 Slackable = tuple[str, str, Fraction]
@@ -75,7 +80,7 @@ class _Counting:
         for label, kind, weight in reqs:
             if kind == "initial value":
                 up, down = self._var(f"up.{label}"), self._var(f"down.{label}")
-                self.slack[label] = f"(- {up} {down})"
+                self.slack[label] = to_text(minus(up, down))
                 self.weighted += [(weight, up), (weight, down)]
             else:
                 d = self.slack[label] = self._var(f"d.{label}")
@@ -83,9 +88,9 @@ class _Counting:
         for m in inst.morphisms.values():
             n = self.n[m.name] = self._var(f"n.{m.name}", SmtSort.INT)
             if components is not None:
-                self.asserts.append(f"(>= {n} 1)" if m.name in components else f"(= {n} 0)")
+                self.asserts.append(to_text(ge(n, _ONE) if m.name in components else eq(n, _ZERO)))
             if m.uses is not None:
-                self.asserts.append(f"(<= {n} {m.uses})")
+                self.asserts.append(to_text(le(n, int_literal(m.uses))))
         assigned = {e.resource for m in inst.morphisms.values() for e in m.effects if e.kind is ir.EffectKind.ASSIGN}
         for r in inst.resources.values():
             if r.sort.is_numeric and r.name not in assigned and r.name in inst.problem.init:
@@ -97,9 +102,9 @@ class _Counting:
         some morphism that may make it true to fire too (delete relaxation, counted)."""
         for m in self.inst.morphisms.values():
             for lit in m.pre:
-                self._needs_fact(lit.expr, f"(>= {self.n[m.name]} 1)")
+                self._needs_fact(lit.expr, to_text(ge(self.n[m.name], _ONE)))
         for lit in self.inst.problem.goal:
-            self._needs_fact(lit.expr, "true")
+            self._needs_fact(lit.expr, to_text(True))
 
     def _needs_fact(self, e: ir.Expr, when: str) -> None:
         fact = _fact(self.inst, e)
@@ -119,8 +124,8 @@ class _Counting:
                 _may_achieve(ef, element, value) for ef in m.effects if ef.resource == resource for element in elements
             )
         ]
-        total = f"(+ 0 {' '.join(achievers)})" if achievers else "0"
-        self.asserts.append(f"(=> {when} (>= {total} 1))")
+        total = to_text(plus(_ZERO, *achievers)) if achievers else _ZERO
+        self.asserts.append(to_text(implies(when, ge(total, _ONE))))
 
     def objective(self, term: ir.Expr) -> str | None:
         """The objective's value over the counts (bounded by a fresh variable for a final
@@ -128,48 +133,40 @@ class _Counting:
         if isinstance(term, ir.TotalChurn):
             deployed = set(self.inst.problem.deployed)
             parts = [
-                f"(ite {'(= ' if m.name in deployed else '(>= '}{self.n[m.name]} {'0' if m.name in deployed else '1'}) "
-                f"{real_literal(m.churn)} 0.0)"
+                ite(eq(self.n[m.name], _ZERO) if m.name in deployed else ge(self.n[m.name], _ONE), m.churn, _REAL_ZERO)
                 for m in self.inst.morphisms.values()
             ]
-            return f"(+ 0.0 {' '.join(parts)})"
+            return to_text(plus(_REAL_ZERO, *parts))
         if isinstance(term, ir.Uses) and term.morphism in self.n:
-            return f"(to_real {self.n[term.morphism]})"
+            return to_text(to_real(self.n[term.morphism]))
         if isinstance(term, ir.ResourceRef):
             return self.final.get(term.name)
         if isinstance(term, ir.Const) and isinstance(term.value, Fraction):
-            return real_literal(term.value)
+            return to_text(term.value)
         return None
 
     def _var(self, name: str, sort: SmtSort = SmtSort.REAL) -> Symbol:
         v = Symbol(name, sort)
         self.decls.append(v)
-        self.asserts.append(f"(>= {v} 0)")
+        self.asserts.append(to_text(ge(v, _ZERO)))
         return v
 
     def cost(self) -> str:
-        parts = [f"(* {real_literal(weight)} {v})" for weight, v in self.weighted]
-        return f"(+ 0.0 {' '.join(parts)})" if parts else "0.0"
+        parts = [times(weight, v) for weight, v in self.weighted]
+        return to_text(plus(_REAL_ZERO, *parts) if parts else _REAL_ZERO)
 
     # -- one resource's state equation
     def _deltas(self, r: ir.Resource) -> dict[str, Interval]:
-        """Each morphism's net change of ``r`` per firing, as an interval."""
+        """Each morphism's net change of ``r`` per firing, as an interval: the transfer
+        function (:mod:`catc.semantics.transfer`) from a zero state (``r`` is never assigned)."""
         out: dict[str, Interval] = {}
+        zero = Interval(Fraction(0), Fraction(0))
         for m in self.inst.morphisms.values():
-            params = {p.name: _param(m, p) for p in m.params}
-            total = Interval(Fraction(0), Fraction(0))
-            for e in m.effects:
-                if e.resource != r.name:
-                    continue
-                v = _Eval({}, params)(e.value)
-                v = v if isinstance(v, Interval) else Interval()
-                if e.kind is ir.EffectKind.DECREASE:
-                    v = Interval(None if v.hi is None else -v.hi, None if v.lo is None else -v.lo)
-                total = Interval(
-                    None if total.lo is None or v.lo is None else total.lo + v.lo,
-                    None if total.hi is None or v.hi is None else total.hi + v.hi,
-                )
-            if total != Interval(Fraction(0), Fraction(0)):
+            ev = _Eval({}, {p.name: _param(m, p) for p in m.params})
+            writes = [(e, ev(e.value), True) for e in m.effects if e.resource == r.name]
+            total = transfer.post(VALUES, writes, lambda _: zero).get(r.name, zero)
+            assert isinstance(total, Interval)  # an increase or decrease of a number
+            if total != zero:
                 out[m.name] = total
         return out
 
@@ -177,9 +174,9 @@ class _Counting:
         init = self.inst.problem.init[r.name]
         if not isinstance(init.value, ir.Const) or not isinstance(init.value.value, Fraction):
             return
-        start = real_literal(init.value.value)
+        start = to_text(init.value.value)
         if init.label in self.slack:
-            start = f"(+ {start} {self.slack[init.label]})"
+            start = to_text(plus(init.value.value, self.slack[init.label]))
         deltas = self._deltas(r)
         lo_final = self._sum(start, [(m, d.lo) for m, d in deltas.items()])
         hi_final = self._sum(start, [(m, d.hi) for m, d in deltas.items()])
@@ -188,14 +185,14 @@ class _Counting:
         if lo_final is not None and hi_final is not None:
             f = Symbol(f"final.{r.name}", SmtSort.REAL)
             self.decls.append(f)
-            self.asserts += [f"(<= {lo_final} {f})", f"(<= {f} {hi_final})"]
-            self.asserts += [f"(>= {f} {real_literal(b)})" for b in [r.lower] if b is not None]
-            self.asserts += [f"(<= {f} {real_literal(b)})" for b in [r.upper] if b is not None]
+            self.asserts += [to_text(le(lo_final, f)), to_text(le(f, hi_final))]
+            self.asserts += [to_text(ge(f, b)) for b in [r.lower] if b is not None]
+            self.asserts += [to_text(le(f, b)) for b in [r.upper] if b is not None]
             self.final[r.name] = f
         if r.lower is not None and hi_final is not None:
-            self.asserts.append(f"(>= {hi_final} {real_literal(r.lower)})")
+            self.asserts.append(to_text(ge(hi_final, r.lower)))
         if r.upper is not None and lo_final is not None:
-            self.asserts.append(f"(<= {lo_final} {real_literal(r.upper)})")
+            self.asserts.append(to_text(le(lo_final, r.upper)))
         for lit in self.inst.problem.goal:
             self._literal(lit, r.name, lo_final, hi_final, None)
         for m in self.inst.morphisms.values():
@@ -213,31 +210,31 @@ class _Counting:
         touching = [m for m in self.inst.morphisms.values() if r.name in m.reads or r.name in m.writes]
         if not touching or lo_final is None or hi_final is None:
             return
-        options = [f"(= (+ 0 {' '.join(self.n[m.name] for m in touching)}) 0)"]
+        options = [eq(plus(_ZERO, *(self.n[m.name] for m in touching)), _ZERO)]
         for m in touching:
             d = deltas.get(m.name, Interval(Fraction(0), Fraction(0)))
             assert d.lo is not None and d.hi is not None  # finite: lo_final and hi_final exist
-            before_lo = f"(- {lo_final} {real_literal(d.lo)})"
-            before_hi = f"(- {hi_final} {real_literal(d.hi)})"
+            before_lo = to_text(minus(lo_final, d.lo))
+            before_hi = to_text(minus(hi_final, d.hi))
             needs: list[str] = []
             for lit in m.pre:
                 need = self._need(lit, r.name, before_lo, before_hi)
                 if need is not None:
                     needs.append(need)
-            options.append(f"(and (>= {self.n[m.name]} 1) {' '.join(needs) or 'true'})")
-        self.asserts.append(f"(or {' '.join(options)})")
+            options.append(and_(ge(self.n[m.name], _ONE), *(needs or [to_text(True)])))
+        self.asserts.append(to_text(or_(*options)))
 
     def _sum(self, start: str, terms: list[tuple[str, Fraction | None]]) -> str | None:
         if any(c is None for _, c in terms):
             return None
-        parts = [f"(* {real_literal(c)} (to_real {self.n[m]}))" for m, c in terms if c]
-        return f"(+ {start} {' '.join(parts)})" if parts else start
+        parts = [times(c, to_real(self.n[m])) for m, c in terms if c]
+        return to_text(plus(start, *parts)) if parts else start
 
     def _literal(self, lit: ir.Literal, name: str, low: str | None, high: str | None, fires: Symbol | None) -> None:
         """``r op c`` (either way round): the extreme value of ``r`` must reach ``c``."""
         need = self._need(lit, name, low, high)
         if need is not None:
-            self.asserts.append(need if fires is None else f"(=> (>= {fires} 1) {need})")
+            self.asserts.append(need if fires is None else to_text(implies(ge(fires, _ONE), need)))
 
     def _need(self, lit: ir.Literal, name: str, low: str | None, high: str | None) -> str | None:
         """What ``lit``, when it is ``r op c``, needs of r's lowest and highest values."""
@@ -253,10 +250,10 @@ class _Counting:
             return None
         if not isinstance(right.value, Fraction):
             return None
-        c, delta = real_literal(right.value), self.slack.get(lit.label, "0.0")
+        c, delta = right.value, self.slack.get(lit.label, _REAL_ZERO)
         if op in (ir.CmpOp.GE, ir.CmpOp.GT):  # (+ r δ) ≥ c: the highest value must reach c − δ
-            return None if high is None else f"(>= (+ {high} {delta}) {c})"
-        return None if low is None else f"(<= {low} (+ {c} {delta}))"  # r ≤ c + δ
+            return None if high is None else to_text(ge(plus(high, delta), c))
+        return None if low is None else to_text(le(low, plus(c, delta)))  # r ≤ c + δ
 
 
 def _fact(inst: ir.Instance, e: ir.Expr) -> tuple[str, tuple[str | None, ...], bool] | None:
@@ -337,13 +334,13 @@ def better_refuted(
     terms = [counting.objective(o.term) for o in objectives]
     if any(t is None for t in terms):
         return False
-    better: list[str] = []
-    ties: list[str] = []
+    better: list[Term] = []
+    ties: list[Term] = []
     for term, obj, v in zip(terms, objectives, values, strict=True):
-        op = "<" if obj.sense is ir.Sense.MINIMIZE else ">"
-        better.append(f"(and {' '.join(ties)} ({op} {term} {real_literal(v)}))")
-        ties.append(f"(= {term} {real_literal(v)})")
-    counting.asserts.append(f"(or {' '.join(better)})")
+        assert term is not None
+        better.append(and_(*ties, (lt if obj.sense is ir.Sense.MINIMIZE else gt)(term, v)))
+        ties.append(eq(term, v))
+    counting.asserts.append(to_text(or_(*better)))
     solver = open_backend(DEFAULT_BACKEND)
     solver.add(counting.decls, [(None, a) for a in counting.asserts])
     solver.set_timeout(timeout)

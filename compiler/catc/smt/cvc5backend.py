@@ -38,6 +38,7 @@ _OPS: dict[str, Any] = {
     "-": _K.SUB,
     "*": _K.MULT,
     "ite": _K.ITE,
+    "to_real": _K.TO_REAL,
 }
 
 

@@ -49,7 +49,7 @@ class Interned(Record):
 Term: TypeAlias = "str | Fraction | bool | App | Interned"
 
 #: The operators an :class:`App` may apply; every backend translates each of them.
-OPERATORS = frozenset({"and", "or", "not", "=>", "=", "<", "<=", ">", ">=", "+", "-", "*", "ite"})
+OPERATORS = frozenset({"and", "or", "not", "=>", "=", "<", "<=", ">", ">=", "+", "-", "*", "ite", "to_real"})
 
 
 def and_(*args: Term) -> App:
@@ -62,6 +62,31 @@ def or_(*args: Term) -> App:
 
 def not_(arg: Term) -> App:
     return App("not", (arg,))
+
+
+def implies(a: Term, b: Term) -> App:
+    return App("=>", (a, b))
+
+
+def ite(cond: Term, then: Term, orelse: Term) -> App:
+    return App("ite", (cond, then, orelse))
+
+
+def plus(*args: Term) -> App:
+    return App("+", args)
+
+
+def minus(*args: Term) -> App:
+    return App("-", args)
+
+
+def times(*args: Term) -> App:
+    return App("*", args)
+
+
+def to_real(arg: Term) -> App:
+    """An Int term as a Real."""
+    return App("to_real", (arg,))
 
 
 def eq(a: Term, b: Term) -> App:

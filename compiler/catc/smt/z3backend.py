@@ -47,6 +47,7 @@ _OPS: dict[str, Callable[..., Any]] = {
     "-": lambda a, *b: -a if not b else a - z3.Sum(*b),
     "*": z3.Product,
     "ite": z3.If,
+    "to_real": z3.ToReal,
 }
 
 
