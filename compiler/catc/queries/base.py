@@ -95,6 +95,9 @@ class Kind(str, Enum):
     COMPONENTS = "components"  # a,b,c: morphism names (``none_word`` for the empty list)
     WEIGHTS = "weights"  # repeatable KEY=W: a dict of exact weights
     OUTPUT_FILE = "output-file"  # a file to write
+    OUTPUT_FOLDER = "output-folder"  # a folder to write into
+    INPUT_FILE = "input-file"  # a file to read
+    FILE_PAIR = "file-pair"  # two files to read: a tuple of two
     PLAN_FILE = "plan-file"  # a positional catc.plan/1 file: a Plan
 
 
@@ -110,7 +113,19 @@ class Option(Record):
     """One option of a query: its keyword (``run``'s and the API's), its command-line
     spellings, its kind, help and default."""
 
-    __slots__ = ("name", "flags", "kind", "help", "default", "choices", "metavar", "show_default", "use", "none_word")
+    __slots__ = (
+        "name",
+        "flags",
+        "kind",
+        "help",
+        "default",
+        "choices",
+        "metavar",
+        "show_default",
+        "use",
+        "none_word",
+        "required",
+    )
     name: str
     flags: tuple[str, ...]
     kind: Kind
@@ -121,6 +136,7 @@ class Option(Record):
     show_default: bool
     use: Use
     none_word: str | None
+    required: bool
 
     def __init__(
         self,
@@ -135,6 +151,7 @@ class Option(Record):
         show_default: bool = False,
         use: Use = Use.RUN,
         none_word: str | None = None,
+        required: bool = False,
     ) -> None:
         set_field(self, "name", name)
         set_field(self, "flags", flags)
@@ -148,6 +165,7 @@ class Option(Record):
         set_field(self, "show_default", show_default)
         set_field(self, "use", use)
         set_field(self, "none_word", none_word)
+        set_field(self, "required", required)
 
 
 def common_options() -> tuple[Option, ...]:
