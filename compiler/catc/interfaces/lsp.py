@@ -532,7 +532,8 @@ class Checks:
 
 def build_server() -> Any:
     """The language server: document sync with diagnostics, navigation, symbols, and one
-    ``workspace/executeCommand`` command per query (``catc.solve``, ``catc.diagnose``, ...)."""
+    ``workspace/executeCommand`` command per query (``catc.solve``, ``catc.diagnose``, ...) and
+    per target (``catc.export.pddl``, ...)."""
     from lsprotocol import types
     from pygls.lsp.server import LanguageServer
 
@@ -1108,6 +1109,27 @@ def run_query_on_file(name: str, uri: str, options: dict[str, Any] | None = None
     return query.to_json(model.instance, result)
 
 
+def run_target_on_file(name: str, uri: str, options: dict[str, Any] | None = None) -> dict:
+    """Export the problem saved in the file at ``uri`` to the target ``name``: the target's
+    JSON document, or a ``catc.error/1`` document for input errors."""
+    from catc.interfaces.api import CatError, load
+    from catc.queries.base import InputError
+    from catc.targets import registry as targets
+
+    target = targets.get(name)
+    try:
+        model = load(uri_to_path(uri))
+        values = {**target.defaults(), **(options or {})}
+        if target.prepare is not None:
+            target.prepare(values)
+        artifact = model.export(name, **target.run_options(values))
+    except CatError as exc:
+        return {"schema": "catc.error/1", "status": "error", "diagnostics": [d.to_json() for d in exc.diagnostics]}
+    except (InputError, ValueError) as exc:
+        return {"schema": "catc.error/1", "status": "error", "diagnostics": [{"message": str(exc)}]}
+    return target.to_json(model.instance, artifact)
+
+
 def _register_queries(server: Any, types: Any) -> None:
     """``catc.<query>`` commands: arguments ``[uri]`` or ``[uri, {option: value}]``; they
     answer for the saved file, as the command line would."""
@@ -1122,6 +1144,18 @@ def _register_queries(server: Any, types: Any) -> None:
 
     for name in registry.names():  # in pygls's threads: a long query never blocks the server
         server.command(f"catc.{name}")(server.thread()(command_for(name)))
+
+    from catc.targets import registry as targets
+
+    def export_for(name: str) -> Any:
+        def handler(ls: Any, *args: Any) -> dict:
+            uri, options = args[0], (args[1] if len(args) > 1 else None)
+            return run_target_on_file(name, uri, options)
+
+        return handler
+
+    for name in targets.names():  # ``catc.export.<target>``: [uri] or [uri, {option: value}]
+        server.command(f"catc.export.{name}")(server.thread()(export_for(name)))
 
 
 @click.command("lsp")

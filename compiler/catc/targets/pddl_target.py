@@ -54,9 +54,9 @@ def prepare(values: dict[str, Any]) -> None:
 def export(
     inst: ir.Instance,
     *,
-    grid: Mapping[str, Fraction] | None = None,
+    grid: Mapping[str, Fraction | int | str] | None = None,
     horizon: int | None = None,
-    flavor: str = "enhsp",
+    flavor: Flavor | str = Flavor.ENHSP,
     timeout: float | None = None,
 ) -> Any:
     """The :class:`catc.targets.pddl_base.Export` of ``inst`` (:class:`InputError` when the
@@ -65,7 +65,8 @@ def export(
     from catc.targets.pddl_base import ExportError
 
     try:
-        return export_pddl(inst, grid=grid or {}, horizon=horizon, flavor=flavor)
+        steps = {k: Fraction(v) for k, v in (grid or {}).items()}
+        return export_pddl(inst, grid=steps, horizon=horizon, flavor=flavor)
     except ExportError as exc:
         raise InputError(str(exc), codes.EXPORT_UNSUPPORTED) from None
 

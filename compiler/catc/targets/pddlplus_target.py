@@ -5,6 +5,7 @@ names no command of its own."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from fractions import Fraction
 from typing import Any
 
@@ -17,7 +18,7 @@ from catc.targets.pddl_base import Flavor
 def export(
     inst: ir.Instance,
     *,
-    grid: dict[str, Fraction] | None = None,
+    grid: Mapping[str, Fraction | int | str] | None = None,
     horizon: int | None = None,
     timeout: float | None = None,
 ) -> Any:
