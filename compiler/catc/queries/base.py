@@ -231,6 +231,21 @@ def json_option(schema: str) -> Option:
     return Option("as_json", ("--json",), Kind.FLAG, f"Print a {schema} JSON document.", default=False, use=Use.OUTPUT)
 
 
+def backend_option() -> Option:
+    """``--backend``: the solver (:data:`catc.smt.backend.BACKENDS`)."""
+    from catc.smt.backend import BACKENDS, DEFAULT_BACKEND
+
+    return Option(
+        "backend",
+        ("--backend",),
+        Kind.CHOICE,
+        "The solver: z3, or cvc5 (through its Python API).",
+        default=DEFAULT_BACKEND,
+        choices=tuple(BACKENDS),
+        show_default=True,
+    )
+
+
 def presolve_option() -> Option:
     """``--no-presolve``: skip the relaxed reachability analysis (catc.semantics.relaxed)."""
     return Option(
