@@ -171,6 +171,7 @@ class Option(Record):
 def common_options() -> tuple[Option, ...]:
     """The options of every query: the horizon, the view, sequential steps, where to find
     domains, and which problem of the file."""
+    view, path, problem = load_options("Solve in this view (overrides the problem's (:view ...)).")
     return (
         Option(
             "horizon",
@@ -179,9 +180,7 @@ def common_options() -> tuple[Option, ...]:
             "Most steps a composition may take (default: the problem's (:horizon), else the sum of use limits, "
             "else 10).",
         ),
-        Option(
-            "view", ("--view",), Kind.NAME, "Solve in this view (overrides the problem's (:view ...)).", use=Use.LOAD
-        ),
+        view,
         Option(
             "sequential",
             ("--sequential",),
@@ -189,13 +188,21 @@ def common_options() -> tuple[Option, ...]:
             "One morphism per step (default: parallel steps with non-interference).",
             default=False,
         ),
-        Option(
-            "search_paths", ("--path",), Kind.FOLDERS, "Extra folder to search for domains.", default=(), use=Use.LOAD
-        ),
+        path,
+        problem,
+        *limit_options(),
+    )
+
+
+def load_options(view_help: str, path_help: str = "Extra folder to search for domains.") -> tuple[Option, ...]:
+    """``--view``, ``--path`` and ``--problem``: which model a command reads (every query's,
+    every target's, ``catc check``'s ``--path``)."""
+    return (
+        Option("view", ("--view",), Kind.NAME, view_help, use=Use.LOAD),
+        Option("search_paths", ("--path",), Kind.FOLDERS, path_help, default=(), use=Use.LOAD),
         Option(
             "problem_name", ("--problem",), Kind.NAME, "The problem to use when the file defines several.", use=Use.LOAD
         ),
-        *limit_options(),
     )
 
 

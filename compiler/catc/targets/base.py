@@ -17,7 +17,7 @@ from collections.abc import Callable, Mapping
 from typing import Any
 
 from catc import ir
-from catc.queries.base import InputError, Kind, Option, Use, limit_options
+from catc.queries.base import InputError, Kind, Option, Use, limit_options, load_options
 from catgrammar.record import Record, set_field
 
 #: ``echo(text, err)``: how a target's follow-up (:attr:`Target.follow`) prints a line.
@@ -31,17 +31,6 @@ class OptionError(ValueError):
     def __init__(self, message: str, flag: str) -> None:
         super().__init__(message)
         self.flag = flag
-
-
-def load_options(view_help: str, path_help: str = "Extra folder to search for domains.") -> tuple[Option, ...]:
-    """``--view``, ``--path`` and ``--problem``: which model the target reads."""
-    return (
-        Option("view", ("--view",), Kind.NAME, view_help, use=Use.LOAD),
-        Option("search_paths", ("--path",), Kind.FOLDERS, path_help, default=(), use=Use.LOAD),
-        Option(
-            "problem_name", ("--problem",), Kind.NAME, "The problem to use when the file defines several.", use=Use.LOAD
-        ),
-    )
 
 
 def horizon_option(help: str) -> Option:

@@ -11,8 +11,9 @@ from typing import Any
 import click
 
 from catc.interfaces import command
-from catc.interfaces.cli.options import limit_options, limited
+from catc.interfaces.cli.options import limit_options, limited, option
 from catc.interfaces.command import EXIT_FAIL, EXIT_INPUT, EXIT_OK
+from catc.queries.base import load_options
 from catgrammar import codes
 
 _UNREADABLE = {codes.UNREADABLE_FILE, codes.BINARY_FILE, codes.INVALID_UTF8, codes.NO_INPUT}
@@ -82,13 +83,7 @@ def _colour(text: str) -> str:
     help="Diagnostic format: compiler-style text, JSON (schema catc.check/1), or GitHub annotations.",
 )
 @click.option("--strict", is_flag=True, help="Treat warnings as errors.")
-@click.option(
-    "--path",
-    "search_paths",
-    multiple=True,
-    type=click.Path(file_okay=False),
-    help="Extra folder to search for domains (repeatable; also CATC_PATH).",
-)
+@option(load_options("", path_help="Extra folder to search for domains (repeatable; also CATC_PATH).")[1])
 @click.option("-q", "--quiet", is_flag=True, help="Do not print the summary line.")
 @limit_options
 def check(

@@ -4,6 +4,7 @@ from its options (the targets' commands are built from the same option kinds:
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import click
@@ -75,6 +76,18 @@ def click_params(option: Option) -> list[click.Parameter]:
         if option.default is not None:
             extra.update(default=option.default, show_default=option.show_default)
     return [click.Option([*flags, name], **extra)]
+
+
+def option(option: Option) -> Callable[[Any], Any]:
+    """A decorator adding the click parameters of ``option`` to a command written out."""
+
+    def decorate(f: Any) -> Any:
+        if not hasattr(f, "__click_params__"):
+            f.__click_params__ = []
+        f.__click_params__.extend(click_params(option))
+        return f
+
+    return decorate
 
 
 def query_command(query: Query) -> click.Command:
