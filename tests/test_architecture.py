@@ -192,6 +192,46 @@ TARGET = Target(
     assert "## `catc export names`" in reference and "--upper" in reference
 
 
+def _import_graph(package: str) -> dict[str, set[str]]:
+    """Module → the modules of ``package`` it imports, read off the source (function-level
+    imports too: an import deferred for start-up time is still an arrow)."""
+    base = ROOT / "compiler"
+    paths = {}
+    for path in (base / package.replace(".", "/")).rglob("*.py"):
+        parts = path.relative_to(base).with_suffix("").parts
+        paths[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
+    graph: dict[str, set[str]] = {}
+    for name, path in paths.items():
+        found = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.module and not node.level:
+                found |= {m for m in (node.module, *(f"{node.module}.{a.name}" for a in node.names)) if m in paths}
+            elif isinstance(node, ast.Import):
+                found |= {a.name for a in node.names if a.name in paths}
+        graph[name] = found - {name}
+    return graph
+
+
+@pytest.mark.parametrize("package", ["catc.targets", "catc.interfaces.cli", "catc.interfaces.lsp"])
+def test_no_import_cycle_among_the_targets_and_the_interfaces(package):
+    """pddl ⇄ pddlplus and lsp ⇄ lsp_tools were cycles; none is left (a depth-first search
+    for a back edge)."""
+    graph = _import_graph(package)
+    state: dict[str, int] = {}  # 1: on the path, 2: done
+
+    def visit(name: str, path: list[str]) -> None:
+        state[name] = 1
+        for dep in sorted(graph[name]):
+            assert state.get(dep) != 1, " -> ".join([*path[path.index(dep) :], dep])
+            if dep not in state:
+                visit(dep, [*path, dep])
+        state[name] = 2
+
+    for name in sorted(graph):
+        if name not in state:
+            visit(name, [name])
+
+
 # ---------------------------------------------------------------- interchangeable backends
 
 

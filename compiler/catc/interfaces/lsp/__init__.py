@@ -40,13 +40,14 @@ from catc.interfaces.lsp.analysis import (
     code_units,
     definitions_of,
     lookup,
+    names_in_scope,
     path_to_uri,
     server_column,
     uri_to_path,
     word_at,
 )
 from catc.interfaces.lsp.commands import run_query_on_file, run_target_on_file
-from catc.interfaces.lsp.hover import hover_text, names_in_scope
+from catc.interfaces.lsp.hover import hover_text
 from catc.interfaces.lsp.server import Checks, Lines, build_server
 
 __all__ = [

@@ -221,27 +221,3 @@ def _sort_text(sort, expand: bool = False) -> str:
     if expand:
         return f"{kind} sort"
     return sort.name or kind
-
-
-def names_in_scope(a: Analysis) -> dict[str, str]:
-    """name → what it is, for completion."""
-    out: dict[str, str] = {}
-    for d in a.definitions:
-        out.setdefault(d.name, d.kind)
-    for dom in a.domains:
-        for n in dom.resources:
-            out.setdefault(n, "resource")
-        for n in dom.morphisms:
-            out.setdefault(n, "morphism")
-        for n in dom.constants:
-            out.setdefault(n, "constant")
-        for n in dom.sorts:
-            out.setdefault(n, "sort")
-        for n in dom.views:
-            out.setdefault(n, "view")
-        for n in dom.holes:
-            out.setdefault(n, "hole")
-    for p in a.problems:
-        for n in p.objects:
-            out.setdefault(n, "object")
-    return out

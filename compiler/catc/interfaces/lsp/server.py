@@ -14,6 +14,7 @@ from catc.interfaces.lsp.analysis import (
     client_column,
     code_units,
     lookup,
+    names_in_scope,
     path_to_uri,
     same_name,
     server_column,
@@ -21,7 +22,7 @@ from catc.interfaces.lsp.analysis import (
     word_at,
 )
 from catc.interfaces.lsp.commands import register_commands
-from catc.interfaces.lsp.hover import hover_text, names_in_scope
+from catc.interfaces.lsp.hover import hover_text
 from catgrammar.span import Source, Span
 
 # ---------------------------------------------------------------- the server
@@ -486,7 +487,7 @@ def _register_editing(server: Any, types: Any) -> None:
     """References and rename (with prepareRename)."""
     import asyncio
 
-    from catc.interfaces.lsp import tools
+    import catc.interfaces.lsp.tools as tools
 
     @server.feature(types.TEXT_DOCUMENT_REFERENCES)
     async def references(ls: Any, params: Any) -> Any:
@@ -540,7 +541,7 @@ def _register_fixes(server: Any, types: Any) -> None:
     """Formatting and code actions."""
     import asyncio
 
-    from catc.interfaces.lsp import tools
+    import catc.interfaces.lsp.tools as tools
 
     @server.feature(types.TEXT_DOCUMENT_FORMATTING)
     async def formatting(ls: Any, params: Any) -> Any:
@@ -599,7 +600,7 @@ def _register_display(server: Any, types: Any) -> None:
     """Semantic tokens and unit inlay hints (in a thread: a large document takes a second)."""
     import asyncio
 
-    from catc.interfaces.lsp import tools
+    import catc.interfaces.lsp.tools as tools
 
     legend = types.SemanticTokensLegend(
         token_types=list(tools.TOKEN_TYPES), token_modifiers=list(tools.TOKEN_MODIFIERS)
@@ -666,7 +667,7 @@ def _register_display(server: Any, types: Any) -> None:
 
 def _register_signature_help(server: Any, types: Any) -> None:
     """The options of the form under the cursor."""
-    from catc.interfaces.lsp import tools
+    import catc.interfaces.lsp.tools as tools
 
     @server.feature(
         types.TEXT_DOCUMENT_SIGNATURE_HELP,

@@ -276,7 +276,7 @@ def references(
 def check_rename(a: Analysis, name: str, at: Span, new: str | None = None) -> Definition:
     """The definition to rename, or :class:`RenameError` saying why it cannot be renamed
     (to ``new`` when given)."""
-    from catc.interfaces.lsp.hover import names_in_scope
+    from catc.interfaces.lsp.analysis import names_in_scope
 
     if name in builtin_words() or name.startswith(":"):
         raise RenameError(f"'{name}' is a keyword or built-in of the language and cannot be renamed")
@@ -354,7 +354,7 @@ _BUILTIN_SORTS = frozenset({"bool", "int", "real", "symbol"})
 def semantic_tokens(a: Analysis) -> list[tuple[Span, str, tuple[str, ...]]]:
     """(span, token type, modifiers) of every name of the document that means something of
     the model: resources, morphisms, θ parameters, constants/objects, sorts, ..."""
-    from catc.interfaces.lsp.hover import names_in_scope
+    from catc.interfaces.lsp.analysis import names_in_scope
 
     scope = names_in_scope(a)
     declared = {d.span.start for d in a.definitions if _key(d.span.file) == _key(a.path)}
