@@ -52,7 +52,8 @@ class Target(Record):
     ``follow(instance, artifact, options, echo)``, when given, runs after writing (check the
     files with other tools, run a planner on them) and returns the exit code.
     ``prepare(options)`` reads the options before loading (:class:`OptionError` for a bad
-    value).  ``command``: the command-line words (default ``("export", name)``)."""
+    value).  ``command``: the command-line words (default ``("export", name)``); ``schema``:
+    the JSON document's (default ``catc.export-NAME/1``)."""
 
     __slots__ = (
         "name",
@@ -95,6 +96,7 @@ class Target(Record):
         follow: Callable[[ir.Instance, Any, Mapping[str, Any], Echo], int] | None = None,
         prepare: Callable[[dict[str, Any]], None] | None = None,
         command: tuple[str, ...] | None = None,
+        schema: str | None = None,
     ) -> None:
         set_field(self, "name", name)
         set_field(self, "command", ("export", name) if command is None else command)
@@ -107,7 +109,7 @@ class Target(Record):
         set_field(self, "write", write)
         set_field(self, "follow", follow)
         set_field(self, "prepare", prepare)
-        set_field(self, "schema", f"catc.export-{name}/1")
+        set_field(self, "schema", schema or f"catc.export-{name}/1")
 
     def option(self, name: str) -> Option:
         for o in self.options:

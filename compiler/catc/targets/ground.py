@@ -159,6 +159,7 @@ _VIEW, _PATH, _PROBLEM = load_options(
 TARGET = Target(
     "ground",
     command=("ground",),
+    schema="catc.ground/1",
     summary="Write the artifacts a robot runs for a composition (solved, or --plan), or --diff two.",
     description="PATHS is PROBLEM, or DOMAIN PROBLEM.  Writes instructions.md, compose.yaml, params.yaml,\n"
     "bt.xml and manifest.json to -o DIR.  Exit 0 written (or diffed), 1 no composition or an\n"
