@@ -21,6 +21,7 @@ from catc.queries import registry
 from catc.queries.base import ExitCode, Status
 from catc.queries.solve import SolveStatus, solve
 from catc.smt.backend import BACKENDS, BackendError, open_backend
+from catc.targets import registry as target_registry
 
 EXAMPLES = ROOT / "examples"
 
@@ -96,6 +97,141 @@ QUERY = Query(
     assert run_catc("count", person, via_click=True).stdout.strip() == "3 morphisms"
     model = load(person)
     assert model.to_json(model.count()) == {"schema": "catc.count/1", "morphisms": 3}
+
+
+@pytest.mark.parametrize("name", target_registry.names())
+def test_every_target_reaches_every_interface(name):
+    target = target_registry.get(name)
+    assert target.name == name
+    # the command line: the command its words name, with the target's options
+    if target.command:
+        group = cli.main.get_command(None, target.command[0])
+        command = group if len(target.command) == 1 else group.get_command(None, target.command[1])
+        flags = {f for p in command.params for f in getattr(p, "opts", ())}
+        assert {f for o in target.options for f in o.flags if f.startswith("-")} <= flags
+        assert f"## `catc {' '.join(target.command)}`" in (ROOT / "docs/cli-reference.md").read_text()
+    # the API: model.export(name), its JSON document named by the target's schema
+    model = load(EXAMPLES / "detection/person.cat")
+    options = {"grid": {"ram-req": "1/2"}} if name == "pddl" else {}
+    assert model.export_json(name, model.export(name, **options))["schema"] == target.schema
+    # the language server: a catc.export.<name> command
+    pytest.importorskip("pygls")
+    from catc.interfaces.lsp import build_server
+
+    assert f"catc.export.{name}" in build_server().protocol.fm.commands
+
+
+def test_the_ground_target_answers_the_api_and_the_language_server():
+    """model.ground() solves, replays and grounds person.cat: its manifest names the plan's
+    three morphisms (examples/detection/expect.toml: mount-rgb-camera among them)."""
+    from catc.interfaces.lsp import run_target_on_file
+
+    model = load(EXAMPLES / "detection/person.cat")
+    grounding = model.ground()
+    doc = model.export_json("ground", grounding)
+    assert doc["schema"] == "catc.ground/1" and set(doc["artifacts"]) >= {"compose.yaml", "bt.xml"}
+    assert "mount-rgb-camera" in {a["morphism"] for step in doc["plan"]["steps"] for a in step}
+    uri = (EXAMPLES / "detection/person.cat").resolve().as_uri()
+    assert run_target_on_file("ground", uri)["plan"] == doc["plan"]
+    refused = run_target_on_file("pddl", uri)  # a real θ without a grid step: an input error
+    assert refused["schema"] == "catc.error/1" and "grid step" in refused["diagnostics"][0]["message"]
+
+
+def test_adding_a_target_is_one_module_and_one_line(tmp_path, monkeypatch):
+    """A target written outside catc, registered by one line, is a command, an API method, a
+    language-server command and a section of the generated command reference at once."""
+    (tmp_path / "names_target.py").write_text(
+        """
+from pathlib import Path
+from catc.queries.base import Kind, Option, Use
+from catc.targets.base import Target, load_options
+
+def names(inst, *, upper=False):
+    words = sorted(inst.morphisms)
+    return [w.upper() for w in words] if upper else words
+
+def write(inst, words, options):
+    path = Path(options["output"]) / "names.txt"
+    path.write_text("".join(w + "\\n" for w in words))
+    return [f"wrote {path}"]
+
+TARGET = Target(
+    "names",
+    summary="List the morphisms, one a line.",
+    description="A test target.",
+    options=(
+        Option("output", ("-o", "--output"), Kind.OUTPUT_FOLDER, "Folder for names.txt.", use=Use.OUTPUT),
+        Option("upper", ("--upper",), Kind.FLAG, "In capitals."),
+        *load_options("Use this view."),
+    ),
+    run=names,
+    to_json=lambda inst, words: {"schema": "catc.export-names/1", "names": words},
+    render=lambda inst, words: "".join(w + "\\n" for w in words),
+    write=write,
+)
+"""
+    )
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.setitem(target_registry.TARGETS, "names", "names_target")
+    person = EXAMPLES / "detection/person.cat"
+    # person.cat's morphisms, read off its domain's source by a regex (the three of
+    # test_adding_a_query_is_one_module_and_one_line)
+    expected = sorted(re.findall(r"\(:morphism ([\w-]+)", (EXAMPLES / "detection/domain.cat").read_text()))
+    assert len(expected) == 3
+    res = run_catc("export", "names", str(person), "--upper")
+    assert res.exit_code == 0 and res.stdout.split() == [w.upper() for w in expected]
+    res = run_catc("export", "names", str(person), "-o", str(tmp_path))
+    assert res.exit_code == 0 and (tmp_path / "names.txt").read_text().split() == expected
+    model = load(person)
+    assert model.export_json("names", model.export("names")) == {"schema": "catc.export-names/1", "names": expected}
+    from catc.interfaces.docgen import cli_reference
+    from catc.interfaces.lsp import run_target_on_file
+
+    assert run_target_on_file("names", person.resolve().as_uri(), {"upper": True})["names"] == [
+        w.upper() for w in expected
+    ]
+    reference = cli_reference()
+    assert "## `catc export names`" in reference and "--upper" in reference
+
+
+def _import_graph(package: str) -> dict[str, set[str]]:
+    """Module → the modules of ``package`` it imports, read off the source (function-level
+    imports too: an import deferred for start-up time is still an arrow)."""
+    base = ROOT / "compiler"
+    paths = {}
+    for path in (base / package.replace(".", "/")).rglob("*.py"):
+        parts = path.relative_to(base).with_suffix("").parts
+        paths[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
+    graph: dict[str, set[str]] = {}
+    for name, path in paths.items():
+        found = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.module and not node.level:
+                found |= {m for m in (node.module, *(f"{node.module}.{a.name}" for a in node.names)) if m in paths}
+            elif isinstance(node, ast.Import):
+                found |= {a.name for a in node.names if a.name in paths}
+        graph[name] = found - {name}
+    return graph
+
+
+@pytest.mark.parametrize("package", ["catc.targets", "catc.interfaces.cli", "catc.interfaces.lsp"])
+def test_no_import_cycle_among_the_targets_and_the_interfaces(package):
+    """pddl ⇄ pddlplus and lsp ⇄ lsp_tools were cycles; none is left (a depth-first search
+    for a back edge)."""
+    graph = _import_graph(package)
+    state: dict[str, int] = {}  # 1: on the path, 2: done
+
+    def visit(name: str, path: list[str]) -> None:
+        state[name] = 1
+        for dep in sorted(graph[name]):
+            assert state.get(dep) != 1, " -> ".join([*path[path.index(dep) :], dep])
+            if dep not in state:
+                visit(dep, [*path, dep])
+        state[name] = 2
+
+    for name in sorted(graph):
+        if name not in state:
+            visit(name, [name])
 
 
 # ---------------------------------------------------------------- interchangeable backends

@@ -102,12 +102,12 @@ def test_an_export_the_model_cannot_take(tmp_path):
 
 
 def test_an_export_a_parser_rejects_is_a_bug_reported_as_such(monkeypatch, tmp_path):
-    from catc.interfaces import export_cli
+    from catc.targets import pddl_target
 
     def reject(*args):
         raise ValueError("unexpected token")
 
-    monkeypatch.setattr(export_cli, "check_pddl", reject)
+    monkeypatch.setattr(pddl_target, "check_pddl", reject)
     res = run_catc("export", "pddl", LIFE, "-o", str(tmp_path))
     error(res, "E0902")
 

@@ -237,8 +237,8 @@ def test_horizon_bounds_the_number_of_actions():
 
 
 def test_missing_baselines_name_what_to_install(monkeypatch, tmp_path):
-    from catc.interfaces.export_cli import MissingParser, check_pddl
     from catc.targets import enhsp
+    from catc.targets.pddl_target import MissingParser, check_pddl
 
     monkeypatch.setattr(enhsp.shutil, "which", lambda _: None)
     with pytest.raises(enhsp.BaselineMissing, match="Java 17"):
@@ -353,7 +353,7 @@ def test_the_export_is_checked_without_the_pypi_pddl_package(tmp_path, monkeypat
 
 @needs_parsers
 def test_a_malformed_export_is_rejected_by_the_strict_parser(tmp_path):
-    from catc.interfaces.export_cli import check_pddl
+    from catc.targets.pddl_target import check_pddl
 
     ex = export_pddl(instance(EXAMPLES / "detection", {"file": "person.cat"}), grid=GRID)
     dom, prob = _write(ex, tmp_path)

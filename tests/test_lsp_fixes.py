@@ -1,5 +1,5 @@
 """Structured fixes on diagnostics (the language server's code actions read them) and the
-analysis helpers of catc.interfaces.lsp_tools; no pygls needed."""
+analysis helpers of catc.interfaces.lsp.tools; no pygls needed."""
 
 from __future__ import annotations
 
@@ -138,7 +138,7 @@ def _span(path: Path, text: str, needle: str, shift: int = 0):
 
 
 def test_references_of_a_resource_span_the_domain_and_its_problems() -> None:
-    from catc.interfaces import lsp_tools
+    from catc.interfaces.lsp import tools as lsp_tools
 
     domain = DETECTION / "domain.cat"
     text = domain.read_text()
@@ -157,7 +157,7 @@ def test_references_of_a_resource_span_the_domain_and_its_problems() -> None:
 
 
 def test_a_parameter_is_renamed_in_its_morphism_only(tmp_path) -> None:
-    from catc.interfaces import lsp_tools
+    from catc.interfaces.lsp import tools as lsp_tools
 
     text = (
         "(define (domain d) (:requirements :numeric :free-parameters) (:resources (r real))\n"
@@ -188,7 +188,7 @@ def test_a_parameter_is_renamed_in_its_morphism_only(tmp_path) -> None:
     ],
 )
 def test_rename_refusals(word: str, new: str, why: str) -> None:
-    from catc.interfaces import lsp_tools
+    from catc.interfaces.lsp import tools as lsp_tools
 
     domain = DETECTION / "domain.cat"
     text = domain.read_text()
@@ -200,7 +200,7 @@ def test_rename_refusals(word: str, new: str, why: str) -> None:
 
 
 def test_rename_refuses_the_standard_library() -> None:
-    from catc.interfaces import lsp_tools
+    from catc.interfaces.lsp import tools as lsp_tools
 
     every = ROOT / "tests" / "fixtures" / "valid" / "every-construct.cat"
     text = every.read_text()
@@ -211,7 +211,7 @@ def test_rename_refuses_the_standard_library() -> None:
 
 
 def test_every_option_of_the_grammar_has_signature_help() -> None:
-    from catc.interfaces.lsp_tools import OPTION_DOCS
+    from catc.interfaces.lsp.tools import OPTION_DOCS
     from catgrammar.symbols import HOLE_OPTIONS, MORPHISM_OPTIONS, PARAMETER_OPTIONS, RESOURCE_OPTIONS, VIEW_OPTIONS
 
     language = (ROOT / "docs" / "language.md").read_text()
@@ -234,7 +234,7 @@ def test_every_option_of_the_grammar_has_signature_help() -> None:
     ],
 )
 def test_signature_help_positions(needle: str, shift: int, form: str, active: str | None) -> None:
-    from catc.interfaces.lsp_tools import signature_at
+    from catc.interfaces.lsp.tools import signature_at
 
     text = (DETECTION / "domain.cat").read_text()
     sig = signature_at(text, text.index(needle) + shift)
@@ -244,7 +244,7 @@ def test_signature_help_positions(needle: str, shift: int, form: str, active: st
 
 
 def test_no_signature_outside_a_form() -> None:
-    from catc.interfaces.lsp_tools import signature_at
+    from catc.interfaces.lsp.tools import signature_at
 
     text = (DETECTION / "domain.cat").read_text()
     assert signature_at(text, text.index("(:sorts module") + 9) is None
@@ -275,7 +275,7 @@ def test_grounding_key_and_template_hole_fixes(tmp_path) -> None:
 def test_a_parameter_hides_the_resource_of_its_name(tmp_path) -> None:
     """References of resource r skip the uses inside a morphism whose θ is also called r
     (an error, E0204, but one a rename must not make worse while it is being fixed)."""
-    from catc.interfaces import lsp_tools
+    from catc.interfaces.lsp import tools as lsp_tools
 
     text = (
         "(define (domain d) (:requirements :numeric :free-parameters) (:resources (r real :unit W))\n"
@@ -330,8 +330,8 @@ def test_the_analysis_helpers_never_raise_on_random_text() -> None:
     from hypothesis import HealthCheck, given, settings
     from hypothesis import strategies as st
 
-    from catc.interfaces import lsp_tools
     from catc.interfaces.lsp import hover_text
+    from catc.interfaces.lsp import tools as lsp_tools
 
     @settings(max_examples=60, deadline=None, suppress_health_check=list(HealthCheck), database=None)
     @given(st.lists(st.sampled_from(_PIECES), max_size=30), st.integers(min_value=0, max_value=400))
@@ -370,7 +370,7 @@ def test_references_of_an_imported_standard_library_resource_reach_the_importers
     """examples/detection imports robot-base, which imports compute, which declares ram: its
     references are the declaration and every use in the domain and both problems (the domain
     beside the problems is the importer itself, not a rival domain of that name)."""
-    from catc.interfaces import lsp_tools
+    from catc.interfaces.lsp import tools as lsp_tools
 
     folder = ROOT / "examples" / "detection"
     domain = folder / "domain.cat"

@@ -259,6 +259,28 @@ class Model:
 
         return sorted(set(super().__dir__()) | set(registry.QUERIES))
 
+    # ------------------------------------------------------------ targets
+    def export(self, target: str, /, **options: Any) -> Any:
+        """The artifact of the target ``target`` (:mod:`catc.targets.registry`: ``pddl``,
+        ``pddlplus``, ``smt2``, ``ground``) with its options, as ``catc export``/``compile``/
+        ``ground`` make it; its JSON document: ``model.export_json(target, artifact)``.
+        Raises :class:`catc.queries.base.InputError` when the model cannot be expressed."""
+        from catc.targets import registry as targets
+        from catgrammar import limits
+
+        with limits.using(self.limits):
+            return targets.get(target).run(self.instance, **options)
+
+    def export_json(self, target: str, artifact: Any) -> dict:
+        from catc.targets import registry as targets
+
+        return targets.get(target).to_json(self.instance, artifact)
+
+    def ground(self, **options: Any) -> Any:
+        """The artifacts a robot runs (:class:`catc.targets.ground.Grounding`): ``plan=`` a
+        composition, else the problem solved first; ``horizon=``, ``timeout=``."""
+        return self.export("ground", **options)
+
     # ------------------------------------------------------------ output
     def to_json(self, result: Any) -> dict:
         """The ``--json`` document of the command that gives ``result`` (docs/cli.md)."""

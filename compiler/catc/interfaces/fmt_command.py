@@ -8,7 +8,7 @@ import sys
 import click
 
 from catc.frontend.formatter import format_file
-from catc.interfaces.cli import collect_files
+from catc.interfaces.cli.check import collect_files
 from catgrammar.diagnostics import Diagnostics
 from catgrammar.diagnostics import format_text as diag_text
 from catgrammar.terminal import printable

@@ -95,6 +95,9 @@ class Kind(str, Enum):
     COMPONENTS = "components"  # a,b,c: morphism names (``none_word`` for the empty list)
     WEIGHTS = "weights"  # repeatable KEY=W: a dict of exact weights
     OUTPUT_FILE = "output-file"  # a file to write
+    OUTPUT_FOLDER = "output-folder"  # a folder to write into
+    INPUT_FILE = "input-file"  # a file to read
+    FILE_PAIR = "file-pair"  # two files to read: a tuple of two
     PLAN_FILE = "plan-file"  # a positional catc.plan/1 file: a Plan
 
 
@@ -110,7 +113,19 @@ class Option(Record):
     """One option of a query: its keyword (``run``'s and the API's), its command-line
     spellings, its kind, help and default."""
 
-    __slots__ = ("name", "flags", "kind", "help", "default", "choices", "metavar", "show_default", "use", "none_word")
+    __slots__ = (
+        "name",
+        "flags",
+        "kind",
+        "help",
+        "default",
+        "choices",
+        "metavar",
+        "show_default",
+        "use",
+        "none_word",
+        "required",
+    )
     name: str
     flags: tuple[str, ...]
     kind: Kind
@@ -121,6 +136,7 @@ class Option(Record):
     show_default: bool
     use: Use
     none_word: str | None
+    required: bool
 
     def __init__(
         self,
@@ -135,6 +151,7 @@ class Option(Record):
         show_default: bool = False,
         use: Use = Use.RUN,
         none_word: str | None = None,
+        required: bool = False,
     ) -> None:
         set_field(self, "name", name)
         set_field(self, "flags", flags)
@@ -148,11 +165,13 @@ class Option(Record):
         set_field(self, "show_default", show_default)
         set_field(self, "use", use)
         set_field(self, "none_word", none_word)
+        set_field(self, "required", required)
 
 
 def common_options() -> tuple[Option, ...]:
     """The options of every query: the horizon, the view, sequential steps, where to find
     domains, and which problem of the file."""
+    view, path, problem = load_options("Solve in this view (overrides the problem's (:view ...)).")
     return (
         Option(
             "horizon",
@@ -161,9 +180,7 @@ def common_options() -> tuple[Option, ...]:
             "Most steps a composition may take (default: the problem's (:horizon), else the sum of use limits, "
             "else 10).",
         ),
-        Option(
-            "view", ("--view",), Kind.NAME, "Solve in this view (overrides the problem's (:view ...)).", use=Use.LOAD
-        ),
+        view,
         Option(
             "sequential",
             ("--sequential",),
@@ -171,13 +188,21 @@ def common_options() -> tuple[Option, ...]:
             "One morphism per step (default: parallel steps with non-interference).",
             default=False,
         ),
-        Option(
-            "search_paths", ("--path",), Kind.FOLDERS, "Extra folder to search for domains.", default=(), use=Use.LOAD
-        ),
+        path,
+        problem,
+        *limit_options(),
+    )
+
+
+def load_options(view_help: str, path_help: str = "Extra folder to search for domains.") -> tuple[Option, ...]:
+    """``--view``, ``--path`` and ``--problem``: which model a command reads (every query's,
+    every target's, ``catc check``'s ``--path``)."""
+    return (
+        Option("view", ("--view",), Kind.NAME, view_help, use=Use.LOAD),
+        Option("search_paths", ("--path",), Kind.FOLDERS, path_help, default=(), use=Use.LOAD),
         Option(
             "problem_name", ("--problem",), Kind.NAME, "The problem to use when the file defines several.", use=Use.LOAD
         ),
-        *limit_options(),
     )
 
 
@@ -211,6 +236,21 @@ def timeout_option(help: str = "Give up after this many seconds (exit 3).") -> O
 
 def json_option(schema: str) -> Option:
     return Option("as_json", ("--json",), Kind.FLAG, f"Print a {schema} JSON document.", default=False, use=Use.OUTPUT)
+
+
+def backend_option() -> Option:
+    """``--backend``: the solver (:data:`catc.smt.backend.BACKENDS`)."""
+    from catc.smt.backend import BACKENDS, DEFAULT_BACKEND
+
+    return Option(
+        "backend",
+        ("--backend",),
+        Kind.CHOICE,
+        "The solver: z3, or cvc5 (through its Python API).",
+        default=DEFAULT_BACKEND,
+        choices=tuple(BACKENDS),
+        show_default=True,
+    )
 
 
 def presolve_option() -> Option:

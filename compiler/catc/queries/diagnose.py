@@ -37,6 +37,7 @@ from catc.queries.base import (
     Query,
     Result,
     Status,
+    backend_option,
     json_option,
     presolve_option,
     timeout_option,
@@ -44,7 +45,7 @@ from catc.queries.base import (
 from catc.semantics.horizon import horizon_of
 from catc.semantics.relaxed import RelaxedAnalysis
 from catc.semantics.witness import witnessed
-from catc.smt.backend import BACKENDS, DEFAULT_BACKEND, Check
+from catc.smt.backend import DEFAULT_BACKEND, Check
 from catc.smt.labelled import LabelledModel
 from catgrammar import limits
 
@@ -331,15 +332,7 @@ QUERY = Query(
         Option("max_cores", ("--max",), Kind.POSITIVE, "The most cores --all reports.", default=5, show_default=True),
         timeout_option("Stop after this many seconds (exit 3 when no core is found by then)."),
         json_option("catc.diagnose/1"),
-        Option(
-            "backend",
-            ("--backend",),
-            Kind.CHOICE,
-            "The solver: z3, or cvc5 (through its Python API).",
-            default=DEFAULT_BACKEND,
-            choices=tuple(name for name in BACKENDS),
-            show_default=True,
-        ),
+        backend_option(),
         presolve_option(),
     ),
     run=diagnose,

@@ -29,6 +29,7 @@ from catc.queries.base import (
     Query,
     Result,
     Status,
+    backend_option,
     diagram_option,
     json_option,
     presolve_option,
@@ -38,7 +39,7 @@ from catc.semantics.compositions import canonical_fresh, checked, prune_plan
 from catc.semantics.horizon import horizon_of, use_bound
 from catc.semantics.plan import Plan
 from catc.semantics.relaxed import Refutation, refute
-from catc.smt.backend import BACKENDS, DEFAULT_BACKEND, Check, open_backend
+from catc.smt.backend import DEFAULT_BACKEND, Check, open_backend
 from catc.smt.encoder import Encoder
 from catc.smt.readback import read_plan
 from catc.smt.script import SmtSort, Symbol, and_text
@@ -541,15 +542,7 @@ QUERY = Query(
             Kind.NO_FLAG,
             "Keep activations the composition does not need (as the solver found them).",
         ),
-        Option(
-            "backend",
-            ("--backend",),
-            Kind.CHOICE,
-            "The solver: z3, or cvc5 (through its Python API).",
-            default=DEFAULT_BACKEND,
-            choices=tuple(BACKENDS),
-            show_default=True,
-        ),
+        backend_option(),
         presolve_option(),
     ),
     run=solve,

@@ -40,7 +40,8 @@ from catc.ir import SortKind
 from catc.ir.numbers import decimal_text
 from catc.semantics.plan import Activation, Plan
 from catc.targets.enhsp import lift_memory_limit
-from catc.targets.pddl import Export, ExportError, Unsupported, _Exporter, number
+from catc.targets.pddl_base import Export, ExportError, Flavor, Unsupported, number
+from catc.targets.pddl_exporter import Exporter
 
 #: SMTPlan+'s encoder separates consecutive happenings by at least this much time
 #: (``duration_vars[h] >= 1/10`` in its EncoderHappening.cpp).
@@ -73,10 +74,10 @@ class Dial:
         return f"{self.morphism}.{self.param}"
 
 
-class PlusExporter(_Exporter):
+class PlusExporter(Exporter):
     """The PDDL 2.1 exporter plus dials for the real θ that have no grid step."""
 
-    def __init__(self, inst: ir.Instance, grid: Mapping[str, Fraction], horizon: int | None, flavor: str) -> None:
+    def __init__(self, inst: ir.Instance, grid: Mapping[str, Fraction], horizon: int | None, flavor: Flavor) -> None:
         super().__init__(inst, grid, horizon, flavor)
         self.dials: dict[str, Dial] = {}
         self._cur: ir.Morphism | None = None

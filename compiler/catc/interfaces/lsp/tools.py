@@ -1,7 +1,7 @@
 """The modelling tools of ``catc lsp`` that need no pygls: references and rename across the
 files of a workspace, semantic tokens, unit inlay hints, signature help for a form's
 options and formatting.  Positions here are catc's (1-based lines, code-point columns,
-character offsets); :mod:`catc.interfaces.lsp` converts them for the client.
+character offsets); :mod:`catc.interfaces.lsp.server` converts them for the client.
 
 Names are found with the language's own tokenizer, so comments never count and a string
 counts only where it holds a grounding template's ``{θ}`` hole.
@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 from catgrammar.span import Source, Span
 
 if TYPE_CHECKING:  # pragma: no cover
-    from catc.interfaces.lsp import Analysis, Definition
+    from catc.interfaces.lsp.analysis import Analysis, Definition
 
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_-]*")
 
@@ -57,7 +57,11 @@ def words(path: str, text: str) -> Iterator[Word]:
                 yield Word(tok.value, src.span(start, start + len(tok.value)))
             elif tok.type == "STRING" and "{" in tok.value and "\\" not in tok.value and "\n" not in tok.value:
                 for m in _HOLE.finditer(tok.value):
-                    yield Word(m.group(1), src.span(start + m.start(1), start + m.end(1)), in_string=True)
+                    yield Word(
+                        m.group(1),
+                        src.span(start + m.start(1), start + m.end(1)),
+                        in_string=True,
+                    )
     except UnexpectedCharacters:
         return
 
@@ -121,7 +125,7 @@ def param_scopes(a: Analysis, path: str) -> dict[str, list[Span]]:
 def target(a: Analysis, name: str, at: Span) -> tuple[Definition, Span | None] | None:
     """The definition the name written at ``at`` means, and the span it is limited to (a
     parameter: its morphism), or None when it names nothing of the model."""
-    from catc.interfaces.lsp import lookup
+    from catc.interfaces.lsp.analysis import lookup
 
     defs = lookup(a, name)
     for d in defs:
@@ -232,7 +236,11 @@ def _owner_domains(a: Analysis, d: Definition) -> set[str]:
 
 
 def references(
-    a: Analysis, name: str, at: Span, files: Mapping[str, str], include_declaration: bool = True
+    a: Analysis,
+    name: str,
+    at: Span,
+    files: Mapping[str, str],
+    include_declaration: bool = True,
 ) -> list[Span]:
     """Every place the name written at ``at`` is used, across ``files``."""
     found = target(a, name, at)
@@ -268,7 +276,7 @@ def references(
 def check_rename(a: Analysis, name: str, at: Span, new: str | None = None) -> Definition:
     """The definition to rename, or :class:`RenameError` saying why it cannot be renamed
     (to ``new`` when given)."""
-    from catc.interfaces.lsp import names_in_scope
+    from catc.interfaces.lsp.analysis import names_in_scope
 
     if name in builtin_words() or name.startswith(":"):
         raise RenameError(f"'{name}' is a keyword or built-in of the language and cannot be renamed")
@@ -314,7 +322,16 @@ def rename_edits(a: Analysis, name: str, at: Span, new: str, files: Mapping[str,
 # ---------------------------------------------------------------- semantic tokens
 
 #: The legend: token types and modifiers, in the order their indices are sent.
-TOKEN_TYPES = ("namespace", "type", "variable", "function", "parameter", "enumMember", "interface", "struct")
+TOKEN_TYPES = (
+    "namespace",
+    "type",
+    "variable",
+    "function",
+    "parameter",
+    "enumMember",
+    "interface",
+    "struct",
+)
 TOKEN_MODIFIERS = ("declaration", "defaultLibrary")
 
 _KIND_TYPE = {
@@ -337,7 +354,7 @@ _BUILTIN_SORTS = frozenset({"bool", "int", "real", "symbol"})
 def semantic_tokens(a: Analysis) -> list[tuple[Span, str, tuple[str, ...]]]:
     """(span, token type, modifiers) of every name of the document that means something of
     the model: resources, morphisms, θ parameters, constants/objects, sorts, ..."""
-    from catc.interfaces.lsp import names_in_scope
+    from catc.interfaces.lsp.analysis import names_in_scope
 
     scope = names_in_scope(a)
     declared = {d.span.start for d in a.definitions if _key(d.span.file) == _key(a.path)}
@@ -403,22 +420,49 @@ def unit_hints(a: Analysis) -> list[tuple[Span, str, str]]:
 #: What each option of a form takes and does (docs/language.md); every option the grammar
 #: accepts for a morphism, resource, parameter, hole or view has an entry (a test checks it).
 OPTION_DOCS: dict[str, tuple[str, str]] = {
-    ":kind": (":kind hardware|software|behavior", "what the component is (default software)"),
-    ":churn": (":churn Q", "weight of adding or removing it in recomposition (default 1)"),
-    ":uses": (":uses N", "at most N activations (default unlimited; 0 switches it off)"),
-    ":cost": (":cost E", "cost per activation, a number or an expression over the parameters (default 1)"),
-    ":parameters": (":parameters ((θ SORT ...) ...)", "the θ parameters the solver chooses"),
+    ":kind": (
+        ":kind hardware|software|behavior",
+        "what the component is (default software)",
+    ),
+    ":churn": (
+        ":churn Q",
+        "weight of adding or removing it in recomposition (default 1)",
+    ),
+    ":uses": (
+        ":uses N",
+        "at most N activations (default unlimited; 0 switches it off)",
+    ),
+    ":cost": (
+        ":cost E",
+        "cost per activation, a number or an expression over the parameters (default 1)",
+    ),
+    ":parameters": (
+        ":parameters ((θ SORT ...) ...)",
+        "the θ parameters the solver chooses",
+    ),
     ":precondition": (":precondition P", "what must hold before an activation"),
-    ":effect": (":effect E", "(and ...), (assign r v), (increase r v), (decrease r v), (add s x), (remove s x)"),
+    ":effect": (
+        ":effect E",
+        "(and ...), (assign r v), (increase r v), (decrease r v), (add s x), (remove s x)",
+    ),
     ":doc": (':doc "text"', "documentation, shown on hover"),
-    ":ground": (":ground (hardware|software|behavior ...)", "what it becomes on the robot (docs/grounding.md)"),
-    ":group": (":group NAME", "the partial state it belongs to (electromechanical, compute, info, external, ...)"),
+    ":ground": (
+        ":ground (hardware|software|behavior ...)",
+        "what it becomes on the robot (docs/grounding.md)",
+    ),
+    ":group": (
+        ":group NAME",
+        "the partial state it belongs to (electromechanical, compute, info, external, ...)",
+    ),
     ":unit": (":unit NAME", "its unit, shown with values and relaxations"),
     ":bounds": (":bounds (LO HI)", "an invariant in every state; * leaves a side open"),
     ":fixed": (":fixed", "one value shared by every activation"),
     ":view": (":view NAME", "the view the hole's morphisms are written in"),
     ":max-effects": (":max-effects N", "at most N effects per synthesised morphism"),
-    ":max-preconditions": (":max-preconditions N", "at most N preconditions per synthesised morphism"),
+    ":max-preconditions": (
+        ":max-preconditions N",
+        "at most N preconditions per synthesised morphism",
+    ),
     ":keep": (":keep (r ...)", "the resources the view keeps"),
     ":drop": (":drop (r ...)", "the resources the view hides"),
 }
@@ -434,7 +478,13 @@ class Signature:
 
 
 def _forms() -> dict[str, tuple[str, tuple[str, ...]]]:
-    from catgrammar.symbols import HOLE_OPTIONS, MORPHISM_OPTIONS, PARAMETER_OPTIONS, RESOURCE_OPTIONS, VIEW_OPTIONS
+    from catgrammar.symbols import (
+        HOLE_OPTIONS,
+        MORPHISM_OPTIONS,
+        PARAMETER_OPTIONS,
+        RESOURCE_OPTIONS,
+        VIEW_OPTIONS,
+    )
 
     def keys(opts) -> tuple[str, ...]:
         return tuple(o.value for o in opts)
@@ -482,7 +532,13 @@ def signature_at(text: str, offset: int) -> Signature | None:
             if value in options:
                 active = options.index(value)
                 break
-        return Signature(f"{opener} {' '.join(labels)})", f"the options of a {form}", labels, docs, active)
+        return Signature(
+            f"{opener} {' '.join(labels)})",
+            f"the options of a {form}",
+            labels,
+            docs,
+            active,
+        )
     return None
 
 

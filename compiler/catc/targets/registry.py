@@ -1,0 +1,35 @@
+"""The targets, by name.  Adding a target: one module defining ``TARGET`` (see
+:mod:`catc.targets.base`), and one line here.  Modules are imported on first use, so
+exporting to one target loads only its own module."""
+
+from __future__ import annotations
+
+import importlib
+
+from catc.targets.base import Target
+
+TARGETS: dict[str, str] = {
+    "pddl": "catc.targets.pddl_target",
+    "pddlplus": "catc.targets.pddlplus_target",
+    "smt2": "catc.targets.smt2",
+    "ground": "catc.targets.ground",
+}
+
+
+def names() -> list[str]:
+    return list(TARGETS)
+
+
+def get(name: str) -> Target:
+    """The target named ``name`` (KeyError when there is none)."""
+    target: Target = importlib.import_module(TARGETS[name]).TARGET
+    return target
+
+
+def by_command(words: tuple[str, ...]) -> Target | None:
+    """The target the command line spells ``words`` (``("export", "pddl")``, ``("compile",)``)."""
+    for name in TARGETS:
+        target = get(name)
+        if target.command == words:
+            return target
+    return None
