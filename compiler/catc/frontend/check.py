@@ -8,7 +8,7 @@ return ``None`` when anything was wrong.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from fractions import Fraction
 from typing import TYPE_CHECKING, TypeVar
 
@@ -577,7 +577,7 @@ class DomainChecker:
         params = self._params(m, opts.get(Option.PARAMETERS.value))
         scope = Scope(self.sorts, self.constants, self.resources, {p.name: p for p in params})
         checker = ExprChecker(scope, self.diags, self.req.need)
-        pre = self._literals(checker, opts.get(Option.PRECONDITION.value), f"pre/{name}")
+        pre = self._literals(checker, opts.get(Option.PRECONDITION.value), lambda i: ir.Label.pre(name, i))
         effects = self._effects(checker, opts.get(Option.EFFECT.value), name)
         cost = None
         if Option.COST.value in opts:
@@ -684,10 +684,12 @@ class DomainChecker:
             out.append(param)
         return out
 
-    def _literals(self, checker: ExprChecker, opt: ast.Opt | None, prefix: str) -> list[ir.Literal]:
+    def _literals(
+        self, checker: ExprChecker, opt: ast.Opt | None, label: Callable[[int], ir.Label]
+    ) -> list[ir.Literal]:
         if opt is None:
             return []
-        return split_literals(checker, opt.value, prefix, Context.CONDITION)  # type: ignore[arg-type]
+        return split_literals(checker, opt.value, label, Context.CONDITION)  # type: ignore[arg-type]
 
     def _effects(self, checker: ExprChecker, opt: ast.Opt | None, morphism: str) -> list[ir.Effect]:
         if opt is None:
@@ -702,7 +704,7 @@ class DomainChecker:
             else:
                 flat.append(node)
         for i, node in enumerate(flat, 1):
-            eff = self._effect(checker, node, f"eff/{morphism}/{i}")
+            eff = self._effect(checker, node, ir.Label.eff(morphism, i))
             if eff is not None:
                 out.append(eff)
         _check_effect_conflicts(out, self.diags)
@@ -710,7 +712,7 @@ class DomainChecker:
 
     _EFFECT_HEADS = ("assign", "increase", "decrease", "add", "remove")
 
-    def _effect(self, checker: ExprChecker, node: ast.Expr, label: str) -> ir.Effect | None:
+    def _effect(self, checker: ExprChecker, node: ast.Expr, label: ir.Label) -> ir.Effect | None:
         """One effect literal: ``(op resource value)``, checked for the resource's sort."""
         if not isinstance(node, ast.Call) or node.head.text not in self._EFFECT_HEADS:
             self._not_an_effect(node)
@@ -865,8 +867,10 @@ class DomainChecker:
         self.holes[h.name.text] = ir.Hole(h.name.text, view, max_eff, max_pre, h.name.span)
 
 
-def split_literals(checker: ExprChecker, node: ast.Expr, prefix: str, ctx: Context) -> list[ir.Literal]:
-    """Split a top-level conjunction into labelled literals ``prefix/1``, ``prefix/2``, ..."""
+def split_literals(
+    checker: ExprChecker, node: ast.Expr, label: Callable[[int], ir.Label], ctx: Context
+) -> list[ir.Literal]:
+    """Split a top-level conjunction into literals labelled ``label(1)``, ``label(2)``, ..."""
     flat: list[ast.Expr] = []
     stack = [node]
     while stack:
@@ -879,7 +883,7 @@ def split_literals(checker: ExprChecker, node: ast.Expr, prefix: str, ctx: Conte
     for i, n in enumerate(flat, 1):
         e = checker.condition(n, ctx)
         if e is not None:
-            out.append(ir.Literal(e, f"{prefix}/{i}", n.span))
+            out.append(ir.Literal(e, label(i), n.span))
     return out
 
 
@@ -966,7 +970,7 @@ class ProblemChecker:
         view = self._view()
         init = self._init(view)
         goal_sec = self._single(ast.Goal, "(:goal ...)")
-        goal = split_literals(self.checker, goal_sec.condition, "goal", Context.CONDITION) if goal_sec else []
+        goal = split_literals(self.checker, goal_sec.condition, ir.Label.goal, Context.CONDITION) if goal_sec else []
         if goal_sec is None:
             self.diags.report(codes.MISSING_OPTION, f"problem '{node.name.text}' has no (:goal ...)", node.name.span)
         horizon_sec = self._single(ast.Horizon, "(:horizon ...)")
@@ -1108,7 +1112,7 @@ class ProblemChecker:
                         Note("first given here", out[name].span),
                     )
                     continue
-                out[name] = ir.InitValue(name, value, f"init/{name}", lit.span)
+                out[name] = ir.InitValue(name, value, ir.Label.init(name), lit.span)
         dropped = self.domain.views[view].dropped if view else frozenset()
         unmentioned = self._unmentioned_imports()
         missing = []
@@ -1118,9 +1122,9 @@ class ProblemChecker:
             if res.name in unmentioned and res.name not in attempted:
                 self.left_out.add(res.name)
             elif res.sort.kind is SortKind.BOOL:
-                out[res.name] = ir.InitValue(res.name, ir.Const(False, BOOL), f"init/{res.name}", None)
+                out[res.name] = ir.InitValue(res.name, ir.Const(False, BOOL), res.init_label, None)
             elif res.sort.kind is SortKind.SET:
-                out[res.name] = ir.InitValue(res.name, ir.SetLit((), res.sort), f"init/{res.name}", None)
+                out[res.name] = ir.InitValue(res.name, ir.SetLit((), res.sort), res.init_label, None)
             elif res.name not in dropped and res.name not in attempted:
                 missing.append(res)
         if missing:
@@ -1239,7 +1243,7 @@ class ProblemChecker:
                 weight = num.value
             expr = self.checker.condition(sec.condition)
             if expr is not None:
-                out.append(ir.Soft(expr, weight, f"soft/{i}", sec.span))
+                out.append(ir.Soft(expr, weight, ir.Label.soft(i), sec.span))
         return out
 
     def _metric(self) -> ir.Metric | None:

@@ -18,6 +18,7 @@ from types import MappingProxyType
 from typing import Never, TypeVar
 
 from catc.ir.grounding import Deployment, Grounding
+from catc.ir.labels import Label, LabelKind
 from catgrammar.record import Record
 from catgrammar.record import set_field as _set
 from catgrammar.span import Span
@@ -43,6 +44,8 @@ __all__ = [
     "InitValue",
     "Instance",
     "Ite",
+    "Label",
+    "LabelKind",
     "Literal",
     "Member",
     "Metric",
@@ -461,6 +464,16 @@ class Resource(Record):
         _set(self, "doc", doc)
         _set(self, "span", span)
 
+    @property
+    def bounds_label(self) -> Label:
+        """The label of this resource's bounds (``bounds/r``)."""
+        return Label.bounds(self.name)
+
+    @property
+    def init_label(self) -> Label:
+        """The label of this resource's initial value (``init/r``)."""
+        return Label.init(self.name)
+
 
 class Param(Record):
     """A free parameter θ of a morphism."""
@@ -624,6 +637,15 @@ class Morphism(Record):
     @property
     def writes(self) -> frozenset[str]:
         return frozenset(e.resource for e in self.effects)
+
+    @property
+    def uses_label(self) -> Label:
+        """The label of this morphism's use limit (``uses/m``)."""
+        return Label.uses(self.name)
+
+    def bound_label(self, param: str) -> Label:
+        """The label of one parameter's bounds (``bound/m/p``)."""
+        return Label.bound(self.name, param)
 
 
 class Hole(Record):

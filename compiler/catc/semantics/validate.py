@@ -419,7 +419,7 @@ def _initial(instance: ir.Instance) -> tuple[dict[str, object], list[Violation]]
     init = instance.problem.init
     for name, r in instance.resources.items():
         iv = init.get(name)
-        label = iv.label if iv is not None else f"init/{name}"
+        label = iv.label if iv is not None else r.init_label
         if iv is None:
             if r.sort.kind is SortKind.BOOL:
                 state[name] = False

@@ -112,6 +112,9 @@ class Encoder:
         self.grounding = Grounding(inst, horizon)
         self.morphisms = list(inst.morphisms.values())
         self.resources = list(inst.resources.values())
+        # The labels of bounds, built once (the unrolling files one constraint per step under each)
+        self.bound_labels = {(m.name, p.name): m.bound_label(p.name) for m in self.morphisms for p in m.params}
+        self.bounds_labels = {r.name: r.bounds_label for r in self.resources}
         self.script = Script()
         self.states: list[dict[str, Term]] = []
         self.act: list[dict[str, Symbol]] = []
@@ -186,9 +189,9 @@ class Encoder:
             self.add(None, self.domain_constraint(_text(v), p.sort))
         lit = real_literal if p.sort.kind is SortKind.REAL else (lambda f: int_literal(int(f)))
         if p.lower is not None:
-            self.add(f"bound/{m.name}/{p.name}", f"(>= {v} {lit(p.lower)})")
+            self.add(self.bound_labels[m.name, p.name], f"(>= {v} {lit(p.lower)})")
         if p.upper is not None:
-            self.add(f"bound/{m.name}/{p.name}", f"(<= {v} {lit(p.upper)})")
+            self.add(self.bound_labels[m.name, p.name], f"(<= {v} {lit(p.upper)})")
 
     def _new_state(self, t: int) -> dict[str, Term]:
         state: dict[str, Term] = {}
@@ -200,9 +203,9 @@ class Encoder:
             state[r.name] = v
             lit = real_literal if r.sort.kind is SortKind.REAL else (lambda f: int_literal(int(f)))
             if r.lower is not None:
-                self.add(f"bounds/{r.name}", f"(>= {v} {lit(r.lower)})")
+                self.add(self.bounds_labels[r.name], f"(>= {v} {lit(r.lower)})")
             if r.upper is not None:
-                self.add(f"bounds/{r.name}", f"(<= {v} {lit(r.upper)})")
+                self.add(self.bounds_labels[r.name], f"(<= {v} {lit(r.upper)})")
         return state
 
     def _initial_state(self) -> None:
@@ -415,7 +418,7 @@ class Encoder:
         out: list[tuple[str, str]] = []
         for m in self.morphisms:
             if m.uses is not None and steps > m.uses:
-                out.append((f"uses/{m.name}", at_most([self.act[t][m.name] for t in range(steps)], m.uses)))
+                out.append((m.uses_label, at_most([self.act[t][m.name] for t in range(steps)], m.uses)))
         return out
 
     # ------------------------------------------------------------------ expressions

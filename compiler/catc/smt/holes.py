@@ -103,7 +103,7 @@ class HoleEncoding:
         for kind, sel, r, value in self.selectors:
             if backend.value(sel) is not True:
                 continue
-            label = f"eff/{self.hole.name}/{len(out) + 1}"
+            label = ir.Label.eff(self.hole.name, len(out) + 1)
             if kind in ("set", "clear"):
                 out.append(ir.Effect(ir.EffectKind.ASSIGN, r.name, ir.Const(kind == "set", ir.BOOL), label))
                 continue
