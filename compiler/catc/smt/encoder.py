@@ -38,7 +38,7 @@ from typing import Any, TypeAlias
 from catc import ir
 from catc.ir import SortKind
 from catc.semantics.horizon import check_horizon
-from catc.smt.grounding import Grounding
+from catc.smt.finite import FiniteSorts
 from catc.smt.script import Script, SmtSort, Symbol, at_most, int_literal, real_literal
 from catc.smt.script import and_text as _and
 from catc.smt.script import or_text as _or
@@ -109,7 +109,7 @@ class Encoder:
         self.track = track
         self.assumed = assumed
         check_horizon(None, horizon)
-        self.grounding = Grounding(inst, horizon)
+        self.finite = FiniteSorts(inst, horizon)
         self.morphisms = list(inst.morphisms.values())
         self.resources = list(inst.resources.values())
         # The labels of bounds, built once (the unrolling files one constraint per step under each)
@@ -146,7 +146,7 @@ class Encoder:
     def _var(self, name: str, sort: ir.Sort) -> Term:
         if sort.kind is SortKind.SET:
             assert sort.element is not None  # a set sort's element sort
-            u = self.grounding.universe(sort.element)
+            u = self.finite.universe(sort.element)
             return {i: self.script.declare(f"{name}.{e}", SmtSort.BOOL) for i, e in enumerate(u.elements)}
         return self.script.declare(name, _SMT_SORT[sort.kind])
 
@@ -156,7 +156,7 @@ class Encoder:
 
     def domain_constraint(self, v: str, sort: ir.Sort) -> str:
         """The values a symbolic variable may take: its sort's universe indices."""
-        allowed = self.grounding.allowed(sort)
+        allowed = self.finite.allowed(sort)
         if not allowed:
             return "false"
         if allowed == list(range(allowed[0], allowed[-1] + 1)):
@@ -430,7 +430,7 @@ class Encoder:
         if isinstance(v, bool):
             return "true" if v else "false"
         if isinstance(v, str):
-            return self.grounding.universe(e.sort).index(v)
+            return self.finite.universe(e.sort).index(v)
         return int_literal(v.numerator) if e.sort.kind is SortKind.INT else real_literal(v)
 
     @staticmethod
@@ -445,7 +445,7 @@ class Encoder:
 
     def _setlit(self, e: ir.SetLit, ctx: _Ctx) -> Term:
         assert e.sort.element is not None  # a set sort's element sort
-        u = self.grounding.universe(e.sort.element)
+        u = self.finite.universe(e.sort.element)
         elems = [self.term(x, ctx) for x in e.elements]
         return {i: _or([self._sym_eq(x, i) for x in elems]) for i in range(len(u))}
 

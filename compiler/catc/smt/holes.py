@@ -117,7 +117,7 @@ class HoleEncoding:
             else:
                 of = r.sort.element if kind != "assign" else r.sort
                 assert of is not None  # a set resource's element sort
-                universe = self.enc.grounding.universe(of)
+                universe = self.enc.finite.universe(of)
                 element = ir.Const(universe.elements[int(raw)], of)
                 kinds = {"add": ir.EffectKind.ADD, "remove": ir.EffectKind.REMOVE, "assign": ir.EffectKind.ASSIGN}
                 out.append(ir.Effect(kinds[kind], r.name, element, label))
