@@ -914,11 +914,14 @@ def _check_effect_conflicts(effects: list[ir.Effect], diags: Diagnostics) -> Non
 
 
 def _elem_key(expr: ir.Expr) -> tuple:
-    if isinstance(expr, ir.Const):
-        return ("c", expr.value)
-    if isinstance(expr, ir.ParamRef):
-        return ("p", expr.name)
-    return ("x", id(expr))
+    """What identifies an added or removed element: a constant, a parameter, else the node."""
+    match expr:
+        case ir.Const():
+            return ("c", expr.value)
+        case ir.ParamRef():
+            return ("p", expr.name)
+        case _:
+            return ("x", id(expr))
 
 
 # ====================================================================== problems

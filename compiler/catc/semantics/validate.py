@@ -31,7 +31,7 @@ from collections import Counter, defaultdict
 from collections.abc import Callable, Mapping
 from fractions import Fraction
 from types import MappingProxyType
-from typing import Any, TypeGuard
+from typing import Never, NoReturn, TypeGuard
 
 from catc import ir
 from catc.ir import ArithOp, BoolOpKind, CmpOp, EffectKind, SortKind
@@ -327,30 +327,42 @@ def _h_param_value(env: _Env, e: ir.ParamValue) -> object:
     return values[0]
 
 
-# Each handler takes the class it is keyed by, a dependent type mypy cannot express: the
-# table's handlers take Any, and every entry is checked where it is written.
-_HANDLERS: dict[type[ir.Expr], Callable[[_Env, Any], object]] = {
-    ir.Const: _h_const,
-    ir.ResourceRef: _h_resource,
-    ir.ParamRef: _h_param,
-    ir.SetLit: _h_setlit,
-    ir.Arith: _h_arith,
-    ir.Compare: _h_compare,
-    ir.BoolOp: _h_boolop,
-    ir.Ite: _h_ite,
-    ir.Member: _h_member,
-    ir.TotalCost: _h_total_cost,
-    ir.TotalChurn: _h_total_churn,
-    ir.Uses: _h_uses,
-    ir.ParamValue: _h_param_value,
-}
-
-
 def _eval(env: _Env, e: ir.Expr) -> object:
-    handler = _HANDLERS.get(type(e))
-    if handler is None:
-        raise EvaluationError(f"cannot evaluate a {type(e).__name__}")
-    return handler(env, e)
+    match e:
+        case ir.Const():
+            return _h_const(env, e)
+        case ir.ResourceRef():
+            return _h_resource(env, e)
+        case ir.ParamRef():
+            return _h_param(env, e)
+        case ir.SetLit():
+            return _h_setlit(env, e)
+        case ir.Arith():
+            return _h_arith(env, e)
+        case ir.Compare():
+            return _h_compare(env, e)
+        case ir.BoolOp():
+            return _h_boolop(env, e)
+        case ir.Ite():
+            return _h_ite(env, e)
+        case ir.Member():
+            return _h_member(env, e)
+        case ir.TotalCost():
+            return _h_total_cost(env, e)
+        case ir.TotalChurn():
+            return _h_total_churn(env, e)
+        case ir.Uses():
+            return _h_uses(env, e)
+        case ir.ParamValue():
+            return _h_param_value(env, e)
+        case _:
+            _not_an_expression(e)
+
+
+def _not_an_expression(e: Never) -> NoReturn:
+    """``assert_never`` for mypy (every ``ir.Expr`` is matched above), and an
+    :class:`EvaluationError` at run time for what is no expression at all."""
+    raise EvaluationError(f"cannot evaluate a {type(e).__name__}")
 
 
 def evaluate(

@@ -33,7 +33,7 @@ from __future__ import annotations
 from collections import defaultdict
 from collections.abc import Callable, Mapping
 from fractions import Fraction
-from typing import Any, TypeAlias
+from typing import TypeAlias, assert_never
 
 from catc import ir
 from catc.ir import SortKind
@@ -123,20 +123,6 @@ class Encoder:
         self.indicators: dict[str, Symbol] = {}  # effect label → indicator (tracking)
         #: resources no morphism writes keep one variable for every state
         self.written = frozenset(e.resource for m in self.morphisms for e in m.effects) | extra_written
-        # Each handler takes the class it is keyed by, a dependent type mypy cannot express: the
-        # table's handlers take Any, and every entry is checked where it is written.
-        self._dispatch: dict[type[ir.Expr | Encoded], Callable[[Any, _Ctx], Term]] = {
-            ir.Const: self._const,
-            ir.ResourceRef: self._resource,
-            ir.ParamRef: self._param,
-            ir.SetLit: self._setlit,
-            ir.Arith: self._arith,
-            ir.Compare: self._compare,
-            ir.BoolOp: self._boolop,
-            ir.Ite: self._ite,
-            ir.Member: self._member,
-            Encoded: self._encoded,
-        }
         self._classify()
         self._fixed_params()
         self.states.append(self._new_state(0))
@@ -422,8 +408,32 @@ class Encoder:
         return out
 
     # ------------------------------------------------------------------ expressions
-    def term(self, e: ir.Expr, ctx: _Ctx) -> Term:
-        return self._dispatch[type(e)](e, ctx)
+    def term(self, e: ir.Expr | Encoded, ctx: _Ctx) -> Term:
+        match e:
+            case ir.Const():
+                return self._const(e, ctx)
+            case ir.ResourceRef():
+                return self._resource(e, ctx)
+            case ir.ParamRef():
+                return self._param(e, ctx)
+            case ir.SetLit():
+                return self._setlit(e, ctx)
+            case ir.Arith():
+                return self._arith(e, ctx)
+            case ir.Compare():
+                return self._compare(e, ctx)
+            case ir.BoolOp():
+                return self._boolop(e, ctx)
+            case ir.Ite():
+                return self._ite(e, ctx)
+            case ir.Member():
+                return self._member(e, ctx)
+            case Encoded():
+                return e.text
+            case ir.TotalChurn() | ir.TotalCost() | ir.Uses() | ir.ParamValue():
+                raise ValueError(f"{type(e).__name__} is a term of objectives only (Encoder.objective)")
+            case _:
+                assert_never(e)
 
     def _const(self, e: ir.Const, ctx: _Ctx) -> Term:
         v = e.value
@@ -432,10 +442,6 @@ class Encoder:
         if isinstance(v, str):
             return self.finite.universe(e.sort).index(v)
         return int_literal(v.numerator) if e.sort.kind is SortKind.INT else real_literal(v)
-
-    @staticmethod
-    def _encoded(e: Encoded, ctx: _Ctx) -> Term:
-        return e.text
 
     def _resource(self, e: ir.ResourceRef, ctx: _Ctx) -> Term:
         return self.states[ctx.t][e.name]
@@ -548,32 +554,36 @@ class Encoder:
         return out
 
     def _objective(self, e: ir.Expr, steps: int) -> Term:
-        acts = [(t, m) for t in range(steps) for m in self.morphisms]
-        if isinstance(e, ir.TotalCost):
-            terms = [f"(ite {self.act[t][m.name]} {self._cost(m, t)} 0.0)" for t, m in acts]
-            return f"(+ 0.0 {' '.join(terms)})" if terms else "0.0"
-        if isinstance(e, ir.TotalChurn):
-            terms = [f"(ite {changed} {real_literal(w)} 0.0)" for changed, w in self.churn_literals(steps)]
-            return f"(+ 0.0 {' '.join(terms)})" if terms else "0.0"
-        if isinstance(e, ir.Uses):
-            terms = [f"(ite {self.act[t][e.morphism]} 1 0)" for t in range(steps)]
-            return f"(+ 0 {' '.join(terms)})" if terms else "0"
-        if isinstance(e, ir.ParamValue):
-            if (e.morphism, e.param) in self.fixed:
-                return self.fixed[(e.morphism, e.param)]
-            out = "0.0" if e.sort.kind is SortKind.REAL else "0"
-            for t in range(steps):
-                out = f"(ite {self.act[t][e.morphism]} {self.theta[t][(e.morphism, e.param)]} {out})"
-            return out
-        if isinstance(e, ir.Arith):
-            args = tuple(Encoded(self._objective(a, steps), a.sort) for a in e.args)
-            # an Encoded stands in for an expression (``term`` dispatches it to its text)
-            return self._arith(ir.Arith(e.op, args, e.sort), _Ctx(steps, {}, []))  # type: ignore[arg-type]
-        if isinstance(e, ir.Ite):
-            parts = [Encoded(self._objective(x, steps), x.sort) for x in (e.cond, e.then, e.orelse)]
-            # as above: Encoded parts stand in for expressions
-            return self._ite(ir.Ite(parts[0], parts[1], parts[2], e.sort), _Ctx(steps, {}, []))  # type: ignore[arg-type]
-        return self.term(e, _Ctx(steps, {}, []))
+        match e:
+            case ir.TotalCost():
+                acts = [(t, m) for t in range(steps) for m in self.morphisms]
+                terms = [f"(ite {self.act[t][m.name]} {self._cost(m, t)} 0.0)" for t, m in acts]
+                return f"(+ 0.0 {' '.join(terms)})" if terms else "0.0"
+            case ir.TotalChurn():
+                terms = [f"(ite {changed} {real_literal(w)} 0.0)" for changed, w in self.churn_literals(steps)]
+                return f"(+ 0.0 {' '.join(terms)})" if terms else "0.0"
+            case ir.Uses():
+                terms = [f"(ite {self.act[t][e.morphism]} 1 0)" for t in range(steps)]
+                return f"(+ 0 {' '.join(terms)})" if terms else "0"
+            case ir.ParamValue():
+                if (e.morphism, e.param) in self.fixed:
+                    return self.fixed[(e.morphism, e.param)]
+                out = "0.0" if e.sort.kind is SortKind.REAL else "0"
+                for t in range(steps):
+                    out = f"(ite {self.act[t][e.morphism]} {self.theta[t][(e.morphism, e.param)]} {out})"
+                return out
+            case ir.Arith():
+                args = tuple(Encoded(self._objective(a, steps), a.sort) for a in e.args)
+                # an Encoded stands in for an expression (``term`` matches it to its text)
+                return self._arith(ir.Arith(e.op, args, e.sort), _Ctx(steps, {}, []))  # type: ignore[arg-type]
+            case ir.Ite():
+                parts = [Encoded(self._objective(x, steps), x.sort) for x in (e.cond, e.then, e.orelse)]
+                # as above: Encoded parts stand in for expressions
+                return self._ite(ir.Ite(parts[0], parts[1], parts[2], e.sort), _Ctx(steps, {}, []))  # type: ignore[arg-type]
+            case ir.Const() | ir.ResourceRef() | ir.ParamRef() | ir.SetLit() | ir.Compare() | ir.BoolOp() | ir.Member():
+                return self.term(e, _Ctx(steps, {}, []))
+            case _:
+                assert_never(e)
 
     def _cost(self, m: ir.Morphism, t: int) -> str:
         if m.cost is None:
