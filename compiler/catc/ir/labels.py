@@ -11,9 +11,8 @@ sentence, for diagnoses, relaxations and the language server.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from enum import Enum
-from typing import Any
+from typing import Any, NamedTuple
 
 from catc import ir
 from catc.ir.numbers import number_text
@@ -133,8 +132,7 @@ class Label(str):
 HORIZON = Label.horizon()
 
 
-@dataclass(frozen=True)
-class LabelInfo:
+class LabelInfo(NamedTuple):  # (not a dataclass: `catc solve` does not import dataclasses)
     label: str
     kind: str  # precondition | effect | initial value | goal | parameter bounds | resource bounds | use limit | horizon
     text: str  # the construct, as written (normalised)
