@@ -42,6 +42,11 @@ TARGETS: dict[str, tuple[str, list[str]]] = {
             "tests/test_generated_models.py",
         ],
     ),
+    # the validator's expression evaluator (part of validate.py until it was split out)
+    "evaluate": (
+        "catc/semantics/evaluate.py",
+        ["tests/test_validate.py", "tests/test_validate_mutants.py", "tests/test_solve_property.py"],
+    ),
     "encoder": (
         "catc/smt/encoder.py",
         # the brute-force search, the z3 binary and cvc5, and the whole pipeline on generated

@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from enum import Enum
 from fractions import Fraction
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, assert_never
 
 from catc import ir
 from catc.ir import BOOL, INT, REAL, Sort, SortKind
@@ -296,19 +296,23 @@ class ExprChecker:
         return expr
 
     def term(self, node: ast.Expr, ctx: Context, expected: Sort | None = None) -> ir.Expr | None:
-        if isinstance(node, ast.Num):
-            return const_number(node.value, node.span)
-        if isinstance(node, ast.BoolLit):
-            return ir.Const(node.value, BOOL, node.span)
-        if isinstance(node, ast.Ref):
-            return self._ref(node, ctx)
-        if isinstance(node, ast.SetLit):
-            return self._set_literal(node, ctx, expected)
-        if isinstance(node, ast.Quantity):
-            from catc.frontend import units
+        match node:
+            case ast.Num():
+                return const_number(node.value, node.span)
+            case ast.BoolLit():
+                return ir.Const(node.value, BOOL, node.span)
+            case ast.Ref():
+                return self._ref(node, ctx)
+            case ast.SetLit():
+                return self._set_literal(node, ctx, expected)
+            case ast.Quantity():
+                from catc.frontend import units
 
-            return self._with_unit(const_number(node.number.value, node.span), units.parse(node.unit.text))
-        return self._call(node, ctx, expected)
+                return self._with_unit(const_number(node.number.value, node.span), units.parse(node.unit.text))
+            case ast.Call():
+                return self._call(node, ctx, expected)
+            case _:
+                assert_never(node)
 
     # ------------------------------------------------------------ names
     def _ref(self, node: ast.Ref, ctx: Context) -> ir.Expr | None:

@@ -19,6 +19,7 @@ from __future__ import annotations
 import operator
 from collections.abc import Callable, Mapping
 from fractions import Fraction
+from typing import assert_never
 
 from catc.ir.nodes import (
     BOOL,
@@ -33,7 +34,12 @@ from catc.ir.nodes import (
     Ite,
     Member,
     ParamRef,
+    ParamValue,
+    ResourceRef,
     SetLit,
+    TotalChurn,
+    TotalCost,
+    Uses,
 )
 from catgrammar import limits
 
@@ -120,31 +126,35 @@ def fold(e: Expr, theta: Mapping[str, object] | None = None) -> Expr:
     subexpression evaluated.  Raises :class:`FoldError` on division by zero, and
     :class:`ConstantTooLarge` for a value past the constant-digits limit."""
     theta = theta or {}
-    if isinstance(e, ParamRef):
-        # a value of theta is a parameter's value, or a placeholder a caller carries through
-        # (the PDDL+ export's dial marker): not only Fraction, bool or str
-        return Const(theta[e.name], e.sort, e.span) if e.name in theta else e  # type: ignore[arg-type]
-    if isinstance(e, Arith):
-        return _fold_arith(e, theta)
-    if isinstance(e, Compare):
-        left, right = fold(e.left, theta), fold(e.right, theta)
-        if isinstance(left, Const) and isinstance(right, Const):
-            a, b = left.value, right.value
-            value = a == b if e.op is CmpOp.EQ else _ORDER[e.op](a, b)
-            return Const(value, BOOL, e.span)
-        return Compare(e.op, left, right, e.span)
-    if isinstance(e, BoolOp):
-        return _fold_bool(e, theta)
-    if isinstance(e, Ite):
-        cond = fold(e.cond, theta)
-        if isinstance(cond, Const):
-            return fold(e.then if cond.value else e.orelse, theta)
-        return Ite(cond, fold(e.then, theta), fold(e.orelse, theta), e.sort, e.span)
-    if isinstance(e, Member):
-        return Member(fold(e.element, theta), fold(e.set, theta), e.span)
-    if isinstance(e, SetLit):
-        return SetLit(tuple(fold(a, theta) for a in e.elements), e.sort, e.span)
-    return e
+    match e:
+        case ParamRef():
+            # a value of theta is a parameter's value, or a placeholder a caller carries through
+            # (the PDDL+ export's dial marker): not only Fraction, bool or str
+            return Const(theta[e.name], e.sort, e.span) if e.name in theta else e  # type: ignore[arg-type]
+        case Arith():
+            return _fold_arith(e, theta)
+        case Compare():
+            left, right = fold(e.left, theta), fold(e.right, theta)
+            if isinstance(left, Const) and isinstance(right, Const):
+                a, b = left.value, right.value
+                value = a == b if e.op is CmpOp.EQ else _ORDER[e.op](a, b)
+                return Const(value, BOOL, e.span)
+            return Compare(e.op, left, right, e.span)
+        case BoolOp():
+            return _fold_bool(e, theta)
+        case Ite():
+            cond = fold(e.cond, theta)
+            if isinstance(cond, Const):
+                return fold(e.then if cond.value else e.orelse, theta)
+            return Ite(cond, fold(e.then, theta), fold(e.orelse, theta), e.sort, e.span)
+        case Member():
+            return Member(fold(e.element, theta), fold(e.set, theta), e.span)
+        case SetLit():
+            return SetLit(tuple(fold(a, theta) for a in e.elements), e.sort, e.span)
+        case Const() | ResourceRef() | TotalChurn() | TotalCost() | Uses() | ParamValue():
+            return e
+        case _:
+            assert_never(e)
 
 
 def _fold_arith(e: Arith, theta: Mapping[str, object]) -> Expr:

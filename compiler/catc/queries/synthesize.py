@@ -194,7 +194,7 @@ def _assumptions(inst: ir.Instance, state, effects: list[ir.Effect], limit: int 
             lits.append(ir.Compare(ir.CmpOp.EQ, ref, ir.Const(v, r.sort)))
     if limit is not None:
         lits = lits[:limit]
-    return [ir.Literal(e, f"pre/{'mu'}/{i}") for i, e in enumerate(lits, 1)]
+    return [ir.Literal(e, ir.Label.pre("mu", i)) for i, e in enumerate(lits, 1)]
 
 
 def to_cat(m: ir.Morphism, hole: ir.Hole) -> str:

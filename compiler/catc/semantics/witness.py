@@ -44,7 +44,7 @@ def witnessed(
     plan = _candidate(inst, enforced, components, order)
     if plan is None:
         return False
-    steps = horizon if "horizon" in enforced else extended
+    steps = horizon if ir.Label.horizon() in enforced else extended
     if len(plan.steps) > steps:
         return False
     for big in (False, True):
@@ -77,7 +77,7 @@ def _params(inst: ir.Instance, m: ir.Morphism, enforced: Collection[str]) -> dic
     for p in m.params:
         kind = p.sort.kind
         if p.sort.is_numeric:
-            bounded = f"bound/{m.name}/{p.name}" in enforced
+            bounded = m.bound_label(p.name) in enforced
             v = (p.lower if p.lower is not None else p.upper) if bounded else None
             v = Fraction(0) if v is None else v
             if kind is ir.SortKind.INT and v.denominator != 1:
@@ -99,18 +99,15 @@ def _restricted(inst: ir.Instance, enforced: Collection[str], big: bool) -> ir.I
     """The instance whose constraints are exactly the ``enforced`` labels."""
     morphisms: dict[str, ir.Morphism] = {}
     for m in inst.morphisms.values():
-        params = tuple(
-            p if f"bound/{m.name}/{p.name}" in enforced else replace(p, lower=None, upper=None) for p in m.params
-        )
+        params = tuple(p if m.bound_label(p.name) in enforced else replace(p, lower=None, upper=None) for p in m.params)
         morphisms[m.name] = replace(
             m,
             pre=tuple(lit for lit in m.pre if lit.label in enforced),
             params=params,
-            uses=m.uses if f"uses/{m.name}" in enforced else None,
+            uses=m.uses if m.uses_label in enforced else None,
         )
     resources = {
-        r.name: r if f"bounds/{r.name}" in enforced else replace(r, lower=None, upper=None)
-        for r in inst.resources.values()
+        r.name: r if r.bounds_label in enforced else replace(r, lower=None, upper=None) for r in inst.resources.values()
     }
     init: dict[str, ir.InitValue] = {}
     for name, given in inst.problem.init.items():

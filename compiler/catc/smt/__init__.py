@@ -1,2 +1,3 @@
-"""Encodings of the IR: Z3 terms (:mod:`z3enc`) and SMT-LIB2 text (:mod:`smtlib`),
-over the finite grounding of :mod:`grounding`."""
+"""Encodings of the IR: the encoder (:mod:`encoder`), SMT-LIB2 scripts (:mod:`script`,
+:mod:`smtlib`) and solver backends, over the finite universes of symbolic sorts of
+:mod:`finite` (finite grounding, paper Proposition 1 — not deployment grounding)."""

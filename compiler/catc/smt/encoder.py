@@ -33,12 +33,12 @@ from __future__ import annotations
 from collections import defaultdict
 from collections.abc import Callable, Mapping
 from fractions import Fraction
-from typing import Any, TypeAlias
+from typing import TypeAlias, assert_never
 
 from catc import ir
 from catc.ir import SortKind
 from catc.semantics.horizon import check_horizon
-from catc.smt.grounding import Grounding
+from catc.smt.finite import FiniteSorts
 from catc.smt.script import Script, SmtSort, Symbol, at_most, int_literal, real_literal
 from catc.smt.script import and_text as _and
 from catc.smt.script import or_text as _or
@@ -109,9 +109,12 @@ class Encoder:
         self.track = track
         self.assumed = assumed
         check_horizon(None, horizon)
-        self.grounding = Grounding(inst, horizon)
+        self.finite = FiniteSorts(inst, horizon)
         self.morphisms = list(inst.morphisms.values())
         self.resources = list(inst.resources.values())
+        # The labels of bounds, built once (the unrolling files one constraint per step under each)
+        self.bound_labels = {(m.name, p.name): m.bound_label(p.name) for m in self.morphisms for p in m.params}
+        self.bounds_labels = {r.name: r.bounds_label for r in self.resources}
         self.script = Script()
         self.states: list[dict[str, Term]] = []
         self.act: list[dict[str, Symbol]] = []
@@ -120,20 +123,6 @@ class Encoder:
         self.indicators: dict[str, Symbol] = {}  # effect label → indicator (tracking)
         #: resources no morphism writes keep one variable for every state
         self.written = frozenset(e.resource for m in self.morphisms for e in m.effects) | extra_written
-        # Each handler takes the class it is keyed by, a dependent type mypy cannot express: the
-        # table's handlers take Any, and every entry is checked where it is written.
-        self._dispatch: dict[type[ir.Expr | Encoded], Callable[[Any, _Ctx], Term]] = {
-            ir.Const: self._const,
-            ir.ResourceRef: self._resource,
-            ir.ParamRef: self._param,
-            ir.SetLit: self._setlit,
-            ir.Arith: self._arith,
-            ir.Compare: self._compare,
-            ir.BoolOp: self._boolop,
-            ir.Ite: self._ite,
-            ir.Member: self._member,
-            Encoded: self._encoded,
-        }
         self._classify()
         self._fixed_params()
         self.states.append(self._new_state(0))
@@ -143,7 +132,7 @@ class Encoder:
     def _var(self, name: str, sort: ir.Sort) -> Term:
         if sort.kind is SortKind.SET:
             assert sort.element is not None  # a set sort's element sort
-            u = self.grounding.universe(sort.element)
+            u = self.finite.universe(sort.element)
             return {i: self.script.declare(f"{name}.{e}", SmtSort.BOOL) for i, e in enumerate(u.elements)}
         return self.script.declare(name, _SMT_SORT[sort.kind])
 
@@ -153,7 +142,7 @@ class Encoder:
 
     def domain_constraint(self, v: str, sort: ir.Sort) -> str:
         """The values a symbolic variable may take: its sort's universe indices."""
-        allowed = self.grounding.allowed(sort)
+        allowed = self.finite.allowed(sort)
         if not allowed:
             return "false"
         if allowed == list(range(allowed[0], allowed[-1] + 1)):
@@ -186,9 +175,9 @@ class Encoder:
             self.add(None, self.domain_constraint(_text(v), p.sort))
         lit = real_literal if p.sort.kind is SortKind.REAL else (lambda f: int_literal(int(f)))
         if p.lower is not None:
-            self.add(f"bound/{m.name}/{p.name}", f"(>= {v} {lit(p.lower)})")
+            self.add(self.bound_labels[m.name, p.name], f"(>= {v} {lit(p.lower)})")
         if p.upper is not None:
-            self.add(f"bound/{m.name}/{p.name}", f"(<= {v} {lit(p.upper)})")
+            self.add(self.bound_labels[m.name, p.name], f"(<= {v} {lit(p.upper)})")
 
     def _new_state(self, t: int) -> dict[str, Term]:
         state: dict[str, Term] = {}
@@ -200,9 +189,9 @@ class Encoder:
             state[r.name] = v
             lit = real_literal if r.sort.kind is SortKind.REAL else (lambda f: int_literal(int(f)))
             if r.lower is not None:
-                self.add(f"bounds/{r.name}", f"(>= {v} {lit(r.lower)})")
+                self.add(self.bounds_labels[r.name], f"(>= {v} {lit(r.lower)})")
             if r.upper is not None:
-                self.add(f"bounds/{r.name}", f"(<= {v} {lit(r.upper)})")
+                self.add(self.bounds_labels[r.name], f"(<= {v} {lit(r.upper)})")
         return state
 
     def _initial_state(self) -> None:
@@ -415,24 +404,44 @@ class Encoder:
         out: list[tuple[str, str]] = []
         for m in self.morphisms:
             if m.uses is not None and steps > m.uses:
-                out.append((f"uses/{m.name}", at_most([self.act[t][m.name] for t in range(steps)], m.uses)))
+                out.append((m.uses_label, at_most([self.act[t][m.name] for t in range(steps)], m.uses)))
         return out
 
     # ------------------------------------------------------------------ expressions
-    def term(self, e: ir.Expr, ctx: _Ctx) -> Term:
-        return self._dispatch[type(e)](e, ctx)
+    def term(self, e: ir.Expr | Encoded, ctx: _Ctx) -> Term:
+        match e:
+            case ir.Const():
+                return self._const(e, ctx)
+            case ir.ResourceRef():
+                return self._resource(e, ctx)
+            case ir.ParamRef():
+                return self._param(e, ctx)
+            case ir.SetLit():
+                return self._setlit(e, ctx)
+            case ir.Arith():
+                return self._arith(e, ctx)
+            case ir.Compare():
+                return self._compare(e, ctx)
+            case ir.BoolOp():
+                return self._boolop(e, ctx)
+            case ir.Ite():
+                return self._ite(e, ctx)
+            case ir.Member():
+                return self._member(e, ctx)
+            case Encoded():
+                return e.text
+            case ir.TotalChurn() | ir.TotalCost() | ir.Uses() | ir.ParamValue():
+                raise ValueError(f"{type(e).__name__} is a term of objectives only (Encoder.objective)")
+            case _:
+                assert_never(e)
 
     def _const(self, e: ir.Const, ctx: _Ctx) -> Term:
         v = e.value
         if isinstance(v, bool):
             return "true" if v else "false"
         if isinstance(v, str):
-            return self.grounding.universe(e.sort).index(v)
+            return self.finite.universe(e.sort).index(v)
         return int_literal(v.numerator) if e.sort.kind is SortKind.INT else real_literal(v)
-
-    @staticmethod
-    def _encoded(e: Encoded, ctx: _Ctx) -> Term:
-        return e.text
 
     def _resource(self, e: ir.ResourceRef, ctx: _Ctx) -> Term:
         return self.states[ctx.t][e.name]
@@ -442,7 +451,7 @@ class Encoder:
 
     def _setlit(self, e: ir.SetLit, ctx: _Ctx) -> Term:
         assert e.sort.element is not None  # a set sort's element sort
-        u = self.grounding.universe(e.sort.element)
+        u = self.finite.universe(e.sort.element)
         elems = [self.term(x, ctx) for x in e.elements]
         return {i: _or([self._sym_eq(x, i) for x in elems]) for i in range(len(u))}
 
@@ -545,32 +554,36 @@ class Encoder:
         return out
 
     def _objective(self, e: ir.Expr, steps: int) -> Term:
-        acts = [(t, m) for t in range(steps) for m in self.morphisms]
-        if isinstance(e, ir.TotalCost):
-            terms = [f"(ite {self.act[t][m.name]} {self._cost(m, t)} 0.0)" for t, m in acts]
-            return f"(+ 0.0 {' '.join(terms)})" if terms else "0.0"
-        if isinstance(e, ir.TotalChurn):
-            terms = [f"(ite {changed} {real_literal(w)} 0.0)" for changed, w in self.churn_literals(steps)]
-            return f"(+ 0.0 {' '.join(terms)})" if terms else "0.0"
-        if isinstance(e, ir.Uses):
-            terms = [f"(ite {self.act[t][e.morphism]} 1 0)" for t in range(steps)]
-            return f"(+ 0 {' '.join(terms)})" if terms else "0"
-        if isinstance(e, ir.ParamValue):
-            if (e.morphism, e.param) in self.fixed:
-                return self.fixed[(e.morphism, e.param)]
-            out = "0.0" if e.sort.kind is SortKind.REAL else "0"
-            for t in range(steps):
-                out = f"(ite {self.act[t][e.morphism]} {self.theta[t][(e.morphism, e.param)]} {out})"
-            return out
-        if isinstance(e, ir.Arith):
-            args = tuple(Encoded(self._objective(a, steps), a.sort) for a in e.args)
-            # an Encoded stands in for an expression (``term`` dispatches it to its text)
-            return self._arith(ir.Arith(e.op, args, e.sort), _Ctx(steps, {}, []))  # type: ignore[arg-type]
-        if isinstance(e, ir.Ite):
-            parts = [Encoded(self._objective(x, steps), x.sort) for x in (e.cond, e.then, e.orelse)]
-            # as above: Encoded parts stand in for expressions
-            return self._ite(ir.Ite(parts[0], parts[1], parts[2], e.sort), _Ctx(steps, {}, []))  # type: ignore[arg-type]
-        return self.term(e, _Ctx(steps, {}, []))
+        match e:
+            case ir.TotalCost():
+                acts = [(t, m) for t in range(steps) for m in self.morphisms]
+                terms = [f"(ite {self.act[t][m.name]} {self._cost(m, t)} 0.0)" for t, m in acts]
+                return f"(+ 0.0 {' '.join(terms)})" if terms else "0.0"
+            case ir.TotalChurn():
+                terms = [f"(ite {changed} {real_literal(w)} 0.0)" for changed, w in self.churn_literals(steps)]
+                return f"(+ 0.0 {' '.join(terms)})" if terms else "0.0"
+            case ir.Uses():
+                terms = [f"(ite {self.act[t][e.morphism]} 1 0)" for t in range(steps)]
+                return f"(+ 0 {' '.join(terms)})" if terms else "0"
+            case ir.ParamValue():
+                if (e.morphism, e.param) in self.fixed:
+                    return self.fixed[(e.morphism, e.param)]
+                out = "0.0" if e.sort.kind is SortKind.REAL else "0"
+                for t in range(steps):
+                    out = f"(ite {self.act[t][e.morphism]} {self.theta[t][(e.morphism, e.param)]} {out})"
+                return out
+            case ir.Arith():
+                args = tuple(Encoded(self._objective(a, steps), a.sort) for a in e.args)
+                # an Encoded stands in for an expression (``term`` matches it to its text)
+                return self._arith(ir.Arith(e.op, args, e.sort), _Ctx(steps, {}, []))  # type: ignore[arg-type]
+            case ir.Ite():
+                parts = [Encoded(self._objective(x, steps), x.sort) for x in (e.cond, e.then, e.orelse)]
+                # as above: Encoded parts stand in for expressions
+                return self._ite(ir.Ite(parts[0], parts[1], parts[2], e.sort), _Ctx(steps, {}, []))  # type: ignore[arg-type]
+            case ir.Const() | ir.ResourceRef() | ir.ParamRef() | ir.SetLit() | ir.Compare() | ir.BoolOp() | ir.Member():
+                return self.term(e, _Ctx(steps, {}, []))
+            case _:
+                assert_never(e)
 
     def _cost(self, m: ir.Morphism, t: int) -> str:
         if m.cost is None:

@@ -103,7 +103,7 @@ class HoleEncoding:
         for kind, sel, r, value in self.selectors:
             if backend.value(sel) is not True:
                 continue
-            label = f"eff/{self.hole.name}/{len(out) + 1}"
+            label = ir.Label.eff(self.hole.name, len(out) + 1)
             if kind in ("set", "clear"):
                 out.append(ir.Effect(ir.EffectKind.ASSIGN, r.name, ir.Const(kind == "set", ir.BOOL), label))
                 continue
@@ -117,7 +117,7 @@ class HoleEncoding:
             else:
                 of = r.sort.element if kind != "assign" else r.sort
                 assert of is not None  # a set resource's element sort
-                universe = self.enc.grounding.universe(of)
+                universe = self.enc.finite.universe(of)
                 element = ir.Const(universe.elements[int(raw)], of)
                 kinds = {"add": ir.EffectKind.ADD, "remove": ir.EffectKind.REMOVE, "assign": ir.EffectKind.ASSIGN}
                 out.append(ir.Effect(kinds[kind], r.name, element, label))

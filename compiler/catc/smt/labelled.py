@@ -18,7 +18,7 @@ from catc.smt.encoder import Encoder
 from catc.smt.script import SmtSort, Symbol, and_text, or_text
 
 #: The label of "nothing happens after the horizon" (see :class:`LabelledModel`).
-HORIZON = "horizon"
+HORIZON = ir.Label.horizon()
 
 
 class LabelledModel:

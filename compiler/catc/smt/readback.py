@@ -1,6 +1,6 @@
 """Reading compositions back from a model: activations and θ values, by symbol.
 
-Symbols decode through the finite grounding (an Int index into the root sort's universe);
+Symbols decode through the finite universes (an Int index into the root sort's universe);
 reserve values that appear are recorded with their sort in the plan's ``fresh`` table.
 Works with every backend that has models.
 """
@@ -23,7 +23,7 @@ def read_value(backend: Backend, enc: Encoder, term: Term, sort: ir.Sort, fresh:
     assert not isinstance(v, bool)
     if sort.kind in (SortKind.REAL, SortKind.INT):
         return v
-    u = enc.grounding.universe(sort)
+    u = enc.finite.universe(sort)
     element = u.elements[int(v)]
     if element in u.fresh:
         fresh[element] = u.sort_of[element]

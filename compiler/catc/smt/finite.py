@@ -1,4 +1,7 @@
-"""Finite grounding of symbolic sorts (paper Proposition 1).
+"""Finite universes of symbolic sorts (paper Proposition 1: finite grounding).
+
+(Named apart from *deployment* grounding — :mod:`catc.ir.grounding`, :mod:`catc.targets.grounding` —
+what a component becomes on the robot.)
 
 Each root symbolic sort (and each enumeration) gets a finite universe: its constants — of
 the domain, its imports and the problem — followed by *reserve* values, one per free
@@ -66,7 +69,7 @@ def _within_limit(sort: ir.Sort, size: int, fresh: int, horizon: int) -> None:
     )
 
 
-class Grounding:
+class FiniteSorts:
     """Universes for every symbolic sort of an instance, for horizon ``k``."""
 
     def __init__(self, inst: ir.Instance, horizon: int) -> None:
