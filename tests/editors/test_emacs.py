@@ -65,3 +65,18 @@ def test_ert_sample_is_the_vim_sample():
     assert literal, "no cat-mode-test-sample string"
     text = re.sub(r"\\(.)", r"\1", literal.group(1), flags=re.S)
     assert text == (EDITORS / "vim" / "test" / "sample.cat").read_text(encoding="utf-8")
+
+
+@pytest.mark.editors
+@pytest.mark.parametrize("flush", ["0", "1"], ids=["as-is", "flushed-left"])
+def test_emacs_indents_every_repository_file_as_catc_fmt(flush):
+    """`indent-region' changes no line of any .cat file of the repository (all in catc fmt's
+    layout) and restores every file from its lines flushed left."""
+    from conftest import repo_cat_files
+
+    files = [str(p) for p in repo_cat_files()]
+    env = {"CAT_EMACS_DIR": str(EDITORS / "emacs"), "CAT_FILES": "\n".join(files), "CAT_FLUSH": flush}
+    script = EDITORS.parent / "tests" / "editors" / "scripts" / "reindent.el"
+    result = run([tool("emacs"), "--batch", "-Q", "-l", str(script)], env=env, timeout=600)
+    assert result.returncode == 0, explain(result)
+    assert len(files) > 50 and result.stdout.strip().endswith("0 differ"), result.stdout
