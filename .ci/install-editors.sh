@@ -25,6 +25,12 @@ fi
 if ! command -v emacs >/dev/null 2>&1; then
   packages+=(emacs-nox)
 fi
+if ! command -v nvim >/dev/null 2>&1; then
+  packages+=(neovim)
+fi
+if [ ! -d /usr/share/emacs/site-lisp/elpa-src ] || ! ls /usr/share/emacs/site-lisp/elpa-src | grep -q '^eglot'; then
+  packages+=(elpa-eglot)
+fi
 if ! command -v node >/dev/null 2>&1; then
   packages+=(nodejs)
 fi
@@ -38,7 +44,7 @@ if [ "${#packages[@]}" -gt 0 ]; then
   "${SUDO[@]}" apt-get update -qq
   "${SUDO[@]}" apt-get install -y -qq --no-install-recommends "${packages[@]}" >/dev/null
 else
-  log "vim, emacs, node and npm are already installed"
+  log "vim, neovim, emacs (with eglot), node and npm are already installed"
 fi
 
 node_major=$(node -p 'process.versions.node.split(".")[0]')

@@ -38,7 +38,7 @@ ROOT = EDITORS.parent
 if str(ROOT) not in sys.path:  # run from a checkout without installing the package
     sys.path.insert(0, str(ROOT))
 
-from catgrammar.symbols import all_keywords  # noqa: E402
+from catgrammar.symbols import Section, all_keywords  # noqa: E402
 
 TM_GRAMMAR = EDITORS / "vscode" / "syntaxes" / "cat.tmLanguage.json"
 VIM_SYNTAX = EDITORS / "vim" / "syntax" / "cat.vim"
@@ -228,6 +228,14 @@ def render_vim_indent_block(words: dict[str, tuple[str, ...]], width: int = 88) 
     line = "let s:call_heads = ["
     for word in dict.fromkeys(heads):
         item = "'" + word.replace("'", "''") + "', "
+        if len(line) + len(item) > width:
+            out.append(line.rstrip())
+            line = "      \\ "
+        line += item
+    out.append(line.rstrip().rstrip(",") + "]")
+    line = "let s:sections = ["
+    for word in ["define", *(s.value for s in Section)]:
+        item = "'" + word + "', "
         if len(line) + len(item) > width:
             out.append(line.rstrip())
             line = "      \\ "

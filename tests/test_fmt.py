@@ -20,11 +20,9 @@ from catgrammar.diagnostics import Diagnostics
 VALID = repo_cat_files()
 ALL = VALID + repo_cat_files(invalid=True)
 
-#: Valid files whose exact layout is a fixture of another test, and so not catc fmt's: the
-#: Vim indenter test re-indents this sample and expects it unchanged (indent/cat.vim's
-#: alignment, not catc fmt's), test.vim quotes its lines, and editors/emacs/cat-mode-tests.el
-#: embeds the same text for the Emacs tests.
-LAYOUT_FIXTURES = {"editors/vim/test/sample.cat"}
+#: Valid files whose exact layout is a fixture of another test, and so not catc fmt's: none
+#: since the editors indent as catc fmt does (editors/vim/test/sample.cat is in its layout).
+LAYOUT_FIXTURES: set[str] = set()
 
 
 def _id(p: Path) -> str:
@@ -493,3 +491,44 @@ def test_comments_anywhere_are_a_fixpoint() -> None:
         assert _comments(once) == _comments(mangled)
         done += 1
     assert done > 50
+
+
+# ---------------------------------------------------------------- the editors' indentation rule
+
+
+@pytest.mark.parametrize("path", CANONICAL, ids=_id)
+def test_the_line_by_line_rule_restores_every_file(path):
+    """catc.frontend.indent states fmt's layout one line at a time, as an editor indents (the
+    Vim and Emacs indenters implement the same rule: tests/editors): every line of every file
+    gets back its column from the lines above it, with every line flushed left."""
+    from catc.frontend.indent import reindent
+
+    text = path.read_text(encoding="utf-8")
+    assert reindent("\n".join(line.strip() for line in text.split("\n"))) == text
+    assert reindent(text) == text
+
+
+def test_the_line_by_line_rule_on_hand_made_cases():
+    from catc.frontend.indent import indent_of
+
+    def col(text: str) -> int:
+        lines = text.split("\n")
+        return indent_of(lines, len(lines) - 1)
+
+    assert col("(define (domain d)\nx") == 2  # a section: the body two in
+    assert col("  (:init (= a 1)\nx") == 9  # filled: under the first item
+    assert col("  (:init\nx") == 4
+    assert col("  (:metric pareto\nx") == 4  # not under 'pareto'
+    assert col("    (and (a)\nx") == 9  # a call: under the first argument
+    assert col("    (and\nx") == 6
+    assert col("    (and ; why\nx") == 9  # as if the argument followed the head
+    assert col("    (ram real\nx") == 9  # any atom head is a call
+    assert col("  (:constants\n    a b c\nx") == 6  # a typed group continued
+    assert col("  (:constants\n    a b - t\nx") == 4  # a new group
+    assert col("  (:constants\n    a - (enum p q)\nx") == 4
+    assert col("  :keep (a b\nx") == 9  # a list of names: under the first
+    assert col("  {a b\nx") == 3
+    assert col("  ((a b)\nx") == 3
+    assert col("  ( ; c\nx") == 3
+    assert col('  (x "(" ; (\n     y)\nz') == 0  # brackets in strings and comments do not count
+    assert col('  (x "(" ; (\ny') == 5

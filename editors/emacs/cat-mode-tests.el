@@ -25,8 +25,11 @@
 (define (domain detection)
   (:requirements :numeric :sets :free-parameters :views :holes :recomposition)
   (:sorts module topic class - symbol  level - (enum low high))
-  (:constants camera - module image-raw - topic person - class
-              and-gate not-ready total-churn-x x-or camera2 realistic - class)
+  (:constants
+    camera - module
+    image-raw - topic
+    person - class
+    and-gate not-ready total-churn-x x-or camera2 realistic - class)
   (:resources
     (ram real :group compute :unit GB :bounds (0 *))
     (mounted (set module) :group hardware)
@@ -38,8 +41,7 @@
     :kind software :churn 2 :uses 1
     :cost (+ 0.5 (* 2 .25) 1e-3 (- ram-req 0.25))
     :parameters ((out topic) (ram-req real :bounds (0.5 4) :fixed))
-    :precondition (and (>= ram ram-req)
-                       (not (member out topics)))
+    :precondition (and (>= ram ram-req) (not (member out topics)))
     :effect (and (decrease ram ram-req) (add topics out)))
   (:morphism person-detector
     :kind software :churn 1
@@ -47,10 +49,10 @@
     :precondition (and (member image-raw topics) (member camera mounted) (>= budget 0))
     :effect (and (add detects c) (assign armed true)))
   (:hole mu :view software :max-effects 2)
-  (:view software :drop (mounted
-                         budget)))
+  (:view software :drop (mounted budget)))
 
-(define (problem p1) (:domain detection)
+(define (problem p1)
+  (:domain detection)
   (:objects fire-extinguisher - class)
   (:init (= ram 64) (= mounted {camera}) (= budget 100) (= topics {}) (= detects {})
          (= armed false))
@@ -168,8 +170,8 @@ All failures are reported together."
      ("(:hole mu :view software :max-effects 2)" ":max-effects" cat-option-face)
      ("(:view software :drop (mounted" ":view" cat-section-face)
      ("(:view software :drop (mounted" ":drop" cat-option-face)
-     ("(define (problem p1) (:domain detection)" "problem" cat-structure-face)
-     ("(define (problem p1) (:domain detection)" ":domain" cat-section-face)
+     ("(define (problem p1)" "problem" cat-structure-face)
+     ("(:domain detection)" ":domain" cat-section-face)
      ("(:objects fire-extinguisher - class)" "fire-extinguisher" nil)
      ("(:init (= ram 64) (= mounted {camera})" ":init" cat-section-face)
      ("(:init (= ram 64) (= mounted {camera})" "=" cat-symbol-operator-face)

@@ -32,6 +32,8 @@
 
 ;;; Code:
 
+(require 'subr-x)
+
 (defgroup cat nil
   "Major mode for .cat robot domain and problem files."
   :group 'languages
@@ -166,61 +168,111 @@ section while `:view' elsewhere is the hole option."
 
 ;;;; Indentation
 
-;; Indentation follows the layout of the repository's examples:
+;; Indentation is the layout `catc fmt' writes, line by line: the rules of
+;; compiler/catc/frontend/indent.py (the same as editors/vim/indent/cat.vim; the tests
+;; hold all three against catc fmt on every .cat file of the repository):
 ;;
-;;   (define (domain detection)          ; `define' and the named sections
-;;     (:morphism camera-driver          ; (:morphism, :hole, :view) indent
-;;       :kind software                  ; their body by `cat-indent-offset';
-;;       :precondition (and (>= ram 2)   ; other keyword-headed lists align
-;;                          (not x))))   ; their arguments under the first,
-;;   (:init (= ram 64)                   ; or indent them by
-;;          (= topics {}))               ; `cat-indent-offset' when the head
-;;   (:resources                         ; stands alone on its line.
-;;     (ram real))
-;;   (:keep (battery payload             ; Lists of data (names, numbers,
-;;           armed))                     ; lists, sets) align their elements.
+;;   (define (domain detection)          ; `define' and the sections indent their body
+;;     (:morphism camera-driver          ; by `cat-indent-offset', (:metric pareto ...)
+;;       :kind software                  ; too;
+;;       :precondition (and (>= ram 2)   ; a call aligns its arguments under the first
+;;                          (not x))))   ; (the offset in when the head ends its line);
+;;     (:init (= ram 64)                 ; filled sections continue under their first
+;;            (= topics {}))             ; item;
+;;     (:constants a b c                 ; typed lists: a `names - sort' group a line,
+;;         d - module)                   ; its continuation one offset further in;
+;;     (:keep (battery payload           ; sets, name lists and lists of lists align
+;;             armed))                   ; their elements.
 
 (defcustom cat-indent-offset 2
-  "Indentation of a body, relative to its open parenthesis."
+  "Indentation of a body, relative to its open parenthesis (catc fmt uses 2)."
   :type 'integer
   :safe #'integerp
   :group 'cat)
 
-(defconst cat--body-form-regexp
-  "\\(?:define\\|:morphism\\|:hole\\|:view\\)\\_>"
-  "Heads of a name and a body indented by `cat-indent-offset'.")
+(defconst cat--sections
+  (cons "define" (cdr (assq 'section cat-keywords)))
+  "Heads whose body is indented by `cat-indent-offset': `define' and the sections.")
 
-(defconst cat--call-head-regexp
-  (concat "\\(?::\\(?:\\sw\\|\\s_\\)+\\|"
-          (regexp-opt (apply #'append (mapcar #'cdr cat-keywords)))
-          "\\)\\_>")
-  "A list head that takes arguments: a `:keyword' or a word of the language.")
+(defconst cat--filled-sections '(":init" ":requirements" ":import" ":deployed")
+  "Sections filled line by line, continued under their first item.")
+
+(defconst cat--typed-sections '(":sorts" ":constants" ":objects")
+  "Sections of `names - sort' groups, one a line.")
+
+(defconst cat--atom-regexp "[^ \t\n(){}\";]+"
+  "A name, a number, a keyword or an operator.")
+
+(defconst cat--group-end-regexp
+  "\\(?:^\\|[ \t]\\)-[ \t]+\\(?:[^ \t\n(){}\";]+\\|(.*)\\)[ \t]*$"
+  "A line of a typed list that ends a `names - sort' group.")
+
+(defun cat--line-code ()
+  "The current line's text without its comment."
+  (save-excursion
+    (let ((end (line-end-position)))
+      (beginning-of-line)
+      (while (and (< (point) end)
+                  (not (and (eq (char-after) ?\;) (not (nth 3 (syntax-ppss))))))
+        (forward-char 1))
+      (buffer-substring-no-properties (line-beginning-position) (point)))))
+
+(defun cat--group-ended (open-line here)
+  "Does the code line before HERE end a `names - sort' group?
+In a typed list opened on OPEN-LINE; the head's line counts as an end."
+  (save-excursion
+    (goto-char here)
+    (let (answer)
+      (while (and (null answer) (= 0 (forward-line -1)) (> (line-number-at-pos) open-line))
+        (let ((code (string-trim (cat--line-code))))
+          (unless (string-empty-p code)
+            (setq answer (if (string-match-p cat--group-end-regexp code) 'yes 'no)))))
+      (not (eq answer 'no)))))
 
 (defun cat--indentation ()
   "The column the current line should start at, or nil inside a string."
   (save-excursion
     (beginning-of-line)
-    (let* ((ppss (syntax-ppss))
+    (let* ((here (point))
+           (ppss (syntax-ppss))
            (open (nth 1 ppss)))
       (cond
        ((nth 3 ppss) nil)
        ((null open) 0)
        (t
         (goto-char open)
-        (let ((open-column (current-column))
-              (brace (eq (char-after) ?{)))
+        (let* ((open-column (current-column))
+               (open-line (line-number-at-pos))
+               (brace (eq (char-after) ?{))
+               (names (save-excursion
+                        (skip-chars-backward " \t")
+                        (looking-back ":\\(?:keep\\|drop\\)" (line-beginning-position)))))
           (forward-char 1)
           (skip-chars-forward " \t")
           (cond
            ((or (eolp) (looking-at ";")) (1+ open-column))
-           ((or brace (not (looking-at cat--call-head-regexp))) (current-column))
-           ((looking-at cat--body-form-regexp) (+ open-column cat-indent-offset))
+           ((or brace names (not (looking-at cat--atom-regexp))) (current-column))
            (t
-            (re-search-forward cat--call-head-regexp)
-            (skip-chars-forward " \t")
-            (if (or (eolp) (looking-at ";"))
-                (+ open-column cat-indent-offset)
-              (current-column))))))))))
+            (let ((first-column (current-column))
+                  (head (match-string-no-properties 0)))
+              (goto-char (match-end 0))
+              (skip-chars-forward " \t")
+              (let ((has-next (not (or (eolp) (looking-at ";"))))
+                    (comment-next (looking-at ";"))
+                    (next-column (current-column)))
+                (cond
+                 ((member head cat--sections)
+                  (cond
+                   ((member head cat--filled-sections)
+                    (if has-next next-column (+ open-column cat-indent-offset)))
+                   ((member head cat--typed-sections)
+                    (+ open-column cat-indent-offset
+                       (if (cat--group-ended open-line here) 0 cat-indent-offset)))
+                   (t (+ open-column cat-indent-offset))))
+                 ((string-prefix-p ":" head) first-column)
+                 (has-next next-column)
+                 (comment-next (+ first-column (length head) 1))
+                 (t (+ open-column cat-indent-offset)))))))))))))
 
 (defun cat-indent-line ()
   "Indent the current line as .cat code.

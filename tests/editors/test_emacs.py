@@ -65,3 +65,45 @@ def test_ert_sample_is_the_vim_sample():
     assert literal, "no cat-mode-test-sample string"
     text = re.sub(r"\\(.)", r"\1", literal.group(1), flags=re.S)
     assert text == (EDITORS / "vim" / "test" / "sample.cat").read_text(encoding="utf-8")
+
+
+@pytest.mark.editors
+@pytest.mark.parametrize("flush", ["0", "1"], ids=["as-is", "flushed-left"])
+def test_emacs_indents_every_repository_file_as_catc_fmt(flush):
+    """`indent-region' changes no line of any .cat file of the repository (all in catc fmt's
+    layout) and restores every file from its lines flushed left."""
+    from conftest import repo_cat_files
+
+    files = [str(p) for p in repo_cat_files()]
+    env = {"CAT_EMACS_DIR": str(EDITORS / "emacs"), "CAT_FILES": "\n".join(files), "CAT_FLUSH": flush}
+    script = EDITORS.parent / "tests" / "editors" / "scripts" / "reindent.el"
+    result = run([tool("emacs"), "--batch", "-Q", "-l", str(script)], env=env, timeout=600)
+    assert result.returncode == 0, explain(result)
+    assert len(files) > 50 and result.stdout.strip().endswith("0 differ"), result.stdout
+
+
+@pytest.mark.editors
+def test_eglot_gets_diagnostics_and_hover(tmp_path):
+    """Emacs's eglot (Debian's elpa-eglot on Emacs 28; built into Emacs 29) with cat-mode and
+    `catc lsp`, configured as docs/editors.md says."""
+    import shutil
+    import sys
+
+    from ._tools import ROOT
+
+    folder = tmp_path / "detection"
+    shutil.copytree(ROOT / "tests" / "fixtures" / "lsp" / "detection", folder)
+    domain = folder / "domain.cat"
+    text = domain.read_text().replace("(>= ram ram-req))", "(>= rma ram-req))", 1)
+    domain.write_text(text)
+    lines = text.split("\n")
+    line = next(i for i, t in enumerate(lines) if "(>= rma ram-req)" in t)
+    env = {"CAT_EMACS_DIR": str(EDITORS / "emacs"), "CAT_PYTHON": sys.executable, "CAT_FILE": str(domain),
+           "CAT_HOVER_LINE": str(line + 1), "CAT_HOVER_COL": str(lines[line].index("ram-req"))}  # fmt: skip
+    script = ROOT / "tests" / "editors" / "scripts" / "eglot_lsp.el"
+    result = run([tool("emacs"), "--batch", "-q", "-l", str(script)], env=env, timeout=300, cwd=folder)
+    assert result.returncode == 0, explain(result)
+    diags = [t for t in result.stdout.splitlines() if t.startswith("DIAG ")]
+    assert f"DIAG {line + 1} {lines[line].index('rma')} catc [E0202]: unknown name 'rma'; did you mean 'ram'?" in diags
+    hover = next(t for t in result.stdout.splitlines() if t.startswith("HOVER "))
+    assert "ram-req" in hover and "GB" in hover, hover

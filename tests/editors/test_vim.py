@@ -45,3 +45,29 @@ def test_vim_test_fails_on_a_wrong_expectation(tmp_path):
     assert result.returncode != 0, explain(result)
     assert "no syntax group for keyword category 'no-such-category'" in result.stderr, explain(result)
     assert "operator 'nand' in '(nand x y)': expected 'catOperator', got ''" in result.stderr, explain(result)
+
+
+def repo_cat_files_for_indent() -> list[str]:
+    """Every valid .cat file of the repository (each is in catc fmt's layout: CI checks it)."""
+    from conftest import repo_cat_files
+
+    return [str(p) for p in repo_cat_files()]
+
+
+@pytest.mark.editors
+@pytest.mark.parametrize("syntax", ["0", "1"], ids=["syntax-off", "syntax-on"])
+@pytest.mark.parametrize("flush", ["0", "1"], ids=["as-is", "flushed-left"])
+def test_vim_indents_every_repository_file_as_catc_fmt(tmp_path, syntax, flush):
+    """`gg=G` changes no line of any .cat file of the repository (all in catc fmt's layout),
+    with syntax highlighting on or off (a bracket in a comment or a string never counts), and
+    restores every file from its lines flushed left."""
+    vim = tool("vim")
+    out = tmp_path / "out.txt"
+    files = repo_cat_files_for_indent()
+    env = {"CAT_VIM_RTP": str(EDITORS / "vim"), "CAT_FILES": "\n".join(files), "CAT_OUT": str(out),
+           "CAT_SYNTAX": syntax, "CAT_FLUSH": flush}  # fmt: skip
+    result = run([vim, "-Nu", "NONE", "-es", "-S", str(EDITORS.parent / "tests/editors/scripts/reindent.vim")],
+                 env=env, timeout=600)  # fmt: skip
+    assert result.returncode == 0, explain(result)
+    assert len(files) > 50
+    assert out.read_text() == "", out.read_text()

@@ -37,14 +37,23 @@ def test_manifest_declares_the_language_grammar_and_snippets():
 
 
 def test_manifest_starts_the_language_server():
-    assert (VSCODE / MANIFEST["main"]).is_file()
+    # main is the bundle esbuild makes from extension.js before packaging (npm run bundle)
+    assert MANIFEST["main"] == "./dist/extension.js" and "--outfile=dist/extension.js" in MANIFEST["scripts"]["bundle"]
+    assert (
+        "extension.js" in MANIFEST["scripts"]["bundle"].split() and "--external:vscode" in MANIFEST["scripts"]["bundle"]
+    )
+    assert MANIFEST["scripts"]["vscode:prepublish"] == "npm run bundle"
     assert "onLanguage:cat" in MANIFEST["activationEvents"]
     setting = MANIFEST["contributes"]["configuration"]["properties"]["catc.serverPath"]
     assert setting["type"] == "string" and setting["default"] == "catc"
     assert MANIFEST["contributes"]["configuration"]["properties"]["catc.serverArgs"]["default"] == ["lsp"]
     assert "vscode-languageclient" in MANIFEST["dependencies"]
-    assert MANIFEST["devDependencies"] == {"@vscode/vsce": "3.9.2", "vscode-tmgrammar-test": "0.1.3"}
-    source = (VSCODE / MANIFEST["main"]).read_text(encoding="utf-8")
+    assert MANIFEST["devDependencies"] == {
+        "@vscode/vsce": "3.9.2",
+        "esbuild": "0.25.12",
+        "vscode-tmgrammar-test": "0.1.3",
+    }
+    source = (VSCODE / "extension.js").read_text(encoding="utf-8")
     assert "require('vscode-languageclient/node')" in source
     assert "getConfiguration('catc')" in source and "'serverPath'" in source
 
@@ -58,7 +67,7 @@ def test_manifest_commands_are_the_extensions_commands():
     .cat editors only."""
     from catc.queries import registry
 
-    source = (VSCODE / MANIFEST["main"]).read_text(encoding="utf-8")
+    source = (VSCODE / "extension.js").read_text(encoding="utf-8")
     contributed = {c["command"]: c for c in MANIFEST["contributes"]["commands"]}
     registered = set(re.findall(r"registerCommand\('([^']+)'", source))
     table = dict(re.findall(r"'(catc\.run\w+)': \{ query: '(catc\.\w+)'", source))
@@ -176,6 +185,7 @@ def test_vsix_package(tmp_path):
     vsix = tmp_path / "cat-language.vsix"
     result = run([vsce, "package", "--allow-missing-repository", "--out", str(vsix)], cwd=VSCODE)
     assert result.returncode == 0, explain(result)
+    assert "WARNING" not in result.stdout + result.stderr, explain(result)  # e.g. "N unbundled files"
     assert vsix.is_file() and zipfile.is_zipfile(vsix)
     with zipfile.ZipFile(vsix) as archive:
         names = set(archive.namelist())
@@ -183,13 +193,15 @@ def test_vsix_package(tmp_path):
         archive.extractall(tmp_path / "unpacked")
     assert {
         "extension/package.json",
-        "extension/extension.js",
+        "extension/dist/extension.js",
         "extension/language-configuration.json",
         "extension/syntaxes/cat.tmLanguage.json",
         "extension/snippets/cat.json",
-        "extension/node_modules/vscode-languageclient/package.json",
         "extension.vsixmanifest",
     } <= names
+    # one bundled file: no node_modules, no unbundled sources
+    assert not [n for n in names if "/node_modules/" in n] and "extension/extension.js" not in names
+    assert len(names) < 15, sorted(names)
     assert manifest["name"] == MANIFEST["name"] and manifest["version"] == MANIFEST["version"]
     # Neither the tests nor the development tools are shipped.
     assert not [n for n in names if n.startswith("extension/tests/")]
@@ -198,7 +210,7 @@ def test_vsix_package(tmp_path):
     node = tool("node")
     loaded = run([node, str(VSCODE / "tests" / "load-extension.js"), str(tmp_path / "unpacked" / "extension")])
     assert loaded.returncode == 0, explain(loaded)
-    assert "loaded catc.cat-language@" in loaded.stdout
+    assert "loaded catc.cat-language@" in loaded.stdout and "./dist/extension.js" in loaded.stdout
 
 
 def _run_query_commands(tmp_path, answer: dict) -> dict:
@@ -206,7 +218,7 @@ def _run_query_commands(tmp_path, answer: dict) -> dict:
     answer_file.write_text(json.dumps(answer), encoding="utf-8")
     problem = ROOT / "examples" / "detection" / "person.cat"
     script = VSCODE / "tests" / "run-query-commands.js"
-    result = run([tool("node"), str(script), str(VSCODE / MANIFEST["main"]), str(problem), str(answer_file)])
+    result = run([tool("node"), str(script), str(VSCODE / "extension.js"), str(problem), str(answer_file)])
     assert result.returncode == 0, explain(result)
     return json.loads(result.stdout)
 

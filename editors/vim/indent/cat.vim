@@ -2,19 +2,23 @@
 " Language:     cat (.cat robot domain and problem files, compiled by catc)
 " License:      MIT
 "
-" The layout of the repository's examples (the same rules as editors/emacs/cat-mode.el):
+" The layout `catc fmt` writes, line by line: the rules of catc/frontend/indent.py (the same
+" as editors/emacs/cat-mode.el; the tests hold all three against catc fmt on every .cat file
+" of the repository):
 "
-"   (define (domain detection)          `define' and the named sections
-"     (:morphism camera-driver          (:morphism, :hole, :view) indent their
-"       :kind software                  body by 'shiftwidth';
-"       :precondition (and (>= ram 2)   other keyword-headed lists align their
-"                          (not x))))   arguments under the first one,
-"   (:init (= ram 64)                   or indent them by 'shiftwidth' when the
-"          (= topics {}))               head stands alone on its line;
-"   (:resources
-"     (ram real))
-"   (:keep (battery payload             lists of data (names, numbers, lists,
-"           armed))                     sets) align their elements.
+"   (define (domain detection)          `define' and the sections indent their body by 2,
+"     (:morphism camera-driver          (:metric pareto ...) too;
+"       :kind software
+"       :precondition (and (>= ram 2)   a call aligns its arguments under the first one
+"                          (not x))))   (2 in when the head ends its line);
+"     (:init (= ram 64)                 filled sections continue under their first item;
+"            (= topics {}))
+"     (:constants a b c                 typed lists: a `names - sort' group a line, its
+"         d - module)                   continuation 2 further in;
+"     (:keep (battery payload           sets, name lists and lists of lists align their
+"             armed))                   elements.
+"
+" Brackets in strings and comments never count, with or without syntax highlighting.
 
 if exists('b:did_indent')
   finish
@@ -35,6 +39,9 @@ let s:call_heads = ['define', 'domain', 'problem', 'and', 'or', 'not', 'imply', 
       \ 'total-churn', 'total-cost', 'uses', 'param', '=', '<', '<=', '>', '>=', '+',
       \ '-', '*', '/', 'bool', 'int', 'real', 'set', 'symbol', 'enum', 'true', 'false',
       \ 'hardware', 'software', 'behavior', 'minimize', 'maximize', 'lex', 'pareto']
+let s:sections = ['define', ':requirements', ':import', ':sorts', ':constants',
+      \ ':resources', ':morphism', ':hole', ':view', ':deployment', ':domain',
+      \ ':objects', ':init', ':goal', ':horizon', ':soft', ':metric', ':deployed']
 " END GENERATED
 
 if exists('*GetCatIndent')
@@ -45,43 +52,106 @@ let s:cpo_save = &cpo
 set cpo&vim
 
 let s:atom = '[^[:space:](){}";]\+'
+let s:filled = [':init', ':requirements', ':import', ':deployed']
+let s:typed = [':sorts', ':constants', ':objects']
+let s:group_end = '\%(^\|\s\)-\s\+\%([^[:space:](){}";]\+\|(.*)\)\s*$'
 
-" True when the character at the cursor is inside a string or a comment.
-function! s:InStringOrComment() abort
-  return synIDattr(synID(line('.'), col('.'), 0), 'name') =~# '^cat\%(String\|Comment\|Escape\|Todo\)$'
+" {text} with every string's characters replaced by `_' and its comment cut off: what is
+" left is code, so the brackets in it count (no syntax highlighting needed).
+function! s:Mask(text) abort
+  let l:masked = substitute(a:text, '"\%([^"\\]\|\\.\)*"\=', '\=repeat("_", strlen(submatch(0)))', 'g')
+  let l:semi = stridx(l:masked, ';')
+  return l:semi < 0 ? l:masked : strpart(l:masked, 0, l:semi)
+endfunction
+
+" {text} without its comment.
+function! s:CodePart(text) abort
+  return strpart(a:text, 0, strlen(s:Mask(a:text)))
+endfunction
+
+" [line, byte column (0-based)] of the innermost bracket open at the start of {lnum}, or [0, -1].
+function! s:OpenBracket(lnum) abort
+  let l:depth = 0
+  let l:p = a:lnum - 1
+  while l:p > 0
+    let l:masked = s:Mask(getline(l:p))
+    let l:brackets = substitute(l:masked, '[^(){}]', '', 'g')
+    let l:i = strlen(l:brackets) - 1
+    while l:i >= 0
+      if l:brackets[l:i] =~# '[)}]'
+        let l:depth += 1
+      elseif l:depth > 0
+        let l:depth -= 1
+      else
+        " the (i+1)-th bracket of the line is the one: find its column
+        let l:col = -1
+        for l:k in range(l:i + 1)
+          let l:col = match(l:masked, '[(){}]', l:col + 1)
+        endfor
+        return [l:p, l:col]
+      endif
+      let l:i -= 1
+    endwhile
+    let l:p -= 1
+  endwhile
+  return [0, -1]
+endfunction
+
+" In a typed list opened on line {open}: the code line before {lnum} ends a group.
+function! s:GroupEnded(open, lnum) abort
+  let l:p = a:lnum - 1
+  while l:p > a:open
+    let l:code = substitute(s:CodePart(getline(l:p)), '^\s\+\|\s\+$', '', 'g')
+    if l:code !=# ''
+      return l:code =~# s:group_end
+    endif
+    let l:p -= 1
+  endwhile
+  return 1
 endfunction
 
 function! GetCatIndent() abort
   " The innermost ( or { still open at the start of this line.
-  call cursor(v:lnum, 1)
-  let l:skip = exists('g:syntax_on') ? 's:InStringOrComment()' : ''
-  let [l:lnum, l:col] = searchpairpos('[({]', '', '[)}]', 'bW', l:skip, 0, 200)
+  let [l:lnum, l:c] = s:OpenBracket(v:lnum)
   if l:lnum <= 0
     return 0
   endif
   let l:line = getline(l:lnum)
-  let l:open = strdisplaywidth(strpart(l:line, 0, l:col - 1))
-  let l:rest = strpart(l:line, l:col)
-  let l:first = match(l:rest, '\S')
-  let l:sw = shiftwidth()
-  if l:first < 0 || l:rest[l:first] ==# ';'
+  let l:open = strdisplaywidth(strpart(l:line, 0, l:c))
+  let l:rest = strpart(l:line, l:c + 1)
+  let l:code = s:CodePart(l:rest)
+  let l:first = match(l:code, '\S')
+  if l:first < 0
     return l:open + 1
   endif
-  let l:first_col = strdisplaywidth(strpart(l:line, 0, l:col + l:first))
-  let l:head = matchstr(l:rest, '^' . s:atom, l:first)
-  if l:line[l:col - 1] ==# '{' || l:head ==# ''
-        \ || (l:head[0] !=# ':' && index(s:call_heads, l:head) < 0)
+  let l:first_col = strdisplaywidth(strpart(l:line, 0, l:c + 1 + l:first))
+  let l:head = matchstr(l:code, '^' . s:atom, l:first)
+  let l:before = split(s:CodePart(strpart(l:line, 0, l:c)))
+  if l:line[l:c] ==# '{' || l:head ==# ''
+        \ || (!empty(l:before) && index([':keep', ':drop'], l:before[-1]) >= 0)
     return l:first_col
   endif
-  if l:head =~# '^\%(define\|:morphism\|:hole\|:view\)$'
-    return l:open + l:sw
+  let l:next = match(l:code, '\S', l:first + strlen(l:head))
+  if index(s:sections, l:head) >= 0
+    if index(s:filled, l:head) >= 0
+      return l:next >= 0 ? strdisplaywidth(strpart(l:line, 0, l:c + 1 + l:next)) : l:open + 2
+    endif
+    if index(s:typed, l:head) >= 0
+      return l:open + 2 + (s:GroupEnded(l:lnum, v:lnum) ? 0 : 2)
+    endif
+    return l:open + 2
   endif
-  let l:after = l:first + strlen(l:head)
-  let l:next = match(l:rest, '\S', l:after)
-  if l:next < 0 || l:rest[l:next] ==# ';'
-    return l:open + l:sw
+  if l:head[0] ==# ':'
+    return l:first_col
   endif
-  return strdisplaywidth(strpart(l:line, 0, l:col + l:next))
+  if l:next >= 0
+    return strdisplaywidth(strpart(l:line, 0, l:c + 1 + l:next))
+  endif
+  if l:code !=# l:rest && l:rest !~# '^\s*$'
+    " the head, then a comment: as if the first argument followed it on the line
+    return l:first_col + strdisplaywidth(l:head) + 1
+  endif
+  return l:open + 2
 endfunction
 
 let &cpo = s:cpo_save

@@ -46,9 +46,11 @@ for (const name of ['activate', 'deactivate']) {
     process.exit(1);
   }
 }
-const client = require.resolve('vscode-languageclient/node', { paths: [path.resolve(dir)] });
-if (!client.startsWith(path.resolve(dir) + path.sep)) {
-  console.error(`vscode-languageclient resolved outside the package: ${client}`);
+// The bundle carries vscode-languageclient: nothing outside the package may be required.
+const outside = Object.keys(require.cache).filter((f) => !f.startsWith(path.resolve(dir) + path.sep));
+const ours = outside.filter((f) => !f.endsWith('load-extension.js'));
+if (ours.length) {
+  console.error(`the extension required files outside the package: ${ours.join(', ')}`);
   process.exit(1);
 }
-console.log(`loaded ${manifest.publisher}.${manifest.name}@${manifest.version}: ${path.relative(dir, client)}`);
+console.log(`loaded ${manifest.publisher}.${manifest.name}@${manifest.version}: ${manifest.main}`);

@@ -1,0 +1,26 @@
+;;; eglot_lsp.el --- drive catc lsp from Emacs's eglot, in batch  -*- lexical-binding: t -*-
+;; tests/editors/test_emacs.py: cat-mode and eglot set up as docs/editors.md says, on
+;; $CAT_FILE; prints "DIAG LINE COL TEXT" for each diagnostic, then "HOVER TEXT".
+(add-to-list 'load-path (getenv "CAT_EMACS_DIR"))
+(require 'cat-mode)
+(require 'eglot)
+(add-to-list 'eglot-server-programs `(cat-mode . (,(getenv "CAT_PYTHON") "-m" "catc" "lsp")))
+(setq eglot-sync-connect t)
+(find-file (getenv "CAT_FILE"))
+(apply #'eglot (eglot--guess-contact))
+(with-timeout (120 (princ "TIMEOUT waiting for diagnostics\n"))
+  (while (null (flymake-diagnostics))
+    (accept-process-output nil 0.1)))
+(dolist (d (flymake-diagnostics))
+  (let ((beg (flymake-diagnostic-beg d)))
+    (princ (format "DIAG %d %d %s\n" (line-number-at-pos beg)
+                   (save-excursion (goto-char beg) (current-column))
+                   (replace-regexp-in-string "\n" " " (flymake-diagnostic-text d))))))
+(goto-char (point-min))
+(forward-line (1- (string-to-number (getenv "CAT_HOVER_LINE"))))
+(forward-char (string-to-number (getenv "CAT_HOVER_COL")))
+(let ((hover (jsonrpc-request (eglot--current-server-or-lose) :textDocument/hover
+                              (eglot--TextDocumentPositionParams))))
+  (princ (format "HOVER %s\n" (replace-regexp-in-string "\n" " " (format "%S" hover)))))
+(eglot-shutdown (eglot--current-server-or-lose))
+(kill-emacs 0)
