@@ -193,7 +193,8 @@ def _report(
     lines = [f"# Import report: `{domain.name}` + `{problem.name}`", ""]
     lines.append(
         f"Read by unified-planning {unified_planning.__version__}'s `PDDLReader`; converted by "
-        "`catc.frontend.up_import` (grounded with UP's own `up_quantifiers_remover` and `up_grounder`); "
+        "`catc.frontend.up_import` (grounded by `catc.frontend.up_ground`: UP's `QuantifiersRemover`, parameters "
+        "chosen by their static preconditions, instances made by UP's `GrounderHelper`); "
         "written by `catc.targets.catsource` in `catc fmt`'s layout and checked again by `catc check`."
     )
     lines.append("")
@@ -231,7 +232,7 @@ def _report(
             "catc's resources hold one value each, so every PDDL fluent with arguments is grounded: each ground "
             "fluent an action, the goal or the metric reads or writes becomes one resource (`at(r1, l2)` → "
             "`at_r1_l2`), each ground action one morphism (its `:doc` names the PDDL action). Ground actions whose "
-            "static preconditions are false are dropped by UP's grounder; static fluents (written by no action) are "
+            "static preconditions are false are never instantiated; static fluents (written by no action) are "
             "replaced by their initial values. Quantifiers are expanded over the objects before grounding. "
             "`actions.json` maps every morphism back to its PDDL action."
         )
