@@ -220,8 +220,17 @@ class _Run:
             return
         for note in self.report.notes:
             self.say("catc import: " + note, LogLevel.DEBUG)
+        if self.expired():  # the grounding used up the time
+            self.say("catc: the time ran out after grounding the problem")
+            yield self.result(Status.TIMEOUT)
+            return
         first = solve(
-            self.inst, horizon=self.engine.max_horizon, sequential=True, timeout=self.remaining(), presolve=True
+            self.inst,
+            horizon=self.engine.max_horizon,
+            sequential=True,
+            timeout=self.remaining(),
+            presolve=True,
+            strategy="search",  # forward A* (shortest plan, or every reachable state seen); SMT where it cannot
         )
         if first.status is not SolveStatus.SAT:
             yield self._no_plan(first)
@@ -252,13 +261,15 @@ class _Run:
         proven = r.final or states is not None
         if r.refutation is not None:
             why = f"no plan of any length: {r.refutation.reason} (relaxed reachability)"
-        elif r.final:
+        elif r.final and not r.reason:
             why = f"no plan of any length: no plan within {r.horizon} actions, the most any plan can take"
         elif states is not None:
             why = (
                 f"no plan of any length: no plan within {r.horizon} actions, and the problem has at most "
                 f"{states} states, each reachable within {states - 1} actions if at all"
             )
+        elif r.final:  # the forward search saw every reachable state
+            why = f"no plan of any length: {r.reason}"
         else:
             why = f"no plan of at most {r.horizon} actions (longer plans were not searched: max_horizon)"
         self.say("catc: " + why)
