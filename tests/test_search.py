@@ -112,3 +112,23 @@ def test_parameters_fall_back_to_the_smt_search():
     assert (a.plan is None) == (b.plan is None)
     if a.plan is not None and b.plan is not None:
         assert len(a.plan.steps) == len(b.plan.steps)
+
+
+def test_an_unbounded_tank_that_only_grows_past_the_goal_is_proven_unsolvable():
+    """tank starts at 0 and grows by 3 or 4: tank = 1 never holds. tank is an unbounded real,
+    so the states are infinitely many; the search sees tank = 0, whose relaxation still
+    reaches 1, and the widened relaxation proves every tank ≥ 3 a dead end (it never falls)."""
+    from unified_planning.shortcuts import RealType
+
+    tank = Fluent("tank", RealType())
+    p = Problem("tank")
+    p.add_fluent(tank, default_initial_value=0)
+    for amount in (3, 4):
+        fill = InstantaneousAction(f"fill{amount}")
+        fill.add_increase_effect(tank, amount)
+        p.add_action(fill)
+    p.add_goal(Equals(tank, 1))
+    inst, _ = up_to_instance(p)
+    assert refute(inst) is None
+    r = search(inst, 200)
+    assert r.status is SearchStatus.NONE and r.final

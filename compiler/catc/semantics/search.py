@@ -428,44 +428,70 @@ class _Task:
 
     def h(self, s: State, cap: int) -> int | None:
         """Layers of the interval relaxation until the goal can hold: None for a proven dead
-        end, ``cap`` when the goal cannot hold within ``cap - 1`` layers."""
+        end, ``cap`` when the goal cannot hold within ``cap - 1`` layers (and the widened
+        relaxation, :meth:`_dead`, cannot prove it never will)."""
         r: list[Any] = [_point(v, k) for v, k in zip(s, self.kinds)]
         fired: set[int] = set()
         for layer in range(cap):
             rt = tuple(r)
             if all(f(rt)[0] for f in self.rgoal):
                 return layer
-            changed = False
-            new = list(r)
-            for a_i, a in enumerate(self.actions):
-                if a_i in fired:
-                    continue
-                if not all(f(rt)[0] for f in a.rpre):
-                    continue
-                if a.constant:
-                    fired.add(a_i)
-                for i, mode, terms in a.reffects:
-                    kind = self.kinds[i]
-                    if mode == "assign":
-                        post = terms[0][1](rt)
-                    else:
-                        post = rt[i]
-                        for sign, f in terms:
-                            d = f(rt)
-                            if sign < 0:
-                                d = (None if d[1] is None else -d[1], None if d[0] is None else -d[0])
-                            post = (_lo_add(post[0], d[0]), _lo_add(post[1], d[1]))
-                    post = self._cut(i, post) if kind == "number" else post
-                    if post is None:
-                        continue
-                    joined = _join(new[i], post, kind)
-                    if joined != new[i]:
-                        new[i] = joined
-                        changed = True
-            if not changed:
+            new = self._layer(rt, fired)
+            if new is None:
                 return None
             r = new
-        return cap
+        return None if self._dead(r) else cap
+
+    def _layer(self, rt: Relaxed, fired: set[int]) -> list[Any] | None:
+        """The next layer: every morphism that may fire in ``rt`` applied (relaxed, joined);
+        None when nothing changes (a fixpoint)."""
+        changed = False
+        new = list(rt)
+        for a_i, a in enumerate(self.actions):
+            if a_i in fired:
+                continue
+            if not all(f(rt)[0] for f in a.rpre):
+                continue
+            if a.constant:
+                fired.add(a_i)
+            for i, mode, terms in a.reffects:
+                kind = self.kinds[i]
+                if mode == "assign":
+                    post = terms[0][1](rt)
+                else:
+                    post = rt[i]
+                    for sign, f in terms:
+                        d = f(rt)
+                        if sign < 0:
+                            d = (None if d[1] is None else -d[1], None if d[0] is None else -d[0])
+                        post = (_lo_add(post[0], d[0]), _lo_add(post[1], d[1]))
+                post = self._cut(i, post) if kind == "number" else post
+                if post is None:
+                    continue
+                joined = _join(new[i], post, kind)
+                if joined != new[i]:
+                    new[i] = joined
+                    changed = True
+        return new if changed else None
+
+    def _dead(self, r: list[Any]) -> bool:
+        """The goal can never hold from layer ``r``: the relaxation run to a fixpoint, each
+        number bound that still moves widened to infinity (then cut by the resource's bounds),
+        so that it ends; a goal that cannot hold there cannot hold in any later layer."""
+        fired: set[int] = set()
+        while True:  # ends: each number bound widens once, Boolean and symbol sets only grow
+            rt = tuple(r)
+            if all(f(rt)[0] for f in self.rgoal):
+                return False
+            new = self._layer(rt, fired)
+            if new is None:
+                return True
+            for i, kind in enumerate(self.kinds):
+                if kind == "number" and new[i] != rt[i]:
+                    lo = None if new[i][0] != rt[i][0] else new[i][0]
+                    hi = None if new[i][1] != rt[i][1] else new[i][1]
+                    new[i] = self._cut(i, (lo, hi))
+            r = new
 
     def _cut(self, i: int, v: tuple[Any, Any]) -> tuple[Any, Any] | None:
         lo, hi = self.bounds[i]
@@ -479,13 +505,117 @@ class _Task:
         return (a, b)
 
 
+def _constant(e: ir.Expr) -> bool | None:
+    """The Boolean constant ``e`` folds to (UP's add-after-delete gives ``true ∨ …``), else None."""
+    from catc.ir.fold import FoldError, fold_constant
+
+    try:
+        v = fold_constant(e)
+    except FoldError:
+        return None
+    return v.value if isinstance(v, ir.Const) and isinstance(v.value, bool) else None
+
+
+class _Strips:
+    """A task of Boolean resources only, whose preconditions and goal are conjunctions of
+    literals and whose effects assign constants (as imported classical PDDL is): a state is an
+    int bitmask, a morphism four masks, and the relaxation two masks (may be true, may be
+    false) — the same search, much faster per state."""
+
+    def __init__(self, inst: ir.Instance) -> None:
+        from catc.semantics.validate import initial_state
+
+        d, p = inst.domain, inst.problem
+        if d.holes or any(r.sort.kind is not SortKind.BOOL for r in d.resources.values()):
+            raise _Unsupported("not Boolean resources only")
+        self.bit = {n: 1 << i for i, n in enumerate(d.resources)}
+        self.full = (1 << len(self.bit)) - 1
+        init = initial_state(inst)
+        self.init = sum(b for n, b in self.bit.items() if init.get(n) is True)
+        self.names: list[str] = []
+        self.masks: list[tuple[int, int, int, int]] = []
+        for m in d.morphisms.values():
+            if m.params or m.uses is not None:
+                raise _Unsupported("parameters or use limits")
+            lits = self._literals([lit.expr for lit in m.pre])
+            if lits is None:
+                continue  # a precondition that never holds: the morphism never fires
+            add = dele = 0
+            for e in m.effects:
+                value = _constant(e.value) if e.kind is EffectKind.ASSIGN else None
+                if value is None:
+                    raise _Unsupported("an effect that is not a constant assignment")
+                if value is True:
+                    add |= self.bit[e.resource]
+                else:
+                    dele |= self.bit[e.resource]
+            self.names.append(m.name)
+            self.masks.append((lits[0], lits[1], add, dele))
+        goal = self._literals([lit.expr for lit in p.goal])
+        self.goal = goal if goal is not None else (self.full, self.full)  # never: both true and false
+
+    def _literals(self, exprs: list[ir.Expr]) -> tuple[int, int] | None:
+        """(must be true, must be false) masks of a conjunction; None when it is false."""
+        pos = neg = 0
+        todo = list(exprs)
+        while todo:
+            e = todo.pop()
+            if isinstance(e, ir.ResourceRef):
+                pos |= self.bit[e.name]
+            elif isinstance(e, ir.BoolOp) and e.op is BoolOpKind.NOT and isinstance(e.args[0], ir.ResourceRef):
+                neg |= self.bit[e.args[0].name]
+            elif isinstance(e, ir.BoolOp) and e.op is BoolOpKind.AND:
+                todo.extend(e.args)
+            elif isinstance(e, ir.Const) and isinstance(e.value, bool):
+                if not e.value:
+                    return None
+            else:
+                raise _Unsupported("a condition that is not a conjunction of literals")
+        return (pos, neg) if not pos & neg else None
+
+    def successors(self, s: int) -> list[tuple[int, int]]:
+        out = []
+        for i, (pp, pn, add, dele) in enumerate(self.masks):
+            if s & pp == pp and not s & pn:
+                out.append((i, (s & ~dele) | add))
+        return out
+
+    def is_goal(self, s: int) -> bool:
+        gp, gn = self.goal
+        return s & gp == gp and not s & gn
+
+    def h(self, s: int, cap: int) -> int | None:
+        t, f = s, ~s & self.full
+        gp, gn = self.goal
+        todo = self.masks
+        for layer in range(cap):
+            if t & gp == gp and f & gn == gn:
+                return layer
+            nt, nf, rest = t, f, []
+            for mask in todo:
+                pp, pn, add, dele = mask
+                if t & pp == pp and f & pn == pn:
+                    nt |= add
+                    nf |= dele
+                else:
+                    rest.append(mask)
+            if nt == t and nf == f:
+                return None
+            t, f, todo = nt, nf, rest
+        return cap
+
+
 def search(inst: ir.Instance, horizon: int, *, deadline: float | None = None) -> SearchResult:
     """A* for the shortest sequential composition of at most ``horizon`` steps (above);
     ``deadline`` is a ``time.monotonic()`` instant."""
+    task: Any
     try:
-        task = _Task(inst)
-    except _Unsupported as why:
-        return SearchResult(SearchStatus.UNSUPPORTED, reason=str(why))
+        task = _Strips(inst)
+    except _Unsupported:
+        try:
+            task = _Task(inst)
+        except _Unsupported as why:
+            return SearchResult(SearchStatus.UNSUPPORTED, reason=str(why))
     start = task.init
     cap = horizon + 1
     h0 = task.h(start, cap)
@@ -494,10 +624,10 @@ def search(inst: ir.Instance, horizon: int, *, deadline: float | None = None) ->
     cut = h0 > horizon  # some state was cut by the horizon: no proof for longer plans
     if cut:
         return SearchResult(SearchStatus.NONE, reason=f"no composition within {horizon} steps (h^max)")
-    g_of: dict[State, int] = {start: 0}
-    parent: dict[State, tuple[State, int] | None] = {start: None}
+    g_of: dict[Any, int] = {start: 0}
+    parent: dict[Any, tuple[Any, int] | None] = {start: None}
     tie = itertools.count()
-    heap: list[tuple[int, int, int, State]] = [(h0, h0, next(tie), start)]
+    heap: list[tuple[int, int, int, Any]] = [(h0, h0, next(tie), start)]
     expanded = 0
     while heap:
         _, _, _, s = heapq.heappop(heap)
@@ -531,11 +661,11 @@ def search(inst: ir.Instance, horizon: int, *, deadline: float | None = None) ->
     )
 
 
-def _plan(task: _Task, parent: dict[State, tuple[State, int] | None], s: State) -> Plan:
+def _plan(task: Any, parent: dict[Any, tuple[Any, int] | None], s: Any) -> Plan:
     names = []
     link = parent[s]
     while link is not None:
         prev, a_i = link
-        names.append(task.actions[a_i].name)
+        names.append(task.names[a_i] if isinstance(task, _Strips) else task.actions[a_i].name)
         link = parent[prev]
     return Plan([(Activation(n),) for n in reversed(names)])
