@@ -17,6 +17,7 @@ pytest.importorskip("unified_planning")
 from conftest import run_catc
 from unified_planning.engines import PlanGenerationResultStatus as Status
 from unified_planning.io import PDDLReader
+from unified_planning.plans import ActionInstance
 from unified_planning.shortcuts import OneshotPlanner, get_environment
 
 from catc.bench import corpus
@@ -158,3 +159,25 @@ def test_an_undecided_answer_that_is_not_the_clock_stays_incomplete():
     run.inst, run.report = up_to_instance(problem)
     res = run._no_plan(SolveResult(SolveStatus.UNKNOWN, 5, reason="(incomplete quantifiers)"))
     assert res.status is Status.UNSOLVABLE_INCOMPLETELY
+
+
+@pytest.mark.parametrize("folder", ["counters", "depot", "miconic", "sailing", "tpp_metric", "safe_road"])
+def test_the_same_ground_actions_as_ups_grounder(folder):
+    """Where UP 1.3's grounder does not crash, catc's grounder keeps exactly its ground actions
+    (UP's grounder is the oracle: it instantiates every tuple and simplifies each)."""
+    from unified_planning.engines import CompilationKind
+    from unified_planning.engines.compilers import Grounder, QuantifiersRemover
+
+    wheel = corpus.wheel_dir()
+    assert wheel is not None
+    problem = _read(wheel / folder / "domain.pddl", wheel / folder / "problem.pddl")
+    lifted = problem
+    ours = up_ground.ground(lifted)
+    base = lifted
+    k = lifted.kind
+    if k.has_existential_conditions() or k.has_universal_conditions() or k.has_forall_effects():
+        base = QuantifiersRemover()._compile(lifted, CompilationKind.QUANTIFIERS_REMOVING).problem
+    theirs = Grounder()._compile(base, CompilationKind.GROUNDING)
+    names = sorted(str(ours.back(ActionInstance(a))) for a in ours.problem.actions)
+    expected = sorted(str(theirs.map_back_action_instance(ActionInstance(a))) for a in theirs.problem.actions)
+    assert names == expected
