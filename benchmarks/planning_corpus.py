@@ -168,6 +168,7 @@ class Row:
     catc: str = "-"
     catc_len: int | None = None
     catc_time: float | None = None
+    catc_cpu: float | None = None
     catc_valid: bool | None = None
     smt: str = "-"
     smt_len: int | None = None
@@ -175,6 +176,7 @@ class Row:
     enhsp: str = "-"
     enhsp_len: int | None = None
     enhsp_time: float | None = None
+    enhsp_cpu: float | None = None
     enhsp_valid: bool | None = None
     notes: list[str] = field(default_factory=list)
 
@@ -203,9 +205,9 @@ def run(task: Task, work: Path, timeout: float, *, smt: bool, enhsp: bool, horiz
     up_problem = PDDLReader().parse_problem(str(d), str(p))
     inst, report = up_to_instance(up_problem, timeout=timeout)
     row.imported = time.perf_counter() - t0
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     r = solve(inst, horizon=horizon, sequential=True, strategy="search", timeout=timeout)
-    row.catc_time = time.perf_counter() - t0
+    row.catc_time, row.catc_cpu = time.perf_counter() - t0, time.process_time() - c0
     row.catc = r.status.value + (" (final)" if r.status is SolveStatus.UNSAT and r.final else "")
     if r.plan is not None:
         steps = _pddl_steps(r.plan, report)
@@ -219,12 +221,21 @@ def run(task: Task, work: Path, timeout: float, *, smt: bool, enhsp: bool, horiz
     if enhsp:
         from catc.targets.enhsp import run_enhsp
 
+        c0 = _children_cpu()
         en = run_enhsp(d, p, planner="opt-hrmax", timeout=timeout)
-        row.enhsp, row.enhsp_time = en.status, en.wall
+        row.enhsp, row.enhsp_time, row.enhsp_cpu = en.status, en.wall, _children_cpu() - c0
         if en.status == "sat":
             steps = corpus._steps(en.output)
             row.enhsp_len, row.enhsp_valid = len(steps), corpus.up_validates(up_problem, steps)
     return row
+
+
+def _children_cpu() -> float:
+    """CPU seconds of the finished child processes (ENHSP's JVM, all its threads)."""
+    import resource
+
+    u = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return u.ru_utime + u.ru_stime
 
 
 def _t(x: float | None) -> str:
@@ -236,8 +247,8 @@ def _v(x: bool | None) -> str:
 
 
 def markdown(rows: list[Row], command: str, smt: bool) -> str:
-    head = "| task | hand count | catc (search) | len | s | valid | ENHSP opt-hrmax | len | s | valid |"
-    rule = "|---|---|---|---|---|---|---|---|---|---|"
+    head = "| task | hand count | catc (search) | len | wall s | cpu s | valid | ENHSP opt-hrmax | len | wall s | cpu s | valid |"
+    rule = "|---|---|---|---|---|---|---|---|---|---|---|---|"
     if smt:
         head += " catc SMT | len | s |"
         rule += "---|---|---|"
@@ -246,8 +257,8 @@ def markdown(rows: list[Row], command: str, smt: bool) -> str:
         t = r.task
         line = (
             f"| {t.name} | {t.optimal if t.optimal is not None else 'unsolvable'} | {r.catc} | {r.catc_len or '-'} | "
-            f"{_t(r.catc_time)} | {_v(r.catc_valid)} | {r.enhsp} | {r.enhsp_len or '-'} | {_t(r.enhsp_time)} | "
-            f"{_v(r.enhsp_valid)} |"
+            f"{_t(r.catc_time)} | {_t(r.catc_cpu)} | {_v(r.catc_valid)} | {r.enhsp} | {r.enhsp_len or '-'} | "
+            f"{_t(r.enhsp_time)} | {_t(r.enhsp_cpu)} | {_v(r.enhsp_valid)} |"
         )
         if smt:
             line += f" {r.smt} | {r.smt_len if r.smt_len is not None else '-'} | {_t(r.smt_time)} |"
@@ -273,8 +284,9 @@ def main(argv: list[str] | None = None) -> int:
         for t in chosen:
             row = run(t, Path(tmp), args.timeout, smt=args.smt, enhsp=not args.no_enhsp, horizon=args.horizon)
             print(
-                f"{t.name}: catc {row.catc} {row.catc_len} {_t(row.catc_time)}s; ENHSP {row.enhsp} {row.enhsp_len} "
-                f"{_t(row.enhsp_time)}s" + (f"; SMT {row.smt} {row.smt_len} {_t(row.smt_time)}s" if args.smt else ""),
+                f"{t.name}: catc {row.catc} {row.catc_len} {_t(row.catc_time)}s (cpu {_t(row.catc_cpu)}); ENHSP "
+                f"{row.enhsp} {row.enhsp_len} {_t(row.enhsp_time)}s (cpu {_t(row.enhsp_cpu)})"
+                + (f"; SMT {row.smt} {row.smt_len} {_t(row.smt_time)}s" if args.smt else ""),
                 file=sys.stderr,
                 flush=True,
             )

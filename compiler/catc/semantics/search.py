@@ -624,40 +624,52 @@ def search(inst: ir.Instance, horizon: int, *, deadline: float | None = None) ->
     cut = h0 > horizon  # some state was cut by the horizon: no proof for longer plans
     if cut:
         return SearchResult(SearchStatus.NONE, reason=f"no composition within {horizon} steps (h^max)")
+    # lazy A*: a state enters the queue with its parent's h − 1 (a lower bound, the heuristic
+    # being consistent) and is evaluated only when it comes out; if its f then grows it goes
+    # back in. Most generated states are never evaluated.
     g_of: dict[Any, int] = {start: 0}
     parent: dict[Any, tuple[Any, int] | None] = {start: None}
     tie = itertools.count()
-    heap: list[tuple[int, int, int, Any]] = [(h0, h0, next(tie), start)]
-    expanded = 0
+    heap: list[tuple[int, int, int, int, Any, bool]] = [(h0, h0, next(tie), 0, start, True)]
+    expanded = alive = 0
     while heap:
-        _, _, _, s = heapq.heappop(heap)
-        g = g_of[s]
+        f, h, _, g, s, evaluated = heapq.heappop(heap)
+        if g > g_of[s]:
+            continue  # a stale entry: s was reached more cheaply since
+        if not evaluated:
+            h2 = task.h(s, cap - g)
+            if h2 is None:
+                continue  # a proven dead end
+            if g + h2 > horizon:
+                cut = True
+                continue
+            alive += 1
+            if g + h2 > f:
+                heapq.heappush(heap, (g + h2, h2, next(tie), g, s, True))
+                continue
+            h = h2
+        elif s is start:
+            alive += 1
         if task.is_goal(s):
             return SearchResult(SearchStatus.PLAN, _plan(task, parent, s), expanded=expanded)
         expanded += 1
         if deadline is not None and time.monotonic() >= deadline:
             return SearchResult(SearchStatus.STOPPED, expanded=expanded, reason="timeout")
+        g2, est = g + 1, max(h - 1, 0)
         for a_i, t in task.successors(s):
-            g2 = g + 1
             old = g_of.get(t)
             if old is not None and old <= g2:
                 continue
-            h = task.h(t, cap - g2)
-            if h is None:
-                continue  # a proven dead end
-            if g2 + h > horizon:
-                cut = True
-                continue
             g_of[t] = g2
             parent[t] = (s, a_i)
-            heapq.heappush(heap, (g2 + h, h, next(tie), t))
+            heapq.heappush(heap, (g2 + est, est, next(tie), g2, t, False))
     if cut:
         return SearchResult(SearchStatus.NONE, expanded=expanded, reason=f"no composition within {horizon} steps")
     return SearchResult(
         SearchStatus.NONE,
         final=True,
         expanded=expanded,
-        reason=f"every reachable state not proven a dead end ({len(g_of)}) was expanded",
+        reason=f"every reachable state not proven a dead end ({alive}) was expanded",
     )
 
 
