@@ -181,3 +181,21 @@ def test_the_same_ground_actions_as_ups_grounder(folder):
     names = sorted(str(ours.back(ActionInstance(a))) for a in ours.problem.actions)
     expected = sorted(str(theirs.map_back_action_instance(ActionInstance(a))) for a in theirs.problem.actions)
     assert names == expected
+
+
+def test_import_pddl_stops_grounding_at_its_timeout(tmp_path):
+    """A timeout of a nanosecond has passed by the grounder's first look at the clock (which
+    follows the PDDL reading): exit 3, E1109, nothing written but the folder."""
+    r = run_catc(
+        "import",
+        "pddl",
+        str(FERRY / "domain.pddl"),
+        str(FERRY / "problem.pddl"),
+        "-o",
+        str(tmp_path),
+        "--timeout",
+        "1e-9",
+    )
+    assert r.exit_code == 3
+    assert "error[E1109]" in r.stderr and "grounding" in r.stderr
+    assert not (tmp_path / "domain.cat").exists()
