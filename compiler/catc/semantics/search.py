@@ -154,6 +154,10 @@ def _concrete(e: ir.Expr, index: dict[str, int]) -> Fn:
 Relaxed = tuple[Any, ...]
 
 
+def _shift(x: tuple[Any, Any], c: Any) -> tuple[Any, Any]:
+    return (None if x[0] is None else x[0] + c, None if x[1] is None else x[1] + c)
+
+
 def _lo_add(a: Fraction | None, b: Fraction | None) -> Fraction | None:
     return None if a is None or b is None else a + b
 
@@ -266,10 +270,22 @@ def _relaxed(e: ir.Expr, index: dict[str, int]) -> Callable[[Relaxed], Any]:
     if isinstance(e, ir.Arith):
         fs = [_relaxed(a, index) for a in e.args]
         op = e.op
+        if op in (ArithOp.ADD, ArithOp.SUB) and len(e.args) == 2 and isinstance(e.args[1], ir.Const):
+            x, c = fs[0], _num(e.args[1].value)  # the common x ± c, without the general case's lists
+            c = c if op is ArithOp.ADD else -c
+            return lambda r: _shift(x(r), c)
         return lambda r: _arith_relaxed(op, [f(r) for f in fs])
     if isinstance(e, ir.Compare):
         a, b = _relaxed(e.left, index), _relaxed(e.right, index)
         cop, kind = e.op, _kind(e.left.sort)
+        if kind == "number" and cop in (CmpOp.LE, CmpOp.GE):
+            lo_side, hi_side = (a, b) if cop is CmpOp.LE else (b, a)  # lo_side <= hi_side
+
+            def le(r: Relaxed) -> tuple[bool, bool]:
+                x, y = lo_side(r), hi_side(r)
+                return (_le(x[0], y[1]), _lt(y[0], x[1]))
+
+            return le
         return lambda r: _compare_relaxed(cop, a(r), b(r), kind)
     if isinstance(e, ir.BoolOp):
         fs = [_relaxed(a, index) for a in e.args]
