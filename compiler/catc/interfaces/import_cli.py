@@ -278,7 +278,7 @@ def import_pddl(
     out.mkdir(parents=True, exist_ok=True)
     report_file = out / "import-report.md"
     try:
-        inst, rep = up_to_instance(up_problem, timeout=timeout)
+        inst, rep = up_to_instance(up_problem) if timeout is None else up_to_instance(up_problem, timeout=timeout)
     except UpMissing as exc:
         raise ImportFailed(codes.IMPORT_NEEDS_EXTRA, str(exc)) from None
     except UpImportStopped:
