@@ -103,11 +103,22 @@ def test_a_temporal_domain_is_refused_at_its_first_durative_action(tmp_path):
     assert "CONTINUOUS_TIME" in report and "## Refused" in report and not (out / "domain.cat").exists()
 
 
-def test_an_undefined_initial_value_is_refused_at_the_init(tmp_path):
-    """tpp_metric's :init gives no value to some functions: catc's initial state is complete."""
+def test_an_undefined_initial_value_no_ground_action_reads_is_not_refused(tmp_path):
+    """tpp_metric's :init leaves drive-cost(m, m) undefined for every market m, but drive needs
+    (connected ?from ?to), false of every (m, m): no ground action reads those values."""
     r, out = _import(tmp_path, "tpp_metric")
+    assert r.exit_code == 0, r.stderr
+    assert "drive-cost(market1, market1)" not in (out / "actions.json").read_text()
+
+
+def test_an_undefined_initial_value_that_is_read_is_refused_at_the_init(tmp_path):
+    """tests/fixtures/pddl/undefined-unread/problem-read.pddl: drive(t2, p, q) reads fuel(t2),
+    which has no value: catc's initial state is complete."""
+    folder = Path(__file__).parent / "fixtures" / "pddl" / "undefined-unread"
+    out = tmp_path / "out"
+    r = run_catc("import", "pddl", str(folder / "domain.pddl"), str(folder / "problem-read.pddl"), "-o", str(out))
     assert r.exit_code == 2
-    assert f"{_line_col(WHEEL / 'tpp_metric' / 'problem.pddl', '(:init')}: error[E1201]" in r.stderr
+    assert f"{_line_col(folder / 'problem-read.pddl', '(:init')}: error[E1201]" in r.stderr
     report = (out / "import-report.md").read_text()
     assert "UNDEFINED_INITIAL_NUMERIC" in report and "catc's initial state is complete" in report
 

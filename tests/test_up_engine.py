@@ -227,15 +227,21 @@ def _islands():
     return pr
 
 
-def _parity():
-    """x starts at 0 and only grows by 2: x = 3 never holds, but x is unbounded, so catc
-    can only say that no plan exists within its horizon."""
+def _parity(down: bool = True):
+    """x starts at 0 and grows or falls by 2: x = 3 never holds, but x is unbounded and can go
+    either way, so no state is a provable dead end and there are infinitely many: catc can only
+    say that no plan exists within its horizon. With ``down=False`` x only grows, and every
+    x ≥ 4 is a dead end (the widened relaxation of the forward search proves it)."""
     x = Fluent("x", IntType())
     a = InstantaneousAction("add2")
     a.add_effect(x, x + 2)
     pr = Problem("parity")
     pr.add_fluent(x, default_initial_value=0)
     pr.add_action(a)
+    if down:
+        b = InstantaneousAction("sub2")
+        b.add_effect(x, x - 2)
+        pr.add_action(b)
     pr.add_goal(Equals(x, 3))
     return pr
 
@@ -268,6 +274,14 @@ def test_unsolvable_within_the_horizon_only_is_not_called_proven(catc_engine):
     r = _solve(_parity(), max_horizon=6)
     assert r.status is Status.UNSOLVABLE_INCOMPLETELY
     assert "no plan of at most 6 actions" in _log(r)
+
+
+def test_unsolvable_proven_where_the_state_space_is_infinite_but_the_dead_ends_are_proven(catc_engine):
+    """x only grows by 2 from 0: the forward search sees x = 0 and 2, whose relaxations still
+    reach 3, and proves every x ≥ 4 a dead end — no plan of any length."""
+    r = _solve(_parity(down=False), max_horizon=6)
+    assert r.status is Status.UNSOLVABLE_PROVEN
+    assert "every reachable state" in _log(r)
 
 
 def test_time_out_before_any_answer(catc_engine):

@@ -2,9 +2,9 @@
 
 A front end: a UP ``Problem`` → catc's checked IR (:class:`~catc.ir.Instance`).
 
-The problem is *grounded* first with unified-planning's own compilers (quantifiers removed by
-``up_quantifiers_remover``, actions instantiated by ``up_grounder``, which drops the ground
-actions whose preconditions are false on the static fluents): catc's resources hold one value
+The problem is *grounded* first (:mod:`catc.frontend.up_ground`: quantifiers removed by UP's
+``QuantifiersRemover``, each action's parameter tuples chosen by their static preconditions
+before any is instantiated, the instances made and simplified by UP's ``GrounderHelper``): catc's resources hold one value
 each and its sets one sort's values, so a fluent of arity k > 0 cannot be one resource — each
 ground fluent that a ground action, the goal or the metric reads or writes becomes one resource
 (``at(r1, l2)`` → ``at_r1_l2``), and each ground action one morphism without parameters. Static
@@ -22,7 +22,11 @@ happen); increases and decreases add up; conditional effects become ``if`` terms
 Action costs that read fluents the actions change are summed in a resource of their own (each
 in the state before its action, as UP evaluates them) and minimised in the final state.
 
-What catc cannot express — time, processes, hierarchies, undefined initial values, trajectory
+A fluent without an initial value is refused only when a remaining ground action, the goal or
+the metric reads it (the refusal names it); one only ever assigned before any read gets a
+placeholder (a note says which).
+
+What catc cannot express — time, processes, hierarchies, undefined initial values read, trajectory
 constraints, unbounded or real action parameters, a makespan metric — is refused:
 :func:`up_to_instance` raises :class:`UpImportError` (code ``E1201``) whose
 :class:`ImportReport` lists every reason; nothing is dropped silently.
@@ -33,6 +37,7 @@ unified-planning is imported only inside these functions (the ``up`` extra).
 from __future__ import annotations
 
 import re
+import time
 from collections.abc import Callable, Iterable, Mapping
 from fractions import Fraction
 from typing import Any
@@ -48,6 +53,7 @@ __all__ = [
     "MISSING",
     "ImportReport",
     "UpImportError",
+    "UpImportStopped",
     "UpMissing",
     "plan_to_up",
     "supported_kind",
@@ -175,6 +181,10 @@ class UpImportError(ValueError):
         super().__init__("catc cannot express this problem: " + "; ".join(f"{w}: {r}" for w, r in report.refused))
 
 
+class UpImportStopped(Exception):
+    """The time given to :func:`up_to_instance` ran out while grounding."""
+
+
 class UpMissing(ImportError):
     """unified-planning is not installed (code ``E1202``; the message names the extra)."""
 
@@ -243,7 +253,13 @@ class _Names:
 # ---------------------------------------------------------------- the import
 
 
-def up_to_instance(problem: Any, *, name: str | None = None) -> tuple[ir.Instance, ImportReport]:
+#: Features decided after grounding, per ground fluent actually read (not on UP's problem kind).
+_AFTER_GROUNDING = frozenset({"UNDEFINED_INITIAL_NUMERIC", "UNDEFINED_INITIAL_SYMBOLIC"})
+
+
+def up_to_instance(
+    problem: Any, *, name: str | None = None, timeout: float | None = None
+) -> tuple[ir.Instance, ImportReport]:
     """Convert a unified-planning ``Problem`` into a catc :class:`~catc.ir.Instance`.
 
     Returns ``(instance, report)``. The instance must be solved with ``sequential=True``
@@ -253,21 +269,30 @@ def up_to_instance(problem: Any, *, name: str | None = None) -> tuple[ir.Instanc
     express, :class:`~catgrammar.limits.LimitExceeded` when the grounded problem has more
     resources or morphisms than the limits allow (``E1104``/``E1105``), and :class:`UpMissing` (an ``ImportError``, code ``E1202``) naming the ``up`` extra
     without unified-planning. The
-    signature is stable: ``catc import pddl`` builds on it."""
+    signature is stable: ``catc import pddl`` builds on it. With ``timeout`` (seconds) the
+    grounding stops with :class:`UpImportStopped` once it has passed."""
+    from catc.frontend.up_ground import GroundingStopped, ground
+
     _up()
     report = ImportReport()
     for what, why in refusals(problem.kind):
-        report.refuse(what, why)
+        if what not in _AFTER_GROUNDING:
+            report.refuse(what, why)
     if not report.ok:
         raise UpImportError(report)
-    ground, back = _ground(problem)
-    inst = _Converter(ground, back, report, name or problem.name).run()
+    deadline = None if timeout is None else time.monotonic() + timeout
+    try:
+        grounding = ground(problem, deadline)
+    except GroundingStopped as stop:
+        raise UpImportStopped(str(stop)) from None
+    inst = _Converter(grounding.problem, grounding.back, report, name or problem.name).run()
     if not report.ok:
         raise UpImportError(report)
     _within_limits(inst)
     report.notes += [
-        f"grounded by unified-planning's grounder: {len(inst.morphisms)} ground actions → morphisms without "
-        f"parameters, {len(inst.resources)} ground fluents read or written → resources",
+        f"grounded by catc's grounder (catc.frontend.up_ground): {grounding.candidates} parameter tuples passed "
+        f"the static preconditions and were instantiated, {len(inst.morphisms)} ground actions kept → morphisms "
+        f"without parameters, {len(inst.resources)} ground fluents read or written → resources",
         "static fluents (written by no action) replaced by their initial values",
         "sequential semantics: solve with sequential=True (one action per step); catc's parallel steps "
         "could put two UP actions in one step",
@@ -285,29 +310,6 @@ def _within_limits(inst: ir.Instance) -> None:
                 limit.code,
                 f"the grounded problem has {count} {name}, more than the {name} limit ({most}); {limit.how_to_raise}",
             )
-
-
-def _ground(problem: Any) -> tuple[Any, Callable[[Any], Any]]:
-    """UP's own quantifier removal and grounding; the ground problem and the map from its
-    action instances back to the original problem's."""
-    from unified_planning.engines import CompilationKind
-    from unified_planning.engines.compilers import Grounder, QuantifiersRemover
-
-    maps: list[Callable[[Any], Any]] = []
-    kind = problem.kind
-    if kind.has_existential_conditions() or kind.has_universal_conditions() or kind.has_forall_effects():
-        res = QuantifiersRemover().compile(problem, CompilationKind.QUANTIFIERS_REMOVING)
-        problem = res.problem
-        maps.append(res.map_back_action_instance)
-    res = Grounder().compile(problem, CompilationKind.GROUNDING)
-    maps.append(res.map_back_action_instance)
-
-    def back(ai: Any) -> Any:
-        for f in reversed(maps):
-            ai = f(ai)
-        return ai
-
-    return res.problem, back
 
 
 class _Converter:
@@ -328,6 +330,7 @@ class _Converter:
         self.numeric = False
         self.symbols = False
         self.cost_resource: str | None = None  # the summed costs, when they read changing fluents
+        self.reader = "the problem"  # what reads the fluents being converted (for refusals)
 
     # ------------------------------------------------------------ the whole
 
@@ -339,10 +342,12 @@ class _Converter:
             m = self._morphism(action, costs)
             if m is not None:
                 morphisms[m.name] = m
+        self.reader = "the goal"
         goal = self._literals(self.g.goals, "goal", lambda i: f"goal {i + 1}")
+        self.reader = "the metric"
         softs, metric = self._metric()
         self._invariants_hold_initially(goal)
-        init = self._initial_state()
+        init = self._initial_state(_readers(morphisms, goal, softs, metric, self.report.actions))
         if self.cost_resource is not None:
             init[self.cost_resource] = ir.InitValue(
                 self.cost_resource, ir.Const(Fraction(0), REAL), f"init/{self.cost_resource}"
@@ -410,13 +415,41 @@ class _Converter:
                 self.report.labels[f"bounds/{name}"] = f"the bounds of {node.fluent().type} on {node}"
         return name
 
-    def _initial_state(self) -> dict[str, ir.InitValue]:
+    def _initial_state(self, readers: Mapping[str, str]) -> dict[str, ir.InitValue]:
+        """Each resource's initial value; a fluent without one is refused when something reads
+        it (``readers``: resource → the first reader, in UP's words), else given a placeholder
+        (it is assigned before any read, so the value never matters)."""
         out = {}
+        placeholders = []
         for node, name in self.resource_of.items():
-            value = self._constant(self.init[node], self.resources[name].sort)
+            sort = self.resources[name].sort
+            if node not in self.init:
+                if name in readers:
+                    self._refuse_undefined(node, readers[name])
+                    continue
+                value = _placeholder(sort, self.constants)
+                placeholders.append(str(node))
+                out[name] = ir.InitValue(name, value, f"init/{name}")
+                self.report.labels[f"init/{name}"] = f"no initial value for {node} (a placeholder: nothing reads it)"
+                continue
+            value = self._constant(self.init[node], sort)
             out[name] = ir.InitValue(name, value, f"init/{name}")
             self.report.labels[f"init/{name}"] = f"initial value {node} := {self.init[node]}"
+        if placeholders:
+            self.report.notes.append(
+                "fluents without an initial value that no ground action, goal or metric reads (they are only "
+                "assigned): given a placeholder, which no plan can observe: " + ", ".join(placeholders)
+            )
         return out
+
+    def _refuse_undefined(self, node: Any, reader: str) -> None:
+        numeric = node.type.is_int_type() or node.type.is_real_type()
+        feature = "UNDEFINED_INITIAL_NUMERIC" if numeric else "UNDEFINED_INITIAL_SYMBOLIC"
+        self.report.refuse(
+            feature,
+            f"{node} has no initial value and {reader} reads it: catc's initial state is complete, and UP "
+            "leaves open what reading an undefined value means",
+        )
 
     def _constant(self, node: Any, sort: Sort) -> ir.Const:
         if node.is_bool_constant():
@@ -436,6 +469,9 @@ class _Converter:
             return self._constant(node, INT if t.is_int_type() else REAL if t.is_real_type() else BOOL)
         if node.is_fluent_exp():
             if node.fluent().name in self.static:  # never written: its initial value
+                if node not in self.init:
+                    self._refuse_undefined(node, self.reader)
+                    raise _Refused(str(node), "no initial value (above)")
                 return self.expr(self.init[node])
             name = self._resource(node)
             return ir.ResourceRef(name, self.resources[name].sort)
@@ -483,6 +519,7 @@ class _Converter:
 
         self.report.actions[name] = self.back(ActionInstance(action))
         up_name = str(self.report.actions[name])
+        self.reader = f"the ground action {up_name}"
         try:
             pre = self._literals(action.preconditions, f"pre/{name}", lambda i: f"precondition {i + 1} of {up_name}")
             effects, guards = _Effects(self, name, up_name).run(action.effects)
@@ -632,6 +669,50 @@ class _Converter:
             softs.append(ir.Soft(self.expr(goal), gain, label))
             self.report.labels[label] = f"oversubscription goal {goal} (gain {gain})"
         return softs
+
+
+def _readers(
+    morphisms: Mapping[str, ir.Morphism],
+    goal: list[ir.Literal],
+    softs: list[ir.Soft],
+    metric: ir.Metric | None,
+    actions: Mapping[str, Any],
+) -> dict[str, str]:
+    """Each resource something reads (a precondition, an effect's value or condition, an
+    increase or decrease of it, the goal, a soft goal, the metric) → the first reader."""
+    out: dict[str, str] = {}
+
+    def read(e: ir.Expr, who: str) -> None:
+        for r in ir.resources_in(e):
+            out.setdefault(r, who)
+
+    for name, m in morphisms.items():
+        who = f"the ground action {actions.get(name, name)}"
+        for lit in m.pre:
+            read(lit.expr, who)
+        for eff in m.effects:
+            read(eff.value, who)
+            if eff.kind is not ir.EffectKind.ASSIGN:
+                out.setdefault(eff.resource, who)
+    for lit in goal:
+        read(lit.expr, "the goal")
+    for soft in softs:
+        read(soft.expr, "a soft goal")
+    for obj in metric.objectives if metric is not None else ():
+        read(obj.term, "the metric")
+    return out
+
+
+def _placeholder(sort: Sort, constants: Mapping[str, ir.Constant]) -> ir.Const:
+    """A value of ``sort`` for a resource no one reads before assigning it."""
+    if sort.kind is SortKind.BOOL:
+        return ir.Const(False, BOOL)
+    if sort.is_numeric:
+        return ir.Const(Fraction(0), sort)
+    first = next((c.name for c in constants.values() if c.sort == sort or c.sort.parent == sort.name), None)
+    if first is None:
+        raise _Refused(f"sort {sort.name}", "no object to stand for an undefined initial value")
+    return ir.Const(first, sort)
 
 
 def _single(sense: ir.Sense, term: ir.Expr) -> ir.Metric:

@@ -11,7 +11,8 @@ morphism → the PDDL action it stands for).
 Exit codes (docs/cli.md): 0 imported; 2 the PDDL cannot be read (``E1210``, at the line and
 column the reader gives), uses something catc cannot express (``E1201``, located at the PDDL
 construct where it can be found, else at the file; the report is written and lists every
-refusal), needs the ``up`` extra (``E1202``), or the written files do not check (``E1211``).
+refusal), needs the ``up`` extra (``E1202``), or the written files do not check (``E1211``);
+3 the grounding ran past ``--timeout`` (``E1109``).
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ from typing import Any
 import click
 
 from catc import ir
-from catc.interfaces.command import EXIT_INPUT
+from catc.interfaces.command import EXIT_INPUT, EXIT_UNKNOWN
 from catgrammar import codes
 from catgrammar.terminal import printable
 
@@ -193,7 +194,8 @@ def _report(
     lines = [f"# Import report: `{domain.name}` + `{problem.name}`", ""]
     lines.append(
         f"Read by unified-planning {unified_planning.__version__}'s `PDDLReader`; converted by "
-        "`catc.frontend.up_import` (grounded with UP's own `up_quantifiers_remover` and `up_grounder`); "
+        "`catc.frontend.up_import` (grounded by `catc.frontend.up_ground`: UP's `QuantifiersRemover`, parameters "
+        "chosen by their static preconditions, instances made by UP's `GrounderHelper`); "
         "written by `catc.targets.catsource` in `catc fmt`'s layout and checked again by `catc check`."
     )
     lines.append("")
@@ -231,7 +233,7 @@ def _report(
             "catc's resources hold one value each, so every PDDL fluent with arguments is grounded: each ground "
             "fluent an action, the goal or the metric reads or writes becomes one resource (`at(r1, l2)` → "
             "`at_r1_l2`), each ground action one morphism (its `:doc` names the PDDL action). Ground actions whose "
-            "static preconditions are false are dropped by UP's grounder; static fluents (written by no action) are "
+            "static preconditions are false are never instantiated; static fluents (written by no action) are "
             "replaced by their initial values. Quantifiers are expanded over the objects before grounding. "
             "`actions.json` maps every morphism back to its PDDL action."
         )
@@ -260,12 +262,15 @@ def _report(
     return "\n".join(lines).rstrip("\n") + "\n"
 
 
-def import_pddl(domain: Path, problem: Path, out: Path, *, horizon: int | None = None) -> ImportResult:
+def import_pddl(
+    domain: Path, problem: Path, out: Path, *, horizon: int | None = None, timeout: float | None = None
+) -> ImportResult:
     """Import ``domain`` + ``problem`` into ``out`` (see the module docstring); raises
     :class:`ImportFailed` with the code, message and location of the first reason to stop
-    (the report is written when the model was read)."""
+    (the report is written when the model was read). ``timeout`` (seconds) bounds the
+    grounding: past it, ``E1109``."""
     from catc.frontend.session import load_checked
-    from catc.frontend.up_import import UpImportError, UpMissing, up_to_instance
+    from catc.frontend.up_import import UpImportError, UpImportStopped, UpMissing, up_to_instance
     from catc.targets.catsource import CatSourceError
     from catgrammar.diagnostics import Diagnostics
 
@@ -273,9 +278,13 @@ def import_pddl(domain: Path, problem: Path, out: Path, *, horizon: int | None =
     out.mkdir(parents=True, exist_ok=True)
     report_file = out / "import-report.md"
     try:
-        inst, rep = up_to_instance(up_problem)
+        inst, rep = up_to_instance(up_problem) if timeout is None else up_to_instance(up_problem, timeout=timeout)
     except UpMissing as exc:
         raise ImportFailed(codes.IMPORT_NEEDS_EXTRA, str(exc)) from None
+    except UpImportStopped:
+        raise ImportFailed(
+            codes.TIME_LIMIT, f"the time ran out while grounding the problem (--timeout {timeout:g} s)", str(problem)
+        ) from None
     except UpImportError as exc:
         refused = [(w, r, _locate(w, (domain, problem))) for w, r in exc.report.refused]
         report_file.write_text(_report(domain, problem, up_problem, exc.report, None, refused, None), encoding="utf-8")
@@ -354,7 +363,12 @@ def import_command() -> None:
 @click.option(
     "--horizon", "-k", type=click.IntRange(min=0), help="Write (:horizon K) into the problem (the most PDDL actions)."
 )
-def pddl_command(domain: str, problem: str, out_dir: str, horizon: int | None) -> None:
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0, min_open=True),
+    help="Give up grounding after this many seconds (exit 3, error[E1109]).",
+)
+def pddl_command(domain: str, problem: str, out_dir: str, horizon: int | None, timeout: float | None) -> None:
     """Import a PDDL 2.1 DOMAIN and PROBLEM (non-temporal, numeric fluents, action costs) as .cat.
 
     Read by unified-planning's PDDL reader (pip install 'catc-lang[up]'), grounded, written as
@@ -363,12 +377,12 @@ def pddl_command(domain: str, problem: str, out_dir: str, horizon: int | None) -
     2 refused or unreadable (a located error[CODE] and the report).
     """
     try:
-        res = import_pddl(Path(domain), Path(problem), Path(out_dir), horizon=horizon)
+        res = import_pddl(Path(domain), Path(problem), Path(out_dir), horizon=horizon, timeout=timeout)
     except ImportFailed as exc:
         click.echo(printable(f"{exc.location or 'catc'}: error[{exc.code}]: {exc.message}"), err=True)
         if exc.report is not None:
             click.echo(printable(f"the import report: {exc.report}"), err=True)
-        sys.exit(EXIT_INPUT)
+        sys.exit(EXIT_UNKNOWN if exc.code == codes.TIME_LIMIT else EXIT_INPUT)
     d = res.instance.domain
     click.echo(
         printable(

@@ -27,8 +27,11 @@ Statuses, honestly:
   refutation, or a finite state space (Boolean and object fluents only) whose every state is
   within the horizon searched.
 * ``UNSOLVABLE_INCOMPLETELY`` — no plan within the horizon searched (``max_horizon``), or the
-  solver could not decide. ``TIMEOUT`` — the time ran out before any answer.
+  solver could not decide. ``TIMEOUT`` — the time ran out before any answer (while grounding,
+  encoding or solving: every stop by the clock, whatever the solver calls it).
 * ``UNSUPPORTED_PROBLEM`` — what catc cannot express (the import report in the log).
+* ``INTERNAL_ERROR`` — anything else that went wrong (a bug in catc or in a library it calls):
+  no exception escapes ``solve()``; the log holds the error.
 
 Unsolvable answers carry catc's diagnosis — an irreducible set of the problem's constraints
 that together admit no plan, in UP's words — in the result's ``log_messages``.
@@ -44,7 +47,7 @@ from typing import IO, Any
 
 from catc import ir
 from catc.frontend import up_import
-from catc.frontend.up_import import ImportReport, UpImportError, plan_to_up, up_to_instance
+from catc.frontend.up_import import ImportReport, UpImportError, UpImportStopped, plan_to_up, up_to_instance
 from catc.queries.diagnose import DiagnoseStatus, diagnose
 from catc.queries.optimize import OptStatus, optimize
 from catc.queries.solve import SolveResult, SolveStatus, solve
@@ -80,7 +83,7 @@ _CREDITS = Credits(
     "https://github.com/",
     "see the catc distribution",
     "An SMT-based compiler for robot recomposition, used as a bounded sequential planner.",
-    "catc grounds the problem with unified-planning's grounder, encodes it to SMT (Z3) with "
+    "catc grounds the problem (parameters chosen by static preconditions, instances by unified-planning), encodes it to SMT (Z3) with "
     "sequential steps, deepens the horizon one step at a time, optimises the metric, and "
     "replays every plan in an independent validator; unsolvable problems are diagnosed.",
 )
@@ -153,11 +156,11 @@ class CatcEngine(Engine, OneshotPlannerMixin, AnytimePlannerMixin):
     ) -> Any:
         if heuristic is not None:
             warnings.warn("catc ignores the heuristic: it searches by SMT, not by states", stacklevel=2)
-        return list(_Run(self, problem, timeout).results())[-1]
+        return list(_Run(self, problem, timeout).guarded())[-1]
 
     def _get_solutions(self, problem: Any, timeout: float | None = None, output_stream: IO[str] | None = None) -> Any:
         run = _Run(self, problem, timeout, anytime=True)
-        yield from run.results()
+        yield from run.guarded()
 
 
 class _Run:
@@ -180,10 +183,26 @@ class _Run:
     def say(self, message: str, level: Any = None) -> None:
         self.log.append(LogMessage(level or LogLevel.INFO, message))
 
-    def results(self) -> Iterator[Any]:
+    def expired(self) -> bool:
+        return self.deadline is not None and time.monotonic() >= self.deadline
+
+    def guarded(self) -> Iterator[Any]:
+        """:meth:`results`, with any exception turned into an ``INTERNAL_ERROR`` result (or a
+        ``TIMEOUT`` one once the time is up): nothing escapes UP's ``solve()``."""
         self.report = ImportReport()
         try:
-            self.inst, self.report = up_to_instance(self.problem)
+            yield from self.results()
+        except Exception as exc:  # a bug in catc or in a library: a status, not a traceback
+            if self.expired():
+                self.say(f"catc: the time ran out ({type(exc).__name__}: {exc})")
+                yield PlanGenerationResult(Status.TIMEOUT, None, "catc", log_messages=list(self.log))
+                return
+            self.say(f"catc: internal error: {type(exc).__name__}: {exc}", LogLevel.ERROR)
+            yield PlanGenerationResult(Status.INTERNAL_ERROR, None, "catc", log_messages=list(self.log))
+
+    def results(self) -> Iterator[Any]:
+        try:
+            self.inst, self.report = up_to_instance(self.problem, timeout=self.remaining())
         except UpImportError as refused:
             self.report = refused.report
             self.say(
@@ -191,14 +210,27 @@ class _Run:
             )
             yield self.result(Status.UNSUPPORTED_PROBLEM)
             return
+        except UpImportStopped:
+            self.say("catc: the time ran out while grounding the problem")
+            yield self.result(Status.TIMEOUT)
+            return
         except limits.LimitExceeded as past:  # grounded too large for catc's limits
             self.say(f"catc: {past.message} ({past.code})", LogLevel.ERROR)
             yield self.result(Status.UNSUPPORTED_PROBLEM)
             return
         for note in self.report.notes:
             self.say("catc import: " + note, LogLevel.DEBUG)
+        if self.expired():  # the grounding used up the time
+            self.say("catc: the time ran out after grounding the problem")
+            yield self.result(Status.TIMEOUT)
+            return
         first = solve(
-            self.inst, horizon=self.engine.max_horizon, sequential=True, timeout=self.remaining(), presolve=True
+            self.inst,
+            horizon=self.engine.max_horizon,
+            sequential=True,
+            timeout=self.remaining(),
+            presolve=True,
+            strategy="search",  # forward A* (shortest plan, or every reachable state seen); SMT where it cannot
         )
         if first.status is not SolveStatus.SAT:
             yield self._no_plan(first)
@@ -216,7 +248,9 @@ class _Run:
 
     def _no_plan(self, r: SolveResult) -> Any:
         if r.status is SolveStatus.UNKNOWN:
-            if r.reason in ("timeout", "interrupted"):
+            # every stop by the clock: catc's own ("timeout"), Z3's timer ("canceled"), or a
+            # reason the solver gave once the deadline had passed
+            if r.reason in _TIMER_REASONS or self.expired():
                 self.say(
                     f"catc: the time ran out after {r.horizons_tried} of {r.horizon + 1} horizons (0 to {r.horizon})"
                 )
@@ -227,13 +261,15 @@ class _Run:
         proven = r.final or states is not None
         if r.refutation is not None:
             why = f"no plan of any length: {r.refutation.reason} (relaxed reachability)"
-        elif r.final:
+        elif r.final and not r.reason:
             why = f"no plan of any length: no plan within {r.horizon} actions, the most any plan can take"
         elif states is not None:
             why = (
                 f"no plan of any length: no plan within {r.horizon} actions, and the problem has at most "
                 f"{states} states, each reachable within {states - 1} actions if at all"
             )
+        elif r.final:  # the forward search saw every reachable state
+            why = f"no plan of any length: {r.reason}"
         else:
             why = f"no plan of at most {r.horizon} actions (longer plans were not searched: max_horizon)"
         self.say("catc: " + why)
@@ -300,6 +336,10 @@ class _Run:
         if bounds and max(length, min(bounds)) <= most:
             return max(length, min(bounds)), True
         return max(length, min(most, self.engine.opt_horizon)), False
+
+
+#: What the queries and Z3 call a stop by the clock.
+_TIMER_REASONS = frozenset({"timeout", "interrupted", "canceled"})
 
 
 def _cost(m: ir.Morphism) -> Fraction:

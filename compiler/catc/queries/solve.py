@@ -6,6 +6,9 @@ inside a push/pop scope, so the first SAT answer is a shortest composition and t
 keeps what it learnt from the shorter horizons.  ``strategy="single"`` encodes the whole
 horizon with idle steps and checks once: any composition, not necessarily a shortest one,
 but one check settles an infeasible problem, which is faster when most answers are UNSAT.
+``strategy="search"`` (sequential steps, ground morphisms) runs the forward A* search of
+:mod:`catc.semantics.search` instead — a shortest composition, or a proof that none exists —
+and falls back to ``incremental`` where that search does not apply.
 
 Every SAT answer is replayed by the independent validator (:mod:`catc.semantics.validate`) before it
 is returned; a rejected answer is an internal error, never shown as a composition.
@@ -108,7 +111,7 @@ class SolveResult(Result):
         return f"SolveResult({self.status.name}, horizon={self.horizon}, plan={self.plan!r})"
 
 
-STRATEGIES = ("incremental", "single")
+STRATEGIES = ("incremental", "single", "search")
 
 
 def solve(
@@ -138,22 +141,31 @@ def solve(
     assumption literals; any other change (the domain, its objects, the horizon, the
     semantics, the backend) encodes afresh.  The answers are the same as without it."""
     if strategy not in STRATEGIES:
-        raise ValueError(f"unknown strategy {strategy!r}; expected 'incremental' or 'single'")
+        raise ValueError(f"unknown strategy {strategy!r}; expected one of {', '.join(STRATEGIES)}")
     start = time.perf_counter()
     with limits.deadline(timeout):
         k = horizon_of(inst, horizon)
         timings = {"start": 0.0, "encode": 0.0, "solve": 0.0, "validate": 0.0}
         try:
             proof = _presolve(inst, timings) if presolve else None
+            searched = None
+            if proof is None and strategy == "search":
+                t0 = time.perf_counter()
+                searched = _forward(inst, k, sequential, timeout)
+                timings["solve"] = time.perf_counter() - t0
             if proof is not None:  # no composition of any length: nothing to encode
                 result = SolveResult(SolveStatus.UNSAT, k, final=True, length_bound=use_bound(inst), refutation=proof)
+            elif searched is not None:  # the forward search settled it
+                result = searched
+                if result.status is SolveStatus.SAT and validate_answer:
+                    _validated(inst, result, k, sequential, prune, timings)
             else:
                 search = (
                     _Search(inst, k, sequential, backend, timings)
                     if warm is None
                     else warm.search(inst, k, sequential, backend, timings)
                 )
-                result = search.run(range(k + 1) if strategy == "incremental" else (k,), progress, phase)
+                result = search.run(range(k + 1) if strategy != "single" else (k,), progress, phase)
                 if result.status is SolveStatus.SAT and validate_answer:
                     _validated(inst, result, k, sequential, prune, timings)
         except limits.Stopped as stop:  # encoding or validating when the time ran out
@@ -162,6 +174,26 @@ def solve(
     timings["total"] = time.perf_counter() - start
     result.timings = timings
     return result
+
+
+def _forward(inst: ir.Instance, k: int, sequential: bool, timeout: float | None) -> SolveResult | None:
+    """The forward search's answer (:mod:`catc.semantics.search`), or None where it does not
+    apply (parallel steps, or what it does not model): then the SMT search runs."""
+    from catc.semantics.search import SearchStatus, search
+
+    if not sequential:
+        return None
+    r = search(inst, k, deadline=None if timeout is None else time.monotonic() + timeout)
+    if r.status is SearchStatus.UNSUPPORTED:
+        return None
+    if r.status is SearchStatus.PLAN:
+        return SolveResult(SolveStatus.SAT, k, r.plan, length_bound=use_bound(inst))
+    if r.status is SearchStatus.STOPPED:
+        return SolveResult(
+            SolveStatus.UNKNOWN, k, reason=limits.stop_reason() or "timeout", length_bound=use_bound(inst)
+        )
+    why = f"forward search: {r.reason}" if r.final else None
+    return SolveResult(SolveStatus.UNSAT, k, final=r.final, length_bound=use_bound(inst), reason=why)
 
 
 def _presolve(inst: ir.Instance, timings: dict[str, float]) -> Refutation | None:
@@ -474,6 +506,8 @@ def unsat_sentence(inst: ir.Instance, result: SolveResult) -> str:
             f"no composition of any length: {proof.reason}{what}, by relaxed reachability "
             "(catc diagnose names the constraints responsible)"
         )
+    if result.final and result.reason:  # the forward search saw every reachable state
+        return f"{head}; this is final: {result.reason}"
     if result.final:
         return (
             f"{head}; this is final: every morphism has a use limit, so no composition needs more than "
@@ -529,7 +563,8 @@ QUERY = Query(
             ("--strategy",),
             Kind.CHOICE,
             "incremental: deepen the horizon one step at a time (shortest composition); "
-            "single: one check of the whole horizon.",
+            "single: one check of the whole horizon; search: a forward A* search (sequential steps, "
+            "ground morphisms; shortest composition or proof of none), else incremental.",
             default="incremental",
             choices=STRATEGIES,
             show_default=True,

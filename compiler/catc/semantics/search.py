@@ -1,0 +1,699 @@
+"""A forward state-space search for shortest sequential compositions: A* with a numeric h^max.
+
+For ground instances (morphisms without parameters, as :mod:`catc.frontend.up_import` makes
+them) the shortest sequential composition is found by A* over the concrete states (exact
+``Fraction`` arithmetic), guided by an admissible and consistent heuristic: the number of
+layers of an *interval relaxation* after which the goal can hold (h^max generalised to numbers,
+as ENHSP's ``hrmax``). Layer 0 is the state itself, each resource a point (a number an
+interval, a Boolean or symbol a set of possible values); layer i+1 joins into layer i the
+effects of every morphism whose preconditions can hold in layer i. Every state reachable in i
+steps lies within layer i, so the layer where the goal first can hold is a lower bound on the
+distance to the goal, and a layer that no longer changes without the goal proves a dead end.
+
+What the search answers, all of it a proof (the validator still replays every composition):
+
+* a composition of L steps — the shortest (A* with an admissible heuristic, unit steps);
+* none within the horizon k — every state within k steps was expanded or pruned by the
+  heuristic (whose bound is sound);
+* none of any length (``final``) — additionally no state was cut by the horizon: the
+  reachable state space was exhausted, dead ends proven by the relaxation.
+
+Instances with what the search does not model (parameters, sets, holes, use limits, an
+effect that assigns and increases one resource, a resource without an initial value) are
+answered :attr:`SearchStatus.UNSUPPORTED`, and the caller falls back to the SMT encoding.
+"""
+
+from __future__ import annotations
+
+import heapq
+import itertools
+import operator
+import time
+from collections.abc import Callable
+from enum import Enum
+from fractions import Fraction
+from typing import Any
+
+from catc import ir
+from catc.ir import ArithOp, BoolOpKind, CmpOp, EffectKind, SortKind
+from catc.ir.fold import arith
+from catc.semantics.plan import Activation, Plan
+
+__all__ = ["SearchResult", "SearchStatus", "search"]
+
+
+class SearchStatus(str, Enum):
+    PLAN = "plan"
+    NONE = "none"  # no composition within the horizon (``final``: of any length)
+    STOPPED = "stopped"  # the time ran out
+    UNSUPPORTED = "unsupported"
+
+
+class SearchResult:
+    __slots__ = ("status", "plan", "final", "expanded", "reason", "length")
+
+    def __init__(
+        self,
+        status: SearchStatus,
+        plan: Plan | None = None,
+        *,
+        final: bool = False,
+        expanded: int = 0,
+        reason: str = "",
+    ) -> None:
+        self.status, self.plan, self.final, self.expanded, self.reason = status, plan, final, expanded, reason
+        self.length = None if plan is None else len(plan.steps)
+
+
+class _Unsupported(Exception):
+    pass
+
+
+# ---------------------------------------------------------------- concrete terms
+#
+# Numbers are exact: a whole number is a Python int (much faster than a Fraction of
+# denominator 1, and as exact), any other a Fraction; division always goes through Fraction.
+
+
+def _num(v: Any) -> Any:
+    """An int for a whole Fraction (not a bool), the value itself otherwise."""
+    if isinstance(v, Fraction) and v.denominator == 1:
+        return int(v.numerator)
+    return v
+
+
+def _arith(op: ArithOp, values: list[Any]) -> Any:
+    if op is ArithOp.DIV:
+        out = Fraction(values[0])
+        for x in values[1:]:
+            out /= x
+        return _num(out)
+    return _num(arith(op, [Fraction(v) for v in values]))
+
+
+State = tuple[Any, ...]
+Fn = Callable[[State], Any]
+
+
+_CMP: dict[CmpOp, Callable[[Any, Any], Any]] = {
+    CmpOp.EQ: operator.eq,
+    CmpOp.LT: operator.lt,
+    CmpOp.LE: operator.le,
+    CmpOp.GT: operator.gt,
+    CmpOp.GE: operator.ge,
+}
+
+
+def _concrete(e: ir.Expr, index: dict[str, int]) -> Fn:
+    """``e`` as a function of the state tuple (exact values: Fraction, bool, str)."""
+    if isinstance(e, ir.Const):
+        v = _num(e.value)
+        return lambda s: v
+    if isinstance(e, ir.ResourceRef):
+        i = index[e.name]
+        return lambda s: s[i]
+    if isinstance(e, ir.Arith):
+        fs = [_concrete(a, index) for a in e.args]
+        op = e.op
+        if op is ArithOp.ADD and len(fs) == 2:
+            a, b = fs
+            return lambda s: a(s) + b(s)
+        if op is ArithOp.SUB and len(fs) == 2:
+            a, b = fs
+            return lambda s: a(s) - b(s)
+        if op is ArithOp.MUL and len(fs) == 2:
+            a, b = fs
+            return lambda s: a(s) * b(s)
+        return lambda s: _arith(op, [f(s) for f in fs])
+    if isinstance(e, ir.Compare):
+        a, b = _concrete(e.left, index), _concrete(e.right, index)
+        cmp = _CMP[e.op]
+        return lambda s: bool(cmp(a(s), b(s)))
+    if isinstance(e, ir.BoolOp):
+        fs = [_concrete(a, index) for a in e.args]
+        if e.op is BoolOpKind.AND:
+            return lambda s: all(f(s) for f in fs)
+        if e.op is BoolOpKind.OR:
+            return lambda s: any(f(s) for f in fs)
+        if e.op is BoolOpKind.NOT:
+            (f,) = fs
+            return lambda s: not f(s)
+        *init, last = fs
+        return lambda s: (not all(f(s) for f in init)) or last(s)
+    if isinstance(e, ir.Ite):
+        c, t, o = _concrete(e.cond, index), _concrete(e.then, index), _concrete(e.orelse, index)
+        return lambda s: t(s) if c(s) else o(s)
+    raise _Unsupported(type(e).__name__)
+
+
+# ---------------------------------------------------------------- relaxed terms
+#
+# A relaxed value: a number → (lo, hi), None for an infinite bound; a Boolean → (can be true,
+# can be false); a symbol → a frozenset of the names it may hold.
+
+Relaxed = tuple[Any, ...]
+
+
+def _shift(x: tuple[Any, Any], c: Any) -> tuple[Any, Any]:
+    return (None if x[0] is None else x[0] + c, None if x[1] is None else x[1] + c)
+
+
+def _lo_add(a: Fraction | None, b: Fraction | None) -> Fraction | None:
+    return None if a is None or b is None else a + b
+
+
+def _mul(a: tuple[Any, Any], b: tuple[Any, Any]) -> tuple[Any, Any]:
+    if None in a or None in b:
+        if a == (0, 0) or b == (0, 0):
+            return (0, 0)
+        return (None, None)
+    ps = [x * y for x in a for y in b]
+    return (min(ps), max(ps))
+
+
+def _div(a: tuple[Any, Any], b: tuple[Any, Any]) -> tuple[Any, Any]:
+    lo, hi = b
+    if lo is None or hi is None or lo <= 0 <= hi or None in a:
+        return (None, None)
+    return _mul(a, (Fraction(1) / hi, Fraction(1) / lo))
+
+
+def _arith_relaxed(op: ArithOp, args: list[tuple[Any, Any]]) -> tuple[Any, Any]:
+    if op is ArithOp.ADD:
+        lo: Any = 0
+        hi: Any = 0
+        for a_lo, a_hi in args:
+            lo, hi = _lo_add(lo, a_lo), _lo_add(hi, a_hi)
+        return (lo, hi)
+    if op is ArithOp.SUB:
+        first = args[0]
+        if len(args) == 1:
+            return (None if first[1] is None else -first[1], None if first[0] is None else -first[0])
+        rest = _arith_relaxed(ArithOp.ADD, args[1:])
+        return (
+            _lo_add(first[0], None if rest[1] is None else -rest[1]),
+            _lo_add(first[1], None if rest[0] is None else -rest[0]),
+        )
+    if op is ArithOp.MUL:
+        out = args[0]
+        for a in args[1:]:
+            out = _mul(out, a)
+        return out
+    if op is ArithOp.DIV:
+        out = args[0]
+        for a in args[1:]:
+            out = _div(out, a)
+        return out
+    pick = min if op is ArithOp.MIN else max
+    los, his = [a[0] for a in args], [a[1] for a in args]
+    if op is ArithOp.MIN:
+        lo = None if None in los else pick(los)
+        hi = pick(h for h in his if h is not None) if any(h is not None for h in his) else None
+    else:
+        lo = pick(x for x in los if x is not None) if any(x is not None for x in los) else None
+        hi = None if None in his else pick(his)
+    return (lo, hi)
+
+
+def _lt(a: Any, b: Any) -> bool:
+    """a < b for a lower end ``a`` (None: -∞) and an upper end ``b`` (None: +∞)."""
+    return a is None or b is None or a < b
+
+
+def _le(a: Any, b: Any) -> bool:
+    return a is None or b is None or a <= b
+
+
+def _compare_relaxed(op: CmpOp, a: Any, b: Any, kind: str) -> tuple[bool, bool]:
+    if kind == "bool":
+        t = (a[0] and b[0]) or (a[1] and b[1])
+        f = (a[0] and b[1]) or (a[1] and b[0])
+        return (t, f)
+    if kind == "symbol":
+        return (bool(a & b), not (len(a) == 1 and a == b))
+    if op is CmpOp.EQ:
+        t = _le(a[0], b[1]) and _le(b[0], a[1])
+        f = not (a[0] is not None and a[0] == a[1] == b[0] == b[1])
+        return (t, f)
+    if op in (CmpOp.GT, CmpOp.GE):
+        a, b = b, a
+        op = CmpOp.LT if op is CmpOp.GT else CmpOp.LE
+    if op is CmpOp.LT:  # a < b can hold when a.lo < b.hi; fail when a.hi >= b.lo
+        return (_lt(a[0], b[1]), _le(b[0], a[1]))
+    return (_le(a[0], b[1]), _lt(b[0], a[1]))  # a <= b
+
+
+def _kind(sort: ir.Sort) -> str:
+    if sort.kind is SortKind.BOOL:
+        return "bool"
+    if sort.is_numeric:
+        return "number"
+    if sort.kind in (SortKind.SYMBOL, SortKind.ENUM):
+        return "symbol"
+    raise _Unsupported(f"a {sort.kind.value} value")
+
+
+def _relaxed(e: ir.Expr, index: dict[str, int]) -> Callable[[Relaxed], Any]:
+    if isinstance(e, ir.Const):
+        k = _kind(e.sort)
+        v: Any
+        if k == "bool":
+            v = (bool(e.value), not e.value)
+        elif k == "number":
+            v = (_num(e.value), _num(e.value))
+        else:
+            v = frozenset({e.value})
+        return lambda r: v
+    if isinstance(e, ir.ResourceRef):
+        i = index[e.name]
+        return lambda r: r[i]
+    if isinstance(e, ir.Arith):
+        fs = [_relaxed(a, index) for a in e.args]
+        op = e.op
+        if op in (ArithOp.ADD, ArithOp.SUB) and len(e.args) == 2 and isinstance(e.args[1], ir.Const):
+            x, c = fs[0], _num(e.args[1].value)  # the common x ± c, without the general case's lists
+            c = c if op is ArithOp.ADD else -c
+            return lambda r: _shift(x(r), c)
+        return lambda r: _arith_relaxed(op, [f(r) for f in fs])
+    if isinstance(e, ir.Compare):
+        a, b = _relaxed(e.left, index), _relaxed(e.right, index)
+        cop, kind = e.op, _kind(e.left.sort)
+        if kind == "number" and cop in (CmpOp.LE, CmpOp.GE):
+            lo_side, hi_side = (a, b) if cop is CmpOp.LE else (b, a)  # lo_side <= hi_side
+
+            def le(r: Relaxed) -> tuple[bool, bool]:
+                x, y = lo_side(r), hi_side(r)
+                return (_le(x[0], y[1]), _lt(y[0], x[1]))
+
+            return le
+        return lambda r: _compare_relaxed(cop, a(r), b(r), kind)
+    if isinstance(e, ir.BoolOp):
+        fs = [_relaxed(a, index) for a in e.args]
+        if e.op is BoolOpKind.AND:
+
+            def conj(r: Relaxed) -> tuple[bool, bool]:
+                vs = [f(r) for f in fs]
+                return (all(v[0] for v in vs), any(v[1] for v in vs))
+
+            return conj
+        if e.op is BoolOpKind.OR:
+
+            def disj(r: Relaxed) -> tuple[bool, bool]:
+                vs = [f(r) for f in fs]
+                return (any(v[0] for v in vs), all(v[1] for v in vs))
+
+            return disj
+        if e.op is BoolOpKind.NOT:
+            (f,) = fs
+            return lambda r: f(r)[::-1]
+        *init, last = fs
+
+        def imply(r: Relaxed) -> tuple[bool, bool]:
+            vs = [f(r) for f in init]
+            premise = (all(v[0] for v in vs), any(v[1] for v in vs))
+            c = last(r)
+            return (premise[1] or c[0], premise[0] and c[1])
+
+        return imply
+    if isinstance(e, ir.Ite):
+        c, t, o = _relaxed(e.cond, index), _relaxed(e.then, index), _relaxed(e.orelse, index)
+        kind = _kind(e.sort)
+
+        def ite(r: Relaxed) -> Any:
+            can_t, can_f = c(r)
+            if can_t and can_f:
+                return _join(t(r), o(r), kind)
+            return t(r) if can_t else o(r)
+
+        return ite
+    raise _Unsupported(type(e).__name__)
+
+
+def _join(a: Any, b: Any, kind: str) -> Any:
+    if kind == "bool":
+        return (a[0] or b[0], a[1] or b[1])
+    if kind == "symbol":
+        return a | b
+    lo = None if a[0] is None or b[0] is None else min(a[0], b[0])
+    hi = None if a[1] is None or b[1] is None else max(a[1], b[1])
+    return (lo, hi)
+
+
+def _point(v: Any, kind: str) -> Any:
+    if kind == "bool":
+        return (v, not v)
+    if kind == "symbol":
+        return frozenset({v})
+    return (v, v)
+
+
+# ---------------------------------------------------------------- the ground task
+
+
+class _Action:
+    __slots__ = ("name", "pre", "effects", "rpre", "reffects", "constant")
+
+    def __init__(self, m: ir.Morphism, index: dict[str, int]) -> None:
+        if m.params or m.uses is not None:
+            raise _Unsupported("parameters or use limits")
+        self.name = m.name
+        self.pre = [_concrete(lit.expr, index) for lit in m.pre]
+        self.rpre = [_relaxed(lit.expr, index) for lit in m.pre]
+        by_res: dict[int, list[ir.Effect]] = {}
+        for e in m.effects:
+            if e.kind not in (EffectKind.ASSIGN, EffectKind.INCREASE, EffectKind.DECREASE):
+                raise _Unsupported("a set effect")
+            by_res.setdefault(index[e.resource], []).append(e)
+        self.effects: list[tuple[int, str, list[tuple[int, Fn]]]] = []
+        self.reffects: list[tuple[int, str, list[tuple[int, Callable[[Relaxed], Any]]]]] = []
+        self.constant = True  # every effect assigns a constant: once fired, firing again adds nothing
+        for i, group in by_res.items():
+            assigns = [e for e in group if e.kind is EffectKind.ASSIGN]
+            if assigns and len(group) > 1:
+                raise _Unsupported("one resource assigned and changed by one morphism")
+            mode = "assign" if assigns else "step"
+            terms = [(-1 if e.kind is EffectKind.DECREASE else 1, e) for e in group]
+            self.effects.append((i, mode, [(sign, _concrete(e.value, index)) for sign, e in terms]))
+            self.reffects.append((i, mode, [(sign, _relaxed(e.value, index)) for sign, e in terms]))
+            if mode == "step" or not isinstance(group[0].value, ir.Const):
+                self.constant = False
+
+
+class _Task:
+    def __init__(self, inst: ir.Instance) -> None:
+        from catc.semantics.validate import initial_state
+
+        d, p = inst.domain, inst.problem
+        if d.holes:
+            raise _Unsupported("holes")
+        self.names = list(d.resources)
+        self.index = {n: i for i, n in enumerate(self.names)}
+        self.kinds = [_kind(d.resources[n].sort) for n in self.names]
+        self.ints = [d.resources[n].sort.kind is SortKind.INT for n in self.names]
+        self.bounds = [(d.resources[n].lower, d.resources[n].upper) for n in self.names]
+        self.bounded = [i for i, (lo, hi) in enumerate(self.bounds) if lo is not None or hi is not None]
+        init = initial_state(inst)
+        if any(n not in init for n in self.names):
+            raise _Unsupported("a resource without an initial value")
+        self.init: State = tuple(
+            _num(Fraction(init[n])) if k == "number" else init[n]  # type: ignore[call-overload]
+            for n, k in zip(self.names, self.kinds)
+        )
+        self.actions = [_Action(m, self.index) for m in d.morphisms.values()]
+        self.goal = [_concrete(lit.expr, self.index) for lit in p.goal]
+        self.rgoal = [_relaxed(lit.expr, self.index) for lit in p.goal]
+
+    def valid(self, s: list[Any]) -> bool:
+        for i in self.bounded:
+            lo, hi = self.bounds[i]
+            v = s[i]
+            if (lo is not None and v < lo) or (hi is not None and v > hi):
+                return False
+        return True
+
+    def successors(self, s: State) -> list[tuple[int, State]]:
+        out = []
+        for a_i, a in enumerate(self.actions):
+            try:
+                if not all(f(s) for f in a.pre):
+                    continue
+                new = list(s)
+                for i, mode, terms in a.effects:
+                    if mode == "assign":
+                        v = terms[0][1](s)
+                    else:
+                        v = s[i]
+                        for sign, f in terms:
+                            v = v + f(s) if sign > 0 else v - f(s)
+                    if isinstance(v, Fraction):
+                        if self.ints[i] and v.denominator != 1:
+                            raise ArithmeticError("a non-integer value for an int resource")
+                        v = _num(v)
+                    new[i] = v
+            except ArithmeticError:  # a zero divisor: the step has no value, it cannot happen
+                continue
+            if self.valid(new):
+                out.append((a_i, tuple(new)))
+        return out
+
+    def is_goal(self, s: State) -> bool:
+        try:
+            return all(f(s) for f in self.goal)
+        except ArithmeticError:
+            return False
+
+    def h(self, s: State, cap: int) -> int | None:
+        """Layers of the interval relaxation until the goal can hold: None for a proven dead
+        end, ``cap`` when the goal cannot hold within ``cap - 1`` layers (and the widened
+        relaxation, :meth:`_dead`, cannot prove it never will)."""
+        r: list[Any] = [_point(v, k) for v, k in zip(s, self.kinds)]
+        fired: set[int] = set()
+        for layer in range(cap):
+            rt = tuple(r)
+            if all(f(rt)[0] for f in self.rgoal):
+                return layer
+            new = self._layer(rt, fired)
+            if new is None:
+                return None
+            r = new
+        return None if self._dead(r) else cap
+
+    def _layer(self, rt: Relaxed, fired: set[int]) -> list[Any] | None:
+        """The next layer: every morphism that may fire in ``rt`` applied (relaxed, joined);
+        None when nothing changes (a fixpoint)."""
+        changed = False
+        new = list(rt)
+        for a_i, a in enumerate(self.actions):
+            if a_i in fired:
+                continue
+            if not all(f(rt)[0] for f in a.rpre):
+                continue
+            if a.constant:
+                fired.add(a_i)
+            for i, mode, terms in a.reffects:
+                kind = self.kinds[i]
+                if mode == "assign":
+                    post = terms[0][1](rt)
+                else:
+                    post = rt[i]
+                    for sign, f in terms:
+                        d = f(rt)
+                        if sign < 0:
+                            d = (None if d[1] is None else -d[1], None if d[0] is None else -d[0])
+                        post = (_lo_add(post[0], d[0]), _lo_add(post[1], d[1]))
+                post = self._cut(i, post) if kind == "number" else post
+                if post is None:
+                    continue
+                joined = _join(new[i], post, kind)
+                if joined != new[i]:
+                    new[i] = joined
+                    changed = True
+        return new if changed else None
+
+    def _dead(self, r: list[Any]) -> bool:
+        """The goal can never hold from layer ``r``: the relaxation run to a fixpoint, each
+        number bound that still moves widened to infinity (then cut by the resource's bounds),
+        so that it ends; a goal that cannot hold there cannot hold in any later layer."""
+        fired: set[int] = set()
+        while True:  # ends: each number bound widens once, Boolean and symbol sets only grow
+            rt = tuple(r)
+            if all(f(rt)[0] for f in self.rgoal):
+                return False
+            new = self._layer(rt, fired)
+            if new is None:
+                return True
+            for i, kind in enumerate(self.kinds):
+                if kind == "number" and new[i] != rt[i]:
+                    lo = None if new[i][0] != rt[i][0] else new[i][0]
+                    hi = None if new[i][1] != rt[i][1] else new[i][1]
+                    new[i] = self._cut(i, (lo, hi))
+            r = new
+
+    def _cut(self, i: int, v: tuple[Any, Any]) -> tuple[Any, Any] | None:
+        lo, hi = self.bounds[i]
+        a, b = v
+        if lo is not None and (a is None or a < lo):
+            a = lo
+        if hi is not None and (b is None or b > hi):
+            b = hi
+        if a is not None and b is not None and a > b:
+            return None
+        return (a, b)
+
+
+def _constant(e: ir.Expr) -> bool | None:
+    """The Boolean constant ``e`` folds to (UP's add-after-delete gives ``true ∨ …``), else None."""
+    from catc.ir.fold import FoldError, fold_constant
+
+    try:
+        v = fold_constant(e)
+    except FoldError:
+        return None
+    return v.value if isinstance(v, ir.Const) and isinstance(v.value, bool) else None
+
+
+class _Strips:
+    """A task of Boolean resources only, whose preconditions and goal are conjunctions of
+    literals and whose effects assign constants (as imported classical PDDL is): a state is an
+    int bitmask, a morphism four masks, and the relaxation two masks (may be true, may be
+    false) — the same search, much faster per state."""
+
+    def __init__(self, inst: ir.Instance) -> None:
+        from catc.semantics.validate import initial_state
+
+        d, p = inst.domain, inst.problem
+        if d.holes or any(r.sort.kind is not SortKind.BOOL for r in d.resources.values()):
+            raise _Unsupported("not Boolean resources only")
+        self.bit = {n: 1 << i for i, n in enumerate(d.resources)}
+        self.full = (1 << len(self.bit)) - 1
+        init = initial_state(inst)
+        self.init = sum(b for n, b in self.bit.items() if init.get(n) is True)
+        self.names: list[str] = []
+        self.masks: list[tuple[int, int, int, int]] = []
+        for m in d.morphisms.values():
+            if m.params or m.uses is not None:
+                raise _Unsupported("parameters or use limits")
+            lits = self._literals([lit.expr for lit in m.pre])
+            if lits is None:
+                continue  # a precondition that never holds: the morphism never fires
+            add = dele = 0
+            for e in m.effects:
+                value = _constant(e.value) if e.kind is EffectKind.ASSIGN else None
+                if value is None:
+                    raise _Unsupported("an effect that is not a constant assignment")
+                if value is True:
+                    add |= self.bit[e.resource]
+                else:
+                    dele |= self.bit[e.resource]
+            self.names.append(m.name)
+            self.masks.append((lits[0], lits[1], add, dele))
+        goal = self._literals([lit.expr for lit in p.goal])
+        self.goal = goal if goal is not None else (self.full, self.full)  # never: both true and false
+
+    def _literals(self, exprs: list[ir.Expr]) -> tuple[int, int] | None:
+        """(must be true, must be false) masks of a conjunction; None when it is false."""
+        pos = neg = 0
+        todo = list(exprs)
+        while todo:
+            e = todo.pop()
+            if isinstance(e, ir.ResourceRef):
+                pos |= self.bit[e.name]
+            elif isinstance(e, ir.BoolOp) and e.op is BoolOpKind.NOT and isinstance(e.args[0], ir.ResourceRef):
+                neg |= self.bit[e.args[0].name]
+            elif isinstance(e, ir.BoolOp) and e.op is BoolOpKind.AND:
+                todo.extend(e.args)
+            elif isinstance(e, ir.Const) and isinstance(e.value, bool):
+                if not e.value:
+                    return None
+            else:
+                raise _Unsupported("a condition that is not a conjunction of literals")
+        return (pos, neg) if not pos & neg else None
+
+    def successors(self, s: int) -> list[tuple[int, int]]:
+        out = []
+        for i, (pp, pn, add, dele) in enumerate(self.masks):
+            if s & pp == pp and not s & pn:
+                out.append((i, (s & ~dele) | add))
+        return out
+
+    def is_goal(self, s: int) -> bool:
+        gp, gn = self.goal
+        return s & gp == gp and not s & gn
+
+    def h(self, s: int, cap: int) -> int | None:
+        t, f = s, ~s & self.full
+        gp, gn = self.goal
+        todo = self.masks
+        for layer in range(cap):
+            if t & gp == gp and f & gn == gn:
+                return layer
+            nt, nf, rest = t, f, []
+            for mask in todo:
+                pp, pn, add, dele = mask
+                if t & pp == pp and f & pn == pn:
+                    nt |= add
+                    nf |= dele
+                else:
+                    rest.append(mask)
+            if nt == t and nf == f:
+                return None
+            t, f, todo = nt, nf, rest
+        return cap
+
+
+def search(inst: ir.Instance, horizon: int, *, deadline: float | None = None) -> SearchResult:
+    """A* for the shortest sequential composition of at most ``horizon`` steps (above);
+    ``deadline`` is a ``time.monotonic()`` instant."""
+    task: Any
+    try:
+        task = _Strips(inst)
+    except _Unsupported:
+        try:
+            task = _Task(inst)
+        except _Unsupported as why:
+            return SearchResult(SearchStatus.UNSUPPORTED, reason=str(why))
+    start = task.init
+    cap = horizon + 1
+    h0 = task.h(start, cap)
+    if h0 is None:
+        return SearchResult(SearchStatus.NONE, final=True, reason="a dead end from the initial state")
+    cut = h0 > horizon  # some state was cut by the horizon: no proof for longer plans
+    if cut:
+        return SearchResult(SearchStatus.NONE, reason=f"no composition within {horizon} steps (h^max)")
+    # lazy A*: a state enters the queue with its parent's h − 1 (a lower bound, the heuristic
+    # being consistent) and is evaluated only when it comes out; if its f then grows it goes
+    # back in. Most generated states are never evaluated.
+    g_of: dict[Any, int] = {start: 0}
+    parent: dict[Any, tuple[Any, int] | None] = {start: None}
+    tie = itertools.count()
+    heap: list[tuple[int, int, int, int, Any, bool]] = [(h0, h0, next(tie), 0, start, True)]
+    expanded = alive = 0
+    while heap:
+        f, h, _, g, s, evaluated = heapq.heappop(heap)
+        if g > g_of[s]:
+            continue  # a stale entry: s was reached more cheaply since
+        if not evaluated:
+            h2 = task.h(s, cap - g)
+            if h2 is None:
+                continue  # a proven dead end
+            if g + h2 > horizon:
+                cut = True
+                continue
+            alive += 1
+            if g + h2 > f:
+                heapq.heappush(heap, (g + h2, h2, next(tie), g, s, True))
+                continue
+            h = h2
+        elif s is start:
+            alive += 1
+        if task.is_goal(s):
+            return SearchResult(SearchStatus.PLAN, _plan(task, parent, s), expanded=expanded)
+        expanded += 1
+        if deadline is not None and time.monotonic() >= deadline:
+            return SearchResult(SearchStatus.STOPPED, expanded=expanded, reason="timeout")
+        g2, est = g + 1, max(h - 1, 0)
+        for a_i, t in task.successors(s):
+            old = g_of.get(t)
+            if old is not None and old <= g2:
+                continue
+            g_of[t] = g2
+            parent[t] = (s, a_i)
+            heapq.heappush(heap, (g2 + est, est, next(tie), g2, t, False))
+    if cut:
+        return SearchResult(SearchStatus.NONE, expanded=expanded, reason=f"no composition within {horizon} steps")
+    return SearchResult(
+        SearchStatus.NONE,
+        final=True,
+        expanded=expanded,
+        reason=f"every reachable state not proven a dead end ({alive}) was expanded",
+    )
+
+
+def _plan(task: Any, parent: dict[Any, tuple[Any, int] | None], s: Any) -> Plan:
+    names = []
+    link = parent[s]
+    while link is not None:
+        prev, a_i = link
+        names.append(task.names[a_i] if isinstance(task, _Strips) else task.actions[a_i].name)
+        link = parent[prev]
+    return Plan([(Activation(n),) for n in reversed(names)])

@@ -1,0 +1,134 @@
+"""The forward A* search (:mod:`catc.semantics.search`, ``catc solve --strategy search``):
+shortest sequential compositions checked against the SMT search (an independent route) and
+hand counts, unsolvability proven by exhausting the reachable states, and the fall back to the
+SMT search where the forward search does not apply."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("unified_planning")
+
+from unified_planning.io import PDDLReader
+from unified_planning.shortcuts import LE, Equals, Fluent, InstantaneousAction, IntType, Plus, Problem, get_environment
+
+from catc.bench import corpus
+from catc.frontend.up_import import up_to_instance
+from catc.queries.solve import SolveStatus, solve
+from catc.semantics.relaxed import refute
+from catc.semantics.search import SearchStatus, search
+
+FERRY = Path(__file__).parent / "fixtures" / "pddl" / "ferry-untyped"
+EXAMPLES = Path(__file__).parent.parent / "examples"
+
+
+def _read(domain: Path, problem: Path):
+    get_environment().credits_stream = None
+    return PDDLReader().parse_problem(str(domain), str(problem))
+
+
+def _ferry():
+    return up_to_instance(_read(FERRY / "domain.pddl", FERRY / "problem.pddl"))[0]
+
+
+def test_the_shortest_ferry_plan_is_as_long_as_the_smt_search_finds():
+    inst = _ferry()
+    r = search(inst, 20)
+    smt = solve(inst, horizon=20, sequential=True)
+    assert r.status is SearchStatus.PLAN and smt.status is SolveStatus.SAT and smt.plan is not None
+    assert r.length == len(smt.plan.steps) == 7
+    via = solve(inst, horizon=20, sequential=True, strategy="search")  # validated inside solve
+    assert via.status is SolveStatus.SAT and via.plan is not None and len(via.plan.steps) == 7
+
+
+def test_a_horizon_below_the_shortest_plan_is_none_but_not_final():
+    r = search(_ferry(), 6)
+    assert r.status is SearchStatus.NONE and not r.final
+    smt = solve(_ferry(), horizon=6, sequential=True)
+    assert smt.status is SolveStatus.UNSAT
+
+
+def test_counters_shortest_plan_is_the_hand_count(tmp_path):
+    """n counters from 0 that must end strictly increasing: c_i ≥ i, so Σ i = n(n-1)/2 = 6
+    increments for n = 4, and 6 suffice."""
+    wheel = corpus.wheel_dir()
+    assert wheel is not None
+    (tmp_path / "p.pddl").write_text(corpus.counters_problem(4))
+    inst, _ = up_to_instance(_read(wheel / "counters" / "domain.pddl", tmp_path / "p.pddl"))
+    r = search(inst, 50)
+    assert r.status is SearchStatus.PLAN and r.length == 6
+
+
+def _parity() -> Problem:
+    """x ∈ [0, 20] starts at 0 and only grows by 2: x = 7 is never reached. The interval
+    relaxation cannot tell from the start (7 lies within [0, 20]); the search sees x = 0, 2, 4,
+    6, whose relaxations still reach 7, and proves x ≥ 8 a dead end (the interval only grows
+    from above 7)."""
+    x = Fluent("x", IntType(0, 20))
+    step = InstantaneousAction("step")
+    step.add_precondition(LE(x, 18))
+    step.add_increase_effect(x, 2)
+    p = Problem("parity")
+    p.add_fluent(x, default_initial_value=0)
+    p.add_action(step)
+    p.add_goal(Equals(x, 7))
+    return p
+
+
+def test_unsolvable_proven_by_exhausting_the_reachable_states():
+    inst, _ = up_to_instance(_parity())
+    assert refute(inst) is None  # not the relaxation's proof
+    r = search(inst, 200)
+    assert r.status is SearchStatus.NONE and r.final
+    assert "(4)" in r.reason
+    via = solve(inst, horizon=200, sequential=True, strategy="search")
+    assert via.status is SolveStatus.UNSAT and via.final
+
+
+def test_a_goal_met_at_first_is_the_empty_plan():
+    p = _parity()
+    p.clear_goals()
+    p.add_goal(Equals(Plus(get_environment().expression_manager.Int(0), 0), 0))
+    inst, _ = up_to_instance(p)
+    r = search(inst, 5)
+    assert r.status is SearchStatus.PLAN and r.length == 0
+
+
+def test_parameters_fall_back_to_the_smt_search():
+    """A .cat model whose morphisms have parameters: the forward search does not apply, and
+    ``strategy="search"`` answers exactly as ``incremental``."""
+    from catc.frontend.session import load_checked
+    from catgrammar.diagnostics import Diagnostics
+
+    path = EXAMPLES / "navigation" / "coarse.cat"
+    inst = load_checked(path, None, Diagnostics())
+    assert inst is not None and any(m.params for m in inst.morphisms.values())
+    assert search(inst, 5).status is SearchStatus.UNSUPPORTED
+    a = solve(inst, horizon=6, sequential=True, strategy="search")
+    b = solve(inst, horizon=6, sequential=True)
+    assert a.status is b.status
+    assert (a.plan is None) == (b.plan is None)
+    if a.plan is not None and b.plan is not None:
+        assert len(a.plan.steps) == len(b.plan.steps)
+
+
+def test_an_unbounded_tank_that_only_grows_past_the_goal_is_proven_unsolvable():
+    """tank starts at 0 and grows by 3 or 4: tank = 1 never holds. tank is an unbounded real,
+    so the states are infinitely many; the search sees tank = 0, whose relaxation still
+    reaches 1, and the widened relaxation proves every tank ≥ 3 a dead end (it never falls)."""
+    from unified_planning.shortcuts import RealType
+
+    tank = Fluent("tank", RealType())
+    p = Problem("tank")
+    p.add_fluent(tank, default_initial_value=0)
+    for amount in (3, 4):
+        fill = InstantaneousAction(f"fill{amount}")
+        fill.add_increase_effect(tank, amount)
+        p.add_action(fill)
+    p.add_goal(Equals(tank, 1))
+    inst, _ = up_to_instance(p)
+    assert refute(inst) is None
+    r = search(inst, 200)
+    assert r.status is SearchStatus.NONE and r.final
