@@ -517,3 +517,81 @@ def test_synthesize_and_ground_count_with_their_nouns(tmp_path):
     res = run_catc("ground", det / "domain.cat", det / "person.cat", "-o", tmp_path)
     # camera mount (hardware), driver and detector (services), no behaviour tree nodes
     assert "1 hardware step, 2 services, 0 behaviour nodes" in res.stdout, res.output
+
+
+# ---------------------------------------------------------------- issue 29: filters that accept typos
+
+
+def test_relax_filters_that_match_nothing_are_said_with_a_did_you_mean():
+    """`--only budgett` left nothing eligible and answered UNSAT; `--weights budgett=2` was
+    ignored.  Both are input errors now, with the closest name."""
+    problem = str(ROOT / "examples" / "lifelong" / "budget-cut.cat")
+    for args in (["--only", "budgett"], ["--weights", "budgett=2"]):
+        res = run_catc("relax", problem, *args)
+        assert res.exit_code == 2 and "matches no eligible requirement" in res.stderr, res.stderr
+        assert "did you mean 'budget'?" in res.stderr
+    ok = run_catc("relax", problem, "--only", "init/", "--weights", "budget=2")
+    assert ok.exit_code == 0 and "weighted total 39720" in ok.stdout  # 2 × 19860: the weight applied
+
+
+def test_an_unknown_deployed_component_has_a_did_you_mean():
+    res = run_catc("recompose", str(ROOT / "examples" / "search-and-rescue" / "cheaper-camera.cat"), "--deployed",
+                   "rgb-drivr")  # fmt: skip
+    assert res.exit_code == 2 and "rgb-drivr (did you mean 'rgb-driver'?)" in res.stderr
+
+
+def test_catrt_journal_refuses_an_unknown_kind(tmp_path):
+    import subprocess
+    import sys
+
+    state = tmp_path / "st"
+    catrt = [sys.executable, "-c", "from catrt.cli import entry; entry()"]
+    assert subprocess.run([*catrt, "init", str(state), str(ROOT / "examples" / "detection" / "person.cat")],
+                          capture_output=True).returncode == 0  # fmt: skip
+    res = subprocess.run([*catrt, "journal", str(state), "--kind", "decisoin"], capture_output=True, text=True)
+    assert res.returncode == 2 and "did you mean 'decision'?" in res.stderr and res.stdout == ""
+    ok = subprocess.run([*catrt, "journal", str(state), "--kind", "init"], capture_output=True, text=True)
+    assert ok.returncode == 0 and " init " in ok.stdout
+
+
+def test_diagnose_names_the_horizon_in_force_not_the_problems():
+    """`-k 1` on a problem with (:horizon 3): the core's horizon is 1, not the file's line."""
+    res = run_catc("diagnose", str(ROOT / "examples" / "detection" / "person.cat"), "-k", "1", "--json")
+    doc = json.loads(res.stdout)
+    (horizon,) = [c for core in doc["cores"] for c in core if c["label"] == "horizon"]
+    assert horizon["location"] is None and horizon["text"].startswith("the horizon 1 ")
+    text = run_catc("diagnose", str(ROOT / "examples" / "detection" / "person.cat"), "-k", "1").stdout
+    assert "(:horizon 3)" not in text and "the horizon 1" in text
+
+
+def test_export_without_its_parser_writes_nothing(tmp_path, monkeypatch):
+    """The export used to write its files, then exit 2 because pddl-plus-parser (which checks
+    them) is missing: now it says so first and writes nothing (issue 29)."""
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(
+        importlib.util, "find_spec", lambda name, *a: None if name == "pddl_plus_parser" else real(name, *a)
+    )
+    out = tmp_path / "out"
+    res = run_catc("export", "pddl", str(ROOT / "examples" / "gpu-allocation" / "max-confidence.cat"), "--grid",
+                   "m=1/4", "-o", str(out))  # fmt: skip
+    assert res.exit_code == 2 and "error[E0706]" in res.stderr and "nothing was written" in res.stderr
+    assert not out.exists()
+
+
+def test_check_takes_json_as_every_command_does(tmp_path):
+    res = run_catc("check", "--json", str(ROOT / "examples" / "detection" / "person.cat"))
+    assert res.exit_code == 0 and json.loads(res.stdout)["schema"] == "catc.check/1"
+
+
+def test_help_lists_each_commands_first_sentence_whole():
+    """click cut the command list's descriptions at the terminal's width ("print...")."""
+    from click.testing import CliRunner
+
+    from catc.interfaces.cli import main
+
+    text = CliRunner().invoke(main, ["--help"], terminal_width=80).output
+    commands = text.split("Commands:", 1)[1]
+    assert not [line for line in commands.splitlines() if line.endswith("...")], commands
+    assert "comparison tables." in commands

@@ -555,3 +555,28 @@ def test_the_benchmark_script_prints_the_documented_counts(catc_engine, capsys):
     assert "| counter_to_50 | no | SOLVED_SATISFICING |" in out
     doc = (path.parents[1] / "docs" / "interop.md").read_text(encoding="utf-8")
     assert "solved 41, refused 25, timeout 0, failed 0 (of 66)" in doc
+
+
+def test_planning_prints_no_credits_banner(catc_engine):
+    """UP prints an engine's credits, in colour, on every planner it makes, unless the user
+    turned its credits stream off; catc's engine prints none (issue 29)."""
+    import io
+
+    from unified_planning.shortcuts import Fluent, InstantaneousAction, OneshotPlanner, Problem
+
+    env = catc_engine
+    saved = env.credits_stream
+    env.credits_stream = stream = io.StringIO()
+    try:
+        x = Fluent("x")
+        a = InstantaneousAction("a")
+        a.add_effect(x, True)
+        problem = Problem("p")
+        problem.add_fluent(x, default_initial_value=False)
+        problem.add_action(a)
+        problem.add_goal(x)
+        with OneshotPlanner(name="catc") as planner:
+            assert planner.solve(problem).plan is not None
+    finally:
+        env.credits_stream = saved
+    assert stream.getvalue() == ""

@@ -64,6 +64,17 @@ def open_store(state: str, write: bool) -> Any:
 
 
 class _Group(click.Group):
+    def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        """Each command's first sentence whole (click cuts it at the terminal's width: "print...")."""
+        rows = []
+        for name in self.list_commands(ctx):
+            cmd = self.get_command(ctx, name)
+            if cmd is not None and not cmd.hidden:
+                rows.append((name, cmd.get_short_help_str(limit=1000)))
+        if rows:
+            with formatter.section("Commands"):
+                formatter.write_dl(rows)
+
     def invoke(self, ctx: click.Context) -> Any:
         try:
             return super().invoke(ctx)
@@ -338,8 +349,14 @@ def diff(state: str, generations: tuple[int, ...], as_json: bool) -> None:
 @click.option("--kind", "kinds", multiple=True, help="Only entries of this kind (repeatable).")
 def journal(state: str, as_json: bool, since: int, kinds: tuple[str, ...]) -> None:
     """Every event, rejection, decision, approval, enactment and sensor run, in order."""
-    from catrt.views import entry_text
+    from catrt.views import ENTRY_KINDS, entry_text
 
+    for kind in kinds:
+        if kind not in ENTRY_KINDS:
+            from catgrammar.diagnostics import did_you_mean
+
+            fail("E0701", f"--kind {kind!r} is not a kind of journal entry{did_you_mean(kind, ENTRY_KINDS)} "
+                          f"(kinds: {', '.join(ENTRY_KINDS)})")  # fmt: skip
     store = open_store(state, write=False)
     for entry in store.entries(since, kinds):
         echo(json.dumps(entry, sort_keys=True) if as_json else entry_text(entry))

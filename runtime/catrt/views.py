@@ -11,6 +11,10 @@ from catrt.store import Store, Verdict
 
 STATUS_SCHEMA = "catrt.status/1"
 
+#: The kinds of journal entry, in the order a run writes them (``catrt journal --kind``).
+ENTRY_KINDS = ("init", "migrated", "start", "event", "rejected", "decision", "approval-request", "approval",
+               "enact-begin", "enact-done", "enact-failed", "recovery", "sensor")  # fmt: skip
+
 
 def _components(plan: dict[str, Any] | None) -> list[str]:
     if not plan:

@@ -1,5 +1,5 @@
 """``catc check`` without click, for the plain command lines :mod:`catc.interfaces.entry` sends
-here: paths, ``--format text|json|github``, ``--strict``, ``-q``/``--quiet``.  Anything else
+here: paths, ``--format text|json|github`` (``--json``), ``--strict``, ``-q``/``--quiet``.  Anything else
 (help, ``--path``, ``--limit``, ``--memory``, an unknown option, colour on a terminal) is left
 to the click command in :mod:`catc.interfaces.cli`, which prints the same for the same input
 (``tests/test_startup.py`` compares the two routes).  Importing click costs about 20 ms, as
@@ -34,6 +34,8 @@ def parse_check(args: list[str]) -> dict[str, Any] | None:
             params["strict"] = True
         elif arg in ("-q", "--quiet"):
             params["quiet"] = True
+        elif arg == "--json":
+            params["fmt"] = "json"
         elif arg == "--format" or arg.startswith("--format="):
             value = arg.partition("=")[2] if "=" in arg else next(rest, None)
             if value not in FORMATS:

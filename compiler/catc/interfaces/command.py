@@ -216,7 +216,10 @@ def components(inst: ir.Instance, text: str, none_word: str | None) -> list[str]
     names = [c for c in text.replace(",", " ").split() if c]
     unknown = [n for n in names if n not in inst.morphisms]
     if unknown:
-        raise InputError(f"unknown morphism(s) in the composition: {', '.join(unknown)}", codes.UNKNOWN_COMPONENT)
+        from catgrammar.diagnostics import suggest
+
+        said = [n + (f" (did you mean '{s}'?)" if (s := suggest(n, inst.morphisms)) else "") for n in unknown]
+        raise InputError(f"unknown morphism(s) in the composition: {', '.join(said)}", codes.UNKNOWN_COMPONENT)
     return names
 
 

@@ -76,7 +76,7 @@ DEFAULT_OPT_HORIZON = 20
 #: Seconds the diagnosis of an unsolvable problem may take (within the call's timeout).
 DIAGNOSIS_TIME = 10.0
 
-_CREDITS = Credits(
+CREDITS = _CREDITS = Credits(
     "catc",
     "the catc authors",
     "see the catc repository",
@@ -143,7 +143,10 @@ class CatcEngine(Engine, OneshotPlannerMixin, AnytimePlannerMixin):
 
     @staticmethod
     def get_credits(**kwargs: Any) -> Any:
-        return _CREDITS
+        """None when UP asks while planning (so no coloured credits banner is printed on
+        every call: the banner is UP's, not the user's output); the credits themselves for
+        ``get_credits(full=True)`` and :data:`CREDITS`."""
+        return _CREDITS if kwargs.get("full") else None
 
     # ------------------------------------------------------------ UP's entry points
 

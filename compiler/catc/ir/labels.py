@@ -141,7 +141,10 @@ class LabelInfo(NamedTuple):  # (not a dataclass: `catc solve` does not import d
     declared: Span | None = None  # a default initial value (no span): where its resource is declared
 
 
-def label_index(inst: ir.Instance) -> dict[str, LabelInfo]:
+def label_index(inst: ir.Instance, horizon: int | None = None) -> dict[str, LabelInfo]:
+    """Every label of ``inst`` and what it stands for in the source; ``horizon``: the horizon
+    in force, when a query knows it (the ``horizon`` label points at the problem's
+    ``(:horizon k)`` only when that is the horizon in force)."""
     out: dict[str, LabelInfo] = {}
     for m in inst.morphisms.values():
         for lit in m.pre:
@@ -173,7 +176,10 @@ def label_index(inst: ir.Instance) -> dict[str, LabelInfo]:
             )
     for lit in inst.problem.goal:
         out[lit.label] = LabelInfo(lit.label, "goal", to_text(lit.expr), lit.span)
-    if inst.problem.horizon_span is not None or inst.problem.horizon is not None:
+    if horizon is not None and horizon != inst.problem.horizon:
+        given = f" (not the problem's {inst.problem.horizon}: given to the command)" if inst.problem.horizon else ""
+        out[HORIZON] = LabelInfo(HORIZON, "horizon", f"the horizon {horizon}{given}", None)
+    elif inst.problem.horizon_span is not None or inst.problem.horizon is not None:
         out[HORIZON] = LabelInfo(HORIZON, "horizon", f"(:horizon {inst.problem.horizon})", inst.problem.horizon_span)
     else:
         out[HORIZON] = LabelInfo(HORIZON, "horizon", "the horizon", None)

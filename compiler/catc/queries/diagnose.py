@@ -242,7 +242,7 @@ def _cores(tests: _Tests, result: Diagnosis, wanted: int, all_cores: bool, say: 
 
 
 def diagnosis_json(inst: ir.Instance, diag: Diagnosis) -> dict:
-    index = label_index(inst)
+    index = label_index(inst, diag.horizon or None)
     doc = {
         "schema": "catc.diagnose/1",
         "status": diag.status.value,
@@ -278,7 +278,7 @@ def _render_answer(console: Console, inst: ir.Instance, diag: Diagnosis) -> None
         why = "interrupted" if diag.reason == "interrupted" else "the solver gave up"
         console.print(f"[bold yellow]UNKNOWN[/]  {why} before finding a core")
         return
-    index, excerpt = label_index(inst), excerpts()
+    index, excerpt = label_index(inst, diag.horizon or None), excerpts()
     rel = ""
     if diag.relative_to:
         rel = f"\n       relative to the deployed composition: {', '.join(diag.relative_to)}"

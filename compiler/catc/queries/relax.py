@@ -121,6 +121,27 @@ def eligible_requirements(
     return reqs
 
 
+def check(inst: ir.Instance, options: Mapping[str, Any]) -> str | None:
+    """Every ``--only`` and ``--weights`` key must name some eligible requirement (a label, a
+    label prefix or a resource): a typo would otherwise leave nothing eligible, or weigh
+    nothing, without a word."""
+    every = eligible_requirements(inst)
+    labels = {r.label for r in every}
+    names = sorted(labels | {r for req in every for r in req.resources} | {lab.split("/")[0] + "/" for lab in labels})
+    keys = [("--only", k) for k in options.get("only") or ()]
+    keys += [("--weights", k) for k in (options.get("weights") or {})]
+    for flag, key in keys:
+        if not eligible_requirements(inst, [key]):
+            from catgrammar.diagnostics import did_you_mean
+
+            return (
+                f"{flag} {key!r} matches no eligible requirement (numeric initial values and order "
+                f"comparisons of preconditions and goals: a label, a label prefix such as init/, or a "
+                f"resource){did_you_mean(key, names)}"
+            )
+    return None
+
+
 def _is_order(e: ir.Expr) -> TypeGuard[ir.Compare]:
     return isinstance(e, ir.Compare) and e.op is not ir.CmpOp.EQ
 
@@ -590,6 +611,7 @@ QUERY = Query(
         json_option("catc.relax/1"),
     ),
     run=relax,
+    check=check,
     to_json=relax_json,
     render=render,
     progress=True,

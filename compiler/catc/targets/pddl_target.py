@@ -49,6 +49,31 @@ def grid(specs: tuple[str, ...]) -> dict[str, Fraction]:
 
 def prepare(values: dict[str, Any]) -> None:
     values["grid"] = grid(tuple(values.get("grid") or ()))
+    if not values.get("no_check"):  # the parsers must be there before any file is written
+        _parsers_present(Flavor(values.get("flavor") or "enhsp") is Flavor.SMTPLAN, bool(values.get("strict_check")))
+
+
+def _parsers_present(plus: bool, strict: bool) -> None:
+    """InputError (E0706) naming the extra when a parser the check needs is missing."""
+    import importlib.util
+
+    needed = ["unified_planning"] if plus or strict else []
+    needed += [] if plus else ["pddl_plus_parser"]
+
+    def absent(name: str) -> bool:
+        try:
+            return importlib.util.find_spec(name) is None
+        except ImportError:
+            return True
+
+    missing = [name for name in needed if absent(name)]
+    if missing:
+        names = " and ".join(m.replace("_", "-") for m in missing)
+        raise InputError(
+            f"{names} {'is' if len(missing) == 1 else 'are'} missing (the export is parsed by it before it is "
+            "shown): pip install 'catc-lang[baselines]', or pass --no-check; nothing was written",
+            codes.MISSING_EXTRA,
+        )
 
 
 def export(

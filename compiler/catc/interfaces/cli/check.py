@@ -82,6 +82,12 @@ def _colour(text: str) -> str:
     show_default=True,
     help="Diagnostic format: compiler-style text, JSON (schema catc.check/1), or GitHub annotations.",
 )
+@click.option(
+    "--json",
+    "as_json",
+    is_flag=True,
+    help="The same as --format json (every other command spells its JSON output --json).",
+)
 @click.option("--strict", is_flag=True, help="Treat warnings as errors.")
 @option(load_options("", path_help="Extra folder to search for domains (repeatable; also CATC_PATH).")[1])
 @click.option("-q", "--quiet", is_flag=True, help="Do not print the summary line.")
@@ -89,6 +95,7 @@ def _colour(text: str) -> str:
 def check(
     paths: tuple[str, ...],
     fmt: str,
+    as_json: bool,
     strict: bool,
     search_paths: tuple[str, ...],
     quiet: bool,
@@ -104,6 +111,8 @@ def check(
     from catc.frontend.session import check_files
     from catgrammar.diagnostics import Diagnostics
 
+    if as_json:
+        fmt = "json"
     diags = Diagnostics()
     files = collect_files(paths, diags)
     with limited(limit_specs, memory):

@@ -32,6 +32,17 @@ class _Group(click.Group):
     internal-error report with exit 70 instead of a traceback (set CATC_DEBUG=1 to see it).
     Query and target commands and those in :data:`LAZY_COMMANDS` are made on first use."""
 
+    def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        """Each command's first sentence whole (click cuts it at the terminal's width: "print...")."""
+        rows = []
+        for name in self.list_commands(ctx):
+            cmd = self.get_command(ctx, name)
+            if cmd is not None and not cmd.hidden:
+                rows.append((name, cmd.get_short_help_str(limit=1000)))
+        if rows:
+            with formatter.section("Commands"):
+                formatter.write_dl(rows)
+
     def list_commands(self, ctx: click.Context) -> list[str]:
         from catc.interfaces.cli.targets import target_words
 

@@ -53,6 +53,17 @@ def target_group_command(word: str) -> click.Command | None:
 class _TargetGroup(click.Group):
     """``catc export``: one subcommand per target spelled ``export NAME``."""
 
+    def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        """Each command's first sentence whole (click cuts it at the terminal's width: "print...")."""
+        rows = []
+        for name in self.list_commands(ctx):
+            cmd = self.get_command(ctx, name)
+            if cmd is not None and not cmd.hidden:
+                rows.append((name, cmd.get_short_help_str(limit=1000)))
+        if rows:
+            with formatter.section("Commands"):
+                formatter.write_dl(rows)
+
     def list_commands(self, ctx: click.Context) -> list[str]:
         return sorted(t.command[1] for t in _targets() if len(t.command) == 2 and t.command[0] == self.name)
 
@@ -89,6 +100,8 @@ def prepared(target: Target, paths: Sequence[str], values: dict[str, Any]) -> bo
             target.prepare(values)
         except OptionError as exc:
             raise click.BadParameter(str(exc), param_hint=exc.flag) from None
+        except InputError as exc:  # e.g. a checker the options need is not installed
+            command.argument_error(str(exc), exc.code, as_json)
     if len(paths) not in (1, 2):
         raise click.UsageError("give PROBLEM or DOMAIN PROBLEM")
     timeout = values.get("timeout")
