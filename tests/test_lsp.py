@@ -465,3 +465,45 @@ async def test_a_newer_text_makes_the_older_check_stale(client: LanguageClient, 
     published = [[d.message for d in diags] for u, diags in client.diagnostics.log if u == uri]
     assert not any("'z'" in m for messages in published for m in messages), published
     assert len(published) == 2 and "unknown sort 'rea'" in published[1][0]
+
+
+async def _until(client: LanguageClient, uri: str, pred, notifications: int = 20):
+    """Wait for diagnostics of ``uri`` that satisfy ``pred`` (each publication, of any
+    document, is one step; a bounded number of them, no clock)."""
+    for _ in range(notifications):
+        if pred(list(client.diagnostics.get(uri, []))):
+            return list(client.diagnostics[uri])
+        await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    return list(client.diagnostics.get(uri, []))
+
+
+@needs_lsp
+async def test_a_problem_is_checked_again_when_its_open_domain_changes(client: LanguageClient, tmp_path) -> None:
+    """Issue 29: with domain and problem open, renaming a resource in the (unsaved) domain left
+    the problem at 0 diagnostics until the problem itself was edited."""
+    import shutil
+
+    folder = tmp_path / "detection"
+    shutil.copytree(EXAMPLE, folder)
+    domain_text = (folder / "domain.cat").read_text()
+    problem_uri = _open(client, folder / "person.cat")
+    assert await _until(client, problem_uri, lambda d: problem_uri in client.diagnostics) == []
+    domain_uri = _open(client, folder / "domain.cat")
+    renamed = domain_text.replace("(detects (set class)", "(found (set class)").replace("detects", "found")
+    assert renamed != domain_text
+    client.text_document_did_change(
+        types.DidChangeTextDocumentParams(
+            types.VersionedTextDocumentIdentifier(uri=domain_uri, version=2),
+            [types.TextDocumentContentChangeWholeDocument(text=renamed)],
+        )
+    )
+    diags = await _until(client, problem_uri, lambda d: any("detects" in x.message for x in d))
+    assert any("detects" in d.message and d.severity == types.DiagnosticSeverity.Error for d in diags), diags
+    # renamed back: the problem is clean again, still without being edited
+    client.text_document_did_change(
+        types.DidChangeTextDocumentParams(
+            types.VersionedTextDocumentIdentifier(uri=domain_uri, version=3),
+            [types.TextDocumentContentChangeWholeDocument(text=domain_text)],
+        )
+    )
+    assert await _until(client, problem_uri, lambda d: d == []) == []

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from urllib.parse import unquote, urlparse
 
@@ -119,8 +119,10 @@ def analyse(
     text: str,
     search_paths: tuple[str, ...] = (),
     cancelled: Callable[[], bool] | None = None,
+    texts: Mapping[str, str] | None = None,
 ) -> Analysis:
-    """``catc check`` on one document's in-memory text (its imports come from disk).
+    """``catc check`` on one document's in-memory text; the files it reads come from
+    ``texts`` (path → the text of another document open in the editor) or from disk.
     ``cancelled`` is asked while parsing and between the phases; when it says so,
     :class:`catgrammar.parser.Cancelled` is raised."""
     from catc.frontend.session import check_parsed
@@ -132,7 +134,7 @@ def analyse(
     diags = Diagnostics()
     tree = parse_source(Source(path, text), diags, cancelled)
     result.tree = tree
-    ws = Workspace(diags, search_paths)
+    ws = Workspace(diags, search_paths, texts={p: t for p, t in (texts or {}).items() if not same_name(p, path)})
     ws.files[normalise_path(path)] = tree
     instances: dict = {}
     if tree is not None:

@@ -4,6 +4,7 @@ checks, and the features registered on it."""
 from __future__ import annotations
 
 import os
+from pathlib import Path
 from collections.abc import Mapping
 from typing import Any
 
@@ -96,14 +97,17 @@ class Checks:
         with self._lock:
             return self._generation.get(uri) != generation
 
-    def run(self, uri: str, generation: int, path: str, text: str, search: tuple[str, ...]) -> Analysis | None:
-        """In the worker: the analysis, or None when it became stale."""
+    def run(
+        self, uri: str, generation: int, path: str, text: str, search: tuple[str, ...], texts: Mapping[str, str]
+    ) -> Analysis | None:
+        """In the worker: the analysis (the other open documents read as their editors hold
+        them), or None when it became stale."""
         from catgrammar.parser import Cancelled
 
         if self.stale(uri, generation):
             return None
         try:
-            a = analyse(path, text, search, cancelled=lambda: self.stale(uri, generation))
+            a = analyse(path, text, search, cancelled=lambda: self.stale(uri, generation), texts=texts)
         except Cancelled:
             return None
         return None if self.stale(uri, generation) else a
@@ -164,9 +168,11 @@ def _protocol_class() -> Any:
 _ANSWERED = object()  # a request already answered with an error while it was read
 
 
-async def _refresh(ls: Any, types: Any, uri: str, generation: int, text: str) -> None:
+async def _refresh(ls: Any, types: Any, uri: str, generation: int, text: str, cascade: bool = True) -> None:
     """Check ``text``, the document's text of ``generation``, in the background and publish
-    its diagnostics (unless a newer text came meanwhile)."""
+    its diagnostics (unless a newer text came meanwhile); with ``cascade``, then check again
+    the other open documents that read this one (a problem whose domain changed: its
+    diagnostics must not go stale until it is edited itself)."""
     import asyncio
 
     from catc.interfaces.command import search_path
@@ -181,6 +187,7 @@ async def _refresh(ls: Any, types: Any, uri: str, generation: int, text: str) ->
             uri_to_path(uri),
             text,
             search_path(),
+            _open_texts(ls),
         )
     except Exception as exc:  # never take the editor down with an internal error
         ls.window_log_message(types.LogMessageParams(types.MessageType.Error, f"catc: {exc!r}"))
@@ -199,6 +206,27 @@ async def _refresh(ls: Any, types: Any, uri: str, generation: int, text: str) ->
         _keep_last_good(a, previous)
     ls.analyses[uri] = a
     _publish(ls, types, uri, a)
+    if cascade:
+        for other in _dependents(ls, uri):
+            _schedule(ls, types, other, cascade=False)
+
+
+def _dependents(ls: Any, uri: str) -> list[str]:
+    """The other open documents whose last check read ``uri``'s file, or that sit in its
+    folder (a problem uses the domain beside it; a renamed name may newly break it)."""
+    from catc.frontend.workspace import normalise_path
+
+    path = normalise_path(uri_to_path(uri))
+    out = []
+    for other in list(ls.workspace.text_documents):
+        if other == uri or not other.startswith("file:"):
+            continue
+        a = ls.analyses.get(other)
+        read = {normalise_path(p) for p in a.sources} if a is not None else set()
+        same_folder = normalise_path(str(Path(uri_to_path(other)).parent)) == normalise_path(str(Path(path).parent))
+        if path in read or same_folder:
+            out.append(other)
+    return out
 
 
 def _keep_last_good(a: Analysis, previous: Analysis) -> None:
@@ -249,14 +277,14 @@ def _publish(ls: Any, types: Any, uri: str, a: Analysis) -> None:
     ls.text_document_publish_diagnostics(types.PublishDiagnosticsParams(uri=uri, diagnostics=out))
 
 
-def _schedule(ls: Any, types: Any, uri: str) -> None:
+def _schedule(ls: Any, types: Any, uri: str, cascade: bool = True) -> None:
     """Start checking the document's current text: a new generation, so that every check
     of an older text is stale from now on."""
     import asyncio
 
     text = ls.workspace.get_text_document(uri).source
     generation = ls.checks.next(uri)
-    ls.checks.tasks[uri] = asyncio.ensure_future(_refresh(ls, types, uri, generation, text))
+    ls.checks.tasks[uri] = asyncio.ensure_future(_refresh(ls, types, uri, generation, text, cascade))
 
 
 async def _current(ls: Any, types: Any, uri: str) -> Analysis:
