@@ -4,8 +4,8 @@ checks, and the features registered on it."""
 from __future__ import annotations
 
 import os
-from pathlib import Path
 from collections.abc import Mapping
+from pathlib import Path
 from typing import Any
 
 from catc.interfaces.lsp.analysis import (
