@@ -433,7 +433,8 @@ def names_in_scope(a: Analysis) -> dict[str, str]:
 def uri_to_path(uri: str) -> str:
     parsed = urlparse(uri)
     if parsed.scheme == "file":
-        return unquote(parsed.path)
+        path = unquote(parsed.path)
+        return parsed.path if "\0" in path else path  # %00 stays quoted: no path has a NUL
     return uri
 
 
@@ -559,6 +560,7 @@ def _protocol_class() -> Any:
     -1 or 2³¹: LSP's uinteger ends at 2³¹−1) with its error; pygls only logs it, and the
     client would wait for ever."""
     from pygls.exceptions import JsonRpcException
+    from pygls.exceptions import JsonRpcInvalidRequest as InvalidRequest
     from pygls.protocol import LanguageServerProtocol
 
     class Protocol(LanguageServerProtocol):
@@ -569,11 +571,17 @@ def _protocol_class() -> Any:
                 if "method" in data and isinstance(data.get("id"), (int, str)):
                     self._send_response(data["id"], error=exc.to_response_error())
                     return _ANSWERED
+                if "method" not in data and "id" not in data:
+                    return object()  # neither request, notification nor response: no message
                 raise
 
         def handle_message(self, message: Any) -> None:
-            if message is not _ANSWERED:
-                super().handle_message(message)
+            if message is _ANSWERED:
+                return
+            if not hasattr(message, "jsonrpc"):  # a body of [], null, 1, "x" or {}: no message
+                self._send_response(None, error=InvalidRequest("not a JSON-RPC message").to_response_error())  # type: ignore[arg-type]  # id null
+                return
+            super().handle_message(message)
 
     return Protocol
 
@@ -1111,12 +1119,18 @@ def run_query_on_file(name: str, uri: str, options: dict[str, Any] | None = None
 def _register_queries(server: Any, types: Any) -> None:
     """``catc.<query>`` commands: arguments ``[uri]`` or ``[uri, {option: value}]``; they
     answer for the saved file, as the command line would."""
+    from catc.interfaces.lsp_framing import readable_path
     from catc.queries import registry
 
     def command_for(name: str) -> Any:
         def handler(ls: Any, *args: Any) -> dict:
-            uri, options = args[0], (args[1] if len(args) > 1 else None)
-            return run_query_on_file(name, uri, options)
+            uri, options = (args[0] if args else None), (args[1] if len(args) > 1 else None)
+            known = set(ls.workspace.text_documents)
+            roots = [uri_to_path(f.uri) for f in ls.workspace.folders.values()] + [ls.workspace.root_path or ""]
+            if readable_path(uri, known, roots) is None:  # issue 28: no other file is read
+                message = f"not a file: URI of an open document or of the workspace: {uri!r}"
+                return {"schema": "catc.error/1", "status": "error", "diagnostics": [{"message": message}]}
+            return run_query_on_file(name, str(uri), options)
 
         return handler
 
@@ -1139,4 +1153,6 @@ def lsp_command(stdio: bool) -> None:
     except ImportError:
         click.echo(MISSING, err=True)
         sys.exit(2)
-    build_server().start_io()
+    from catc.interfaces.lsp_framing import CanonicalHeaders
+
+    build_server().start_io(CanonicalHeaders(sys.stdin.buffer))
