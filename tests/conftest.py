@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import atexit
+import os
 import re
+import shutil
 import subprocess
 import sys
+import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -12,6 +16,13 @@ import pytest
 from click.testing import CliRunner
 
 ROOT = Path(__file__).resolve().parent.parent
+
+# pint's cache (~/.cache/pint) is shared by every process on the machine; under parallel
+# runs a half-written entry made test_units fail (issue 28).  Each test process (each xdist
+# worker, and the commands its tests start) has a cache folder of its own.
+_PINT_CACHE = tempfile.mkdtemp(prefix="catc-pint-cache-")
+os.environ["CATC_PINT_CACHE"] = _PINT_CACHE
+atexit.register(shutil.rmtree, _PINT_CACHE, True)
 FIXTURES = Path(__file__).resolve().parent / "fixtures"
 
 
