@@ -102,3 +102,29 @@ def word_uses(text: str, name: str) -> list[int]:
         if ";" not in before and before.count('"') % 2 == 0:
             out.append(m.start())
     return out
+
+
+# ---------------------------------------------------------------- the slow group
+
+_SLOW_LIST = Path(__file__).resolve().parent / "slow_tests.txt"
+
+
+def _slow_ids() -> tuple[set[str], set[str]]:
+    """The measured heavy tests (tests/slow_tests.txt): exact node ids, and whole tests."""
+    exact, whole = set(), set()
+    for text in _SLOW_LIST.read_text().splitlines():
+        line = text.strip()
+        if line and not line.startswith("#"):
+            (exact if "[" in line else whole).add(line)
+    return exact, whole
+
+
+def pytest_collection_modifyitems(config, items):
+    """Mark the tests of tests/slow_tests.txt `slow`: the default run (pyproject's addopts)
+    leaves them to .ci/run's slow and baselines steps (issue 28: README command ≤ 3 min)."""
+    exact, whole = _slow_ids()
+    rootdir = Path(str(config.rootpath))
+    for item in items:
+        nodeid = Path(item.fspath).resolve().relative_to(rootdir).as_posix() + "::" + item.name
+        if nodeid in exact or nodeid.split("[", 1)[0] in whole:
+            item.add_marker(pytest.mark.slow)

@@ -213,7 +213,7 @@ def test_the_timeout_bounds_the_encoding(tmp_path):
     """Item 4: --timeout bounded the solver's checks only; encoding a large horizon ran on."""
     path = write(tmp_path, catalog(300, 1000))
     # (the goal `done` is never written: the relaxation alone would answer; skip it)
-    res = run_catc_process("solve", path, "--strategy", "single", "--timeout", "2", "--no-presolve", timeout=60)
+    res = run_catc_process("solve", path, "--strategy", "single", "--timeout", "2", "--no-presolve", timeout=600)
     assert res.exit_code == 3 and "timeout" in res.stdout, res.output
     res = run_catc_process("compile", path, "--timeout", "2", timeout=60)
     assert res.exit_code == 3 and "error[E1109]" in res.stderr and "encoding" in res.stderr, res.output
@@ -496,7 +496,7 @@ def test_a_malformed_limit_in_the_environment_is_an_argument_error(monkeypatch):
 
 def test_the_memory_limit_stops_a_run_that_needs_more(tmp_path):
     path = write(tmp_path, catalog(300, 1000))
-    res = run_catc_process("solve", path, "--strategy", "single", "--memory", "200", "--no-presolve", timeout=60)
+    res = run_catc_process("solve", path, "--strategy", "single", "--memory", "200", "--no-presolve", timeout=600)
     assert res.exit_code == 3 and "error[E1110]" in res.stderr, res.output
     no_crash(res)
 
