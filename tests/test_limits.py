@@ -234,6 +234,59 @@ def test_the_watchdog_stops_a_phase_that_does_not_look_at_the_clock():
     assert "error[E1109]" in proc.stderr and "time limit of 1 s" in proc.stderr and "Traceback" not in proc.stderr
 
 
+def test_the_watchdogs_signal_does_not_cut_a_time_limit_report_short():
+    """Issue 28, finding 2: the watchdog's SIGINT (at --timeout + 2 s) could land while the
+    command was already reporting its time limit, after it had printed the E1109 document:
+    a KeyboardInterrupt there made the exit 130.  The moment is made, not waited for."""
+    import signal
+    import threading
+
+    from catc.interfaces import guard
+    from catgrammar import limits
+
+    assert threading.current_thread() is threading.main_thread()  # the watchdog's set-up needs it
+    reported = False
+    with limits.deadline(1000) as clock, guard.stoppable(clock) as run:
+        run.timed_out = True  # as the watchdog marks it, just before its SIGINT
+        try:
+            raise limits.TimeLimitReached("encoding", 5.0)
+        except limits.TimeLimitReached:
+            try:
+                signal.raise_signal(signal.SIGINT)  # lands in the report
+            except KeyboardInterrupt:  # (caught here, or it would end the whole pytest run)
+                pytest.fail("the watchdog's SIGINT cut the time limit's report short")
+            reported = True
+    assert reported
+
+
+STUCK = (
+    "import time\n"
+    "from catc.smt import encoder\n"
+    "from catc.interfaces import guard\n"
+    "def stuck(self):  # a phase that neither looks at the clock nor lets Ctrl-C stop it\n"
+    "    while True:\n"
+    "        try:\n"
+    "            time.sleep(600)\n"
+    "        except KeyboardInterrupt:\n"
+    "            pass\n"
+    "encoder.Encoder.add_step = stuck\n"
+    "guard.Process.executable = True  # as the catc executable: the last resort may end it\n"
+    "from catc.interfaces.entry import main\n"
+    "main(['solve', 'examples/detection/person.cat', '--timeout', '1', '--json'])\n"
+)
+
+
+def test_the_last_resort_exit_writes_the_json_document_with_json():
+    """Issue 28, finding 3: when even the watchdog's SIGINT is not enough, the process ends at
+    --timeout + 4 s; with --json standard output had nothing, although docs/cli.md promises a
+    catc.error/1 document there."""
+    proc = subprocess.run([sys.executable, "-c", STUCK], cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 3, (proc.returncode, proc.stdout, proc.stderr)
+    doc = json.loads(proc.stdout)
+    assert doc["schema"] == "catc.error/1" and doc["diagnostics"][0]["code"] == "E1109", proc.stdout
+    assert "error[E1109]" in proc.stderr and "Traceback" not in proc.stderr
+
+
 def test_a_universe_past_its_limit_is_located(tmp_path):
     text = """(define (domain u)
   (:requirements :numeric :sets :free-parameters)
