@@ -267,6 +267,21 @@ def test_the_watchdogs_signal_does_not_cut_a_time_limit_report_short():
     assert reported
 
 
+def test_a_time_limit_document_says_why_it_is_unknown():
+    """Issue 28: with --timeout 0.3 on a loaded machine the time ran out while diagnose read
+    the model; its catc.error/1 document said "unknown" with no reason (test_lifelong's
+    deadline test failed on it).  Every unknown has its reason."""
+    from catc.interfaces import guard
+
+    said: list[str] = []
+    assert (
+        guard.time_limit_exit("the time limit of 0.3 s was reached", True, lambda text, err=False: said.append(text))
+        == 3
+    )
+    doc = json.loads(said[0])
+    assert doc["status"] == "unknown" and doc["reason"] == "timeout" and doc["diagnostics"][0]["code"] == "E1109"
+
+
 STUCK = (
     BLIND + "import time\n"
     "from catc.smt import encoder\n"

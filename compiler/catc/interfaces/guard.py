@@ -194,7 +194,9 @@ def time_limit_exit(message: str, as_json: bool, echo: Any) -> int:
 def _error_document(message: str) -> str:
     import json
 
-    return json.dumps({"schema": "catc.error/1", "status": "unknown", "diagnostics": [_diag(message)]})
+    # "reason" as every unknown answer has one (issue 28: the time ran out while reading the model)
+    doc = {"schema": "catc.error/1", "status": "unknown", "reason": "timeout", "diagnostics": [_diag(message)]}
+    return json.dumps(doc)
 
 
 def _diag(message: str) -> dict:
