@@ -17,9 +17,10 @@ from click.testing import CliRunner
 
 ROOT = Path(__file__).resolve().parent.parent
 
-# pint's cache (~/.cache/pint) is shared by every process on the machine; under parallel
-# runs a half-written entry made test_units fail (issue 28).  Each test process (each xdist
-# worker, and the commands its tests start) has a cache folder of its own.
+# pint's cache (~/.cache/pint) is shared by every process on the machine: whether a test found
+# an entry there decided whether it passed (issue 28: test_units failed wherever pint built its
+# registry afresh).  Each test process (each xdist worker, and the commands its tests start)
+# has a cache folder of its own, empty at the start.
 _PINT_CACHE = tempfile.mkdtemp(prefix="catc-pint-cache-")
 os.environ["CATC_PINT_CACHE"] = _PINT_CACHE
 atexit.register(shutil.rmtree, _PINT_CACHE, True)
