@@ -546,9 +546,32 @@ def main() -> None:
         help="run `catc solve --timeout SECONDS` as a process on every input of --state's corpus and "
         "report the slowest (issue 15's bar: within SECONDS + 1)",
     )
+    ap.add_argument(
+        "--numerals",
+        type=int,
+        metavar="N",
+        help="parse N mutants with other scripts' digits, "
+        "numerals and confusable letters (fuzz_unicode_lsp.py; issue 28); exit 1 on a finding",
+    )
+    ap.add_argument(
+        "--lsp-framing",
+        type=int,
+        metavar="N",
+        help="send N random frames to one catc lsp, "
+        "a probe after each (fuzz_unicode_lsp.py; issue 28); exit 1 on a finding",
+    )
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("libfuzzer", nargs="*", help=argparse.SUPPRESS)
     args = ap.parse_args()
+    if args.numerals is not None or args.lsp_framing is not None:
+        import fuzz_unicode_lsp as more
+
+        failed = 0
+        if args.numerals is not None:
+            failed |= more.report("numerals", more.numerals(args.numerals, args.seed or 0))
+        if args.lsp_framing is not None:
+            failed |= more.report("lsp-framing", more.lsp_framing(args.lsp_framing, args.seed or 0))
+        sys.exit(failed)
     if args.replay_solve is not None:
         sys.exit(replay_solve(Path(args.state), args.replay_solve, max(1, args.jobs)))
     if args.worker:

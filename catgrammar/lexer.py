@@ -76,8 +76,8 @@ TOKEN_FOR_CATEGORY: dict[str, TokenType] = {
 _NAME = r"[a-zA-Z_][a-zA-Z0-9_-]*"
 _COLON_WORD = r":[a-zA-Z_][a-zA-Z0-9_-]*"
 #: Numbers as ``cat.lark`` reads them: ``3``, ``-2``, ``0.5``, ``.5``, ``1e-3``.
-_FLOAT = r"[+-]?(?:\d+\.\d*|\.\d+)(?:[eE][+-]?\d+)?|[+-]?\d+[eE][+-]?\d+"
-_INTEGER = r"[+-]?\d+"
+_FLOAT = r"[+-]?(?:[0-9]+\.[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|[+-]?[0-9]+[eE][+-]?[0-9]+"
+_INTEGER = r"[+-]?[0-9]+"
 #: What may not follow a keyword or number for it to be a whole token.
 _END = r"(?![a-zA-Z0-9_-])"
 

@@ -24,6 +24,7 @@ import errno
 import os
 import re
 import stat
+import unicodedata
 from collections.abc import Callable, Iterator
 from fractions import Fraction
 from typing import Any
@@ -283,7 +284,12 @@ def _report_syntax(exc: UnexpectedInput, src: Source, parser: Parser, diags: Dia
     if isinstance(exc, UnexpectedCharacters):
         if text.startswith('"'):
             diags.report(codes.BAD_CHARACTER, "unterminated string: a string must close on the line it opens", span)
-        elif text[:1].isdigit() or text[:1] in "+-.":
+        elif not text[:1].isascii() and (text[:1].isdigit() or text[:1].isnumeric()):  # issue 28
+            ch = text[:1]
+            name = unicodedata.name(ch, f"U+{ord(ch):04X}")
+            message = f"{ch!r} ({name}) is not a digit of a number: numbers are written with the ASCII digits 0-9"
+            diags.report(codes.BAD_CHARACTER, message, src.span(pos, pos + 1))
+        elif text[:1] in "0123456789+-.":
             m = re.match(r"[+\-.\w]+", src.text[pos:])
             bad = m.group() if m else text
             diags.report(codes.BAD_CHARACTER, f"malformed number '{bad}'", src.span(pos, pos + len(bad)))
@@ -631,7 +637,7 @@ class _Builder:
         return ast.Call(self._name(head), tuple(args), span)
 
 
-_EXPONENT = re.compile(r"[eE]([+-]?\d+)")
+_EXPONENT = re.compile(r"[eE]([+-]?[0-9]+)")
 
 
 def _unquote(tok: Token) -> str:

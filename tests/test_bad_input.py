@@ -296,3 +296,37 @@ def test_negation_without_space(tmp_path):
     text = "(define (domain d) (:requirements :numeric) (:resources (x real)) (:morphism m :effect (assign x (-x))))"
     _, res = check(tmp_path, text)
     assert res.exit_code == 0, res.output
+
+
+DETECTION = Path(__file__).resolve().parents[1] / "examples" / "detection"
+
+
+@pytest.mark.parametrize(
+    ("file", "ascii", "other"),
+    [
+        ("person.cat", "(:horizon 3)", "(:horizon ٣)"),  # ARABIC-INDIC DIGIT THREE
+        ("person.cat", "(= ram 16)", "(= ram ١٦)"),
+        ("person.cat", "(= ram 16)", "(= ram １６)"),  # FULLWIDTH DIGIT ONE
+        ("person.cat", "(= ram 16)", "(= ram 1६)"),  # a DEVANAGARI DIGIT SIX after an ASCII 1
+        ("person.cat", "(:horizon 3)", "(:horizon ³)"),  # SUPERSCRIPT THREE (str.isdigit)
+        ("person.cat", "(:horizon 3)", "(:horizon Ⅲ)"),  # ROMAN NUMERAL THREE (str.isnumeric)
+        ("domain.cat", ":uses 1", ":uses ١"),
+    ],
+)
+def test_numbers_are_written_with_ascii_digits(tmp_path, file, ascii, other):
+    """Issue 28, finding 5: Python's ``\\d`` took other scripts' digits for numbers, so
+    ``(:horizon ٣)`` checked and solved.  Now the first such character is a located E0107
+    that names it."""
+    for name in ("domain.cat", "person.cat"):
+        text = (DETECTION / name).read_text()
+        if name == file:
+            assert ascii in text
+            text = text.replace(ascii, other, 1)
+            bad = next(i for i, ch in enumerate(text) if not ch.isascii() and (ch.isdigit() or ch.isnumeric()))
+            line, col = text.count("\n", 0, bad) + 1, bad - text.rfind("\n", 0, bad)
+        (tmp_path / name).write_text(text)
+    res = run_catc("check", str(tmp_path / file))
+    assert res.exit_code == 1
+    m = first_error(res.stdout)
+    assert (m["code"], int(m["line"]), int(m["col"])) == ("E0107", line, col), res.stdout
+    assert "ASCII digits 0-9" in res.stdout

@@ -532,3 +532,21 @@ def test_the_line_by_line_rule_on_hand_made_cases():
     assert col("  ( ; c\nx") == 3
     assert col('  (x "(" ; (\n     y)\nz') == 0  # brackets in strings and comments do not count
     assert col('  (x "(" ; (\ny') == 5
+
+
+def test_fmt_has_the_limits_of_check(tmp_path, monkeypatch):
+    """Issue 28, finding 7: ``catc fmt`` took no --limit or --memory (a 2.1 MB model took
+    9.5 s of CPU with no way to bound it).  Now check's limits hold: a file past the token
+    limit is E1102, exit 2, and is left as it was; the environment's limit too."""
+
+    path = tmp_path / "person.cat"
+    text = (ROOT / "examples" / "detection" / "person.cat").read_text().replace("(:horizon 3)", "(:horizon   3)")
+    path.write_text(text)
+    res = run_catc("fmt", str(path), "--limit", "tokens=10")
+    assert res.exit_code == 2 and "error[E1102]" in res.output, res.output
+    assert path.read_text() == text
+    res = run_catc("fmt", "--check", str(path), "--memory", "0")
+    assert res.exit_code == 1 and "would reformat" in res.output, res.output
+    monkeypatch.setenv("CATC_LIMIT_TOKENS", "10")
+    res = run_catc("fmt", "--check", str(path))
+    assert res.exit_code == 2 and "error[E1102]" in res.output, res.output

@@ -278,3 +278,20 @@ def test_costs_in_one_dimension_add_up_in_the_first_costs_unit(tmp_path):
     )
     doc = json.loads(run_catc("optimize", str(path), "--json").stdout)
     assert doc["objectives"][0]["value"] == "11/2"
+
+
+@pytest.mark.parametrize("cache", ["off", "fresh folder", "same folder again"])
+def test_pint_reads_information_units_however_its_registry_was_built(monkeypatch, tmp_path_factory, cache):
+    """Issue 28: pint's registry built from its definitions (no disk cache, or an empty one)
+    kept `bit` dimensionless after units.txt made it information, so kB → bit failed; it
+    passed only with an entry in ~/.cache/pint (shared by every process).  1 kB = 8000 bit
+    (decimal prefix, 8 bits a byte), whatever the cache."""
+    folder = tmp_path_factory.getbasetemp() / "pint-cache"
+    folder.mkdir(exist_ok=True)
+    monkeypatch.setenv("CATC_PINT_CACHE", "off" if cache == "off" else str(folder))
+    units.registry.cache_clear()
+    try:
+        assert units.read_with_pint("kB") == ((("[information]", Fraction(1)),), Fraction(8000))
+        assert units.read_with_pint("MiB") == ((("[information]", Fraction(1)),), Fraction(8 * 2**20))
+    finally:
+        units.registry.cache_clear()

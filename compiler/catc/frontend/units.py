@@ -17,6 +17,7 @@ docs/language.md §Units and dimensions.
 from __future__ import annotations
 
 import functools
+import os
 import sys
 from fractions import Fraction
 from pathlib import Path
@@ -74,11 +75,19 @@ def registry() -> Any:
     except ImportError as exc:
         raise UnitError(f"{NEEDS_PINT}: pip install 'catc-lang[units]'") from exc
 
+    # pint's cache (~/.cache/pint) is shared by every process; CATC_PINT_CACHE names another
+    # folder (the tests give each worker its own), or "off" for none (issue 28)
+    folder = os.environ.get("CATC_PINT_CACHE", ":auto:")
     try:
-        reg: Any = pint.UnitRegistry(non_int_type=Fraction, cache_folder=":auto:", on_redefinition="ignore")
-    except Exception:  # pragma: no cover - an unwritable cache folder
+        if folder.lower() in ("", "off"):
+            raise OSError("pint's cache is off")
+        reg: Any = pint.UnitRegistry(non_int_type=Fraction, cache_folder=folder, on_redefinition="ignore")
+    except Exception:  # an unwritable cache folder, or none wanted
         reg = pint.UnitRegistry(non_int_type=Fraction, on_redefinition="ignore")
     reg.load_definitions(str(DEFINITIONS))
+    # pint built its caches before units.txt redefined `bit`: rebuilt, or `kB` → `bit` fails
+    # (it passed only when the registry came from pint's disk cache; issue 28)
+    reg._build_cache()
     return reg
 
 

@@ -342,6 +342,7 @@ def run_query(name: str, paths: Sequence[str], raw: Mapping[str, Any]) -> NoRetu
         argument_error(f"--timeout must be a finite number of seconds, got {timeout}", codes.BAD_ARGUMENT, as_json)
     found = command_limits(values.get("limits") or (), values.get("memory"), as_json)
     with limits.using(found), limits.deadline(timeout) as clock, guard.stoppable(clock) as run:
+        run.as_json = as_json
         try:
             code = _answer(query, paths, values, as_json, run)
         except KeyboardInterrupt:

@@ -9,6 +9,7 @@ import click
 
 from catc.frontend.formatter import format_file
 from catc.interfaces.cli.check import collect_files
+from catc.interfaces.cli.options import limit_options, limited
 from catgrammar.diagnostics import Diagnostics
 from catgrammar.diagnostics import format_text as diag_text
 from catgrammar.terminal import printable
@@ -18,18 +19,23 @@ from catgrammar.terminal import printable
 @click.argument("paths", nargs=-1, required=True, type=click.Path())
 @click.option("--check", is_flag=True, help="Write nothing: list the files that would change and exit 1 if any.")
 @click.option("--diff", is_flag=True, help="Write nothing: print what would change as a unified diff; exit 1 if any.")
-def fmt_command(paths: tuple[str, ...], check: bool, diff: bool) -> None:
+@limit_options
+def fmt_command(
+    paths: tuple[str, ...], check: bool, diff: bool, limit_specs: tuple[str, ...] = (), memory: int | None = None
+) -> None:
     """Rewrite .cat files (and folders) in the canonical layout, keeping comments.
 
     With --check or --diff, nothing is written: the files that are not formatted are listed
     (--check) or their changes printed (--diff), and the exit code is 1.  Exit 2 when a file
-    cannot be read or parsed (the diagnostics of catc check are printed).
+    cannot be read or parsed (the diagnostics of catc check are printed).  The limits of
+    catc check (--limit, --memory; docs/limits.md) hold.
     """
     diags = Diagnostics()
     files = collect_files(paths, diags)
     changed: list[str] = []
-    for f in files:
-        r = format_file(f, diags)
+    with limited(limit_specs, memory):  # issue 28: fmt had none of check's limits
+        results = [(f, format_file(f, diags)) for f in files]
+    for f, r in results:
         if r is None:
             continue
         before, after = r

@@ -115,6 +115,7 @@ class _Run:
         self.clock = clock
         self.soft = False  # a query is running: the first Ctrl-C asks it to stop
         self.timed_out = False  # the watchdog stopped it
+        self.as_json = False  # --json: the last resort also writes the catc.error/1 document
         self.done = threading.Event()
 
 
@@ -139,6 +140,10 @@ def stoppable(clock: limits.Clock) -> Iterator[_Run]:
 
 def _on_sigint(run: _Run) -> None:
     root = run.clock.root
+    if run.timed_out and isinstance(sys.exc_info()[1], limits.Stopped):
+        # the watchdog's SIGINT while the command already reports its time limit: it would
+        # cut the report short and turn exit 3 into 130 (issue 28, finding 2)
+        return
     if run.soft and not root.interrupted and not run.timed_out:
         root.interrupted = True  # the query stops at its next check and reports what it has
         return
@@ -159,8 +164,10 @@ def _watchdog(run: _Run) -> threading.Thread | None:
         signal.pthread_kill(threading.main_thread().ident or 0, signal.SIGINT)
         if run.done.wait(LAST_GRACE) or not Process.executable:
             return
-        sys.stderr.write(f"catc: error[{codes.TIME_LIMIT}]: {clock_message(run.clock)}\n")
-        sys.stderr.flush()
+        message = clock_message(run.clock)
+        if run.as_json:  # the document --json promises (docs/cli.md), on standard output
+            os.write(1, (_error_document(message) + "\n").encode())
+        os.write(2, f"catc: error[{codes.TIME_LIMIT}]: {message}\n".encode())
         os._exit(3)
 
     thread = threading.Thread(target=watch, name="catc-watchdog", daemon=True)
@@ -179,11 +186,17 @@ def stopped_exit(run: _Run | None, as_json: bool, echo: Any) -> int:
 def time_limit_exit(message: str, as_json: bool, echo: Any) -> int:
     """E1109 (with ``--json`` also a catc.error/1 document); exit 3."""
     if as_json:
-        import json
-
-        echo(json.dumps({"schema": "catc.error/1", "status": "unknown", "diagnostics": [_diag(message)]}))
+        echo(_error_document(message))
     echo(f"catc: error[{codes.TIME_LIMIT}]: {message}", True)
     return 3
+
+
+def _error_document(message: str) -> str:
+    import json
+
+    # "reason" as every unknown answer has one (issue 28: the time ran out while reading the model)
+    doc = {"schema": "catc.error/1", "status": "unknown", "reason": "timeout", "diagnostics": [_diag(message)]}
+    return json.dumps(doc)
 
 
 def _diag(message: str) -> dict:

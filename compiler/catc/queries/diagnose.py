@@ -199,6 +199,19 @@ def diagnose(
     return result
 
 
+def _why_unknown(model: LabelledModel) -> str:
+    """Why a check answered unknown: "interrupted", "timeout" — also when the solver's own
+    timer, set to the time left, fired just before the command's clock said so (issue 28:
+    the answer had no reason then) — or the solver's reason."""
+    why = limits.stop_reason()
+    if why is not None:
+        return why
+    solver = model.backend.reason_unknown()
+    if limits.deadline_at() is not None and solver in ("timeout", "canceled"):
+        return "timeout"
+    return solver or "unknown"
+
+
 def _cores(tests: _Tests, result: Diagnosis, wanted: int, all_cores: bool, say: Progress) -> None:
     """Irreducible cores, up to ``wanted``: a hitting-set tree, where every further core must
     avoid one member of each core found."""
@@ -207,7 +220,7 @@ def _cores(tests: _Tests, result: Diagnosis, wanted: int, all_cores: bool, say: 
     r, core = tests.core(labels)
     if r is not Check.UNSAT:
         result.status = DiagnoseStatus.SAT if r is Check.SAT else DiagnoseStatus.UNKNOWN
-        result.reason = None if r is Check.SAT else limits.stop_reason()
+        result.reason = None if r is Check.SAT else _why_unknown(tests.model)
         return
     found: list[list[str]] = []
     frontier: list[frozenset[str]] = [frozenset()]
@@ -227,7 +240,7 @@ def _cores(tests: _Tests, result: Diagnosis, wanted: int, all_cores: bool, say: 
         say(f"{len(found)} core(s) found; shrinking a core of {len(core)} requirements")
         mus = _shrink(tests, core)
         if mus is None:
-            result.complete, result.reason = False, limits.stop_reason()
+            result.complete, result.reason = False, _why_unknown(tests.model)
             break
         if sorted(mus) not in [sorted(c) for c in found]:
             found.append(mus)

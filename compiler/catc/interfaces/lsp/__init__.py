@@ -93,4 +93,6 @@ def lsp_command(stdio: bool) -> None:
     except ImportError:
         click.echo(MISSING, err=True)
         sys.exit(2)
-    build_server().start_io()
+    from catc.interfaces.lsp_framing import CanonicalHeaders
+
+    build_server().start_io(CanonicalHeaders(sys.stdin.buffer))

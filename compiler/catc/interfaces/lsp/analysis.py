@@ -230,7 +230,8 @@ def names_in_scope(a: Analysis) -> dict[str, str]:
 def uri_to_path(uri: str) -> str:
     parsed = urlparse(uri)
     if parsed.scheme == "file":
-        return unquote(parsed.path)
+        path = unquote(parsed.path)
+        return parsed.path if "\0" in path else path  # %00 stays quoted: no path has a NUL
     return uri
 
 

@@ -71,6 +71,20 @@ def run_target_on_file(name: str, uri: str, options: dict[str, Any] | None = Non
     return target.to_json(model.instance, artifact)
 
 
+def _unreadable(ls: Any, uri: object) -> dict | None:
+    """A ``catc.error/1`` document when ``uri`` is not a ``file:`` URI of an open document or
+    of the workspace (issue 28: a command never reads any other file), else None."""
+    from catc.interfaces.lsp.analysis import uri_to_path
+    from catc.interfaces.lsp_framing import readable_path
+
+    known = set(ls.workspace.text_documents)
+    roots = [uri_to_path(f.uri) for f in ls.workspace.folders.values()] + [ls.workspace.root_path or ""]
+    if readable_path(uri, known, roots) is not None:
+        return None
+    message = f"not a file: URI of an open document or of the workspace: {uri!r}"
+    return {"schema": "catc.error/1", "status": "error", "diagnostics": [{"message": message}]}
+
+
 def register_commands(server: Any, types: Any) -> None:
     """``catc.<query>`` commands: arguments ``[uri]`` or ``[uri, {option: value}]``; they
     answer for the saved file, as the command line would."""
@@ -78,8 +92,9 @@ def register_commands(server: Any, types: Any) -> None:
 
     def command_for(name: str) -> Any:
         def handler(ls: Any, *args: Any) -> dict:
-            uri, options = args[0], (args[1] if len(args) > 1 else None)
-            return run_query_on_file(name, uri, options)
+            uri, options = (args[0] if args else None), (args[1] if len(args) > 1 else None)
+            refused = _unreadable(ls, uri)
+            return refused if refused is not None else run_query_on_file(name, str(uri), options)
 
         return handler
 
@@ -90,8 +105,9 @@ def register_commands(server: Any, types: Any) -> None:
 
     def export_for(name: str) -> Any:
         def handler(ls: Any, *args: Any) -> dict:
-            uri, options = args[0], (args[1] if len(args) > 1 else None)
-            return run_target_on_file(name, uri, options)
+            uri, options = (args[0] if args else None), (args[1] if len(args) > 1 else None)
+            refused = _unreadable(ls, uri)
+            return refused if refused is not None else run_target_on_file(name, str(uri), options)
 
         return handler
 

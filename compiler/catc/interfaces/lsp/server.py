@@ -146,6 +146,7 @@ def _protocol_class() -> Any:
     -1 or 2³¹: LSP's uinteger ends at 2³¹−1) with its error; pygls only logs it, and the
     client would wait for ever."""
     from pygls.exceptions import JsonRpcException
+    from pygls.exceptions import JsonRpcInvalidRequest as InvalidRequest
     from pygls.protocol import LanguageServerProtocol
 
     class Protocol(LanguageServerProtocol):
@@ -156,11 +157,17 @@ def _protocol_class() -> Any:
                 if "method" in data and isinstance(data.get("id"), (int, str)):
                     self._send_response(data["id"], error=exc.to_response_error())
                     return _ANSWERED
+                if "method" not in data and "id" not in data:
+                    return object()  # neither request, notification nor response: no message
                 raise
 
         def handle_message(self, message: Any) -> None:
-            if message is not _ANSWERED:
-                super().handle_message(message)
+            if message is _ANSWERED:
+                return
+            if not hasattr(message, "jsonrpc"):  # a body of [], null, 1, "x" or {}: no message
+                self._send_response(None, error=InvalidRequest("not a JSON-RPC message").to_response_error())  # type: ignore[arg-type]  # id null
+                return
+            super().handle_message(message)
 
     return Protocol
 
