@@ -176,8 +176,8 @@ def build(n: int, d: int, seed: int = 24) -> Catalog:
                 cat.shortcuts.append(s)
                 cat.distractors.append(
                     f"  (:morphism shortcut-{k} :kind software :uses 1\n"
-                    f"    :precondition (and cap{s - 1} (>= ram (+ RAM-BIG {k})))\n"
-                    f"    :effect (and (assign cap{s + 1} true) (decrease ram (+ RAM-BIG {k}))))"
+                    f"    :precondition (and cap{s - 1} (>= ram RAM-BIG-{k}))\n"
+                    f"    :effect (and (assign cap{s + 1} true) (decrease ram RAM-BIG-{k})))"
                 )
         if role == 4:
             gives = rng.randrange(1, d + 1)
@@ -260,7 +260,10 @@ def domain_text(cat: Catalog, missing: bool = False) -> str:
         if missing and level == cat.missing:
             continue
         lines += [_morphism(a) for a in alts]
-    lines += [t.replace("RAM-BIG", str(big)) for t in cat.distractors]
+    for text in cat.distractors:
+        for k in range(len(cat.distractors) + 5):
+            text = text.replace(f"RAM-BIG-{k})", f"{big + k})")  # noqa: PLW2901
+        lines.append(text)
     lines.append(")")
     return "\n".join(lines) + "\n"
 

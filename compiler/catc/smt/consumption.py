@@ -1,0 +1,357 @@
+"""A horizon-free consumption abstraction: which components a composition uses, in which
+order they first fire, and what they consume in total (issue 24).
+
+Catalogs with competing alternatives fail *combinatorially*: every single alternative is
+affordable, but no choice of one alternative per capability fits the budget (or the power,
+RAM, GPU memory) together.  Relaxed reachability cannot see that, and the step encoding
+proves it only by exhausting orderings at every horizon.  This abstraction forgets the
+steps: a Boolean ``u_m`` per morphism (used at least once), an integer rank per morphism
+(the step of its first firing), and per numeric resource one sum.  Its constraints, each
+guarded by the indicator of the source label it comes from:
+
+* a used morphism's positive facts (a Boolean resource, or a constant member of a set) hold
+  initially or are given by a used provider of smaller rank (``pre/m/i``, ``init/r``,
+  ``eff/p/j``); a goal's facts hold initially or are given by a used provider (``goal/i``);
+* a numeric resource whose every effect is a decrease by a non-negative amount (a constant,
+  or a parameter whose lower bound ``bound/m/p`` is non-negative) and which has a lower bound
+  ``lo`` (``bounds/r``) starting at ``v`` (``init/r``): the decreases of the used morphisms
+  sum to at most ``v - lo`` (``eff/m/i``);
+* a use limit of 0 keeps a morphism unused (``uses/m``).
+
+Every composition of any length satisfying a set of labels gives a model of the abstraction
+for the same labels (deletes, negative and numeric preconditions are forgotten: the
+abstraction only says less), so an UNSAT answer here — and its core — holds for every
+horizon.  Its cores are not always irreducible for the full semantics (the step encoding
+sees more): :mod:`catc.queries.cores` checks each member there.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Collection, Iterable, Sequence
+from fractions import Fraction
+from typing import Any
+
+from catc import ir
+from catc.smt.backend import DEFAULT_BACKEND, Backend, Check, open_backend
+from catc.smt.script import SmtSort, Symbol, and_text, or_text, real_literal
+from catgrammar import limits
+
+Atom = tuple[str, str | None]  # (resource, element): element None for a Boolean resource
+
+
+def _atoms(e: ir.Expr) -> list[Atom]:
+    """The positive facts a condition needs (others are forgotten)."""
+    if isinstance(e, ir.ResourceRef) and e.sort.kind is ir.SortKind.BOOL:
+        return [(e.name, None)]
+    if isinstance(e, ir.Member) and isinstance(e.set, ir.ResourceRef) and isinstance(e.element, ir.Const):
+        return [(e.set.name, str(e.element.value))]
+    if isinstance(e, ir.BoolOp) and e.op is ir.BoolOpKind.AND:
+        return [a for x in e.args for a in _atoms(x)]
+    return []
+
+
+class Consumption:
+    """The abstraction of one instance (see the module docstring); ``labels`` are the labels
+    it can assume, ``known`` (default: all) the labels the caller asks about — a label the
+    caller does not know is enforced always."""
+
+    def __init__(
+        self,
+        inst: ir.Instance,
+        components: Collection[str] | None = None,
+        known: Iterable[str] | None = None,
+        slack: dict[str, Symbol] | None = None,
+        backend: str = DEFAULT_BACKEND,
+        optimize: bool = False,
+    ) -> None:
+        self.inst = inst
+        self.known = None if known is None else set(known)
+        self.indicator: dict[str, Symbol] = {}
+        decls: list[Symbol] = []
+        asserts: list[str] = []
+        morphisms = list(inst.morphisms.values())
+        fixed = None if components is None else set(components)
+        used = {m.name: Symbol(f"u:{m.name}", SmtSort.BOOL) for m in morphisms}
+        rank = {m.name: Symbol(f"rank:{m.name}", SmtSort.INT) for m in morphisms}
+        decls += list(used.values()) + list(rank.values())
+        asserts += [f"(>= {r} 0)" for r in rank.values()]
+        if fixed is not None:
+            asserts += [used[m] if m in fixed else f"(not {used[m]})" for m in used]
+
+        def on(label: str) -> str:
+            if self.known is not None and label not in self.known:
+                return "true"
+            sym = self.indicator.get(label)
+            if sym is None:
+                sym = self.indicator[label] = Symbol(f"A:{label}", SmtSort.BOOL)
+                decls.append(sym)
+            return sym
+
+        # facts and who gives them: a used giver gives whether its effect's label is enforced
+        # or not (a dropped effect may or may not happen — the encoder's tracking semantics)
+        providers: dict[Atom, list[tuple[str, str | None]]] = {}
+        wildcard: dict[str, list[tuple[str, str | None]]] = {}  # set resource → givers of any element
+        for m in morphisms:
+            for eff in m.effects:
+                res = inst.resources.get(eff.resource)
+                if res is None or res.sort.is_numeric:
+                    continue
+                if res.sort.kind is ir.SortKind.BOOL and eff.kind is ir.EffectKind.ASSIGN:
+                    if not (isinstance(eff.value, ir.Const) and eff.value.value is False):
+                        providers.setdefault((eff.resource, None), []).append((m.name, None))
+                elif eff.kind is ir.EffectKind.ADD:
+                    if isinstance(eff.value, ir.Const):
+                        providers.setdefault((eff.resource, str(eff.value.value)), []).append((m.name, None))
+                    else:
+                        wildcard.setdefault(eff.resource, []).append((m.name, None))
+
+        def initially(atom: Atom) -> str:
+            init = inst.problem.init.get(atom[0])
+            if init is None:
+                return "true"  # unconstrained
+            v = init.value
+            if atom[1] is None:
+                holds = isinstance(v, ir.Const) and v.value is not False
+            elif isinstance(v, ir.SetLit):
+                holds = any(not isinstance(x, ir.Const) or str(x.value) == atom[1] for x in v.elements)
+            else:
+                holds = True
+            return "true" if holds else f"(not {on(init.label)})"
+
+        def support(atom: Atom, before: str | None) -> str:
+            options = [initially(atom)]
+            for p, label in providers.get(atom, []) + wildcard.get(atom[0], []):
+                if p == before:
+                    continue
+                order = [] if before is None else [f"(< {rank[p]} {rank[before]})"]
+                free = [] if label is None else [f"(not {on(label)})"]
+                options.append(and_text([used[p], *free, *order]))
+            return or_text(options)
+
+        self.providers, self.wildcard, self.rank = providers, wildcard, rank
+        self.needs: dict[str, list[tuple[str, list[Atom]]]] = {}
+        self.goal_needs = [(lit.label, _atoms(lit.expr)) for lit in inst.problem.goal]
+        for m in morphisms:
+            for lit in m.pre:
+                atoms = _atoms(lit.expr)
+                self.needs.setdefault(m.name, []).append((lit.label, atoms))
+                if atoms:
+                    need = and_text([support(a, m.name) for a in atoms])
+                    asserts.append(f"(=> (and {used[m.name]} {on(lit.label)}) {need})")
+            if m.uses == 0:
+                asserts.append(f"(=> {on(f'uses/{m.name}')} (not {used[m.name]}))")
+        for lit in inst.problem.goal:
+            atoms = _atoms(lit.expr)
+            if atoms:
+                asserts.append(f"(=> {on(lit.label)} {and_text([support(a, None) for a in atoms])})")
+        self.resources: list[str] = []
+        for name, res in inst.resources.items():
+            text = self._sum(inst, name, res, used, on, slack)
+            if text is not None:
+                asserts.append(text)
+                self.resources.append(name)
+        self.used = used
+        self.backend: Backend = open_backend(backend, optimize=optimize)
+        self.backend.add([*(slack or {}).values(), *decls], [(None, a) for a in asserts])
+        self._label_of = {s: label for label, s in self.indicator.items()}
+        self.checks = 0
+
+    @staticmethod
+    def _sum(inst: ir.Instance, name: str, res: ir.Resource, used: dict[str, Symbol], on, slack) -> str | None:
+        """The total-consumption constraint of one numeric resource (None: not modelled)."""
+        init = inst.problem.init.get(name)
+        if not res.sort.is_numeric or res.lower is None or init is None or not isinstance(init.value, ir.Const):
+            return None
+        terms: list[str] = []
+        guards = [on(init.label), on(f"bounds/{name}")]
+        for m in inst.morphisms.values():
+            for eff in m.effects:
+                if eff.resource != name:
+                    continue
+                if eff.kind is not ir.EffectKind.DECREASE:
+                    return None
+                v = eff.value
+                if isinstance(v, ir.Const) and isinstance(v.value, Fraction | int) and v.value >= 0:
+                    amount = Fraction(v.value)
+                elif isinstance(v, ir.ParamRef):
+                    p = next((p for p in m.params if p.name == v.name), None)
+                    if p is None or p.lower is None or p.lower < 0:
+                        return None
+                    amount = Fraction(p.lower)
+                    # without its bound the parameter may be negative: no constraint then
+                    guards.append(f"(or (not {used[m.name]}) {on(f'bound/{m.name}/{p.name}')})")
+                else:
+                    return None
+                if amount:  # dropped, the decrease may or may not happen: at least 0
+                    terms.append(f"(ite (and {used[m.name]} {on(eff.label)}) {real_literal(amount)} 0.0)")
+        if not terms:
+            return None
+        room = real_literal(Fraction(init.value.value) - res.lower)  # type: ignore[arg-type]
+        if slack and init.label in slack:
+            room = f"(+ {room} {slack[init.label]})"
+        return f"(=> {and_text(guards)} (<= (+ 0.0 {' '.join(terms)}) {room}))"
+
+    @property
+    def labels(self) -> list[str]:
+        return list(self.indicator)
+
+    def check(self, labels: Iterable[str], timeout: float | None = None) -> tuple[Check, list[str]]:
+        """Satisfiability with exactly ``labels`` enforced (of those it knows); on UNSAT a
+        core among them."""
+        wanted = [label for label in labels if label in self.indicator]
+        if timeout is not None:
+            self.backend.set_timeout(timeout)
+        self.checks += 1
+        r = self.backend.check([self.indicator[label] for label in wanted])
+        if r is Check.UNSAT:
+            core = {self._label_of[s] for s in self.backend.core() if s in self._label_of}
+            return r, [label for label in wanted if label in core]
+        return r, []
+
+    def support(self, labels: Collection[str]) -> list[str] | None:
+        """After a SAT :meth:`check` of ``labels``: the morphisms the model uses to support the
+        goal (each fact from the used provider of least rank), in rank order — a candidate
+        composition for :func:`catc.semantics.witness.witnessed`; None when the model has none."""
+        b = self.backend
+        if not b.has_model():
+            return None
+        enforced = set(labels)
+
+        def on(label: str) -> bool:
+            return label in enforced or label not in self.indicator
+
+        def holds(atom: Atom) -> bool:
+            init = self.inst.problem.init.get(atom[0])
+            if init is None or not on(init.label):
+                return True
+            v = init.value
+            if atom[1] is None:
+                return isinstance(v, ir.Const) and v.value is not False
+            if isinstance(v, ir.SetLit):
+                return any(not isinstance(x, ir.Const) or str(x.value) == atom[1] for x in v.elements)
+            return True
+
+        used = {m for m, u in self.used.items() if b.value(u) is True}
+        rank = {m: b.value(self.rank[m]) for m in used}
+        chosen: dict[str, None] = {}
+        todo: list[tuple[Atom, str | None]] = [
+            (a, None) for label, atoms in self.goal_needs if on(label) for a in atoms
+        ]
+        while todo:
+            atom, before = todo.pop()
+            if holds(atom):
+                continue
+            offers = self.providers.get(atom, []) + self.wildcard.get(atom[0], [])
+            options = [
+                p
+                for p, label in offers
+                if p in used
+                and (label is None or not on(label))
+                and p != before
+                and (before is None or rank[p] < rank[before])
+            ]
+            if not options:
+                return None
+            p = min(options, key=lambda x: rank[x])
+            if p in chosen:
+                continue
+            chosen[p] = None
+            todo += [(a, p) for label, atoms in self.needs.get(p, []) if on(label) for a in atoms]
+        return sorted(chosen, key=lambda m: rank[m])
+
+    def irreducible(self, labels: Sequence[str], timeout: float | None = None) -> list[str] | None:
+        """An irreducible core of ``labels`` for the abstraction (None when they are
+        satisfiable or a check gives up): deletion on this one incremental solver, each
+        UNSAT answer's core replacing the candidate (clause-set refinement)."""
+        r, core = self.check(labels, timeout)
+        if r is not Check.UNSAT:
+            return None
+        i = 0
+        while i < len(core):
+            r, smaller = self.check(core[:i] + core[i + 1 :], timeout)
+            if r is Check.UNSAT:
+                core = smaller
+            elif r is Check.SAT:
+                i += 1
+            else:
+                return None
+        return core
+
+
+def refutes(inst: ir.Instance, timeout: float | None = None) -> list[str] | None:
+    """An irreducible core of the abstraction with every label enforced (None: it cannot
+    show the instance infeasible)."""
+    a = Consumption(inst)
+    return a.irreducible(a.labels, timeout)
+
+
+def least_slack(
+    inst: ir.Instance,
+    reqs: Sequence[tuple[str, str, Fraction]],
+    components: Collection[str] | None = None,
+    timeout: float | None = None,
+) -> Fraction | bool | None:
+    """A lower bound on the least weighted relaxation of ``reqs`` ((label, kind, weight)):
+    the least weighted raise of the initial values that lets the abstraction hold with every
+    label enforced.  False: no relaxation of ``reqs`` can restore it; None: unknown.
+
+    Sound because the abstraction forgets every precondition and goal comparison (relaxing
+    them is free here) and lowering an initial value never helps a consumption sum."""
+    slack = {label: Symbol(f"slack:{label}", SmtSort.REAL) for label, kind, _ in reqs if kind == "initial value"}
+    a = Consumption(inst, components, slack=slack, optimize=True)
+    weights = {label: w for label, _, w in reqs}
+    opt = a.backend
+    for s in slack.values():
+        opt.assert_term(f"(>= {s} 0.0)")
+    for sym in a.indicator.values():
+        opt.assert_term(sym)
+    cost = "(+ 0.0 " + " ".join(f"(* {real_literal(weights[label])} {s})" for label, s in slack.items()) + ")"
+    handle = opt.minimize(opt.intern(cost))
+    if timeout is not None:
+        opt.set_timeout(timeout)
+    r = opt.check()
+    if r is Check.UNSAT:
+        return False
+    if r is not Check.SAT:
+        return None
+    bound = opt.bound(handle)
+    return bound.value if bound.exact and bound.infinite == 0 else None
+
+
+def consumption_bound(
+    inst: ir.Instance, reqs: Sequence[Any], components: Collection[str] | None = None
+) -> Fraction | bool | None:
+    """:func:`least_slack` for relax's requirements (objects with label, kind and weight)."""
+    return least_slack(inst, [(r.label, r.kind, r.weight) for r in reqs], components, limits.for_check())
+
+
+def stronger_bound(lower: Fraction | bool | None, mine: Fraction | bool | None) -> Fraction | bool | None:
+    """The stronger of two lower bounds (a Fraction; False: no relaxation restores it; None:
+    unknown)."""
+    if lower is False or mine is False:
+        return False
+    if not isinstance(mine, Fraction):
+        return lower
+    return mine if not isinstance(lower, Fraction) or mine > lower else lower
+
+
+def consumption_proof(inst: ir.Instance) -> Any:
+    """A :class:`~catc.semantics.relaxed.Refutation` when the abstraction shows that no
+    composition of any length exists (None otherwise), naming an initial value of its core
+    when there is one (the budget, power, RAM... that cannot cover any composition)."""
+    from catc.semantics.relaxed import Refutation
+
+    a = Consumption(inst)
+    if not a.labels:
+        return None
+    r, core = a.check(a.labels, limits.for_check())
+    if r is not Check.UNSAT:
+        return None
+    inits = [label for label in core if label.startswith("init/") and label[5:] in a.resources]
+    label = inits[0] if inits else next((x for x in core if x.startswith("goal/")), None)
+    what = f"the initial {label[5:]}" if inits and label else "the goal's facts"
+    return Refutation(
+        f"{what} cannot be met by any choice of components: the least total consumption of the "
+        "alternatives that reach the goal exceeds what there is (a consumption bound)",
+        label,
+    )
