@@ -16,8 +16,9 @@ from collections.abc import Collection, Sequence
 from typing import Protocol
 
 from catc import ir
+from catc.semantics.plan import Activation, Plan
 from catc.semantics.validate import validate
-from catc.semantics.witness import _candidate, _restricted
+from catc.semantics.witness import BIG, _candidate, _restricted
 from catc.smt.backend import Check
 from catc.smt.consumption import Consumption
 from catgrammar import limits
@@ -82,10 +83,27 @@ class AbstractCores:
         plan = _candidate(self.model.inst, enforced, order, order)
         if plan is None:
             return False
-        for big in (False, True):
-            if validate(_freed(_restricted(self.model.inst, enforced, big), enforced), plan, horizon=steps).ok:
-                return True
+        inst = self.model.inst
+        for candidate in (plan, _unbounded(inst, plan, enforced)):
+            for big in (False, True):
+                if validate(_freed(_restricted(inst, enforced, big), enforced), candidate, horizon=steps).ok:
+                    return True
         return False
+
+
+def _unbounded(inst: ir.Instance, plan: Plan, enforced: frozenset[str]) -> Plan:
+    """The plan with every numeric θ whose bound is dropped at -10⁹ (a decrease by it then
+    gives the resource back: one of the values the solver may choose)."""
+
+    def params(a: Activation) -> dict:
+        m = inst.morphisms[a.morphism]
+        out = dict(a.params)
+        for p in m.params:
+            if p.sort.is_numeric and f"bound/{m.name}/{p.name}" not in enforced:
+                out[p.name] = -BIG
+        return out
+
+    return Plan([[Activation(a.morphism, params(a)) for a in step] for step in plan.steps], plan.fresh)
 
 
 def _freed(inst: ir.Instance, enforced: frozenset[str]) -> ir.Instance:

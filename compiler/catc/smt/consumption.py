@@ -232,11 +232,17 @@ class Consumption:
             return True
 
         used = {m for m, u in self.used.items() if b.value(u) is True}
+        extra: list[tuple[Atom, str | None]] = []
         rank = {m: b.value(self.rank[m]) for m in used}
         chosen: dict[str, None] = {}
+        for m in sorted(used, key=lambda x: rank[x]):  # a θ without its bound may give a resource back
+            if any(p.sort.is_numeric and not on(f"bound/{m}/{p.name}") for p in self.inst.morphisms[m].params):
+                chosen[m] = None
+                todo_extra = [(a, m) for label, atoms in self.needs.get(m, []) if on(label) for a in atoms]
+                extra.extend(todo_extra)
         todo: list[tuple[Atom, str | None]] = [
             (a, None) for label, atoms in self.goal_needs if on(label) for a in atoms
-        ]
+        ] + extra
         while todo:
             atom, before = todo.pop()
             if holds(atom):
