@@ -27,7 +27,7 @@ sees more): :mod:`catc.queries.cores` checks each member there.
 
 from __future__ import annotations
 
-from collections.abc import Collection, Iterable, Sequence
+from collections.abc import Callable, Collection, Iterable, Sequence
 from fractions import Fraction
 from typing import Any
 
@@ -157,7 +157,14 @@ class Consumption:
         self.checks = 0
 
     @staticmethod
-    def _sum(inst: ir.Instance, name: str, res: ir.Resource, used: dict[str, Symbol], on, slack) -> str | None:
+    def _sum(
+        inst: ir.Instance,
+        name: str,
+        res: ir.Resource,
+        used: dict[str, Symbol],
+        on: Callable[[str], str],
+        slack: dict[str, Symbol] | None,
+    ) -> str | None:
         """The total-consumption constraint of one numeric resource (None: not modelled)."""
         init = inst.problem.init.get(name)
         if not res.sort.is_numeric or res.lower is None or init is None or not isinstance(init.value, ir.Const):
@@ -186,7 +193,7 @@ class Consumption:
                     terms.append(f"(ite (and {used[m.name]} {on(eff.label)}) {real_literal(amount)} 0.0)")
         if not terms:
             return None
-        room = real_literal(Fraction(init.value.value) - res.lower)  # type: ignore[arg-type]
+        room = real_literal(Fraction(init.value.value) - res.lower)
         if slack and init.label in slack:
             room = f"(+ {room} {slack[init.label]})"
         return f"(=> {and_text(guards)} (<= (+ 0.0 {' '.join(terms)}) {room}))"
