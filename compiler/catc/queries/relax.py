@@ -290,11 +290,7 @@ class _SlackSearch:
         best: _Found | None = None
         if self.lower is False:  # not even the counting relaxation can be restored
             return None, False, True
-        if _is_bound(self.lower) and self.lower > 0:  # a restoration at the bound is least (issue 24)
-            at_bound = self._at_bound(self.lower, deadline)
-            if at_bound is not None:
-                say(f"restoration of weighted total {at_bound.infimum}: least, it meets the lower bound")
-                return at_bound, True, False
+        jumped = False  # a restoration at the lower bound was looked for (issue 24)
         while True:
             feas.set_timeout(_remaining(deadline))
             r = feas.check()
@@ -316,6 +312,11 @@ class _SlackSearch:
                     "from counting activations"
                 )
                 return best, True, False
+            if not jumped and best.attained and _is_bound(self.lower) and self.lower > 0:
+                jumped, at_bound = True, self._at_bound(self.lower, deadline)
+                if at_bound is not None:  # instead of descending one restoration at a time
+                    say(f"restoration of weighted total {at_bound.infimum}: least, it meets the lower bound")
+                    return at_bound, True, False
             if best.attained:
                 say(f"best restoration so far: weighted total {best.infimum}; is there a cheaper one?")
                 feas.assert_term(lt(self.feas_cost, best.infimum))
