@@ -368,3 +368,66 @@ def consumption_proof(inst: ir.Instance) -> Any:
         "alternatives that reach the goal exceeds what there is (a consumption bound)",
         label,
     )
+
+
+def least_length(inst: ir.Instance) -> int:
+    """A lower bound on the number of steps of any composition reaching the goal: the h_max
+    level of the goal's facts (each fact's level is 0 when it holds initially, else one more
+    than the least, over its givers, of the greatest level among the giver's facts), with
+    deletes, numeric conditions and θ-dependent facts forgotten.  0 when it cannot tell."""
+    givers: dict[Atom, list[str]] = {}
+    anything: dict[str, list[str]] = {}  # set resource → givers of a θ element
+    for m in inst.morphisms.values():
+        for eff in m.effects:
+            res = inst.resources.get(eff.resource)
+            if res is None or res.sort.is_numeric:
+                continue
+            if res.sort.kind is ir.SortKind.BOOL and eff.kind is ir.EffectKind.ASSIGN:
+                if not (isinstance(eff.value, ir.Const) and eff.value.value is False):
+                    givers.setdefault((eff.resource, None), []).append(m.name)
+            elif eff.kind is ir.EffectKind.ADD:
+                if isinstance(eff.value, ir.Const):
+                    givers.setdefault((eff.resource, str(eff.value.value)), []).append(m.name)
+                else:
+                    anything.setdefault(eff.resource, []).append(m.name)
+    needs = {m.name: [a for lit in m.pre for a in _atoms(lit.expr)] for m in inst.morphisms.values()}
+
+    def initially(atom: Atom) -> bool:
+        init = inst.problem.init.get(atom[0])
+        if init is None:
+            return True
+        v = init.value
+        if atom[1] is None:
+            return isinstance(v, ir.Const) and v.value is not False
+        if isinstance(v, ir.SetLit):
+            return any(not isinstance(x, ir.Const) or str(x.value) == atom[1] for x in v.elements)
+        return True
+
+    level: dict[Atom, int] = {}
+    atoms = set(givers) | {a for ns in needs.values() for a in ns}
+    atoms |= {a for lit in inst.problem.goal for a in _atoms(lit.expr)}
+    for a in atoms:
+        if initially(a):
+            level[a] = 0
+    fired: dict[str, int] = {}
+    changed = True
+    while changed:  # Bellman-Ford style: levels only go down, at most |morphisms| rounds
+        changed = False
+        for name, ns in needs.items():
+            if any(a not in level for a in ns):
+                continue
+            at = 1 + max((level[a] for a in ns), default=0)
+            if fired.get(name, at + 1) <= at:
+                continue
+            fired[name] = at
+            changed = True
+        for a in atoms:
+            offers = givers.get(a, []) + (anything.get(a[0], []) if a[1] is not None else [])
+            best = min((fired[g] for g in offers if g in fired), default=None)
+            if best is not None and best < level.get(a, best + 1):
+                level[a] = best
+                changed = True
+    goal = [a for lit in inst.problem.goal for a in _atoms(lit.expr)]
+    if any(a not in level for a in goal):
+        return 0  # unreachable: the refutations say so; no bound claimed here
+    return max((level[a] for a in goal), default=0)
