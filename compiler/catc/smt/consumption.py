@@ -146,9 +146,9 @@ class Consumption:
                 asserts.append(f"(=> {on(lit.label)} {and_text([support(a, None) for a in atoms])})")
         self.resources: list[str] = []
         for name, res in inst.resources.items():
-            text = self._sum(inst, name, res, used, on, slack)
-            if text is not None:
-                asserts.append(text)
+            texts = self._sum(inst, name, res, used, rank, on, slack)
+            if texts:
+                asserts += texts
                 self.resources.append(name)
         self.used = used
         self.backend: Backend = open_backend(backend, optimize=optimize)
@@ -162,41 +162,58 @@ class Consumption:
         name: str,
         res: ir.Resource,
         used: dict[str, Symbol],
+        rank: dict[str, Symbol],
         on: Callable[[str], str],
         slack: dict[str, Symbol] | None,
-    ) -> str | None:
-        """The total-consumption constraint of one numeric resource (None: not modelled)."""
+    ) -> list[str]:
+        """The total-consumption constraints of one numeric resource (none: not modelled):
+        the sum over every used consumer, and — when some consumer's amount is a θ whose
+        bound may be dropped (it could give the resource back) — the sum up to each
+        consumer's first firing (ranks), since the bound holds in every state."""
         init = inst.problem.init.get(name)
         if not res.sort.is_numeric or res.lower is None or init is None or not isinstance(init.value, ir.Const):
-            return None
-        terms: list[str] = []
-        guards = [on(init.label), on(f"bounds/{name}")]
+            return []
+        consumers: list[tuple[str, Fraction, str, str | None]] = []  # morphism, amount, label, θ bound
         for m in inst.morphisms.values():
             for eff in m.effects:
                 if eff.resource != name:
                     continue
                 if eff.kind is not ir.EffectKind.DECREASE:
-                    return None
+                    return []
                 v = eff.value
                 if isinstance(v, ir.Const) and isinstance(v.value, Fraction | int) and v.value >= 0:
-                    amount = Fraction(v.value)
+                    consumers.append((m.name, Fraction(v.value), eff.label, None))
                 elif isinstance(v, ir.ParamRef):
                     p = next((p for p in m.params if p.name == v.name), None)
                     if p is None or p.lower is None or p.lower < 0:
-                        return None
-                    amount = Fraction(p.lower)
-                    # without its bound the parameter may be negative: no constraint then
-                    guards.append(f"(or (not {used[m.name]}) {on(f'bound/{m.name}/{p.name}')})")
+                        return []
+                    consumers.append((m.name, Fraction(p.lower), eff.label, f"bound/{m.name}/{p.name}"))
                 else:
-                    return None
-                if amount:  # dropped, the decrease may or may not happen: at least 0
-                    terms.append(f"(ite (and {used[m.name]} {on(eff.label)}) {real_literal(amount)} 0.0)")
-        if not terms:
-            return None
+                    return []
+        if not any(amount for _, amount, _, _ in consumers):
+            return []
         room = real_literal(Fraction(init.value.value) - res.lower)
         if slack and init.label in slack:
             room = f"(+ {room} {slack[init.label]})"
-        return f"(=> {and_text(guards)} (<= (+ 0.0 {' '.join(terms)}) {room}))"
+        base = [on(init.label), on(f"bounds/{name}")]
+
+        def constraint(upto: str | None) -> str:
+            """The sum of the consumers first firing no later than ``upto`` (None: all)."""
+            guards, terms = list(base), []
+            for m, amount, label, bound in consumers:
+                when = [] if upto is None else [f"(<= {rank[m]} {rank[upto]})"]
+                if bound is not None:  # without its bound the θ may be negative: no claim then
+                    guards.append(or_text([f"(not {used[m]})", on(bound), *(f"(not {w})" for w in when)]))
+                if amount:  # dropped, the decrease may or may not happen: at least 0
+                    terms.append(f"(ite {and_text([used[m], on(label), *when])} {real_literal(amount)} 0.0)")
+            if upto is not None:
+                guards.append(used[upto])
+            return f"(=> {and_text(guards)} (<= (+ 0.0 {' '.join(terms)}) {room}))"
+
+        out = [constraint(None)]
+        if any(bound is not None for _, _, _, bound in consumers):
+            out += [constraint(m) for m in dict.fromkeys(m for m, _, _, _ in consumers)]
+        return out
 
     @property
     def labels(self) -> list[str]:
