@@ -39,7 +39,7 @@ from catc.semantics.horizon import horizon_of, use_bound
 from catc.semantics.plan import Plan
 from catc.semantics.relaxed import Refutation, refute
 from catc.smt.backend import BACKENDS, DEFAULT_BACKEND, Check, open_backend
-from catc.smt.consumption import consumption_proof, least_length
+from catc.smt.consumption import consumption_proof
 from catc.smt.encoder import Encoder
 from catc.smt.readback import read_plan
 from catc.smt.script import SmtSort, Symbol, and_text
@@ -152,8 +152,7 @@ def solve(
                     if warm is None
                     else warm.search(inst, k, sequential, backend, timings)
                 )
-                first = min(k, least_length(inst)) if presolve else 0  # shorter is impossible (issue 24)
-                result = search.run(range(first, k + 1) if strategy == "incremental" else (k,), progress, phase)
+                result = search.run(range(k + 1) if strategy == "incremental" else (k,), progress, phase)
                 if result.status is SolveStatus.SAT and validate_answer:
                     _validated(inst, result, k, sequential, prune, timings)
         except limits.Stopped as stop:  # encoding or validating when the time ran out
