@@ -50,6 +50,39 @@ def _atoms(e: ir.Expr) -> list[Atom]:
     return []
 
 
+def _holds(init: ir.InitValue, atom: Atom) -> bool:
+    """Whether the fact holds in the initial value ``init`` (an open set literal: it may)."""
+    v = init.value
+    if atom[1] is None:
+        return isinstance(v, ir.Const) and v.value is not False
+    if isinstance(v, ir.SetLit):
+        return any(not isinstance(x, ir.Const) or str(x.value) == atom[1] for x in v.elements)
+    return True
+
+
+def _givers(
+    inst: ir.Instance,
+) -> tuple[dict[Atom, list[tuple[str, str | None]]], dict[str, list[tuple[str, str | None]]]]:
+    """Who gives each fact (a Boolean set true, a constant added to a set), and who adds a θ
+    element to each set resource (any element); the label slot is None (unconditional)."""
+    providers: dict[Atom, list[tuple[str, str | None]]] = {}
+    wildcard: dict[str, list[tuple[str, str | None]]] = {}
+    for m in inst.morphisms.values():
+        for eff in m.effects:
+            res = inst.resources.get(eff.resource)
+            if res is None or res.sort.is_numeric:
+                continue
+            if res.sort.kind is ir.SortKind.BOOL and eff.kind is ir.EffectKind.ASSIGN:
+                if not (isinstance(eff.value, ir.Const) and eff.value.value is False):
+                    providers.setdefault((eff.resource, None), []).append((m.name, None))
+            elif eff.kind is ir.EffectKind.ADD:
+                if isinstance(eff.value, ir.Const):
+                    providers.setdefault((eff.resource, str(eff.value.value)), []).append((m.name, None))
+                else:
+                    wildcard.setdefault(eff.resource, []).append((m.name, None))
+    return providers, wildcard
+
+
 class Consumption:
     """The abstraction of one instance (see the module docstring); ``labels`` are the labels
     it can assume, ``known`` (default: all) the labels the caller asks about — a label the
@@ -87,36 +120,15 @@ class Consumption:
                 decls.append(sym)
             return sym
 
-        # facts and who gives them: a used giver gives whether its effect's label is enforced
-        # or not (a dropped effect may or may not happen — the encoder's tracking semantics)
-        providers: dict[Atom, list[tuple[str, str | None]]] = {}
-        wildcard: dict[str, list[tuple[str, str | None]]] = {}  # set resource → givers of any element
-        for m in morphisms:
-            for eff in m.effects:
-                res = inst.resources.get(eff.resource)
-                if res is None or res.sort.is_numeric:
-                    continue
-                if res.sort.kind is ir.SortKind.BOOL and eff.kind is ir.EffectKind.ASSIGN:
-                    if not (isinstance(eff.value, ir.Const) and eff.value.value is False):
-                        providers.setdefault((eff.resource, None), []).append((m.name, None))
-                elif eff.kind is ir.EffectKind.ADD:
-                    if isinstance(eff.value, ir.Const):
-                        providers.setdefault((eff.resource, str(eff.value.value)), []).append((m.name, None))
-                    else:
-                        wildcard.setdefault(eff.resource, []).append((m.name, None))
+        # a used giver gives whether its effect's label is enforced or not (a dropped effect
+        # may or may not happen — the encoder's tracking semantics)
+        providers, wildcard = _givers(inst)
 
         def initially(atom: Atom) -> str:
             init = inst.problem.init.get(atom[0])
-            if init is None:
-                return "true"  # unconstrained
-            v = init.value
-            if atom[1] is None:
-                holds = isinstance(v, ir.Const) and v.value is not False
-            elif isinstance(v, ir.SetLit):
-                holds = any(not isinstance(x, ir.Const) or str(x.value) == atom[1] for x in v.elements)
-            else:
-                holds = True
-            return "true" if holds else f"(not {on(init.label)})"
+            if init is None or _holds(init, atom):
+                return "true"
+            return f"(not {on(init.label)})"
 
         def support(atom: Atom, before: str | None) -> str:
             options = [initially(atom)]
@@ -246,14 +258,7 @@ class Consumption:
 
         def holds(atom: Atom) -> bool:
             init = self.inst.problem.init.get(atom[0])
-            if init is None or not on(init.label):
-                return True
-            v = init.value
-            if atom[1] is None:
-                return isinstance(v, ir.Const) and v.value is not False
-            if isinstance(v, ir.SetLit):
-                return any(not isinstance(x, ir.Const) or str(x.value) == atom[1] for x in v.elements)
-            return True
+            return init is None or not on(init.label) or _holds(init, atom)
 
         used = {m for m, u in self.used.items() if b.value(u) is True}
         extra: list[tuple[Atom, str | None]] = []
@@ -392,33 +397,14 @@ def least_length(inst: ir.Instance) -> int:
     level of the goal's facts (each fact's level is 0 when it holds initially, else one more
     than the least, over its givers, of the greatest level among the giver's facts), with
     deletes, numeric conditions and θ-dependent facts forgotten.  0 when it cannot tell."""
-    givers: dict[Atom, list[str]] = {}
-    anything: dict[str, list[str]] = {}  # set resource → givers of a θ element
-    for m in inst.morphisms.values():
-        for eff in m.effects:
-            res = inst.resources.get(eff.resource)
-            if res is None or res.sort.is_numeric:
-                continue
-            if res.sort.kind is ir.SortKind.BOOL and eff.kind is ir.EffectKind.ASSIGN:
-                if not (isinstance(eff.value, ir.Const) and eff.value.value is False):
-                    givers.setdefault((eff.resource, None), []).append(m.name)
-            elif eff.kind is ir.EffectKind.ADD:
-                if isinstance(eff.value, ir.Const):
-                    givers.setdefault((eff.resource, str(eff.value.value)), []).append(m.name)
-                else:
-                    anything.setdefault(eff.resource, []).append(m.name)
+    given, any_element = _givers(inst)
+    givers = {a: [m for m, _ in ms] for a, ms in given.items()}
+    anything = {r: [m for m, _ in ms] for r, ms in any_element.items()}
     needs = {m.name: [a for lit in m.pre for a in _atoms(lit.expr)] for m in inst.morphisms.values()}
 
     def initially(atom: Atom) -> bool:
         init = inst.problem.init.get(atom[0])
-        if init is None:
-            return True
-        v = init.value
-        if atom[1] is None:
-            return isinstance(v, ir.Const) and v.value is not False
-        if isinstance(v, ir.SetLit):
-            return any(not isinstance(x, ir.Const) or str(x.value) == atom[1] for x in v.elements)
-        return True
+        return init is None or _holds(init, atom)
 
     level: dict[Atom, int] = {}
     atoms = set(givers) | {a for ns in needs.values() for a in ns}
