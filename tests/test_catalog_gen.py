@@ -22,7 +22,7 @@ from catc.queries.recompose import recompose  # noqa: E402
 from catc.queries.relax import RelaxStatus, relax  # noqa: E402
 from catc.queries.solve import SolveStatus, solve  # noqa: E402
 from catc.smt.backend import Check  # noqa: E402
-from catc.smt.consumption import Consumption, least_length  # noqa: E402
+from catc.smt.consumption import Consumption, least_consumption, least_length  # noqa: E402
 from catc.smt.labelled import LabelledModel  # noqa: E402
 
 SIZES = [(12, 4), (14, 5)]
@@ -61,6 +61,8 @@ def test_global_cut_is_final_unsat_and_least_relaxation_is_delta(n: int, d: int,
     # brute force: the least raise of initial values is Δ = 1, on this resource
     assert gen.least_restoration(cat, init) == 1
     assert gen.least_restoration(cat, init, eligible=(variant,)) == 1
+    # the h_max consumption bound is the least sum over the levels, derived by hand
+    assert least_consumption(inst)[variant] == gen.least_sums(cat)[variant]
     res = solve(inst, timeout=60)
     assert res.status is SolveStatus.UNSAT and res.final
     rel = relax(inst, timeout=60)

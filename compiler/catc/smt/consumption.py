@@ -36,7 +36,9 @@ from catc.smt.backend import DEFAULT_BACKEND, Backend, Check, open_backend
 from catc.smt.script import SmtSort, Symbol, and_text, or_text, real_literal
 from catgrammar import limits
 
-Atom = tuple[str, str | None]  # (resource, element): element None for a Boolean resource
+Atom = tuple[str, str | None]
+#: The most time relax's lower bound gives the solver (the h_max bound needs none).
+OPTIMISE_SECONDS = 10.0  # (resource, element): element None for a Boolean resource
 
 
 def _atoms(e: ir.Expr) -> list[Atom]:
@@ -332,9 +334,17 @@ def least_slack(
 
     Sound because the abstraction forgets every precondition and goal comparison (relaxing
     them is free here) and lowering an initial value never helps a consumption sum."""
+    weights = {label: w for label, _, w in reqs}
+    quick = Fraction(0)  # each resource short of its least consumption needs its own raise
+    for name, least in least_consumption(inst).items():
+        short = least - room(inst, name)
+        if short > 0 and components is None:
+            label = inst.problem.init[name].label
+            if label not in weights:
+                return False  # cannot be raised: no relaxation of reqs restores it
+            quick += weights[label] * short
     slack = {label: Symbol(f"slack:{label}", SmtSort.REAL) for label, kind, _ in reqs if kind == "initial value"}
     a = Consumption(inst, components, slack=slack, optimize=True)
-    weights = {label: w for label, _, w in reqs}
     opt = a.backend
     for s in slack.values():
         opt.assert_term(f"(>= {s} 0.0)")
@@ -342,15 +352,15 @@ def least_slack(
         opt.assert_term(sym)
     cost = "(+ 0.0 " + " ".join(f"(* {real_literal(weights[label])} {s})" for label, s in slack.items()) + ")"
     handle = opt.minimize(opt.intern(cost))
-    if timeout is not None:
-        opt.set_timeout(timeout)
+    opt.set_timeout(min(timeout, OPTIMISE_SECONDS) if timeout is not None else OPTIMISE_SECONDS)
     r = opt.check()
     if r is Check.UNSAT:
         return False
-    if r is not Check.SAT:
-        return None
-    bound = opt.bound(handle)
-    return bound.value if bound.exact and bound.infinite == 0 else None
+    bound = opt.bound(handle) if r is Check.SAT else None
+    exact = bound.value if bound is not None and bound.exact and bound.infinite == 0 else None
+    if exact is None:
+        return quick if quick > 0 else None
+    return max(exact, quick)
 
 
 def consumption_bound(
@@ -376,6 +386,13 @@ def consumption_proof(inst: ir.Instance) -> Any:
     when there is one (the budget, power, RAM... that cannot cover any composition)."""
     from catc.semantics.relaxed import Refutation
 
+    for name, least in least_consumption(inst).items():
+        if least > room(inst, name):
+            return Refutation(
+                f"the initial {name} cannot cover the least any composition reaching the goal takes from it "
+                f"({least} over the cheapest alternative per needed capability; a consumption bound)",
+                inst.problem.init[name].label,
+            )
     a = Consumption(inst)
     if not a.labels:
         return None
@@ -434,3 +451,83 @@ def least_length(inst: ir.Instance) -> int:
     if any(a not in level for a in goal):
         return 0  # unreachable: the refutations say so; no bound claimed here
     return max((level[a] for a in goal), default=0)
+
+
+def _amounts(inst: ir.Instance, name: str) -> dict[str, Fraction] | None:
+    """The least amount each morphism takes from numeric resource ``name`` per firing, when
+    every effect on it is a decrease by a constant or a θ with a non-negative lower bound
+    (None otherwise: it may grow)."""
+    out: dict[str, Fraction] = {}
+    for m in inst.morphisms.values():
+        for eff in m.effects:
+            if eff.resource != name:
+                continue
+            v = eff.value
+            if eff.kind is not ir.EffectKind.DECREASE:
+                return None
+            if isinstance(v, ir.Const) and isinstance(v.value, Fraction | int) and v.value >= 0:
+                amount = Fraction(v.value)
+            elif isinstance(v, ir.ParamRef):
+                p = next((p for p in m.params if p.name == v.name), None)
+                if p is None or p.lower is None or p.lower < 0:
+                    return None
+                amount = Fraction(p.lower)
+            else:
+                return None
+            out[m.name] = out.get(m.name, Fraction(0)) + amount
+    return out
+
+
+def least_consumption(inst: ir.Instance) -> dict[str, Fraction]:
+    """Per numeric resource that only decreases: a lower bound on what any composition
+    reaching the goal takes from it — the h_max cost of the goal's facts, each fact costing
+    0 when it holds initially, else the least over its givers of the giver's amount plus the
+    greatest cost among the giver's facts (along such a chain the givers are distinct, so
+    their amounts add up in every composition).  Polynomial, no solver: it sees the
+    cheapest alternative per capability level of a chain, summed."""
+    given, any_element = _givers(inst)
+    needs = {m.name: [a for lit in m.pre for a in _atoms(lit.expr)] for m in inst.morphisms.values()}
+    goal = [a for lit in inst.problem.goal for a in _atoms(lit.expr)]
+    decreasing = {}
+    for name, res in inst.resources.items():
+        init = inst.problem.init.get(name)
+        if not res.sort.is_numeric or res.lower is None or init is None or not isinstance(init.value, ir.Const):
+            continue
+        amounts = _amounts(inst, name)
+        if amounts:
+            decreasing[name] = amounts
+    # a morphism that alone takes more of a resource than there is never fires
+    never = {m for name, amounts in decreasing.items() for m, a in amounts.items() if a > room(inst, name)}
+    givers = {a: [m for m, _ in ms if m not in never] for a, ms in given.items()}
+    atoms = set(givers) | {a for ns in needs.values() for a in ns} | set(goal)
+    out: dict[str, Fraction] = {}
+    for name, amounts in decreasing.items():
+        cost: dict[Atom, Fraction] = {}
+        for a in atoms:
+            start = inst.problem.init.get(a[0])
+            if start is None or _holds(start, a):
+                cost[a] = Fraction(0)
+        changed = True
+        while changed:  # costs only go down; each round settles one more giver at least
+            changed = False
+            for a in atoms:
+                offers = givers.get(a, []) + (
+                    [m for m, _ in any_element.get(a[0], []) if m not in never] if a[1] is not None else []
+                )
+                for m in offers:
+                    if any(b not in cost for b in needs[m]):
+                        continue
+                    c = amounts.get(m, Fraction(0)) + max((cost[b] for b in needs[m]), default=Fraction(0))
+                    if c < cost.get(a, c + 1):
+                        cost[a] = c
+                        changed = True
+        if all(a in cost for a in goal):
+            out[name] = max((cost[a] for a in goal), default=Fraction(0))
+    return out
+
+
+def room(inst: ir.Instance, name: str) -> Fraction:
+    """How much resource ``name`` can lose: its initial value minus its lower bound."""
+    init, res = inst.problem.init[name], inst.resources[name]
+    assert isinstance(init.value, ir.Const) and res.lower is not None
+    return Fraction(init.value.value) - res.lower
