@@ -498,10 +498,9 @@ def least_consumption(inst: ir.Instance) -> dict[str, Fraction]:
             decreasing[name] = amounts
     # a morphism that alone takes more of a resource than there is never fires
     never = {m for name, amounts in decreasing.items() for m, a in amounts.items() if a > room(inst, name)}
-    givers = {a: [m for m, _ in ms if m not in never] for a, ms in given.items()}
-    atoms = set(givers) | {a for ns in needs.values() for a in ns} | set(goal)
-    out: dict[str, Fraction] = {}
-    for name, amounts in decreasing.items():
+    atoms = set(given) | {a for ns in needs.values() for a in ns} | set(goal)
+
+    def goal_cost(amounts: dict[str, Fraction], excluded: set[str]) -> Fraction | None:
         cost: dict[Atom, Fraction] = {}
         for a in atoms:
             start = inst.problem.init.get(a[0])
@@ -511,18 +510,23 @@ def least_consumption(inst: ir.Instance) -> dict[str, Fraction]:
         while changed:  # costs only go down; each round settles one more giver at least
             changed = False
             for a in atoms:
-                offers = givers.get(a, []) + (
-                    [m for m, _ in any_element.get(a[0], []) if m not in never] if a[1] is not None else []
-                )
+                offers = [m for m, _ in given.get(a, []) + (any_element.get(a[0], []) if a[1] is not None else [])]
                 for m in offers:
-                    if any(b not in cost for b in needs[m]):
+                    if m in excluded or any(b not in cost for b in needs[m]):
                         continue
                     c = amounts.get(m, Fraction(0)) + max((cost[b] for b in needs[m]), default=Fraction(0))
                     if c < cost.get(a, c + 1):
                         cost[a] = c
                         changed = True
-        if all(a in cost for a in goal):
-            out[name] = max((cost[a] for a in goal), default=Fraction(0))
+        return max((cost[a] for a in goal), default=Fraction(0)) if all(a in cost for a in goal) else None
+
+    out: dict[str, Fraction] = {}
+    for name, amounts in decreasing.items():
+        # without the overdrawing morphisms, else (the goal then unreachable) with them all
+        least = goal_cost(amounts, never)
+        least = goal_cost(amounts, set()) if least is None else least
+        if least is not None:
+            out[name] = least
     return out
 
 
