@@ -42,6 +42,7 @@ from catc.queries.base import (
     presolve_option,
     timeout_option,
 )
+from catc.queries.cores import AbstractCores
 from catc.semantics.horizon import horizon_of
 from catc.semantics.relaxed import RelaxedAnalysis
 from catc.semantics.witness import witnessed
@@ -82,6 +83,7 @@ class _Tests:
         self.relaxed = 0  # subsets the relaxed analysis refuted
         self.witnessed = 0  # subsets a composition the validator accepted showed feasible
         self._analyses: dict[frozenset[str], RelaxedAnalysis] = {}
+        self.abstract = AbstractCores(model)  # catalog-scale conflicts (issue 24)
 
     def refuted(self, labels: list[str]) -> bool:
         """The relaxed analysis proves ``labels`` infeasible (never a solver call)."""
@@ -104,6 +106,11 @@ class _Tests:
     def check(self, labels: list[str]) -> tuple[Check, list[str]]:
         if self.refuted(labels):
             return Check.UNSAT, labels
+        if self.presolve and (found := self.abstract.core(labels)) is not None:
+            return Check.UNSAT, found
+        if self.presolve and self.abstract.witnessed(labels, self.model.k, self.model.extended):
+            self.witnessed += 1
+            return Check.SAT, []
         if self.presolve and self._witnessed(labels):
             return Check.SAT, []
         return self.model.check(labels, _remaining(None))
@@ -120,6 +127,8 @@ class _Tests:
         """Whether ``labels`` are infeasible, with a core: QuickXplain over the relaxation
         when it refutes them (a core irreducible for the relaxation), else the solver's."""
         if not self.refuted(labels):
+            if self.presolve and (found := self.abstract.core(labels)) is not None:
+                return Check.UNSAT, found
             return self.model.check(labels, _remaining(None))
         return Check.UNSAT, quickxplain(labels, self.refuted)
 

@@ -27,6 +27,7 @@ from catc.semantics.horizon import horizon_of
 from catc.semantics.plan import Plan, value_to_json
 from catc.semantics.validate import ValidationFailure
 from catc.smt.backend import Check
+from catc.smt.consumption import consumption_bound, stronger_bound
 from catc.smt.counting import slack_lower_bound
 from catc.smt.labelled import LabelledModel
 from catc.smt.readback import read_plan
@@ -293,9 +294,17 @@ class _SlackSearch:
         # reaches it is least without refuting every cheaper ordering
         self.lower: Fraction | bool | None = None
         if counting:
-            self.lower = slack_lower_bound(
-                inst, [(r.label, r.kind, r.weight) for r in reqs], components, timeout=_remaining(limits.deadline_at())
-            )
+            # the consumption bound sees budget sums over competing alternatives (issue 24)
+            mine = consumption_bound(inst, reqs, components)
+            self.lower = False
+            if mine is not False:
+                self.lower = slack_lower_bound(
+                    inst,
+                    [(r.label, r.kind, r.weight) for r in reqs],
+                    components,
+                    timeout=_remaining(limits.deadline_at()),
+                )
+                self.lower = stronger_bound(self.lower, mine)
 
     def run(self, deadline: float | None, say: Callable[[str], None]) -> tuple[_Found | None, bool, bool]:
         """The best relaxation found, whether it is proven least, and whether the search space
@@ -306,6 +315,7 @@ class _SlackSearch:
         best: _Found | None = None
         if self.lower is False:  # not even the counting relaxation can be restored
             return None, False, True
+        jumped = False  # a restoration at the lower bound was looked for (issue 24)
         while True:
             feas.set_timeout(_remaining(deadline))
             r = feas.check()
@@ -327,6 +337,11 @@ class _SlackSearch:
                     "from counting activations"
                 )
                 return best, True, False
+            if not jumped and best.attained and _is_bound(self.lower) and self.lower > 0:
+                jumped, at_bound = True, self._at_bound(self.lower, deadline)
+                if at_bound is not None:  # instead of descending one restoration at a time
+                    say(f"restoration of weighted total {at_bound.infimum}: least, it meets the lower bound")
+                    return at_bound, True, False
             if best.attained:
                 say(f"best restoration so far: weighted total {best.infimum}; is there a cheaper one?")
                 feas.assert_term(lt(self.feas_cost, best.infimum))
@@ -335,6 +350,18 @@ class _SlackSearch:
                 feas.assert_term(le(self.feas_cost, best.infimum))
             if not found.attained:
                 feas.assert_term(not_(and_(*skeleton)) if skeleton else False)
+
+    def _at_bound(self, lower: Fraction, deadline: float | None) -> _Found | None:
+        """A restoration of weighted total ``lower`` (the proven lower bound), or None."""
+        feas = self.feas.backend
+        feas.push()
+        feas.assert_term(le(self.feas_cost, lower))
+        feas.set_timeout(_remaining(deadline))
+        found = None
+        if feas.check() is Check.SAT:
+            found = self._least_slack([eq(q, feas.value(q)) for q in self.acts], deadline)
+        feas.pop()
+        return found if found is not None and found.attained and found.infimum <= lower else None
 
     def _least_slack(self, skeleton: Sequence[Term], deadline: float | None) -> _Found | None:
         """The LP for one Boolean skeleton: its least cost (or the infimum it approaches), the

@@ -43,6 +43,7 @@ from catc.semantics.horizon import horizon_of, use_bound
 from catc.semantics.plan import Plan
 from catc.semantics.relaxed import Refutation, refute
 from catc.smt.backend import DEFAULT_BACKEND, Check, open_backend
+from catc.smt.consumption import consumption_proof
 from catc.smt.encoder import Encoder
 from catc.smt.readback import read_plan
 from catc.smt.script import SmtSort, Symbol, and_text
@@ -198,7 +199,7 @@ def _forward(inst: ir.Instance, k: int, sequential: bool, timeout: float | None)
 
 def _presolve(inst: ir.Instance, timings: dict[str, float]) -> Refutation | None:
     t0 = time.perf_counter()
-    proof = refute(inst)
+    proof = refute(inst) or consumption_proof(inst)  # the second: issue 24's catalogs
     timings["presolve"] = time.perf_counter() - t0
     return proof
 

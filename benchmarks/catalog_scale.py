@@ -1,0 +1,174 @@
+"""Issue 24's scaling benchmark: every lifelong query on benchmarks/catalog_gen.py's catalogs,
+as processes with a time limit, beside ENHSP on the SAT variant; a table, a growth table
+with the fitted exponent per query, and the answers checked against the constructed ones.
+
+    python benchmarks/catalog_scale.py [--sizes 25,50,100,200,400] [--depths 3,6,12,24]
+                                       [--variant budget] [--timeout 60] [--seed 24]
+                                       [--no-enhsp] [--quick]
+
+Each cell is the wall time of one ``catc`` process (start-up included), or ``timeout`` /
+``unknown`` (exit 3) / ``WRONG`` (an answer that differs from the constructed one: the
+script exits 1).  ``UNSAT solve`` must be final (no composition of any length).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+import catalog_gen as gen  # noqa: E402
+
+QUERIES = (
+    "solve SAT",
+    "UNSAT solve",
+    "diagnose",
+    "relax",
+    "recompose (stability)",
+    "recompose (objective)",
+    "ENHSP SAT",
+)
+
+
+def _run(args: list[str], timeout: float, cwd: Path) -> tuple[float | str, int, str]:
+    start = time.perf_counter()
+    try:
+        p = subprocess.run(args, cwd=cwd, capture_output=True, text=True, timeout=timeout + 15, env=os.environ)
+    except subprocess.TimeoutExpired:
+        return "timeout", 3, ""
+    wall = time.perf_counter() - start
+    return wall, p.returncode, p.stdout
+
+
+def _doc(out: str) -> dict:
+    try:
+        return json.loads(out)
+    except json.JSONDecodeError:
+        return {}
+
+
+def measure(n: int, d: int, variant: str, timeout: float, seed: int, enhsp: bool, tmp: Path) -> dict[str, object]:
+    cat = gen.build(n, d, seed)
+    expect = gen.write(cat, tmp)[variant]
+    rec = gen.write(cat, tmp)["recompose"]
+    dom = "missing-domain.cat" if variant == "missing" else "domain.cat"
+    t = ["--timeout", str(timeout)]
+    catc = [sys.executable, "-m", "catc"]
+    row: dict[str, object] = {"components": cat.components}
+
+    def cell(name: str, args: list[str], ok) -> None:
+        wall, rc, out = _run(catc + args, timeout, tmp)
+        if wall == "timeout" or rc == 3:
+            row[name] = "timeout" if wall == "timeout" else "unknown"
+            return
+        row[name] = wall if ok(rc, _doc(out)) else "WRONG"
+
+    cell("solve SAT", ["solve", "domain.cat", "sat.cat", "--json", *t], lambda rc, j: j.get("status") == "sat")
+    cell(
+        "UNSAT solve",
+        ["solve", dom, f"{variant}.cat", "--json", *t],
+        lambda rc, j: j.get("status") == "unsat" and j.get("unsat", {}).get("final") is True,
+    )
+
+    def core_ok(rc: int, j: dict) -> bool:
+        cores = j.get("cores") or []
+        labels = {x.get("label") for x in cores[0]} if cores else set()
+        return j.get("status") == "unsat" and set(expect["core_contains"]) <= labels
+
+    cell("diagnose", ["diagnose", dom, f"{variant}.cat", "--json", *t], core_ok)
+
+    def relax_ok(rc: int, j: dict) -> bool:
+        if expect["relax"] is None:
+            return j.get("status") == "unsat"
+        got = {r["label"]: r["delta"] for r in j.get("relaxations", [])}
+        want = {k: str(v) for k, v in expect["relax"].items()}
+        return j.get("status") == "relaxed" and j.get("proven") is True and {k: str(v) for k, v in got.items()} == want
+
+    cell("relax", ["relax", dom, f"{variant}.cat", "--json", *t], relax_ok)
+    for priority in ("stability", "objective"):
+        cell(
+            f"recompose ({priority})",
+            ["recompose", "domain.cat", "recompose.cat", "--priority", priority, "--json", *t],
+            lambda rc, j, p=priority: j.get("status") == "opt" and (p != "stability" or j.get("churn") == rec["churn"]),
+        )
+    if enhsp:
+        args = ["export", "pddl", "domain.cat", "sat.cat", "-o", "pddl", "--run", "--grid", "speed=1", *t]
+        cell("ENHSP SAT", args, lambda rc, j: rc == 0)
+    return row
+
+
+def fit_exponent(points: list[tuple[float, float]]) -> float | None:
+    pts = [(math.log(x), math.log(y)) for x, y in points if y > 0]
+    if len(pts) < 2:
+        return None
+    mx = sum(x for x, _ in pts) / len(pts)
+    my = sum(y for _, y in pts) / len(pts)
+    sxx = sum((x - mx) ** 2 for x, _ in pts)
+    return None if sxx == 0 else sum((x - mx) * (y - my) for x, y in pts) / sxx
+
+
+def _cell(v: object) -> str:
+    return f"{v:.1f}" if isinstance(v, float) else str(v)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--sizes", default="25,50,100,200,400")
+    ap.add_argument("--depths", default="3,6,12,24")
+    ap.add_argument("--variant", default="budget", choices=("budget", "power", "ram", "missing"))
+    ap.add_argument("--timeout", type=float, default=60.0)
+    ap.add_argument("--seed", type=int, default=24)
+    ap.add_argument("--no-enhsp", action="store_true")
+    ap.add_argument("--quick", action="store_true", help="n = 12, 25 and d = 4 only (a smoke test)")
+    args = ap.parse_args(argv)
+    shown = sys.argv[1:] if argv is None else argv
+    sizes = [12, 25] if args.quick else [int(x) for x in args.sizes.split(",")]
+    depths = [4] if args.quick else [int(x) for x in args.depths.split(",")]
+    queries = [q for q in QUERIES if not (args.no_enhsp and q.startswith("ENHSP"))]
+    rows: list[tuple[int, int, dict]] = []
+    for d in depths:
+        for n in sizes:
+            if n < d or d < 3:
+                continue
+            with tempfile.TemporaryDirectory() as tmp:
+                row = measure(n, d, args.variant, args.timeout, args.seed, not args.no_enhsp, Path(tmp))
+            load = os.getloadavg()[0]
+            row["load"] = load
+            rows.append((n, d, row))
+            print(
+                f"  n={n} d={d}: " + ", ".join(f"{k} {_cell(v)}" for k, v in row.items()), file=sys.stderr, flush=True
+            )
+    print(f"`python benchmarks/catalog_scale.py {' '.join(shown)}` — seconds per process, variant {args.variant}\n")
+    print("| n | d | components | " + " | ".join(queries) + " | load (1 min) |")
+    print("|---:|---:|---:|" + "---:|" * len(queries) + "---:|")
+    for n, d, row in rows:
+        cells = " | ".join(_cell(row.get(q, "")) for q in queries)
+        print(f"| {n} | {d} | {row['components']} | {cells} | {row['load']:.1f} |")
+    print("\nFitted exponent k of time ∝ n^k per depth (least squares on log-log; timeouts left out):\n")
+    print("| d | " + " | ".join(queries) + " |")
+    print("|---:|" + "---:|" * len(queries))
+    for d in sorted({d for _, d, _ in rows}):
+        cells = []
+        for q in queries:
+            pts = [(float(n), v) for n, dd, row in rows if dd == d for v in [row.get(q)] if isinstance(v, float)]
+            k = fit_exponent(pts)
+            cells.append("—" if k is None else f"{k:.2f}")
+        print(f"| {d} | " + " | ".join(cells) + " |")
+    wrong = [(n, d, q) for n, d, row in rows for q, v in row.items() if v == "WRONG"]
+    if wrong:
+        print(f"\nWRONG answers: {wrong}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

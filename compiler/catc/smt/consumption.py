@@ -1,0 +1,537 @@
+"""A horizon-free consumption abstraction: which components a composition uses, in which
+order they first fire, and what they consume in total (issue 24).
+
+Catalogs with competing alternatives fail *combinatorially*: every single alternative is
+affordable, but no choice of one alternative per capability fits the budget (or the power,
+RAM, GPU memory) together.  Relaxed reachability cannot see that, and the step encoding
+proves it only by exhausting orderings at every horizon.  This abstraction forgets the
+steps: a Boolean ``u_m`` per morphism (used at least once), an integer rank per morphism
+(the step of its first firing), and per numeric resource one sum.  Its constraints, each
+guarded by the indicator of the source label it comes from:
+
+* a used morphism's positive facts (a Boolean resource, or a constant member of a set) hold
+  initially or are given by a used provider of smaller rank (``pre/m/i``, ``init/r``,
+  ``eff/p/j``); a goal's facts hold initially or are given by a used provider (``goal/i``);
+* a numeric resource whose every effect is a decrease by a non-negative amount (a constant,
+  or a parameter whose lower bound ``bound/m/p`` is non-negative) and which has a lower bound
+  ``lo`` (``bounds/r``) starting at ``v`` (``init/r``): the decreases of the used morphisms
+  sum to at most ``v - lo`` (``eff/m/i``);
+* a use limit of 0 keeps a morphism unused (``uses/m``).
+
+Every composition of any length satisfying a set of labels gives a model of the abstraction
+for the same labels (deletes, negative and numeric preconditions are forgotten: the
+abstraction only says less), so an UNSAT answer here — and its core — holds for every
+horizon.  Its cores are not always irreducible for the full semantics (the step encoding
+sees more): :mod:`catc.queries.cores` checks each member there.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Collection, Iterable, Sequence
+from fractions import Fraction
+from typing import Any
+
+from catc import ir
+from catc.smt.backend import DEFAULT_BACKEND, Backend, Check, open_backend
+from catc.smt.script import SmtSort, Symbol, and_text, or_text, real_literal
+from catgrammar import limits
+
+Atom = tuple[str, str | None]
+#: The most time relax's lower bound gives the solver (the h_max bound needs none).
+OPTIMISE_SECONDS = 10.0  # (resource, element): element None for a Boolean resource
+
+
+def _atoms(e: ir.Expr) -> list[Atom]:
+    """The positive facts a condition needs (others are forgotten)."""
+    if isinstance(e, ir.ResourceRef) and e.sort.kind is ir.SortKind.BOOL:
+        return [(e.name, None)]
+    if isinstance(e, ir.Member) and isinstance(e.set, ir.ResourceRef) and isinstance(e.element, ir.Const):
+        return [(e.set.name, str(e.element.value))]
+    if isinstance(e, ir.BoolOp) and e.op is ir.BoolOpKind.AND:
+        return [a for x in e.args for a in _atoms(x)]
+    return []
+
+
+def _holds(init: ir.InitValue, atom: Atom) -> bool:
+    """Whether the fact holds in the initial value ``init`` (an open set literal: it may)."""
+    v = init.value
+    if atom[1] is None:
+        return isinstance(v, ir.Const) and v.value is not False
+    if isinstance(v, ir.SetLit):
+        return any(not isinstance(x, ir.Const) or str(x.value) == atom[1] for x in v.elements)
+    return True
+
+
+def _givers(
+    inst: ir.Instance,
+) -> tuple[dict[Atom, list[tuple[str, str | None]]], dict[str, list[tuple[str, str | None]]]]:
+    """Who gives each fact (a Boolean set true, a constant added to a set), and who adds a θ
+    element to each set resource (any element); the label slot is None (unconditional)."""
+    providers: dict[Atom, list[tuple[str, str | None]]] = {}
+    wildcard: dict[str, list[tuple[str, str | None]]] = {}
+    for m in inst.morphisms.values():
+        for eff in m.effects:
+            res = inst.resources.get(eff.resource)
+            if res is None or res.sort.is_numeric:
+                continue
+            if res.sort.kind is ir.SortKind.BOOL and eff.kind is ir.EffectKind.ASSIGN:
+                if not (isinstance(eff.value, ir.Const) and eff.value.value is False):
+                    providers.setdefault((eff.resource, None), []).append((m.name, None))
+            elif eff.kind is ir.EffectKind.ADD:
+                if isinstance(eff.value, ir.Const):
+                    providers.setdefault((eff.resource, str(eff.value.value)), []).append((m.name, None))
+                else:
+                    wildcard.setdefault(eff.resource, []).append((m.name, None))
+    return providers, wildcard
+
+
+class Consumption:
+    """The abstraction of one instance (see the module docstring); ``labels`` are the labels
+    it can assume, ``known`` (default: all) the labels the caller asks about — a label the
+    caller does not know is enforced always."""
+
+    def __init__(
+        self,
+        inst: ir.Instance,
+        components: Collection[str] | None = None,
+        known: Iterable[str] | None = None,
+        slack: dict[str, Symbol] | None = None,
+        backend: str = DEFAULT_BACKEND,
+        optimize: bool = False,
+    ) -> None:
+        self.inst = inst
+        self.known = None if known is None else set(known)
+        self.indicator: dict[str, Symbol] = {}
+        decls: list[Symbol] = []
+        asserts: list[str] = []
+        morphisms = list(inst.morphisms.values())
+        fixed = None if components is None else set(components)
+        used = {m.name: Symbol(f"u:{m.name}", SmtSort.BOOL) for m in morphisms}
+        rank = {m.name: Symbol(f"rank:{m.name}", SmtSort.INT) for m in morphisms}
+        decls += list(used.values()) + list(rank.values())
+        asserts += [f"(>= {r} 0)" for r in rank.values()]
+        if fixed is not None:
+            asserts += [used[m] if m in fixed else f"(not {used[m]})" for m in used]
+
+        def on(label: str) -> str:
+            if self.known is not None and label not in self.known:
+                return "true"
+            sym = self.indicator.get(label)
+            if sym is None:
+                sym = self.indicator[label] = Symbol(f"A:{label}", SmtSort.BOOL)
+                decls.append(sym)
+            return sym
+
+        # a used giver gives whether its effect's label is enforced or not (a dropped effect
+        # may or may not happen — the encoder's tracking semantics)
+        providers, wildcard = _givers(inst)
+
+        def initially(atom: Atom) -> str:
+            init = inst.problem.init.get(atom[0])
+            if init is None or _holds(init, atom):
+                return "true"
+            return f"(not {on(init.label)})"
+
+        def support(atom: Atom, before: str | None) -> str:
+            options = [initially(atom)]
+            for p, label in providers.get(atom, []) + wildcard.get(atom[0], []):
+                if p == before:
+                    continue
+                order = [] if before is None else [f"(< {rank[p]} {rank[before]})"]
+                free = [] if label is None else [f"(not {on(label)})"]
+                options.append(and_text([used[p], *free, *order]))
+            return or_text(options)
+
+        self.providers, self.wildcard, self.rank = providers, wildcard, rank
+        self.needs: dict[str, list[tuple[str, list[Atom]]]] = {}
+        self.goal_needs = [(lit.label, _atoms(lit.expr)) for lit in inst.problem.goal]
+        for m in morphisms:
+            for lit in m.pre:
+                atoms = _atoms(lit.expr)
+                self.needs.setdefault(m.name, []).append((lit.label, atoms))
+                if atoms:
+                    need = and_text([support(a, m.name) for a in atoms])
+                    asserts.append(f"(=> (and {used[m.name]} {on(lit.label)}) {need})")
+            if m.uses == 0:
+                asserts.append(f"(=> {on(f'uses/{m.name}')} (not {used[m.name]}))")
+        for lit in inst.problem.goal:
+            atoms = _atoms(lit.expr)
+            if atoms:
+                asserts.append(f"(=> {on(lit.label)} {and_text([support(a, None) for a in atoms])})")
+        self.resources: list[str] = []
+        for name, res in inst.resources.items():
+            texts = self._sum(inst, name, res, used, rank, on, slack)
+            if texts:
+                asserts += texts
+                self.resources.append(name)
+        self.used = used
+        self.backend: Backend = open_backend(backend, optimize=optimize)
+        self.backend.add([*(slack or {}).values(), *decls], [(None, a) for a in asserts])
+        self._label_of = {s: label for label, s in self.indicator.items()}
+        self.checks = 0
+
+    @staticmethod
+    def _sum(
+        inst: ir.Instance,
+        name: str,
+        res: ir.Resource,
+        used: dict[str, Symbol],
+        rank: dict[str, Symbol],
+        on: Callable[[str], str],
+        slack: dict[str, Symbol] | None,
+    ) -> list[str]:
+        """The total-consumption constraints of one numeric resource (none: not modelled):
+        the sum over every used consumer, and — when some consumer's amount is a θ whose
+        bound may be dropped (it could give the resource back) — the sum up to each
+        consumer's first firing (ranks), since the bound holds in every state."""
+        init = inst.problem.init.get(name)
+        if not res.sort.is_numeric or res.lower is None or init is None or not isinstance(init.value, ir.Const):
+            return []
+        consumers: list[tuple[str, Fraction, str, str | None]] = []  # morphism, amount, label, θ bound
+        for m in inst.morphisms.values():
+            for eff in m.effects:
+                if eff.resource != name:
+                    continue
+                if eff.kind is not ir.EffectKind.DECREASE:
+                    return []
+                v = eff.value
+                if isinstance(v, ir.Const) and isinstance(v.value, Fraction | int) and v.value >= 0:
+                    consumers.append((m.name, Fraction(v.value), eff.label, None))
+                elif isinstance(v, ir.ParamRef):
+                    p = next((p for p in m.params if p.name == v.name), None)
+                    if p is None or p.lower is None or p.lower < 0:
+                        return []
+                    consumers.append((m.name, Fraction(p.lower), eff.label, f"bound/{m.name}/{p.name}"))
+                else:
+                    return []
+        if not any(amount for _, amount, _, _ in consumers):
+            return []
+        room = real_literal(Fraction(init.value.value) - res.lower)
+        if slack and init.label in slack:
+            room = f"(+ {room} {slack[init.label]})"
+        base = [on(init.label), on(f"bounds/{name}")]
+
+        def constraint(upto: str | None) -> str:
+            """The sum of the consumers first firing no later than ``upto`` (None: all)."""
+            guards, terms = list(base), []
+            for m, amount, label, bound in consumers:
+                when = [] if upto is None else [f"(<= {rank[m]} {rank[upto]})"]
+                if bound is not None:  # without its bound the θ may be negative: no claim then
+                    guards.append(or_text([f"(not {used[m]})", on(bound), *(f"(not {w})" for w in when)]))
+                if amount:  # dropped, the decrease may or may not happen: at least 0
+                    terms.append(f"(ite {and_text([used[m], on(label), *when])} {real_literal(amount)} 0.0)")
+            if upto is not None:
+                guards.append(used[upto])
+            return f"(=> {and_text(guards)} (<= (+ 0.0 {' '.join(terms)}) {room}))"
+
+        out = [constraint(None)]
+        if any(bound is not None for _, _, _, bound in consumers):
+            out += [constraint(m) for m in dict.fromkeys(m for m, _, _, _ in consumers)]
+        return out
+
+    @property
+    def labels(self) -> list[str]:
+        return list(self.indicator)
+
+    def check(self, labels: Iterable[str], timeout: float | None = None) -> tuple[Check, list[str]]:
+        """Satisfiability with exactly ``labels`` enforced (of those it knows); on UNSAT a
+        core among them."""
+        wanted = [label for label in labels if label in self.indicator]
+        if timeout is not None:
+            self.backend.set_timeout(timeout)
+        self.checks += 1
+        r = self.backend.check([self.indicator[label] for label in wanted])
+        if r is Check.UNSAT:
+            core = {self._label_of[s] for s in self.backend.core() if s in self._label_of}
+            return r, [label for label in wanted if label in core]
+        return r, []
+
+    def support(self, labels: Collection[str]) -> list[str] | None:
+        """After a SAT :meth:`check` of ``labels``: the morphisms the model uses to support the
+        goal (each fact from the used provider of least rank), in rank order — a candidate
+        composition for :func:`catc.semantics.witness.witnessed`; None when the model has none."""
+        b = self.backend
+        if not b.has_model():
+            return None
+        enforced = set(labels)
+
+        def on(label: str) -> bool:
+            return label in enforced or label not in self.indicator
+
+        def holds(atom: Atom) -> bool:
+            init = self.inst.problem.init.get(atom[0])
+            return init is None or not on(init.label) or _holds(init, atom)
+
+        used = {m for m, u in self.used.items() if b.value(u) is True}
+        extra: list[tuple[Atom, str | None]] = []
+        rank = {m: b.value(self.rank[m]) for m in used}
+        chosen: dict[str, None] = {}
+        for m in sorted(used, key=lambda x: rank[x]):  # a θ without its bound may give a resource back
+            if any(p.sort.is_numeric and not on(f"bound/{m}/{p.name}") for p in self.inst.morphisms[m].params):
+                chosen[m] = None
+                todo_extra = [(a, m) for label, atoms in self.needs.get(m, []) if on(label) for a in atoms]
+                extra.extend(todo_extra)
+        todo: list[tuple[Atom, str | None]] = [
+            (a, None) for label, atoms in self.goal_needs if on(label) for a in atoms
+        ] + extra
+        while todo:
+            atom, before = todo.pop()
+            if holds(atom):
+                continue
+            offers = self.providers.get(atom, []) + self.wildcard.get(atom[0], [])
+            options = [
+                p
+                for p, label in offers
+                if p in used
+                and (label is None or not on(label))
+                and p != before
+                and (before is None or rank[p] < rank[before])
+            ]
+            if not options:
+                return None
+            p = min(options, key=lambda x: rank[x])
+            if p in chosen:
+                continue
+            chosen[p] = None
+            todo += [(a, p) for label, atoms in self.needs.get(p, []) if on(label) for a in atoms]
+        return sorted(chosen, key=lambda m: rank[m])
+
+    def irreducible(self, labels: Sequence[str], timeout: float | None = None) -> list[str] | None:
+        """An irreducible core of ``labels`` for the abstraction (None when they are
+        satisfiable or a check gives up): deletion on this one incremental solver, each
+        UNSAT answer's core replacing the candidate (clause-set refinement)."""
+        r, core = self.check(labels, timeout)
+        if r is not Check.UNSAT:
+            return None
+        i = 0
+        while i < len(core):
+            r, smaller = self.check(core[:i] + core[i + 1 :], timeout)
+            if r is Check.UNSAT:
+                core = smaller
+            elif r is Check.SAT:
+                i += 1
+            else:
+                return None
+        return core
+
+
+def refutes(inst: ir.Instance, timeout: float | None = None) -> list[str] | None:
+    """An irreducible core of the abstraction with every label enforced (None: it cannot
+    show the instance infeasible)."""
+    a = Consumption(inst)
+    return a.irreducible(a.labels, timeout)
+
+
+def least_slack(
+    inst: ir.Instance,
+    reqs: Sequence[tuple[str, str, Fraction]],
+    components: Collection[str] | None = None,
+    timeout: float | None = None,
+) -> Fraction | bool | None:
+    """A lower bound on the least weighted relaxation of ``reqs`` ((label, kind, weight)):
+    the least weighted raise of the initial values that lets the abstraction hold with every
+    label enforced.  False: no relaxation of ``reqs`` can restore it; None: unknown.
+
+    Sound because the abstraction forgets every precondition and goal comparison (relaxing
+    them is free here) and lowering an initial value never helps a consumption sum."""
+    weights = {label: w for label, _, w in reqs}
+    quick = Fraction(0)  # each resource short of its least consumption needs its own raise
+    for name, least in least_consumption(inst).items():
+        short = least - room(inst, name)
+        if short > 0 and components is None:
+            label = inst.problem.init[name].label
+            if label not in weights:
+                return False  # cannot be raised: no relaxation of reqs restores it
+            quick += weights[label] * short
+    slack = {label: Symbol(f"slack:{label}", SmtSort.REAL) for label, kind, _ in reqs if kind == "initial value"}
+    a = Consumption(inst, components, slack=slack, optimize=True)
+    opt = a.backend
+    for s in slack.values():
+        opt.assert_term(f"(>= {s} 0.0)")
+    for sym in a.indicator.values():
+        opt.assert_term(sym)
+    cost = "(+ 0.0 " + " ".join(f"(* {real_literal(weights[label])} {s})" for label, s in slack.items()) + ")"
+    handle = opt.minimize(opt.intern(cost))
+    opt.set_timeout(min(timeout, OPTIMISE_SECONDS) if timeout is not None else OPTIMISE_SECONDS)
+    r = opt.check()
+    if r is Check.UNSAT:
+        return False
+    bound = opt.bound(handle) if r is Check.SAT else None
+    exact = bound.value if bound is not None and bound.exact and bound.infinite == 0 else None
+    if exact is None:
+        return quick if quick > 0 else None
+    return max(exact, quick)
+
+
+def consumption_bound(
+    inst: ir.Instance, reqs: Sequence[Any], components: Collection[str] | None = None
+) -> Fraction | bool | None:
+    """:func:`least_slack` for relax's requirements (objects with label, kind and weight)."""
+    return least_slack(inst, [(r.label, r.kind, r.weight) for r in reqs], components, limits.for_check())
+
+
+def stronger_bound(lower: Fraction | bool | None, mine: Fraction | bool | None) -> Fraction | bool | None:
+    """The stronger of two lower bounds (a Fraction; False: no relaxation restores it; None:
+    unknown)."""
+    if lower is False or mine is False:
+        return False
+    if not isinstance(mine, Fraction):
+        return lower
+    return mine if not isinstance(lower, Fraction) or mine > lower else lower
+
+
+def consumption_proof(inst: ir.Instance) -> Any:
+    """A :class:`~catc.semantics.relaxed.Refutation` when the abstraction shows that no
+    composition of any length exists (None otherwise), naming an initial value of its core
+    when there is one (the budget, power, RAM... that cannot cover any composition)."""
+    from catc.semantics.relaxed import Refutation
+
+    for name, least in least_consumption(inst).items():
+        if least > room(inst, name):
+            return Refutation(
+                f"the initial {name} cannot cover the least any composition reaching the goal takes from it "
+                f"({least} over the cheapest alternative per needed capability; a consumption bound)",
+                inst.problem.init[name].label,
+            )
+    a = Consumption(inst)
+    if not a.labels:
+        return None
+    r, core = a.check(a.labels, limits.for_check())
+    if r is not Check.UNSAT:
+        return None
+    inits = [label for label in core if label.startswith("init/") and label[5:] in a.resources]
+    label = inits[0] if inits else next((x for x in core if x.startswith("goal/")), None)
+    what = f"the initial {label[5:]}" if inits and label else "the goal's facts"
+    return Refutation(
+        f"{what} cannot be met by any choice of components: the least total consumption of the "
+        "alternatives that reach the goal exceeds what there is (a consumption bound)",
+        label,
+    )
+
+
+def least_length(inst: ir.Instance) -> int:
+    """A lower bound on the number of steps of any composition reaching the goal: the h_max
+    level of the goal's facts (each fact's level is 0 when it holds initially, else one more
+    than the least, over its givers, of the greatest level among the giver's facts), with
+    deletes, numeric conditions and θ-dependent facts forgotten.  0 when it cannot tell."""
+    given, any_element = _givers(inst)
+    givers = {a: [m for m, _ in ms] for a, ms in given.items()}
+    anything = {r: [m for m, _ in ms] for r, ms in any_element.items()}
+    needs = {m.name: [a for lit in m.pre for a in _atoms(lit.expr)] for m in inst.morphisms.values()}
+
+    def initially(atom: Atom) -> bool:
+        init = inst.problem.init.get(atom[0])
+        return init is None or _holds(init, atom)
+
+    level: dict[Atom, int] = {}
+    atoms = set(givers) | {a for ns in needs.values() for a in ns}
+    atoms |= {a for lit in inst.problem.goal for a in _atoms(lit.expr)}
+    for a in atoms:
+        if initially(a):
+            level[a] = 0
+    fired: dict[str, int] = {}
+    changed = True
+    while changed:  # Bellman-Ford style: levels only go down, at most |morphisms| rounds
+        changed = False
+        for name, ns in needs.items():
+            if any(a not in level for a in ns):
+                continue
+            at = 1 + max((level[a] for a in ns), default=0)
+            if fired.get(name, at + 1) <= at:
+                continue
+            fired[name] = at
+            changed = True
+        for a in atoms:
+            offers = givers.get(a, []) + (anything.get(a[0], []) if a[1] is not None else [])
+            best = min((fired[g] for g in offers if g in fired), default=None)
+            if best is not None and best < level.get(a, best + 1):
+                level[a] = best
+                changed = True
+    goal = [a for lit in inst.problem.goal for a in _atoms(lit.expr)]
+    if any(a not in level for a in goal):
+        return 0  # unreachable: the refutations say so; no bound claimed here
+    return max((level[a] for a in goal), default=0)
+
+
+def _amounts(inst: ir.Instance, name: str) -> dict[str, Fraction] | None:
+    """The least amount each morphism takes from numeric resource ``name`` per firing, when
+    every effect on it is a decrease by a constant or a θ with a non-negative lower bound
+    (None otherwise: it may grow)."""
+    out: dict[str, Fraction] = {}
+    for m in inst.morphisms.values():
+        for eff in m.effects:
+            if eff.resource != name:
+                continue
+            v = eff.value
+            if eff.kind is not ir.EffectKind.DECREASE:
+                return None
+            if isinstance(v, ir.Const) and isinstance(v.value, Fraction | int) and v.value >= 0:
+                amount = Fraction(v.value)
+            elif isinstance(v, ir.ParamRef):
+                p = next((p for p in m.params if p.name == v.name), None)
+                if p is None or p.lower is None or p.lower < 0:
+                    return None
+                amount = Fraction(p.lower)
+            else:
+                return None
+            out[m.name] = out.get(m.name, Fraction(0)) + amount
+    return out
+
+
+def least_consumption(inst: ir.Instance) -> dict[str, Fraction]:
+    """Per numeric resource that only decreases: a lower bound on what any composition
+    reaching the goal takes from it — the h_max cost of the goal's facts, each fact costing
+    0 when it holds initially, else the least over its givers of the giver's amount plus the
+    greatest cost among the giver's facts (along such a chain the givers are distinct, so
+    their amounts add up in every composition).  Polynomial, no solver: it sees the
+    cheapest alternative per capability level of a chain, summed."""
+    given, any_element = _givers(inst)
+    needs = {m.name: [a for lit in m.pre for a in _atoms(lit.expr)] for m in inst.morphisms.values()}
+    goal = [a for lit in inst.problem.goal for a in _atoms(lit.expr)]
+    decreasing = {}
+    for name, res in inst.resources.items():
+        init = inst.problem.init.get(name)
+        if not res.sort.is_numeric or res.lower is None or init is None or not isinstance(init.value, ir.Const):
+            continue
+        amounts = _amounts(inst, name)
+        if amounts:
+            decreasing[name] = amounts
+    # a morphism that alone takes more of a resource than there is never fires
+    never = {m for name, amounts in decreasing.items() for m, a in amounts.items() if a > room(inst, name)}
+    atoms = set(given) | {a for ns in needs.values() for a in ns} | set(goal)
+
+    def goal_cost(amounts: dict[str, Fraction], excluded: set[str]) -> Fraction | None:
+        cost: dict[Atom, Fraction] = {}
+        for a in atoms:
+            start = inst.problem.init.get(a[0])
+            if start is None or _holds(start, a):
+                cost[a] = Fraction(0)
+        changed = True
+        while changed:  # costs only go down; each round settles one more giver at least
+            changed = False
+            for a in atoms:
+                offers = [m for m, _ in given.get(a, []) + (any_element.get(a[0], []) if a[1] is not None else [])]
+                for m in offers:
+                    if m in excluded or any(b not in cost for b in needs[m]):
+                        continue
+                    c = amounts.get(m, Fraction(0)) + max((cost[b] for b in needs[m]), default=Fraction(0))
+                    if c < cost.get(a, c + 1):
+                        cost[a] = c
+                        changed = True
+        return max((cost[a] for a in goal), default=Fraction(0)) if all(a in cost for a in goal) else None
+
+    out: dict[str, Fraction] = {}
+    for name, amounts in decreasing.items():
+        # without the overdrawing morphisms, else (the goal then unreachable) with them all
+        least = goal_cost(amounts, never)
+        least = goal_cost(amounts, set()) if least is None else least
+        if least is not None:
+            out[name] = least
+    return out
+
+
+def room(inst: ir.Instance, name: str) -> Fraction:
+    """How much resource ``name`` can lose: its initial value minus its lower bound."""
+    init, res = inst.problem.init[name], inst.resources[name]
+    assert isinstance(init.value, ir.Const) and res.lower is not None
+    return Fraction(init.value.value) - res.lower
