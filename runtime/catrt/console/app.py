@@ -117,7 +117,11 @@ def _page(title: str, body: str, seq: int | None = None) -> str:
 def _theta(params: dict[str, Any]) -> str:
     from catrt.views import _value_text
 
-    return ", ".join(f"{escape(k)} = {escape(_value_text(p['value'], p.get('unit')))}" for k, p in params.items())
+    def text(value: Any, unit: str | None) -> str:  # a whole number comes as an int: shown with its unit too
+        exact = isinstance(value, int) and not isinstance(value, bool)
+        return _value_text(str(value) if exact else value, unit)
+
+    return ", ".join(f"{escape(k)} = {escape(text(p['value'], p.get('unit')))}" for k, p in params.items())
 
 
 def _composition_table(composition: dict[str, Any]) -> str:
