@@ -15,11 +15,11 @@ from conftest import ROOT
 pytest.importorskip("starlette")
 pytest.importorskip("httpx")
 
-from starlette.testclient import TestClient  # noqa: E402
-from test_runtime import catrt, journal  # noqa: E402
+from starlette.testclient import TestClient
+from test_runtime import catrt, journal
 
-from catrt.console.app import make_app  # noqa: E402
-from catrt.console.token import TOKEN_FILE, read_token  # noqa: E402
+from catrt.console.app import make_app
+from catrt.console.token import TOKEN_FILE, read_token
 
 SAR = ROOT / "examples" / "search-and-rescue"
 
