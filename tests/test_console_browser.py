@@ -87,7 +87,7 @@ def browser() -> Iterator[webdriver.Chrome]:
 def shot(driver: webdriver.Chrome, name: str) -> None:
     SHOTS.mkdir(parents=True, exist_ok=True)
     height = driver.execute_script("return document.body.scrollHeight")
-    driver.set_window_size(1400, min(max(int(height) + 40, 600), 4000))
+    driver.set_window_size(1400, min(max(int(height) + 200, 600), 4000))
     driver.save_screenshot(str(SHOTS / f"{name}.png"))
 
 
