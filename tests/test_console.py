@@ -5,6 +5,7 @@ from the console, and the loop's next run deploys the composition expect.toml na
 
 from __future__ import annotations
 
+import html
 import json
 import stat
 from pathlib import Path
@@ -140,7 +141,8 @@ def test_a_pending_request_shows_its_core_and_least_restoration(sar: Path) -> No
     page = client(sar).get("/requests/r2").text
     assert "<code>init/ambient</code>" in page  # the dark room: the ambient light is in the core
     assert "budget → " in page and "power → " in page
-    assert "id='approve'" in page and "id='reject'" in page
+    assert "id='approve'" in page and "id='reject'" in page and "href='/requests/r2/preview'" in page
+    assert client(sar).get("/requests/r1/preview").status_code == 404  # not pending
     r1 = client(sar).get("/requests/r1").text  # approved by its event: no buttons
     assert "approved" in r1 and "id='approve'" not in r1
     assert client(sar).get("/requests/r9").status_code == 404
@@ -201,6 +203,8 @@ def test_approved_from_the_console_the_loop_deploys_the_new_generation(tmp_path:
     folder = tmp_path / "state"
     sar_to_r2(folder)
     c = client(folder)
+    preview = c.get("/requests/r2/preview").text  # decided in memory: nothing written
+    assert journal(folder)[-1]["kind"] == "approval-request"
     csrf = csrf_of(c.get("/requests/r2").text)
     res = c.post("/requests/r2", data={"verdict": "approve", "csrf": csrf}, follow_redirects=False)
     assert res.status_code == 303 and res.headers["location"] == "/requests/r2?queued=approve"
@@ -213,6 +217,9 @@ def test_approved_from_the_console_the_loop_deploys_the_new_generation(tmp_path:
     assert "<h2 id='generation'>generation 3</h2>" in page
     assert "<td>mount-thermal-camera</td>" in page  # expect.toml, event4-dark: the thermal camera in the dark
     assert "approved" in c.get("/requests/r2").text
+    deployed = catrt("diff", folder, "2", "3").stdout.strip()  # what the loop did is what the preview said
+    assert "mount     mount-thermal-camera" in deployed
+    assert f"<pre class='diff'>{html.escape(deployed)}</pre>" in preview
 
 
 # ---------------------------------------------------------------- catrt serve

@@ -254,6 +254,10 @@ async def request_page(request: Request) -> Response:
         f"<table><thead><tr><th>relaxed</th><th>by</th><th>weight</th></tr></thead><tbody>{relax}</tbody></table>"
     )
     if a["status"] == Verdict.PENDING:
+        body += (
+            f"<p><a href='/requests/{escape(name)}/preview' id='preview'>what approving it would deploy</a> "
+            "(decided as the loop decides: a solve, some seconds)</p>"
+        )
         if console.read_only:
             body += "<p class='note'>read-only console: answer with catrt approve</p>"
         else:
@@ -267,6 +271,37 @@ async def request_page(request: Request) -> Response:
     if queued in ("approve", "reject"):
         body = f"<p class='queued'>queued: {queued} {escape(name)} — the loop takes it in</p>" + body
     return HTMLResponse(_page(f"request {name}", body, seq))
+
+
+async def preview_page(request: Request) -> Response:
+    """The diff approving a pending request would deploy, decided in memory (nothing written)."""
+    console: Console = request.app.state.console
+    from catrt.apply import Rejection
+    from catrt.console.preview import preview
+    from catrt.store import Verdict
+
+    name = request.path_params["request"]
+
+    def run() -> tuple[str, str | None] | None:
+        store = console.store()  # SQLite: opened, used and closed in one thread
+        try:
+            if name not in {a["id"] for a in store.approvals(Verdict.PENDING)}:
+                return None
+            return preview(store, console.folder, name)
+        finally:
+            store.close()
+
+    try:
+        found = await asyncio.to_thread(run)
+    except (Rejection, ValueError) as exc:
+        return HTMLResponse(_page(f"request {name}: preview", f"<p class='error'>{escape(str(exc))}</p>"), 409)
+    if found is None:
+        return HTMLResponse(_page("not pending", f"<p class='error'>no pending request '{escape(name)}'</p>"), 404)
+    reason, diff = found
+    body = f"<p class='decision'>the loop would decide: {escape(reason)}</p>"
+    body += f"<pre class='diff'>{escape(diff)}</pre>" if diff else "<p>nothing would be deployed</p>"
+    body += f"<p><a href='/requests/{escape(name)}'>back to the request</a></p>"
+    return HTMLResponse(_page(f"request {name}: what approving it would deploy", body))
 
 
 async def answer(request: Request) -> Response:
@@ -402,6 +437,7 @@ def make_app(folder: Path, token: str, *, read_only: bool = False, poll: float =
             Route("/journal", journal),
             Route("/requests/{request:str}", request_page, methods=["GET"]),
             Route("/requests/{request:str}", answer, methods=["POST"]),
+            Route("/requests/{request:str}/preview", preview_page),
             Route("/diff", diff_page),
             Route("/verify", verify_page),
             Route("/status.json", status_json),
