@@ -293,7 +293,7 @@ async def preview_page(request: Request) -> Response:
 
     try:
         found = await asyncio.to_thread(run)
-    except (Rejection, ValueError) as exc:
+    except (Rejection, ValueError) as exc:  # ValueError: a bad config.toml (ConfigError) too
         return HTMLResponse(_page(f"request {name}: preview", f"<p class='error'>{escape(str(exc))}</p>"), 409)
     if found is None:
         return HTMLResponse(_page("not pending", f"<p class='error'>no pending request '{escape(name)}'</p>"), 404)

@@ -16,6 +16,7 @@ def preview(store: Store, folder: Path, request: str) -> tuple[str, str | None]:
     """(the decision's reason, the diff's text or None when it would deploy nothing)."""
     from catc.api import deployment, diff_artifacts, read_grounding, read_plan, write_files
     from catrt.apply import apply_change, check
+    from catrt.config import load_config
     from catrt.decide import Limits, decide
     from catrt.events import Event
     from catrt.model import ModelState
@@ -29,7 +30,9 @@ def preview(store: Store, folder: Path, request: str) -> tuple[str, str | None]:
     state, origins = apply_change(state, current.instance, sources, change)
     candidate = check(state, sources, str(folder / MODEL_FOLDER), origins)
     incumbent: dict[str, Any] | None = store.get("incumbent")
-    decision = decide(candidate.model, incumbent["plan"] if incumbent else None, Limits())
+    limits = {"compose": 120.0, "diagnose": 30.0, "relax": 30.0, **load_config(folder).limits}  # as the loop's
+    decision = decide(candidate.model, incumbent["plan"] if incumbent else None,
+                      Limits(limits["compose"], limits["diagnose"], limits["relax"]))  # fmt: skip
     if not decision.action.deploys or decision.plan is None:
         return str(decision.reason), None
     plan = read_plan(candidate.instance, decision.to_json()["plan"])
