@@ -133,13 +133,18 @@ def test_sar_restoration_approved_in_the_browser(tmp_path: Path, browser: webdri
         browser.get(f"{base}/requests/r2")
         shows(browser, "least restoration")
         shot(browser, "05-request")
+        browser.find_element(By.ID, "preview").click()
+        shows(browser, "mount-thermal-camera")  # what approving r2 would deploy
+        shot(browser, "06-preview")
+        browser.get(f"{base}/requests/r2")
+        shows(browser, "least restoration")
         browser.find_element(By.ID, "approve").click()
         shows(browser, "queued: approve r2")
 
         browser.get(f"{base}/")  # the loop takes the approval in; the page follows it (server-sent events)
         shows(browser, "generation 3")
         shows(browser, "mount-thermal-camera")  # expect.toml, event4-dark: the thermal camera in the dark
-        shot(browser, "06-new-generation")
+        shot(browser, "07-new-generation")
     finally:
         stop(loop)
         stop(server)
