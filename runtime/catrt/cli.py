@@ -8,6 +8,7 @@
     catrt journal STATE                   every event and decision
     catrt replay STATE                    rebuild the state from the journal and compare
     catrt verify STATE                    integrity, journal, replay, artifacts
+    catrt serve STATE [--port N]          the operator console in the browser
 
 Exit codes: 0 done; 1 ``replay``/``verify`` found a problem; 2 input error (a bad argument,
 event file or configuration, no store, a store that is locked or of another version); 130
@@ -129,6 +130,9 @@ def init(state: str, paths: tuple[str, ...], problem_name: str | None, search_pa
         fail(exc.code, str(exc))
     model = store.get("model")
     store.close()
+    from catrt.console.token import write_token
+
+    write_token(Path(state))  # catrt serve's token (mode 0600)
     echo(f"initialised {state}: problem {model['problem']['name']} of domain {model['problem']['domain']}; "
                f"start the loop with: catrt run {state}")  # fmt: skip
 
@@ -392,6 +396,35 @@ def verify(state: str, as_json: bool) -> None:
     problems, notes = run_verify(store, Path(state))
     store.close()
     _report("verify", problems, notes, as_json)
+
+
+@main.command()
+@click.argument("state", type=click.Path(file_okay=False))
+@click.option("--host", default="127.0.0.1", show_default=True, help="The address to listen on (loopback by default).")
+@click.option("--port", default=8130, show_default=True, type=click.IntRange(0, 65535), help="The port.")
+@click.option("--token", default=None, help="The access token (default: STATE/console-token, written by init).")
+@click.option("--read-only", is_flag=True, help="Show, never write: no approvals from the browser.")
+def serve(state: str, host: str, port: int, token: str | None, read_only: bool) -> None:
+    """The operator console in the browser: the deployed composition, the journal, pending
+    requests to approve or reject, diffs, verify (docs/runtime.md, The console)."""
+    try:
+        import starlette  # noqa: F401
+        import uvicorn
+    except ImportError:
+        fail("E0706", "catrt serve needs the 'console' extra: pip install 'catc-lang[console]'")
+    from catrt.console.app import make_app
+    from catrt.console.token import read_token
+
+    open_store(state, write=False).close()
+    token = token or read_token(Path(state))
+    if not token:
+        fail("E0701", f"{state}: no console token: give --token or create STATE/console-token (catrt init writes it)")
+    if host not in ("127.0.0.1", "::1", "localhost"):
+        echo(f"serve: warning: listening on {host}, not loopback: anyone who can reach it and has the token can "
+             "approve", err=True)  # fmt: skip
+    shown = f"[{host}]" if ":" in host else host
+    echo(f"catrt console{' (read-only)' if read_only else ''}: http://{shown}:{port}/?token={token}")
+    uvicorn.run(make_app(Path(state), token, read_only=read_only), host=host, port=port, log_level="warning")
 
 
 def _report(what: str, problems: list[str], notes: list[str], as_json: bool) -> None:

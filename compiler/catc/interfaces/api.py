@@ -372,6 +372,17 @@ def deployment(inst: ir.Instance, plan: Plan, model_sha256: str) -> tuple[dict[s
     return files, manifest(grounded, files, model_sha256, inst)
 
 
+def diagram(inst: ir.Instance, plan: Plan, *, title: str | None = None) -> str:
+    """``plan`` over ``inst`` drawn as a string diagram (what ``catc solve --diagram`` draws),
+    with the states the validator replays tagged on the wires; the SVG document."""
+    from catc.present.diagram import render_svg
+    from catc.semantics.validate import validate as replay
+
+    report = replay(inst, plan)
+    states = report.states if report.ok else None
+    return render_svg(inst, plan, states=states, title=title)
+
+
 def write_files(folder: Path, files: dict[str, bytes], document: dict[str, Any], *, durable: bool = False) -> None:
     """Write ``files`` and the manifest ``document`` into ``folder`` as ``catc ground`` does
     (each file replaced atomically; ``durable``: synced to the disk)."""
