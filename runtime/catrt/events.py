@@ -25,7 +25,7 @@ from catc.ir.numbers import ratio_text
 SCHEMA = "catrt.event/1"
 CHANGE_KEYS = ("set", "goal", "metric", "softs", "horizon", "catalog", "health")
 APPROVAL_KEYS = ("approve", "reject")
-MAX_LINE = 1_000_000  # bytes: a longer line is rejected unread
+MAX_LINE = 1_000_000  # bytes: a longer line is rejected, read no further than this (read_lines)
 MAX_DIGITS = 1000  # digits of a number's numerator or denominator (1e9999 is no measurement)
 
 _NUMBER = re.compile(r"[+-]?(\d+(\.\d+)?|\.\d+)([eE][+-]?\d{1,4})?|[+-]?\d+/\d+", re.ASCII)
@@ -216,8 +216,20 @@ def _has_surrogate(doc: Any) -> bool:
 def read_lines(stream: Any, source: str) -> Iterator[tuple[str, str]]:
     """(where, line) for each non-blank line of a text stream; a last line without its
     newline (a torn write) is still yielded, and rejected by :func:`parse_event` unless it
-    is a whole event."""
-    for number, line in enumerate(stream, 1):
+    is a whole event.  A line longer than MAX_LINE is read no further than that: its first
+    MAX_LINE + 1 characters are yielded (and rejected as too long), the rest is skipped in
+    chunks, so memory stays bounded whatever the line's length."""
+    number = 0
+    while True:
+        line = stream.readline(MAX_LINE + 1)
+        if not line:
+            return
+        number += 1
+        if len(line) > MAX_LINE and not line.endswith("\n"):
+            while True:  # the rest of the line, unread
+                rest = stream.readline(1 << 16)
+                if not rest or rest.endswith("\n"):
+                    break
         text = line.rstrip("\n").rstrip("\r")
         if text.strip():
             yield f"{source}:{number}", text

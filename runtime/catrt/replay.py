@@ -164,7 +164,15 @@ def differences(store: Store, replayed: Replayed) -> list[str]:
 def verify(store: Store, folder: Path) -> tuple[list[str], list[str]]:
     """(problems, notes): SQLite's integrity, the journal's numbering, the replay, every
     generation against its manifest, ``current`` pointing at the deployed one."""
+    from catrt.store import StoreError
+
     problems = list(store.integrity())
+    try:
+        store.check_sources()
+    except StoreError as exc:
+        problems.append(f"error[{exc.code}]: {exc}")
+    if problems:  # a damaged store is not replayed: what it holds cannot be trusted
+        return problems, ["the replay was not run: the store failed its integrity check"]
     replayed = replay(store, folder)
     problems += replayed.problems + differences(store, replayed)
     notes: list[str] = []
