@@ -13,6 +13,7 @@ import shutil
 import sqlite3
 import subprocess
 import sys
+from fractions import Fraction
 from pathlib import Path
 
 import pytest
@@ -235,3 +236,20 @@ def test_approve_with_its_arguments_swapped_gets_a_hint(state: Path, tmp_path: P
     monkeypatch.chdir(state.parent)
     res = catrt("approve", "r4", state.name)
     assert res.returncode == 2 and "E1005" in res.stderr and f"catrt approve {state.name} r4" in res.stderr, res.stderr
+
+
+def test_events_carry_units_converted_exactly_as_in_cat_files(state: Path):
+    # ram is in GB (examples/detection/domain.cat): 1 MB = 10^6 B, 1 GiB = 2^30 B
+    res = catrt("run", state, "--events", "-", stdin=lines({"id": "e2", "set": {"ram": "8192 MB"}}))
+    assert res.returncode == 0 and ram_of(state) == Fraction(8192, 1000), res.stderr
+    res = catrt("run", state, "--events", "-", stdin=lines({"id": "e3", "set": {"ram": "7.5 GiB"}}))
+    assert res.returncode == 0 and ram_of(state) == Fraction(15, 2) * 2**30 / 10**9, res.stderr
+    res = catrt("run", state, "--events", "-", stdin=lines({"id": "e4", "set": {"ram": "2 s"}}))
+    assert "e4: rejected: error[E1001]" in res.stderr and "time" in res.stderr, res.stderr
+    assert ram_of(state) == Fraction(15, 2) * 2**30 / 10**9
+    assert catrt("replay", state).returncode == 0
+
+
+def test_a_rejection_at_reading_names_the_event_id(state: Path):
+    res = catrt("run", state, "--events", "-", stdin=lines({"id": "q7", "set": {"ram": "2.3.4"}}))
+    assert "<stdin>:1: q7: rejected: error[E1001]" in res.stderr, res.stderr

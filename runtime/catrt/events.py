@@ -33,11 +33,12 @@ _SURROGATE = re.compile("[\ud800-\udfff]")
 
 
 class EventError(ValueError):
-    """A line that is not an event: ``where`` is ``SOURCE:LINE[:COL]``."""
+    """A line that is not an event: ``where`` is ``SOURCE:LINE[:COL]``; ``event_id`` the id
+    it gives, when it is JSON with one (so that the rejection can name it)."""
 
-    def __init__(self, where: str, message: str) -> None:
+    def __init__(self, where: str, message: str, event_id: str = "") -> None:
         super().__init__(f"{where}: {message}")
-        self.where, self.message = where, message
+        self.where, self.message, self.event_id = where, message, event_id
 
 
 @dataclass(frozen=True)
@@ -73,6 +74,17 @@ def exact(text: str) -> Fraction | None:
         return Fraction(number) if _fits(number) else None
     except (InvalidOperation, ValueError, ZeroDivisionError):
         return None
+
+
+_QUANTITY = re.compile(r"\s*(\S+)\s+(\S.*?)\s*", re.ASCII)
+
+
+def quantity(text: str) -> tuple[Fraction, str] | None:
+    """``"2 GB"`` → (2, "GB"): a number and a unit, as a ``.cat`` file writes them; None when
+    ``text`` is not a number followed by a unit's name (the unit is checked when applied)."""
+    m = _QUANTITY.fullmatch(text)
+    number = exact(m.group(1)) if m else None
+    return None if m is None or number is None else (number, m.group(2))
 
 
 def _fits(number: Decimal) -> bool:
@@ -156,7 +168,7 @@ def _unique_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
 
 
 def parse_event(line: str, where: str) -> Event:
-    """One line → an Event, or EventError saying where and why."""
+    """One line → an Event, or EventError saying where and why (and naming its id)."""
     if len(line.encode("utf-8", "surrogatepass")) > MAX_LINE:
         raise EventError(where, f"the line is longer than {MAX_LINE} bytes")
     bad = _SURROGATE.search(line)
@@ -170,6 +182,15 @@ def parse_event(line: str, where: str) -> Event:
         raise EventError(where, f"not an event: {exc}") from None
     if _has_surrogate(doc):  # "\ud800": JSON can escape what no text holds
         raise EventError(where, "a string holds a lone surrogate (\\ud800-\\udfff): not text")
+    try:
+        return _event(doc, where)
+    except EventError as exc:
+        given = doc.get("id") if isinstance(doc, dict) else None
+        exc.event_id = given if isinstance(given, str) and given.isprintable() and len(given) <= 200 else ""
+        raise
+
+
+def _event(doc: Any, where: str) -> Event:
     horizon = doc.get("horizon") if isinstance(doc, dict) else None
     if isinstance(horizon, Decimal) and _fits(horizon) and horizon == int(horizon):
         doc["horizon"] = int(doc["horizon"])  # 24.0: an integer written as a decimal
@@ -177,7 +198,7 @@ def parse_event(line: str, where: str) -> Event:
     if problem is not None:
         raise EventError(where, problem)
     for name, value in (doc.get("set") or {}).items():
-        if isinstance(value, str) and value[:1] in "+-.0123456789" and exact(value) is None:
+        if isinstance(value, str) and value[:1] in "+-.0123456789" and exact(value) is None and quantity(value) is None:
             raise EventError(
                 where,
                 f"set.{name}: '{value}' is not a number (a decimal such as 22.73, or 1/3, of at most "

@@ -185,7 +185,7 @@ class Runtime:
             with self.store.transaction():
                 seq = self.store.journal("rejected", {"where": exc.where, "code": "E1001", "message": exc.message,
                                                       "line": text})  # fmt: skip
-            outcome = Outcome(Status.REJECTED, "", exc.where, f"error[E1001]: {exc.message}", seq=seq)
+            outcome = Outcome(Status.REJECTED, exc.event_id, exc.where, f"error[E1001]: {exc.message}", seq=seq)
             self.say(outcome)
             return outcome
         return self.handle(event)
