@@ -13,6 +13,7 @@ import shutil
 import sqlite3
 import subprocess
 import sys
+import threading
 from fractions import Fraction
 from pathlib import Path
 
@@ -155,9 +156,18 @@ def test_events_from_a_fifo(state: Path):
     os.mkfifo(fifo)
     proc = subprocess.Popen([*CATRT, "run", str(state), "--events", str(fifo)], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)  # fmt: skip
-    with open(fifo, "w") as fh:  # blocks until catrt opens the FIFO
-        fh.write(lines({"id": "e2", "set": {"ram": 6}}, {"id": "e3", "set": {"ram": 5}}))
+
+    def write() -> None:
+        with open(fifo, "w") as fh:  # blocks until the FIFO is opened for reading
+            fh.write(lines({"id": "e2", "set": {"ram": 6}}, {"id": "e3", "set": {"ram": 5}}))
+
+    writer = threading.Thread(target=write, daemon=True)
+    writer.start()
     _, err = proc.communicate(timeout=300)
+    if writer.is_alive():  # catrt ended without opening the FIFO: open it here, so the writer ends
+        fd = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
+        writer.join()
+        os.close(fd)
     assert proc.returncode == 0, err
     assert event_ids(state) == ["e1", "e2", "e3"] and ram_of(state) == 5
 

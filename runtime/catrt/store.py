@@ -333,7 +333,8 @@ SQLITE_HEADER = b"SQLite format 3\x00"
 
 
 def _check_header(path: Path) -> None:
-    """StoreError E1014 when ``path`` is empty, shorter than a page or not an SQLite file."""
+    """StoreError E1014 when ``path`` is empty, shorter than a page or than its header says; E1005
+    when it is no SQLite file at all."""
     try:
         with open(path, "rb") as fh:
             head = fh.read(512)
@@ -342,7 +343,9 @@ def _check_header(path: Path) -> None:
         raise StoreError("E1015", f"{path}: cannot read the store: {exc.strerror}") from None
     if size == 0:
         raise StoreError("E1014", f"{path} is empty (0 bytes): the store was truncated; catrt does not rewrite it")
-    if not head.startswith(SQLITE_HEADER) or size < 512:
+    if not head.startswith(SQLITE_HEADER[: len(head)]):
+        raise StoreError("E1005", f"{path} is not an SQLite database: the folder holds no catrt store")
+    if size < 512:
         raise StoreError("E1014", f"{path} is not a whole SQLite database ({size} bytes): the store is damaged")
     page_size = int.from_bytes(head[16:18], "big")
     page_size = 65536 if page_size == 1 else page_size
