@@ -278,3 +278,12 @@ def test_events_carry_units_converted_exactly_as_in_cat_files(state: Path):
 def test_a_rejection_at_reading_names_the_event_id(state: Path):
     res = catrt("run", state, "--events", "-", stdin=lines({"id": "q7", "set": {"ram": "2.3.4"}}))
     assert "<stdin>:1: q7: rejected: error[E1001]" in res.stderr, res.stderr
+
+
+def test_verify_names_the_edited_artifact(state: Path):
+    generation = state / "generations" / "000001"
+    manifest = json.loads((generation / "manifest.json").read_text())
+    name = sorted(manifest["artifacts"])[0]
+    (generation / name).write_bytes((generation / name).read_bytes() + b"\n# edited\n")
+    res = catrt("verify", state)
+    assert res.returncode == 1 and f"generation 000001: {name} differs from its manifest" in res.stderr, res.stderr

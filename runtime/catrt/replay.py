@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from catrt.apply import Candidate, Rejection, apply_change, check
-from catrt.enact import complete, generation_name
+from catrt.enact import complete, differing, generation_name
 from catrt.events import Event
 from catrt.model import ModelState
 from catrt.runtime import GENERATIONS, MODEL_FOLDER, model_sha
@@ -182,7 +182,8 @@ def verify(store: Store, folder: Path) -> tuple[list[str], list[str]]:
             if gen.name.startswith(".tmp-"):
                 notes.append(f"{gen.name}: an unfinished generation a crash left (removed on the next enactment)")
             elif not complete(gen):
-                problems.append(f"generation {gen.name}: a file differs from its manifest")
+                names = ", ".join(differing(gen)) or "a file"
+                problems.append(f"generation {gen.name}: {names} differs from its manifest")
     incumbent = store.get("incumbent")
     if incumbent is not None:
         link = folder / "current"
