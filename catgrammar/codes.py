@@ -215,6 +215,25 @@ CODES: dict[str, Code] = {
             "verify found a problem: a failed integrity check, a gap in the journal, a replay that differs from the "
             "stored state, or an artifact whose hash differs from its manifest.",
         ),
+        Code("E1013", "source-tampered", E, "A model source in the store no longer has the sha256 it was stored with."),
+        Code(
+            "E1014",
+            "store-damaged",
+            E,
+            "The store is truncated, empty or fails its integrity check: nothing is written.",
+        ),
+        Code(
+            "E1015",
+            "state-read-only",
+            E,
+            "The state folder (or its store) is read-only: catrt cannot lock or write it.",
+        ),
+        Code(
+            "E1016",
+            "disk-full",
+            E,
+            "The disk is full: the event was not acknowledged (catrt run retries, backing off).",
+        ),
         # E11xx — limits (docs/limits.md)
         Code("E1101", "input-too-large", E, "An input file is larger than the input-bytes limit."),
         Code("E1102", "too-many-tokens", E, "An input file has more tokens than the tokens limit."),
@@ -392,6 +411,10 @@ SENSOR_FAILED = "E1009"
 UNKNOWN_APPROVAL = "E1010"
 ENACT_FAILED = "E1011"
 STORE_INCONSISTENT = "E1012"
+SOURCE_TAMPERED = "E1013"
+STORE_DAMAGED = "E1014"
+STATE_READ_ONLY = "E1015"
+DISK_FULL = "E1016"
 INPUT_TOO_LARGE = "E1101"
 TOO_MANY_TOKENS = "E1102"
 CONSTANT_TOO_LARGE = "E1103"

@@ -13,13 +13,14 @@ from __future__ import annotations
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from fractions import Fraction
 from typing import Any
 
 from catc import ir
-from catc.api import CatError, Model, Token, TokenError, loads, tokens
+from catc.api import CatError, Model, Token, TokenError, convert, loads, tokens
 from catc.ir.numbers import ratio_text
 from catgrammar.diagnostics import Diagnostic, did_you_mean
-from catrt.events import Event, exact
+from catrt.events import Event, exact, quantity
 from catrt.model import ModelState, Region, StoredValue, morphisms_in_sources, texts
 
 
@@ -126,6 +127,9 @@ def _stored(name: str, value: Any, r: ir.Resource) -> StoredValue:
     kind = r.sort.kind
     if r.sort.is_numeric:
         number = exact(value) if isinstance(value, str) else None
+        with_unit = quantity(value) if isinstance(value, str) and number is None else None
+        if with_unit is not None:
+            number = _in_unit(name, value, with_unit, r)
         if number is None:
             raise Rejection(f"set.{name}: {name} is a number ({kind.value}); {json_text(value)} is not one")
         if kind is ir.SortKind.INT and number.denominator != 1:
@@ -148,6 +152,17 @@ def _stored(name: str, value: Any, r: ir.Resource) -> StoredValue:
     if not isinstance(value, str) or not _SYMBOL.fullmatch(value):
         raise Rejection(f"set.{name}: {name} holds a symbol of {r.sort.name}; {json_text(value)} is not one")
     return value
+
+
+def _in_unit(name: str, text: str, with_unit: tuple[Fraction, str], r: ir.Resource) -> Fraction:
+    """``"2 GB"`` for a resource in MB: 2000, converted exactly as catc converts a ``.cat`` literal."""
+    number, unit = with_unit
+    if r.unit is None:
+        raise Rejection(f"set.{name}: {name} has no unit; give a plain number, not '{text}'")
+    try:
+        return convert(number, unit, r.unit)
+    except ValueError as exc:
+        raise Rejection(f"set.{name}: '{text}': {exc}") from None
 
 
 _SYMBOL = re.compile(r"[A-Za-z_][A-Za-z0-9_-]*")  # a name of the language (catgrammar.tokens)

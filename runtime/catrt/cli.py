@@ -84,11 +84,30 @@ class _Group(click.Group):
         except KeyboardInterrupt:
             echo("interrupted", err=True)
             sys.exit(130)
-        except Exception as exc:  # a bug: one line, not a traceback (CATRT_DEBUG=1 shows it)
+        except Exception as exc:
+            _store_fault(exc)  # a damaged store, a full disk met mid-command: its own code, never exit 70
             if os.environ.get("CATRT_DEBUG"):
                 raise
             echo(f"catrt: internal error: {type(exc).__name__}: {exc}", err=True)
             sys.exit(70)
+
+
+def _store_fault(exc: Exception) -> None:
+    """Exit with the store fault's own code (E1014, E1016, a StoreError's) when ``exc`` is one."""
+    import sqlite3
+
+    from catrt.store import StoreError
+
+    if isinstance(exc, StoreError):
+        fail(exc.code, str(exc))
+    if isinstance(exc, (sqlite3.OperationalError, OSError)) and (
+        "disk is full" in str(exc) or getattr(exc, "errno", None) == 28  # ENOSPC
+    ):
+        fail(codes.DISK_FULL, f"the disk is full: {exc}; the event was not acknowledged")
+    if isinstance(exc, OSError) and exc.errno == 30:  # EROFS: a read-only file system or bind mount
+        fail(codes.STATE_READ_ONLY, f"the state folder is read-only: {exc}")
+    if isinstance(exc, sqlite3.DatabaseError):
+        fail(codes.STORE_DAMAGED, f"the store cannot be read: {exc}; run catrt verify, restore it from a backup")
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
@@ -224,8 +243,12 @@ def run(state: str, source: str | None, once: bool, approve: str | None, enactor
     view = _live_view() if not as_json and sys.stdout.isatty() else None
     say, ask = (view.say, view.asking(_ask)) if view is not None else (_say(as_json), _ask)
     crash = os.environ.get("CATRT_CRASH_AT")  # the crash tests (docs/runtime.md)
-    runtime = Runtime(folder, store, config, enactor=enactor, approve=mode, say=say, ask=ask,
-                      crash=Crash(crash) if crash else no_crash)  # fmt: skip
+    try:
+        runtime = Runtime(folder, store, config, enactor=enactor, approve=mode, say=say, ask=ask,
+                          crash=Crash(crash) if crash else no_crash)  # fmt: skip
+    except BaseException:
+        store.close()
+        raise
     stop = threading.Event()
     try:
         if view is not None:
@@ -280,8 +303,11 @@ def event(state: str, file: str) -> None:
 def approve(state: str, request: str, reject: bool) -> None:
     """Approve (or --reject) the pending request REQUEST (see catrt status)."""
     from catrt.spool import drop
-    from catrt.store import Verdict
+    from catrt.store import DB_NAME, Verdict
 
+    if not (Path(state) / DB_NAME).exists() and (Path(request) / DB_NAME).exists():
+        fail("E1005", f"{state} holds no catrt store, but {request} does: the state folder comes first: "
+                      f"catrt approve {request} {state}")  # fmt: skip
     store = open_store(state, write=False)
     pending = {a["id"] for a in store.approvals(Verdict.PENDING)}
     store.close()

@@ -71,6 +71,25 @@ def complete(folder: Path) -> bool:
         return False
 
 
+def differing(folder: Path) -> list[str]:
+    """The files of a generation that differ from its manifest or are missing (the manifest
+    itself when it cannot be read)."""
+    try:
+        manifest = json.loads((folder / MANIFEST).read_text(encoding="utf-8"))
+        artifacts = manifest["artifacts"].items()
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return [MANIFEST]
+    out = []
+    for name, entry in artifacts:
+        try:
+            same = hashlib.sha256((folder / name).read_bytes()).hexdigest() == entry["sha256"]
+        except (OSError, KeyError, TypeError):
+            same = False
+        if not same:
+            out.append(name)
+    return out
+
+
 def write_generation(
     root: Path, generation: int, files: Mapping[str, bytes], manifest: Mapping[str, Any], extra: Mapping[str, Any],
     crash: Any = None,

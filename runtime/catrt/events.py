@@ -25,7 +25,7 @@ from catc.ir.numbers import ratio_text
 SCHEMA = "catrt.event/1"
 CHANGE_KEYS = ("set", "goal", "metric", "softs", "horizon", "catalog", "health")
 APPROVAL_KEYS = ("approve", "reject")
-MAX_LINE = 1_000_000  # bytes: a longer line is rejected unread
+MAX_LINE = 1_000_000  # bytes: a longer line is rejected, read no further than this (read_lines)
 MAX_DIGITS = 1000  # digits of a number's numerator or denominator (1e9999 is no measurement)
 
 _NUMBER = re.compile(r"[+-]?(\d+(\.\d+)?|\.\d+)([eE][+-]?\d{1,4})?|[+-]?\d+/\d+", re.ASCII)
@@ -33,11 +33,12 @@ _SURROGATE = re.compile("[\ud800-\udfff]")
 
 
 class EventError(ValueError):
-    """A line that is not an event: ``where`` is ``SOURCE:LINE[:COL]``."""
+    """A line that is not an event: ``where`` is ``SOURCE:LINE[:COL]``; ``event_id`` the id
+    it gives, when it is JSON with one (so that the rejection can name it)."""
 
-    def __init__(self, where: str, message: str) -> None:
+    def __init__(self, where: str, message: str, event_id: str = "") -> None:
         super().__init__(f"{where}: {message}")
-        self.where, self.message = where, message
+        self.where, self.message, self.event_id = where, message, event_id
 
 
 @dataclass(frozen=True)
@@ -73,6 +74,17 @@ def exact(text: str) -> Fraction | None:
         return Fraction(number) if _fits(number) else None
     except (InvalidOperation, ValueError, ZeroDivisionError):
         return None
+
+
+_QUANTITY = re.compile(r"\s*(\S+)\s+(\S.*?)\s*", re.ASCII)
+
+
+def quantity(text: str) -> tuple[Fraction, str] | None:
+    """``"2 GB"`` → (2, "GB"): a number and a unit, as a ``.cat`` file writes them; None when
+    ``text`` is not a number followed by a unit's name (the unit is checked when applied)."""
+    m = _QUANTITY.fullmatch(text)
+    number = exact(m.group(1)) if m else None
+    return None if m is None or number is None else (number, m.group(2))
 
 
 def _fits(number: Decimal) -> bool:
@@ -156,7 +168,7 @@ def _unique_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
 
 
 def parse_event(line: str, where: str) -> Event:
-    """One line → an Event, or EventError saying where and why."""
+    """One line → an Event, or EventError saying where and why (and naming its id)."""
     if len(line.encode("utf-8", "surrogatepass")) > MAX_LINE:
         raise EventError(where, f"the line is longer than {MAX_LINE} bytes")
     bad = _SURROGATE.search(line)
@@ -170,6 +182,15 @@ def parse_event(line: str, where: str) -> Event:
         raise EventError(where, f"not an event: {exc}") from None
     if _has_surrogate(doc):  # "\ud800": JSON can escape what no text holds
         raise EventError(where, "a string holds a lone surrogate (\\ud800-\\udfff): not text")
+    try:
+        return _event(doc, where)
+    except EventError as exc:
+        given = doc.get("id") if isinstance(doc, dict) else None
+        exc.event_id = given if isinstance(given, str) and given.isprintable() and len(given) <= 200 else ""
+        raise
+
+
+def _event(doc: Any, where: str) -> Event:
     horizon = doc.get("horizon") if isinstance(doc, dict) else None
     if isinstance(horizon, Decimal) and _fits(horizon) and horizon == int(horizon):
         doc["horizon"] = int(doc["horizon"])  # 24.0: an integer written as a decimal
@@ -177,7 +198,7 @@ def parse_event(line: str, where: str) -> Event:
     if problem is not None:
         raise EventError(where, problem)
     for name, value in (doc.get("set") or {}).items():
-        if isinstance(value, str) and value[:1] in "+-.0123456789" and exact(value) is None:
+        if isinstance(value, str) and value[:1] in "+-.0123456789" and exact(value) is None and quantity(value) is None:
             raise EventError(
                 where,
                 f"set.{name}: '{value}' is not a number (a decimal such as 22.73, or 1/3, of at most "
@@ -216,8 +237,20 @@ def _has_surrogate(doc: Any) -> bool:
 def read_lines(stream: Any, source: str) -> Iterator[tuple[str, str]]:
     """(where, line) for each non-blank line of a text stream; a last line without its
     newline (a torn write) is still yielded, and rejected by :func:`parse_event` unless it
-    is a whole event."""
-    for number, line in enumerate(stream, 1):
+    is a whole event.  A line longer than MAX_LINE is read no further than that: its first
+    MAX_LINE + 1 characters are yielded (and rejected as too long), the rest is skipped in
+    chunks, so memory stays bounded whatever the line's length."""
+    number = 0
+    while True:
+        line = stream.readline(MAX_LINE + 1)
+        if not line:
+            return
+        number += 1
+        if len(line) > MAX_LINE and not line.endswith("\n"):
+            while True:  # the rest of the line, unread
+                rest = stream.readline(1 << 16)
+                if not rest or rest.endswith("\n"):
+                    break
         text = line.rstrip("\n").rstrip("\r")
         if text.strip():
             yield f"{source}:{number}", text

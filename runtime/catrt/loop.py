@@ -4,6 +4,7 @@ or on SIGTERM/SIGINT (a spool folder, MQTT: the event being handled is finished 
 
 from __future__ import annotations
 
+import errno
 import io
 import signal
 import sys
@@ -52,7 +53,7 @@ def loop(runtime: Runtime, source: str | None, *, once: bool, stop: threading.Ev
     if source == "-":
         _lines(runtime, read_lines(stdin_text(), "<stdin>"), clock, stop)
         return
-    if path.is_file():
+    if path.exists() and not path.is_dir():  # a file, a FIFO, <(…), /dev/stdin, /dev/null: a stream of lines
         _lines(runtime, file_lines(path), clock, stop)
         return
     path.mkdir(parents=True, exist_ok=True)
@@ -72,11 +73,40 @@ def _lines(runtime: Runtime, lines: Iterator[tuple[str, str]], clock: _Sensors, 
         for where, line in lines:
             if stop.is_set():
                 return
-            runtime.handle_line(line, where)
+            handle(runtime, line, where, stop)
             clock.poll(runtime)
     finally:
         for sig, handler in previous.items():
             signal.signal(sig, handler)
+
+
+#: Seconds to wait before each new try when the disk is full (E1016); after the last, the
+#: loop stops with E1016 (the event not acknowledged: a spool file stays in the spool).
+BACKOFF = (0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 30.0, 30.0, 30.0, 30.0)
+
+
+def disk_full(exc: BaseException) -> bool:
+    from catrt.store import StoreError
+
+    return (isinstance(exc, StoreError) and exc.code == "E1016") or (
+        isinstance(exc, OSError) and exc.errno == errno.ENOSPC
+    )
+
+
+def handle(runtime: Runtime, line: str, where: str, stop: threading.Event) -> None:
+    """Hand one line to the runtime; on a full disk, back off and try again (an event whose
+    transaction did not commit was not acknowledged; one that did is a duplicate the second
+    time, and an enactment the full disk interrupted is finished first)."""
+    for wait in (*BACKOFF, None):
+        try:
+            runtime.resume()
+            runtime.handle_line(line, where)
+            return
+        except (OSError, RuntimeError) as exc:
+            if wait is None or not disk_full(exc) or stop.is_set():
+                raise
+            runtime.say_disk_full(where, str(exc), wait)
+            stop.wait(wait)
 
 
 def _spool(runtime: Runtime, folder: Path, clock: _Sensors, stop: threading.Event, once: bool) -> None:
@@ -88,7 +118,7 @@ def _spool(runtime: Runtime, folder: Path, clock: _Sensors, stop: threading.Even
                 for where, line in file_lines(path, f"spool/{path.name}"):
                     if stop.is_set():
                         return
-                    runtime.handle_line(line, where)
+                    handle(runtime, line, where, stop)
                     clock.poll(runtime)
                 finish(path)
             if watcher is None:  # --once

@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from catrt.apply import Candidate, Rejection, apply_change, check
-from catrt.enact import complete, generation_name
+from catrt.enact import complete, differing, generation_name
 from catrt.events import Event
 from catrt.model import ModelState
 from catrt.runtime import GENERATIONS, MODEL_FOLDER, model_sha
@@ -164,7 +164,15 @@ def differences(store: Store, replayed: Replayed) -> list[str]:
 def verify(store: Store, folder: Path) -> tuple[list[str], list[str]]:
     """(problems, notes): SQLite's integrity, the journal's numbering, the replay, every
     generation against its manifest, ``current`` pointing at the deployed one."""
+    from catrt.store import StoreError
+
     problems = list(store.integrity())
+    try:
+        store.check_sources()
+    except StoreError as exc:
+        problems.append(f"error[{exc.code}]: {exc}")
+    if problems:  # a damaged store is not replayed: what it holds cannot be trusted
+        return problems, ["the replay was not run: the store failed its integrity check"]
     replayed = replay(store, folder)
     problems += replayed.problems + differences(store, replayed)
     notes: list[str] = []
@@ -174,7 +182,8 @@ def verify(store: Store, folder: Path) -> tuple[list[str], list[str]]:
             if gen.name.startswith(".tmp-"):
                 notes.append(f"{gen.name}: an unfinished generation a crash left (removed on the next enactment)")
             elif not complete(gen):
-                problems.append(f"generation {gen.name}: a file differs from its manifest")
+                names = ", ".join(differing(gen)) or "a file"
+                problems.append(f"generation {gen.name}: {names} differs from its manifest")
     incumbent = store.get("incumbent")
     if incumbent is not None:
         link = folder / "current"

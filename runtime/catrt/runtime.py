@@ -131,6 +131,7 @@ class Runtime:
         self.enactor: Enactor = ENACTORS[kind](config.enactor)
         self.approve, self.say, self.ask = approve, say or (lambda outcome: None), ask
         self.crash = crash
+        store.check_sources()  # E1013: never decide on a source changed outside catrt
         self.sources = store.sources()
         self.state = ModelState.from_json(store.get("model"))
         self.current: Candidate = check(self.state, self.sources, str(folder / MODEL_FOLDER))
@@ -151,16 +152,21 @@ class Runtime:
         return self.store.get("incumbent")
 
     # ------------------------------------------------------------ start
+    def resume(self) -> list[Outcome]:
+        """Finish an enactment a crash (or a full disk) interrupted."""
+        enacting = self.store.get("enacting")
+        if enacting is None:
+            return []
+        with self.store.transaction():
+            self.store.journal("recovery", {"generation": enacting["generation"],
+                                            "note": "enact-begin without enact-done: enacting again"})  # fmt: skip
+        outcome = self.enact()
+        self.say(outcome)
+        return [outcome]
+
     def start(self) -> list[Outcome]:
         """Finish an enactment a crash interrupted; decide when nothing is deployed yet."""
-        out: list[Outcome] = []
-        enacting = self.store.get("enacting")
-        if enacting is not None:
-            with self.store.transaction():
-                self.store.journal("recovery", {"generation": enacting["generation"],
-                                                "note": "enact-begin without enact-done: enacting again"})  # fmt: skip
-            out.append(self.enact())
-            self.say(out[-1])
+        out: list[Outcome] = self.resume()
         if self.incumbent is None and not self.store.approvals(Verdict.PENDING):
             outcome = self._decide_and_commit(Event("start", {}, "start", False), self.current, kind="start")
             self.say(outcome)
@@ -179,7 +185,7 @@ class Runtime:
             with self.store.transaction():
                 seq = self.store.journal("rejected", {"where": exc.where, "code": "E1001", "message": exc.message,
                                                       "line": text})  # fmt: skip
-            outcome = Outcome(Status.REJECTED, "", exc.where, f"error[E1001]: {exc.message}", seq=seq)
+            outcome = Outcome(Status.REJECTED, exc.event_id, exc.where, f"error[E1001]: {exc.message}", seq=seq)
             self.say(outcome)
             return outcome
         return self.handle(event)
@@ -385,6 +391,10 @@ class Runtime:
                               f"sensor {sensor.name}", False)  # fmt: skip
                 out.append(self.handle(event))
         return out
+
+    def say_disk_full(self, where: str, message: str, wait: float) -> None:
+        """Tell the person watching that the disk is full and when the loop tries again."""
+        self.say(Outcome(Status.REJECTED, "", where, f"error[E1016]: {message}; trying again in {wait:g} s"))
 
     def close(self) -> None:
         self.store.close()

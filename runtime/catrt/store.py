@@ -14,16 +14,24 @@ off (``isolation_level=None``).  The tables:
   accepted event's id unique;
 * ``approvals`` — requests waiting for a person, and what became of them.
 
-One writer at a time: the writer holds an exclusive ``flock`` on ``STATE/lock`` for its
-lifetime (released by the kernel when the process dies, so a crash never leaves it
-locked); a second writer is refused.  Readers (``status``, ``journal``, ``verify``) open the
-database read-only and need no lock.
+One writer at a time: the writer holds an exclusive ``flock`` on the database file itself
+(and on ``STATE/lock``, which names its pid) for its lifetime, released by the kernel when the
+process dies, so a crash never leaves it locked and deleting ``STATE/lock`` lets no second
+writer in.  Readers (``status``, ``journal``, ``verify``) open the database read-only and need
+no lock.
+
+Faults (docs/runtime.md "Faults and what catrt does"): the store is opened ``mode=rw``, so a
+missing or 0-byte file is never turned into a new empty database; one that is truncated,
+empty or fails SQLite's ``quick_check`` (or holds a journal entry that is not UTF-8 JSON) is
+refused for writing (E1014); a read-only folder is said to be one (E1015); a full disk
+(SQLITE_FULL, ENOSPC) rolls the transaction back and raises E1016.
 """
 
 from __future__ import annotations
 
 import contextlib
 import datetime as dt
+import errno
 import fcntl
 import json
 import os
@@ -66,7 +74,7 @@ class Verdict(StrEnum):
 
 
 class StoreError(RuntimeError):
-    """The store cannot be used: ``code`` is the diagnostic code (E1003–E1006)."""
+    """The store cannot be used: ``code`` is the diagnostic code (E1003–E1006, E1013–E1016)."""
 
     def __init__(self, code: str, message: str) -> None:
         super().__init__(message)
@@ -97,9 +105,13 @@ class Store:
         folder.mkdir(parents=True, exist_ok=True)
         if (folder / DB_NAME).exists():
             raise StoreError("E1006", f"{folder} already holds a catrt store; use another folder, or delete it first")
+        _writable(folder)
         lock_fd = _lock(folder)
+        (folder / DB_NAME).touch()
+        db_lock = _lock_db(folder)
         db = _connect(folder / DB_NAME)
         store = Store(folder, db, lock_fd)
+        store._db_lock = db_lock
         with store.transaction():
             for statement in _SCHEMA:
                 db.execute(statement)
@@ -118,28 +130,67 @@ class Store:
         path = folder / DB_NAME
         if not path.is_file():
             raise StoreError("E1005", f"{folder} holds no catrt store (run 'catrt init {folder} DOMAIN PROBLEM' first)")
+        _check_header(path)
+        if write:
+            _writable(folder)
         lock_fd = _lock(folder) if write else None
+        db_lock = None
+        store = None
         try:
-            db = _connect(path) if write else _connect_readonly(path)
+            db_lock = _lock_db(folder) if write else None
+            try:
+                db = _connect(path) if write else _connect_readonly(path)
+            except sqlite3.DatabaseError as exc:
+                raise _store_error(exc, folder) from None
             store = Store(folder, db, lock_fd)
+            store._db_lock = db_lock
             store._check_version(write)
+            if write:
+                problems = store.integrity(quick=True)
+                if problems:
+                    raise StoreError(
+                        "E1014",
+                        f"{path} fails its integrity check ({problems[0]}): catrt appends nothing to a damaged store; "
+                        f"see 'catrt verify {folder}', restore the folder from a backup or start a new one",
+                    )
         except BaseException:
-            if lock_fd is not None:
-                os.close(lock_fd)
+            if store is not None:
+                store.db.close()
+            for fd in (lock_fd, db_lock):
+                if fd is not None:
+                    os.close(fd)
             raise
         return store
 
+    _db_lock: int | None = None
+
     def close(self) -> None:
         self.db.close()
-        if self._lock_fd is not None:
-            os.close(self._lock_fd)
-            self._lock_fd = None
+        for name in ("_lock_fd", "_db_lock"):
+            fd = getattr(self, name)
+            if fd is not None:
+                os.close(fd)
+                setattr(self, name, None)
+
+    def check_sources(self) -> None:
+        """StoreError E1013 naming the first source whose text no longer has its stored sha256."""
+        from catrt.model import sha256_text
+
+        for name, text, digest in self.db.execute("SELECT name, text, sha256 FROM sources ORDER BY name"):
+            if sha256_text(text) != digest:
+                raise StoreError(
+                    "E1013",
+                    f"the stored model source '{name}' does not have the sha256 it was stored with "
+                    f"({digest[:12]}…): it was changed outside catrt; nothing is decided on it",
+                )
 
     def _check_version(self, write: bool) -> None:
         try:
             row = self.db.execute("SELECT value FROM meta WHERE key = 'schema_version'").fetchone()
         except sqlite3.DatabaseError as exc:
-            raise StoreError("E1005", f"{self.folder / DB_NAME} is not a catrt store: {exc}") from None
+            if "no such table" in str(exc):
+                raise StoreError("E1005", f"{self.folder / DB_NAME} is not a catrt store: {exc}") from None
+            raise _store_error(exc, self.folder) from None
         version = int(row[0]) if row and str(row[0]).isdigit() else None
         if version == SCHEMA_VERSION:
             return
@@ -167,14 +218,21 @@ class Store:
     # ------------------------------------------------------------ transactions
     @contextlib.contextmanager
     def transaction(self) -> Iterator[None]:
-        """``BEGIN IMMEDIATE … COMMIT``; rolled back when the block raises."""
-        self.db.execute("BEGIN IMMEDIATE")
+        """``BEGIN IMMEDIATE … COMMIT``; rolled back when the block (or the commit) raises; a
+        full disk is StoreError E1016."""
         try:
-            yield
-        except BaseException:
-            self.db.execute("ROLLBACK")
+            self.db.execute("BEGIN IMMEDIATE")
+            try:
+                yield
+                self.db.execute("COMMIT")
+            except BaseException:
+                if self.db.in_transaction:
+                    self.db.execute("ROLLBACK")
+                raise
+        except (sqlite3.OperationalError, OSError) as exc:
+            if _disk_full(exc):
+                raise StoreError("E1016", f"{self.folder}: the disk is full: {exc}; nothing was written") from None
             raise
-        self.db.execute("COMMIT")
 
     def journal(self, kind: str, data: Mapping[str, Any], event_id: str | None = None) -> int:
         """Append an entry (inside a transaction); its sequence number."""
@@ -233,10 +291,24 @@ class Store:
         self.db.execute("UPDATE approvals SET status = ? WHERE id = ?", (status, approval_id))
 
     # ------------------------------------------------------------ checks
-    def integrity(self) -> list[str]:
-        """SQLite's integrity check, the journal's numbering: the problems found."""
-        problems = [r[0] for r in self.db.execute("PRAGMA integrity_check") if r[0] != "ok"]
-        seqs = [r[0] for r in self.db.execute("SELECT seq FROM journal ORDER BY seq")]
+    def integrity(self, quick: bool = False) -> list[str]:
+        """SQLite's integrity check (``quick_check`` when ``quick``), every journal entry
+        UTF-8 JSON, the journal's numbering: the problems found."""
+        try:
+            pragma = "quick_check" if quick else "integrity_check"
+            problems = [r[0] for r in self.db.execute(f"PRAGMA {pragma}") if r[0] != "ok"]
+            if problems:
+                return problems
+            cursor = self.db.cursor()
+            cursor.row_factory = None
+            for seq, data in cursor.execute("SELECT seq, CAST(data AS BLOB) FROM journal ORDER BY seq"):
+                try:
+                    json.loads(bytes(data).decode("utf-8"))
+                except (UnicodeDecodeError, ValueError) as exc:
+                    problems.append(f"journal entry {seq} is garbled: {type(exc).__name__}: {str(exc)[:120]}")
+            seqs = [r[0] for r in self.db.execute("SELECT seq FROM journal ORDER BY seq")]
+        except sqlite3.DatabaseError as exc:
+            return [f"SQLite cannot read the store: {exc}"]
         if seqs != list(range(1, len(seqs) + 1)):
             missing = sorted(set(range(1, (seqs[-1] if seqs else 0) + 1)) - set(seqs))
             problems.append(f"the journal has gaps: {missing[:10]}")
@@ -244,7 +316,8 @@ class Store:
 
 
 def _connect(path: Path) -> sqlite3.Connection:
-    db = sqlite3.connect(path, isolation_level=None, timeout=30)
+    # mode=rw: a missing file is an error, never a new empty database
+    db = sqlite3.connect(f"{path.resolve().as_uri()}?mode=rw", uri=True, isolation_level=None, timeout=30)
     db.execute("PRAGMA journal_mode = WAL")
     db.execute("PRAGMA synchronous = FULL")
     db.execute("PRAGMA foreign_keys = ON")
@@ -254,6 +327,87 @@ def _connect(path: Path) -> sqlite3.Connection:
 def _connect_readonly(path: Path) -> sqlite3.Connection:
     db = sqlite3.connect(f"{path.resolve().as_uri()}?mode=ro", uri=True, isolation_level=None, timeout=30)
     return db
+
+
+SQLITE_HEADER = b"SQLite format 3\x00"
+
+
+def _check_header(path: Path) -> None:
+    """StoreError E1014 when ``path`` is empty, shorter than a page or than its header says; E1005
+    when it is no SQLite file at all."""
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(512)
+        size = path.stat().st_size
+    except PermissionError as exc:
+        raise StoreError("E1015", f"{path}: cannot read the store: {exc.strerror}") from None
+    if size == 0:
+        raise StoreError("E1014", f"{path} is empty (0 bytes): the store was truncated; catrt does not rewrite it")
+    if not head.startswith(SQLITE_HEADER[: len(head)]):
+        raise StoreError("E1005", f"{path} is not an SQLite database: the folder holds no catrt store")
+    if size < 512:
+        raise StoreError("E1014", f"{path} is not a whole SQLite database ({size} bytes): the store is damaged")
+    page_size = int.from_bytes(head[16:18], "big")
+    page_size = 65536 if page_size == 1 else page_size
+    pages = int.from_bytes(head[28:32], "big")
+    wal = path.with_name(path.name + "-wal")
+    settled = not wal.exists() or wal.stat().st_size == 0  # else a checkpoint may be growing the file
+    if settled and pages and size < pages * page_size:
+        raise StoreError(
+            "E1014",
+            f"{path} is truncated: {size} bytes of the {pages * page_size} its header names; the store is damaged",
+        )
+
+
+def _writable(folder: Path) -> None:
+    """StoreError E1015 when catrt cannot create files in ``folder`` (a read-only folder,
+    file system or mount: the lock, the WAL and its index live there)."""
+    probe = folder / f".catrt-write-test-{os.getpid()}"
+    try:
+        fd = os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    except FileExistsError:
+        return
+    except OSError as exc:
+        if exc.errno in (errno.EROFS, errno.EACCES, errno.EPERM):
+            raise StoreError(
+                "E1015", f"the state folder {folder} is read-only ({exc.strerror}): catrt cannot lock or write it"
+            ) from None
+        if exc.errno == errno.ENOSPC:
+            raise StoreError("E1016", f"{folder}: the disk is full: {exc.strerror}") from None
+        raise
+    os.close(fd)
+    os.unlink(probe)
+
+
+def _disk_full(exc: BaseException) -> bool:
+    if isinstance(exc, OSError) and not isinstance(exc, sqlite3.Error):
+        return exc.errno == errno.ENOSPC
+    return getattr(exc, "sqlite_errorcode", None) == 13 or "database or disk is full" in str(exc)  # SQLITE_FULL
+
+
+def _store_error(exc: sqlite3.DatabaseError, folder: Path) -> StoreError:
+    """A DatabaseError met while opening the store, as a StoreError with its own code."""
+    text = str(exc)
+    if _disk_full(exc):
+        return StoreError("E1016", f"{folder}: the disk is full: {text}")
+    if "readonly" in text or ("unable to open" in text and not os.access(folder, os.W_OK)):
+        return StoreError("E1015", f"the state folder {folder} is read-only: {text}")
+    return StoreError("E1014", f"{folder / DB_NAME} is damaged ({text}): restore the folder from a backup")
+
+
+def _lock_db(folder: Path) -> int:
+    """An exclusive ``flock`` on the database file itself: whatever happens to ``STATE/lock``,
+    a second writer finds the database locked (SQLite's own locks are POSIX ``fcntl`` locks,
+    which ``flock`` does not touch)."""
+    fd = os.open(folder / DB_NAME, os.O_RDONLY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        os.close(fd)
+        raise StoreError(
+            "E1003", f"another catrt is running on {folder} (its database is locked): one writer at a time"
+        ) from None
+    return fd
 
 
 def _lock(folder: Path) -> int:

@@ -292,6 +292,21 @@ class Model:
 # ---------------------------------------------------------------- for programs embedding catc
 
 
+def convert(value: Fraction, unit: str, to: str) -> Fraction:
+    """``value`` ``unit`` in the unit ``to``, exactly, as a ``.cat`` literal with a unit is
+    read (``2 GB`` in MB is 2000); ValueError naming both dimensions when they differ, or the
+    unit that is not one."""
+    from catc.frontend import units
+
+    try:
+        source, target = units.parse(unit), units.parse(to)
+    except units.UnitError as exc:
+        raise ValueError(str(exc)) from None
+    if not source.same_dimension(target):
+        raise ValueError(f"{unit} is {source.dimension}, not {target.dimension} ({to})")
+    return value * units.factor(source, target)
+
+
 def deploy_query(inst: ir.Instance) -> str:
     """The query that finds the composition to deploy: ``optimize`` when the problem says
     what is best (a metric or soft constraints), else ``solve``."""
