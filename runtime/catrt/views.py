@@ -60,6 +60,8 @@ def _value_text(value: Any, unit: str | None) -> str:
         return "true" if value else "false"
     if isinstance(value, list):
         return "{" + " ".join(str(v) for v in value) + "}"
+    if isinstance(value, int):  # a whole number the manifest keeps as an int: still in its unit
+        return str(value) + (f" {unit}" if unit else "")
     if isinstance(value, str):
         try:
             number = Fraction(value)
