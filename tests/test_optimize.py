@@ -316,3 +316,40 @@ def test_recompose_agrees_with_brute_force(tmp_path, domain, data, maxsmt):
     got = {type(v.objective.term): v.value for v in rec.result.values}
     assert (got[ir.TotalChurn], -got[ir.ResourceRef]) == (expected if priority == "stability" else expected[::-1])
     assert rec.churn == got[ir.TotalChurn]
+
+
+IDLE = """\
+(define (domain idle)
+  (:requirements :numeric :optimization)
+  (:resources (x int :bounds (0 10)) (done bool))
+  (:morphism nudge :kind software :effect (increase x 0))
+  (:morphism finish :kind software :precondition (not done) :effect (assign done true)))
+(define (problem p) (:domain idle) (:init (= x 0) (= done false)) (:goal done) (:horizon 4) (:metric maximize x))
+"""
+
+
+def _idle_instance(tmp_path):
+    from catgrammar.diagnostics import Diagnostics
+
+    path = tmp_path / "idle.cat"
+    path.write_text(IDLE)
+    _, inst = load_instance(None, str(path), Diagnostics())
+    assert inst is not None
+    return inst
+
+
+def test_steps_that_change_nothing_are_dropped(tmp_path):
+    """Issue 29: optimize answered plans with steps that change nothing (transfer c c ×5),
+    when pruning had run out of time.  drop_idle_steps removes them, always."""
+    from catc.semantics.compositions import drop_idle_steps
+    from catc.semantics.plan import Activation, Plan
+
+    inst = _idle_instance(tmp_path)
+    nudge, finish = (Activation("nudge"),), (Activation("finish"),)
+    plan = Plan((nudge, finish, nudge, nudge), {})
+    assert drop_idle_steps(inst, plan, 4, True).steps == (finish,)
+    assert drop_idle_steps(inst, plan, 4, True, accept=lambda p: False).steps == plan.steps  # the check decides
+    from catc.queries.optimize import optimize
+
+    result = optimize(inst, prune=False)  # even without pruning
+    assert result.plan is not None and all(a.morphism != "nudge" for step in result.plan.steps for a in step)

@@ -595,3 +595,29 @@ def test_help_lists_each_commands_first_sentence_whole():
     commands = text.split("Commands:", 1)[1]
     assert not [line for line in commands.splitlines() if line.endswith("...")], commands
     assert "comparison tables." in commands
+
+
+def test_a_long_query_is_not_silent_when_piped(capsys):
+    """Issue 29: piped (standard error not a terminal) and without --progress, a long optimize
+    printed nothing for minutes.  Now, after ten quiet seconds, a line every half minute says
+    what the query is doing.  The clock is replaced: the status's waits answer in turn."""
+    from catc.interfaces import command
+
+    status = command.progress(True)
+    assert isinstance(status, command.ThrottledStatus)  # pytest's stderr is not a terminal
+
+    class Clock:
+        def __init__(self) -> None:
+            self.waits: list[float] = []
+
+        def wait(self, seconds: float) -> bool:  # False: the time passed; True: stop
+            self.waits.append(seconds)
+            return len(self.waits) > 3
+
+    status._stop = clock = Clock()  # type: ignore[assignment]
+    status.update(type("Live", (), {"message": "optimize: horizon 5, best 12"})())
+    status._tick()
+    lines = [line for line in capsys.readouterr().err.splitlines() if line]
+    assert clock.waits == [command.ThrottledStatus.QUIET] + [command.ThrottledStatus.EVERY] * 3
+    assert len(lines) == 3 and all(line.startswith("catc: optimize: horizon 5, best 12 (") for line in lines)
+    assert command.progress(False) is not None and command.progress(False, forced=False).__enter__() is None

@@ -285,16 +285,55 @@ class LineStatus:
         echo(f"catc: {text}", err=True)
 
 
+class ThrottledStatus:
+    """Where standard error is not a terminal and no ``--progress`` was asked (a pipe, a CI
+    log): nothing for the first :attr:`QUIET` seconds, so a quick answer prints only itself;
+    then what the query is doing, one line every :attr:`EVERY` seconds, so a long run is not
+    silent for minutes."""
+
+    QUIET = 10.0
+    EVERY = 30.0
+
+    def __init__(self) -> None:
+        import threading
+        import time
+
+        self._message = "working"
+        self._start = time.monotonic()
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._tick, name="catc-progress", daemon=True)
+
+    def update(self, renderable: Any) -> None:
+        self._message = getattr(renderable, "message", None) or str(renderable)
+
+    def _tick(self) -> None:
+        import time
+
+        wait = self.QUIET
+        while not self._stop.wait(wait):
+            echo(f"catc: {self._message} ({time.monotonic() - self._start:.0f} s)", err=True)
+            wait = self.EVERY
+
+    def __enter__(self) -> ThrottledStatus:
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._stop.set()
+        self._thread.join()
+
+
 def progress(enabled: bool, forced: bool = False) -> Any:
     """A rich status line on a terminal (stderr), showing what the query is doing;
     ``forced`` (``--progress``): also when standard error is not a terminal (a line per
-    update) and with ``--json``."""
+    update) and with ``--json``; otherwise, off a terminal, a line every half minute once
+    the query has run ten seconds (:class:`ThrottledStatus`)."""
     import contextlib
 
     if not (enabled or forced):
         return contextlib.nullcontext(None)
     if not sys.stderr.isatty():
-        return contextlib.nullcontext(LineStatus() if forced else None)
+        return contextlib.nullcontext(LineStatus()) if forced else ThrottledStatus()
     from rich.console import Console
 
     return Console(stderr=True).status("solving…")

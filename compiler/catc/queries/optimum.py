@@ -20,7 +20,7 @@ from catc import ir
 from catc.ir.numbers import number_text, ratio_text
 from catc.queries.base import ExitCode, Progress, Result, Status
 from catc.queries.solve import SolveStatus, solve
-from catc.semantics.compositions import canonical_fresh, prune_plan
+from catc.semantics.compositions import canonical_fresh, drop_idle_steps, prune_plan
 from catc.semantics.horizon import horizon_of
 from catc.semantics.plan import Plan
 from catc.semantics.validate import ValidationFailure, evaluate, objective_value, validate
@@ -561,15 +561,14 @@ def _finish(
 ) -> None:
     """Prune (keeping the values), rename fresh values, and fill in ``result`` from the
     validator's replay; an OPT value must equal the solver's bound where it gave one."""
+    target = _scores(inst, plan, objectives, softs, k, sequential)
+
+    def not_worse(p: Plan) -> bool:
+        return _not_worse(_scores(inst, p, objectives, softs, k, sequential), target, objectives)
+
+    plan = drop_idle_steps(inst, plan, k, sequential, accept=not_worse)  # always: no step that does nothing
     if prune:
-        target = _scores(inst, plan, objectives, softs, k, sequential)
-        plan = prune_plan(
-            inst,
-            plan,
-            k,
-            sequential,
-            accept=lambda p: _not_worse(_scores(inst, p, objectives, softs, k, sequential), target, objectives),
-        )
+        plan = prune_plan(inst, plan, k, sequential, accept=not_worse)
     plan = canonical_fresh(plan)
     report = validate(inst, plan, horizon=k, sequential=sequential)
     final = report.states[-1]

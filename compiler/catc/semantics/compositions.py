@@ -15,6 +15,34 @@ from catc.semantics.validate import ValidationFailure, validate
 from catgrammar import limits
 
 
+def drop_idle_steps(
+    inst: ir.Instance,
+    plan: Plan,
+    horizon: int,
+    sequential: bool,
+    accept: Callable[[Plan], bool] | None = None,
+) -> Plan:
+    """Drop the steps that change nothing (the state after the step is the state before it:
+    a ``transfer c c``, a move to where the robot is).  Every later step then sees the states
+    it saw, so the composition stays valid; ``accept(candidate)`` (optimisation: no objective
+    worse) decides, as for :func:`prune_plan`.  Cheap: one replay, then one check per idle
+    step; not bounded by the command's time, so an answer never keeps a step that does
+    nothing because pruning ran out of time."""
+    report = validate(inst, plan, horizon=horizon, sequential=sequential)
+    if not report.ok:
+        return plan
+    steps = list(plan.steps)
+    for i in range(len(steps) - 1, -1, -1):
+        if report.states[i] != report.states[i + 1]:
+            continue
+        candidate = Plan(tuple(steps[:i] + steps[i + 1 :]), plan.fresh)
+        if validate(inst, candidate, horizon=horizon, sequential=sequential).ok and (
+            accept is None or accept(candidate)
+        ):
+            steps = list(candidate.steps)
+    return Plan(tuple(steps), plan.fresh)
+
+
 def prune_plan(
     inst: ir.Instance,
     plan: Plan,
