@@ -108,6 +108,7 @@ def test_an_export_a_parser_rejects_is_a_bug_reported_as_such(monkeypatch, tmp_p
         raise ValueError("unexpected token")
 
     monkeypatch.setattr(pddl_target, "check_pddl", reject)
+    monkeypatch.setattr(pddl_target, "_parsers_present", lambda plus, strict: None)  # a parser is there, and rejects
     res = run_catc("export", "pddl", LIFE, "-o", str(tmp_path))
     error(res, "E0902")
 

@@ -345,6 +345,8 @@ def reporter(status: Any) -> Callable[[str], None] | None:
     redraws the line from its own thread); None without a status line."""
     if status is None:
         return None
+    if isinstance(status, ThrottledStatus):  # plain text: off a terminal nothing needs rich
+        return status.update
     import time
 
     from rich.text import Text

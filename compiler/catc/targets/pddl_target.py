@@ -49,8 +49,6 @@ def grid(specs: tuple[str, ...]) -> dict[str, Fraction]:
 
 def prepare(values: dict[str, Any]) -> None:
     values["grid"] = grid(tuple(values.get("grid") or ()))
-    if not values.get("no_check"):  # the parsers must be there before any file is written
-        _parsers_present(Flavor(values.get("flavor") or "enhsp") is Flavor.SMTPLAN, bool(values.get("strict_check")))
 
 
 def _parsers_present(plus: bool, strict: bool) -> None:
@@ -143,7 +141,11 @@ def dials_json(ex: Any) -> dict:
 
 
 def write(inst: ir.Instance, ex: Any, options: Mapping[str, Any]) -> list[str]:
-    """domain.pddl, problem.pddl, report.md, actions.json (and dials.json for PDDL+)."""
+    """domain.pddl, problem.pddl, report.md, actions.json (and dials.json for PDDL+).  The
+    parsers that check them must be there first (nothing is written without them), unless
+    ``--no-check``."""
+    if not options.get("no_check"):
+        _parsers_present(Flavor(options.get("flavor") or "enhsp") is Flavor.SMTPLAN, bool(options.get("strict_check")))
     out = Path(options["output"])
     out.mkdir(parents=True, exist_ok=True)
     dom, prob = out / "domain.pddl", out / "problem.pddl"
