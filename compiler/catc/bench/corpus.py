@@ -202,7 +202,6 @@ def up_validates(up_problem: Any, steps: list[str]) -> bool:
     """unified-planning's sequential plan validator on the PDDL plan ``steps`` ("(a x y)")."""
     from unified_planning.engines import ValidationResultStatus
     from unified_planning.engines.plan_validator import SequentialPlanValidator
-
     from unified_planning.exceptions import UPUsageError
 
     plan = _up_plan(up_problem, steps)
