@@ -8,24 +8,7 @@ import difflib
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-
-def strip_comment(line: str) -> str:
-    """``line`` without its ``;`` comment (a ``;`` inside a double-quoted string is text)."""
-    in_string = False
-    escaped = False
-    for i, ch in enumerate(line):
-        if in_string:
-            if escaped:
-                escaped = False
-            elif ch == "\\":
-                escaped = True
-            elif ch == '"':
-                in_string = False
-        elif ch == '"':
-            in_string = True
-        elif ch == ";":
-            return line[:i]
-    return line
+from catc.frontend.indent import code_part as strip_comment
 
 
 def _split_declarations(line: str) -> list[str]:

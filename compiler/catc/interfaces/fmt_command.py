@@ -8,7 +8,7 @@ import sys
 import click
 
 from catc.frontend.formatter import format_file
-from catc.interfaces.cli.check import collect_files
+from catc.interfaces.check_command import collect_files
 from catc.interfaces.cli.options import limit_options, limited
 from catgrammar.diagnostics import Diagnostics
 from catgrammar.diagnostics import format_text as diag_text

@@ -5,35 +5,18 @@ from __future__ import annotations
 import os
 import re
 import sys
-from pathlib import Path
 from typing import Any
 
 import click
 
 from catc.interfaces import command
+from catc.interfaces.check_command import collect_files
 from catc.interfaces.cli.options import limit_options, limited, option
 from catc.interfaces.command import EXIT_FAIL, EXIT_INPUT, EXIT_OK
 from catc.queries.base import load_options
 from catgrammar import codes
 
 _UNREADABLE = {codes.UNREADABLE_FILE, codes.BINARY_FILE, codes.INVALID_UTF8, codes.NO_INPUT}
-
-
-def collect_files(paths: tuple[str, ...], diags: Any) -> list[str]:
-    """The .cat files named, and those under the folders named."""
-    files: list[str] = []
-    for p in paths:
-        path = Path(p)
-        if path.is_dir():
-            found = sorted(str(f) for f in path.rglob("*.cat") if f.is_file())
-            if not found:
-                diags.report(codes.NO_INPUT, f"no .cat files under '{p}'", None)
-            files.extend(found)
-        elif path.exists():
-            files.append(str(path))
-        else:
-            diags.report(codes.UNREADABLE_FILE, f"cannot read '{p}': no such file or directory", None)
-    return list(dict.fromkeys(files))
 
 
 def _emit(diags: Any, files: list[str], fmt: str, quiet: bool) -> None:

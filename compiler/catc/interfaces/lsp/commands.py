@@ -28,17 +28,9 @@ def run_query_on_file(name: str, uri: str, options: dict[str, Any] | None = None
             raise InputError(why)
         result = model.query(name, **query.run_options(values))
     except CatError as exc:
-        return {
-            "schema": "catc.error/1",
-            "status": "error",
-            "diagnostics": [d.to_json() for d in exc.diagnostics],
-        }
+        return _error([d.to_json() for d in exc.diagnostics])
     except (InputError, ValueError) as exc:
-        return {
-            "schema": "catc.error/1",
-            "status": "error",
-            "diagnostics": [{"message": str(exc)}],
-        }
+        return _error([{"message": str(exc)}])
     return query.to_json(model.instance, result)
 
 
@@ -57,18 +49,15 @@ def run_target_on_file(name: str, uri: str, options: dict[str, Any] | None = Non
             target.prepare(values)
         artifact = model.export(name, **target.run_options(values))
     except CatError as exc:
-        return {
-            "schema": "catc.error/1",
-            "status": "error",
-            "diagnostics": [d.to_json() for d in exc.diagnostics],
-        }
+        return _error([d.to_json() for d in exc.diagnostics])
     except (InputError, ValueError) as exc:
-        return {
-            "schema": "catc.error/1",
-            "status": "error",
-            "diagnostics": [{"message": str(exc)}],
-        }
+        return _error([{"message": str(exc)}])
     return target.to_json(model.instance, artifact)
+
+
+def _error(diagnostics: list[dict]) -> dict:
+    """The ``catc.error/1`` document a command answers instead of its own."""
+    return {"schema": "catc.error/1", "status": "error", "diagnostics": diagnostics}
 
 
 def _unreadable(ls: Any, uri: object) -> dict | None:
@@ -81,8 +70,7 @@ def _unreadable(ls: Any, uri: object) -> dict | None:
     roots = [uri_to_path(f.uri) for f in ls.workspace.folders.values()] + [ls.workspace.root_path or ""]
     if readable_path(uri, known, roots) is not None:
         return None
-    message = f"not a file: URI of an open document or of the workspace: {uri!r}"
-    return {"schema": "catc.error/1", "status": "error", "diagnostics": [{"message": message}]}
+    return _error([{"message": f"not a file: URI of an open document or of the workspace: {uri!r}"}])
 
 
 def register_commands(server: Any, types: Any) -> None:
