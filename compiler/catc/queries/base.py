@@ -99,6 +99,7 @@ class Kind(str, Enum):
     INPUT_FILE = "input-file"  # a file to read
     FILE_PAIR = "file-pair"  # two files to read: a tuple of two
     PLAN_FILE = "plan-file"  # a positional catc.plan/1 file: a Plan
+    DOCUMENT_FILE = "document-file"  # a positional file after PATHS, its path (the query reads it)
 
 
 class Use(str, Enum):
@@ -286,6 +287,33 @@ def diagram_option() -> Option:
         "Write the composition as an SVG string diagram.",
         use=Use.OUTPUT,
     )
+
+
+def certificate_option() -> Option:
+    """``--certificate FILE``: the proof of a "no" (:mod:`catc.queries.certify`)."""
+    return Option(
+        "certificate",
+        ("--certificate",),
+        Kind.OUTPUT_FILE,
+        "Write a catc.certificate/1 proof of a final UNSAT answer, for 'catc certify' (docs/semantics.md).",
+        use=Use.OUTPUT,
+    )
+
+
+def with_certificate(
+    artifacts: Callable[[ir.Instance, Any, Mapping[str, Any]], list[str]],
+) -> Callable[[ir.Instance, Any, Mapping[str, Any]], list[str]]:
+    """``artifacts`` plus ``--certificate FILE`` (the certificate module loads only when asked)."""
+
+    def both(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> list[str]:
+        messages = artifacts(inst, result, options)
+        if not options.get("certificate"):
+            return messages
+        from catc.queries.certify import certificate_artifact
+
+        return [*messages, certificate_artifact(inst, result, options["certificate"])]
+
+    return both
 
 
 def objectives_option(minimize_help: str, maximize_help: str) -> Option:

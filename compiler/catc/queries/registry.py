@@ -21,6 +21,7 @@ QUERIES: dict[str, str] = {
     "recompose": "catc.queries.recompose",
     "synthesize": "catc.queries.synthesize",
     "validate": "catc.queries.validate",
+    "certify": "catc.queries.certify",
 }
 
 

@@ -33,10 +33,13 @@ from catc.queries.base import (
     Result,
     Status,
     backend_option,
+    certificate_option,
+    diagram_artifact,
     diagram_option,
     json_option,
     presolve_option,
     timeout_option,
+    with_certificate,
 )
 from catc.semantics.compositions import canonical_fresh, checked, prune_plan
 from catc.semantics.horizon import horizon_of, use_bound
@@ -580,9 +583,11 @@ QUERY = Query(
         ),
         backend_option(),
         presolve_option(),
+        certificate_option(),
     ),
     run=solve,
     to_json=solve_json,
     render=render,
+    artifacts=with_certificate(diagram_artifact),
     progress=True,
 )

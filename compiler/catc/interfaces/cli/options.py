@@ -48,7 +48,7 @@ _TYPES: dict[Kind, Any] = {
 def click_params(option: Option) -> list[click.Parameter]:
     """The click parameters of one query option (``--minimize``/``--maximize``: two)."""
     kind, flags, name = option.kind, list(option.flags), option.name
-    if kind is Kind.PLAN_FILE:
+    if kind in (Kind.PLAN_FILE, Kind.DOCUMENT_FILE):
         return [click.Argument([name], metavar=option.flags[0], type=click.Path(dir_okay=False))]
     if kind is Kind.OBJECTIVES:
         helps = option.help.split("\n")

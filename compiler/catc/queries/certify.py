@@ -1,0 +1,587 @@
+"""certify: check a ``catc.certificate/1`` document — the proof that comes with a "no" — with
+tools catc did not write.
+
+A certificate is a list of *obligations*.  Each is a self-contained SMT-LIB2 script whose
+``(check-sat)`` must answer ``unsat``, with what it proves, the tool that produced the answer
+and the checkers that must confirm it: the ``z3`` binary (installed by z3-solver) and cvc5's
+own SMT-LIB2 front end, each in a process of its own, with a time limit.  Two kinds of "no"
+are certified (docs/semantics.md, "Certificates"):
+
+* **relaxed reachability** (:mod:`catc.semantics.relaxed`): the relaxed fixpoint — an
+  interval for every number, the possible values of every Boolean and symbol, the may/must
+  elements of every set — is an *inductive invariant* ``Inv`` of the unrelaxed one-step
+  encoding (:class:`catc.smt.encoder.Encoder`, one parallel step, which also covers
+  sequential steps).  Three obligations: ``Init ∧ ¬Inv`` (initiation), ``Inv ∧ Step ∧ ¬Inv′``
+  (consecution) and ``Inv ∧ Goal`` (the goal is excluded), each unsat;
+* **the step encoding at a complete horizon**: the bounded problem's SMT-LIB2 (``catc
+  compile``'s text) is unsat, and the horizon is complete: no composition has more
+  non-idle steps than the sum of the use limits (a linear-arithmetic obligation built from
+  the model's ``:uses``).
+
+``catc certify PROBLEM CERT`` rebuilds every obligation from the model it is given and the
+certificate's invariant, so a certificate for another model, or one whose text was edited,
+is rejected before any solver runs ("does not match the model"); then it runs the checkers.
+It exits 0 only when every obligation is proven unsat by a checker other than the tool that
+produced the answer and no checker found it satisfiable; 1 when one is refuted (the JSON
+names the obligation and the checker); 3 when one could not be decided (a time limit, a
+checker that is not installed).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from collections.abc import Mapping, Sequence
+from fractions import Fraction
+from typing import Any
+
+from catc import ir
+from catc.ir import SortKind
+from catc.present.console import Console, escape
+from catc.queries.base import ExitCode, InputError, Kind, Option, Query, Result, Status, json_option
+from catgrammar import codes
+
+SCHEMA = "catc.certificate/1"
+CHECKERS = ("z3", "cvc5")
+RELAXED = "catc.relaxed"  # the producer of an invariant: catc's relaxed reachability
+#: How long each checker may take on one obligation, in seconds (``--check-timeout``).
+CHECK_TIMEOUT = 60.0
+
+
+# ====================================================================== building
+
+
+class NotCertifiable(Exception):
+    """This answer carries no certificate (E1304): a positive answer, or a "no" of a kind
+    catc cannot certify yet (the message says which)."""
+
+
+def _header(inst: ir.Instance, what: str) -> list[str]:
+    return [
+        f"; catc.certificate/1 obligation: {what}",
+        f"; problem '{inst.problem.name}' of domain '{inst.domain.name}'"
+        + (f", view '{inst.view}'" if inst.view else ""),
+        "(set-logic ALL)",
+    ]
+
+
+def _script(head: list[str], decls: Sequence[str], asserts: Sequence[str]) -> str:
+    return "\n".join([*head, *decls, *(f"(assert {a})" for a in asserts), "(check-sat)"]) + "\n"
+
+
+def _number(v: Fraction, kind: SortKind) -> str:
+    from catc.smt.script import int_literal, real_literal
+
+    return int_literal(int(v)) if kind is SortKind.INT else real_literal(v)
+
+
+# -- the invariant as JSON (what a reader sees) and as SMT-LIB2 (what the checkers see)
+
+
+def invariant_json(inst: ir.Instance, state: Mapping[str, Any]) -> dict[str, dict]:
+    """The relaxed fixpoint, resource by resource: ``{"interval": [lo, hi]}`` (null: ±∞),
+    ``{"values": [...]}`` (a Boolean's or symbol's possible values; null: any) or
+    ``{"may": [...] | null, "must": [...]}`` (a set's elements)."""
+    from catc.semantics.relaxed import Finite, Interval, SetValue
+
+    out: dict[str, dict] = {}
+    for name in inst.resources:
+        v = state[name]
+        if isinstance(v, Interval):
+            out[name] = {"interval": [None if v.lo is None else str(v.lo), None if v.hi is None else str(v.hi)]}
+        elif isinstance(v, Finite):
+            out[name] = {"values": None if v.values is None else sorted(v.values, key=repr)}
+        else:
+            assert isinstance(v, SetValue)
+            out[name] = {"may": None if v.may is None else sorted(v.may, key=str), "must": sorted(v.must, key=str)}
+    return out
+
+
+def _index(enc: Any, sort: ir.Sort, value: object) -> int | None:
+    u = enc.finite.universe(sort)
+    return u.index(value) if isinstance(value, str) and value in u.elements else None
+
+
+def _inv_of(enc: Any, r: ir.Resource, spec: Mapping[str, Any], var: Any) -> list[str]:
+    """The conjuncts ``spec`` (one resource's entry of the invariant) states of ``var``."""
+    kind = r.sort.kind
+    if "interval" in spec:
+        lo, hi = spec["interval"]
+        parts = [f"(>= {var} {_number(Fraction(lo), kind)})"] if lo is not None else []
+        return parts + ([f"(<= {var} {_number(Fraction(hi), kind)})"] if hi is not None else [])
+    if "values" in spec:
+        values = spec["values"]
+        if values is None:
+            return []
+        if kind is SortKind.BOOL:
+            if set(values) >= {True, False}:
+                return []
+            return [var if True in values else f"(not {var})"] if values else ["false"]
+        idx = [_index(enc, r.sort, v) for v in values]
+        if any(i is None for i in idx):  # a value the universe does not name: no claim
+            return []
+        return (
+            [f"(or {' '.join(f'(= {var} {i})' for i in idx)})" if len(idx) > 1 else f"(= {var} {idx[0]})"]
+            if idx
+            else ["false"]
+        )
+    assert r.sort.element is not None
+    parts = []
+    for element in spec["must"]:
+        i = _index(enc, r.sort.element, element)
+        parts.append(var[i] if i is not None else "false")
+    may = spec["may"]
+    if may is not None:
+        allowed = {_index(enc, r.sort.element, e) for e in may}
+        parts += [f"(not {b})" for i, b in var.items() if i not in allowed]
+    return parts
+
+
+def invariant_text(enc: Any, inv: Mapping[str, Mapping[str, Any]], state: Mapping[str, Any]) -> str:
+    """``Inv`` over the encoder's variables of one state."""
+    from catc.smt.script import and_text
+
+    parts: list[str] = []
+    for name, r in enc.inst.resources.items():
+        parts += _inv_of(enc, r, inv[name], state[name])
+    return and_text(parts)
+
+
+def _read_invariant(inst: ir.Instance, inv: Any) -> dict[str, dict]:
+    """The certificate's invariant, checked for shape against the model (E1302 otherwise)."""
+    if not isinstance(inv, dict) or set(inv) != set(inst.resources):
+        raise InputError("the invariant must give every resource of the model, and only those", codes.BAD_CERTIFICATE)
+    for name, spec in inv.items():
+        r = inst.resources[name]
+        ok = isinstance(spec, dict) and (
+            (r.sort.is_numeric and set(spec) == {"interval"} and _pair(spec["interval"]))
+            or (r.sort.kind is SortKind.SET and set(spec) == {"may", "must"} and isinstance(spec["must"], list))
+            or (not r.sort.is_numeric and r.sort.kind is not SortKind.SET and set(spec) == {"values"})
+        )
+        if not ok:
+            raise InputError(f"the invariant of resource '{name}' does not fit its sort", codes.BAD_CERTIFICATE)
+    return inv
+
+
+def _pair(v: Any) -> bool:
+    if not (isinstance(v, list) and len(v) == 2):
+        return False
+    try:
+        return all(x is None or isinstance(Fraction(x), Fraction) for x in v)
+    except (ValueError, TypeError, ZeroDivisionError):
+        return False
+
+
+def invariant_obligations(inst: ir.Instance, inv: Mapping[str, Mapping[str, Any]], horizon: int) -> list[dict]:
+    """Initiation, consecution and goal exclusion of ``inv`` over the unrelaxed one-step
+    encoding (the symbolic universes of ``horizon``)."""
+    from catc.smt.encoder import Encoder
+    from catc.smt.script import at_most
+
+    enc = Encoder(inst, max(horizon, 1))
+    decls0, asserts0 = enc.script.take()
+    base = [s.declaration() for s in decls0]
+    state = [a for label, a in asserts0 if not (label or "").startswith("init/")]
+    init = [a for label, a in asserts0 if (label or "").startswith("init/")]
+    enc.add_step()
+    decls1, asserts1 = enc.script.take()
+    step = [a for _, a in asserts1]
+    step += [at_most([enc.act[0][m.name]], 0) for m in inst.morphisms.values() if m.uses == 0]
+    inv0, inv1 = invariant_text(enc, inv, enc.states[0]), invariant_text(enc, inv, enc.states[1])
+    goal = [c for _, c in enc.goal_constraints(0)]
+    return [
+        _obligation(
+            "initiation",
+            "the initial state satisfies the invariant (Init ⇒ Inv)",
+            _script(_header(inst, "initiation: Init ∧ ¬Inv is unsat"), base, [*state, *init, f"(not {inv0})"]),
+        ),
+        _obligation(
+            "consecution",
+            "one step of the unrelaxed encoding keeps the invariant (Inv ∧ Step ⇒ Inv′)",
+            _script(
+                _header(inst, "consecution: Inv ∧ Step ∧ ¬Inv′ is unsat"),
+                base + [s.declaration() for s in decls1],
+                [*state, inv0, *step, f"(not {inv1})"],
+            ),
+        ),
+        _obligation(
+            "goal",
+            "no state satisfying the invariant satisfies the goal (Inv ∧ Goal ⇒ ⊥)",
+            _script(_header(inst, "goal: Inv ∧ Goal is unsat"), base, [*state, inv0, *goal]),
+        ),
+    ]
+
+
+def bounded_obligations(inst: ir.Instance, horizon: int, sequential: bool) -> list[dict]:
+    """The bounded problem at ``horizon`` (``catc compile``'s SMT-LIB2) and the completeness
+    of that horizon: with every morphism limited, a composition has at most Σ uses non-idle
+    steps, so none needs more than ``horizon`` steps."""
+    from catc.smt.smtlib import emit_smt2
+
+    morphisms = list(inst.morphisms.values())
+    decls = [f"(declare-fun |n.{m.name}| () Int)" for m in morphisms] + ["(declare-fun |steps| () Int)"]
+    facts = [f"(and (<= 0 |n.{m.name}|) (<= |n.{m.name}| {m.uses}))" for m in morphisms if m.uses is not None]
+    total = "(+ 0 " + " ".join(f"|n.{m.name}|" for m in morphisms) + ")"
+    facts += [f"(<= |steps| {total})", f"(> |steps| {horizon})"]
+    return [
+        _obligation(
+            "bounded",
+            f"no composition of at most {horizon} steps exists (the step encoding at horizon {horizon})",
+            emit_smt2(inst, horizon, sequential=sequential),
+        ),
+        _obligation(
+            "complete-horizon",
+            f"no composition needs more than {horizon} steps (each non-idle step activates a morphism; "
+            "n.m ≤ :uses of m)",
+            _script(_header(inst, "completeness of the horizon: the use limits"), decls, facts),
+        ),
+    ]
+
+
+def _obligation(name: str, proves: str, smtlib: str) -> dict:
+    return {"name": name, "proves": proves, "expect": "unsat", "checkers": list(CHECKERS), "smtlib": smtlib}
+
+
+def certificate(inst: ir.Instance, result: Any) -> dict:
+    """The certificate of ``result``, a final "no" of ``catc solve`` (NotCertifiable
+    otherwise)."""
+    from catc.semantics.horizon import use_bound
+    from catc.semantics.relaxed import RelaxedAnalysis
+
+    if getattr(result, "status", None) is None or result.status.value != "unsat" or not result.final:
+        raise NotCertifiable("only a final UNSAT answer (no composition of any length) carries a certificate")
+    analysis = RelaxedAnalysis(inst, _everything())
+    doc: dict[str, Any] = {
+        "schema": SCHEMA,
+        "problem": inst.problem.name,
+        "domain": inst.domain.name,
+        "view": inst.view,
+    }
+    if analysis.refutation is not None and len(analysis.state) == len(inst.resources):
+        inv = invariant_json(inst, analysis.state)
+        doc |= {"answer": "unsat", "method": "invariant", "producer": RELAXED, "horizon": result.horizon}
+        doc["invariant"] = inv
+        doc["obligations"] = invariant_obligations(inst, inv, result.horizon)
+        return _produced(doc, RELAXED)
+    bound = use_bound(inst)
+    if bound is not None and result.horizon >= bound:
+        doc |= {"answer": "unsat", "method": "bounded", "producer": result.backend, "horizon": result.horizon}
+        doc["sequential"] = bool(result.sequential)
+        doc["obligations"] = bounded_obligations(inst, result.horizon, bool(result.sequential))
+        return _produced(doc, result.backend)
+    raise NotCertifiable(
+        "this UNSAT was proven neither by relaxed reachability at its fixpoint nor by the step encoding at a "
+        "complete horizon (a consumption bound or the forward search): no certificate yet"
+    )
+
+
+def _produced(doc: dict, producer: str) -> dict:
+    for o in doc["obligations"]:
+        o["producer"] = producer
+    return doc
+
+
+def _everything() -> Any:
+    from catc.semantics.relaxed import _Everything
+
+    return _Everything()
+
+
+def write_certificate(inst: ir.Instance, result: Any, path: str) -> str:
+    """``--certificate FILE``: write ``result``'s certificate (E1304 when it has none)."""
+    try:
+        doc = certificate(inst, result)
+    except NotCertifiable as exc:
+        raise InputError(f"no certificate written: {exc}", codes.NOT_CERTIFIABLE) from None
+    import json
+
+    try:
+        with open(path, "w", encoding="utf-8") as out:
+            json.dump(doc, out, indent=2)
+            out.write("\n")
+    except OSError as exc:
+        raise InputError(f"cannot write the certificate to {path}: {exc.strerror or exc}", codes.CANNOT_WRITE) from exc
+    return f"certificate ({len(doc['obligations'])} obligations) written to {path}; check it with: catc certify"
+
+
+def certificate_artifact(inst: ir.Instance, result: Any, path: str) -> str:
+    """``--certificate FILE`` (:func:`catc.queries.base.with_certificate`): what to tell the user."""
+    if getattr(result, "status", None) is None or result.status.value != "unsat":
+        return "no certificate written: the answer is not a 'no' (its composition is replayed by the validator)"
+    return write_certificate(inst, result, path)
+
+
+# ====================================================================== checking
+
+
+class CertifyStatus(Status):
+    CERTIFIED = "certified", ExitCode.OK
+    REFUTED = "refuted", ExitCode.FAIL  # an obligation is satisfiable, or does not match the model
+    UNCHECKED = "unchecked", ExitCode.UNKNOWN  # an obligation no independent checker decided
+
+
+class Certification(Result):
+    """The answer of :func:`certify`: the status and, per obligation, what each checker said."""
+
+    query = "certify"
+    __slots__ = ("status", "method", "producer", "obligations", "timings")
+    status: CertifyStatus
+
+    def __init__(self, status: CertifyStatus, method: str, producer: str, obligations: list[dict]) -> None:
+        self.status = status
+        self.method = method
+        self.producer = producer
+        self.obligations = obligations
+        self.timings: dict[str, float] = {}
+
+    def __repr__(self) -> str:
+        return f"Certification({self.status.name}, {self.method})"
+
+
+_CVC5 = """
+import sys, cvc5
+tm = cvc5.TermManager()
+slv = cvc5.Solver(tm)
+slv.setOption("tlimit-per", sys.argv[2])
+sm = cvc5.SymbolManager(tm)
+parser = cvc5.InputParser(slv, sm)
+parser.setFileInput(cvc5.InputLanguage.SMT_LIB_2_6, sys.argv[1])
+while True:
+    cmd = parser.nextCommand()
+    if cmd.isNull():
+        break
+    out = cmd.invoke(slv, sm)
+    if out:
+        print(out.strip())
+"""
+
+
+def z3_command() -> list[str] | None:
+    """The z3 binary z3-solver installs (on PATH, or beside the interpreter)."""
+    import shutil
+
+    path = shutil.which("z3") or os.path.join(os.path.dirname(sys.executable), "z3")
+    return [path] if os.path.exists(path) else None
+
+
+def cvc5_command() -> list[str] | None:
+    """cvc5's SMT-LIB2 front end, in a fresh interpreter (PyPI's cvc5 ships no binary)."""
+    import importlib.util
+
+    return None if importlib.util.find_spec("cvc5") is None else [sys.executable, "-c", _CVC5]
+
+
+def run_checker(checker: str, path: str, seconds: float) -> tuple[str, float]:
+    """``checker``'s answer on the SMT-LIB2 file ``path`` (unsat, sat, unknown, timeout,
+    missing or error) and the seconds it took."""
+    if checker == "z3":
+        cmd = z3_command()
+        args = None if cmd is None else [*cmd, f"-T:{max(1, int(seconds + 0.999))}", path]
+    else:
+        cmd = cvc5_command()
+        args = None if cmd is None else [*cmd, path, str(int(seconds * 1000))]
+    if args is None:
+        return "missing", 0.0
+    import subprocess
+
+    t0 = time.perf_counter()
+    try:
+        out = subprocess.run(args, capture_output=True, text=True, timeout=seconds + 5)
+    except subprocess.TimeoutExpired:
+        return "timeout", time.perf_counter() - t0
+    took = time.perf_counter() - t0
+    words = out.stdout.split()
+    answer = words[0] if words else ""
+    if answer in ("unsat", "sat", "unknown"):
+        return answer, took
+    return ("timeout" if "timeout" in out.stdout + out.stderr else "error"), took
+
+
+def _checked(obligation: dict, expected: str | None, seconds: float) -> dict:
+    """One obligation: matched against the text rebuilt from the model, then run through
+    every checker it names."""
+    row = {"name": obligation["name"], "proves": obligation.get("proves", ""), "producer": obligation["producer"]}
+    if expected is None or _significant(obligation["smtlib"]) != _significant(expected):
+        return row | {"status": "mismatch", "checkers": {}, "proved_by": []}
+    import tempfile
+
+    answers: dict[str, dict] = {}
+    with tempfile.TemporaryDirectory(prefix="catc-certify-") as folder:
+        path = os.path.join(folder, f"{obligation['name']}.smt2")
+        with open(path, "w", encoding="utf-8") as fh:
+            fh.write(obligation["smtlib"])
+        for checker in obligation["checkers"]:
+            answer, took = run_checker(checker, path, seconds)
+            answers[checker] = {"answer": answer, "seconds": round(took, 3)}
+    proved = [c for c, a in answers.items() if a["answer"] == "unsat" and c != obligation["producer"]]
+    refuted = any(a["answer"] == "sat" for a in answers.values())
+    status = "refuted" if refuted else ("proved" if proved else "unchecked")
+    return row | {"status": status, "checkers": answers, "proved_by": proved}
+
+
+def _significant(text: str) -> list[str]:
+    """An obligation's commands, without comments and blank lines."""
+    return [line.strip() for line in text.splitlines() if line.strip() and not line.lstrip().startswith(";")]
+
+
+def _expected(inst: ir.Instance, doc: Mapping[str, Any]) -> dict[str, str]:
+    """The obligations' text as the model and the certificate's claims give them."""
+    method, horizon = doc.get("method"), doc.get("horizon")
+    if not isinstance(horizon, int) or horizon < 0:
+        raise InputError("the certificate's horizon must be a whole number", codes.BAD_CERTIFICATE)
+    if method == "invariant":
+        built = invariant_obligations(inst, _read_invariant(inst, doc.get("invariant")), horizon)
+    elif method == "bounded":
+        from catc.semantics.horizon import use_bound
+
+        bound = use_bound(inst)
+        if bound is None or horizon < bound:
+            return {}  # the horizon is not complete for this model: nothing matches
+        built = bounded_obligations(inst, horizon, bool(doc.get("sequential")))
+    else:
+        raise InputError(f"unknown certificate method {method!r}", codes.BAD_CERTIFICATE)
+    return {o["name"]: o["smtlib"] for o in built}
+
+
+def read_certificate(path: str) -> dict:
+    """A certificate file → its document (E1301 unreadable or not JSON, E1302 not a
+    catc.certificate/1 document)."""
+    import json
+
+    try:
+        with open(path, encoding="utf-8") as fh:
+            doc = json.load(fh)
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise InputError(f"cannot read the certificate {path}: {exc}", codes.UNREADABLE_CERTIFICATE) from None
+    if not isinstance(doc, dict) or doc.get("schema") != SCHEMA:
+        raise InputError(f"{path} is not a {SCHEMA} document", codes.BAD_CERTIFICATE)
+    obligations = doc.get("obligations")
+    fields = {"name": str, "smtlib": str, "producer": str, "checkers": list}
+    if not isinstance(obligations, list) or not obligations:
+        raise InputError(f"{path}: a certificate needs a non-empty list of obligations", codes.BAD_CERTIFICATE)
+    for o in obligations:
+        if not isinstance(o, dict) or not all(isinstance(o.get(k), t) for k, t in fields.items()):
+            raise InputError(
+                f"{path}: each obligation needs name, smtlib, producer and checkers", codes.BAD_CERTIFICATE
+            )
+        if not set(o["checkers"]) <= set(CHECKERS):
+            raise InputError(f"{path}: unknown checker in {o['checkers']} (known: z3, cvc5)", codes.BAD_CERTIFICATE)
+    return doc
+
+
+def _same_problem(inst: ir.Instance, doc: Mapping[str, Any]) -> None:
+    if (doc.get("problem"), doc.get("domain")) != (inst.problem.name, inst.domain.name):
+        raise InputError(
+            f"the certificate is for problem '{doc.get('problem')}' of domain '{doc.get('domain')}', not "
+            f"'{inst.problem.name}' of '{inst.domain.name}'",
+            codes.CERTIFICATE_MISMATCH,
+        )
+
+
+def certify(
+    inst: ir.Instance, certificate: str | Mapping[str, Any], *, check_timeout: float | None = None
+) -> Certification:
+    """Check ``certificate`` (a file or a document) against ``inst`` (InputError: E1301–E1303)."""
+    doc = read_certificate(certificate) if isinstance(certificate, str) else dict(certificate)
+    _same_problem(inst, doc)
+    t0 = time.perf_counter()
+    expected = _expected(inst, doc)
+    seconds = CHECK_TIMEOUT if check_timeout is None else check_timeout
+    rows = [_checked(o, expected.get(o["name"]), seconds) for o in doc["obligations"]]
+    missing = sorted(set(expected) - {o["name"] for o in doc["obligations"]})
+    rows += [
+        {"name": n, "proves": "", "producer": "", "status": "missing", "checkers": {}, "proved_by": []} for n in missing
+    ]
+    if not expected:
+        rows.append(
+            {"name": "horizon", "proves": "", "producer": "", "status": "mismatch", "checkers": {}, "proved_by": []}
+        )
+    states = {r["status"] for r in rows}
+    if states <= {"proved"}:
+        status = CertifyStatus.CERTIFIED
+    elif states & {"refuted", "mismatch", "missing"}:
+        status = CertifyStatus.REFUTED
+    else:
+        status = CertifyStatus.UNCHECKED
+    result = Certification(status, str(doc.get("method")), str(doc.get("producer")), rows)
+    result.timings = {"total": time.perf_counter() - t0}
+    return result
+
+
+def certify_json(inst: ir.Instance, result: Certification) -> dict:
+    failed = [r["name"] for r in result.obligations if r["status"] != "proved"]
+    return {
+        "schema": "catc.certify/1",
+        "status": result.status.value,
+        "problem": inst.problem.name,
+        "domain": inst.domain.name,
+        "method": result.method,
+        "producer": result.producer,
+        "obligations": result.obligations,
+        "failed": failed,
+    }
+
+
+_SAID = {
+    "proved": "proved",
+    "refuted": "REFUTED (a checker found it satisfiable)",
+    "unchecked": "not decided by an independent checker",
+    "mismatch": "does not match the model (rebuilt from the model and the certificate's claims)",
+    "missing": "missing from the certificate",
+}
+
+
+def render(
+    console: Console, inst: ir.Instance, result: Certification, options: Mapping[str, Any] | None = None
+) -> None:
+    head = {"certified": "CERTIFIED", "refuted": "REJECTED", "unchecked": "UNCHECKED"}[result.status.value]
+    console.print(f"{head}  {result.method} certificate of problem {inst.problem.name} (produced by {result.producer})")
+    for r in result.obligations:
+        by = ", ".join(f"{c}: {a['answer']} ({a['seconds']:.2f} s)" for c, a in r["checkers"].items())
+        console.print(f"  {r['name']}: {_SAID[r['status']]}" + (f" — {escape(by)}" if by else ""))
+
+
+def _check(inst: ir.Instance, options: Mapping[str, Any]) -> str | None:
+    """Read the certificate before running: its input errors have their own codes."""
+    path = options.get("certificate_file")
+    if not path:
+        return "give the certificate: catc certify PROBLEM CERTIFICATE"
+    doc = read_certificate(path)
+    _same_problem(inst, doc)
+    _expected(inst, doc)
+    return None
+
+
+def _run(
+    inst: ir.Instance,
+    certificate_file: str,
+    check_timeout: float | None = None,
+    horizon: int | None = None,
+    sequential: bool = False,
+) -> Certification:
+    """The query's ``run`` (the horizon and the semantics are the certificate's own)."""
+    return certify(inst, certificate_file, check_timeout=check_timeout)
+
+
+QUERY = Query(
+    "certify",
+    summary="Check the certificate of a 'no' (catc.certificate/1, from --certificate) with the z3 binary and cvc5.",
+    description="PATHS is PROBLEM, or DOMAIN PROBLEM, then the certificate.  Exit 0 every obligation proven by a "
+    "checker other than the tool that produced the answer, 1 one refuted or not matching the model, 3 one "
+    "undecided, 2 input error.",
+    options=(
+        Option("certificate_file", ("CERTIFICATE",), Kind.DOCUMENT_FILE, "The catc.certificate/1 file."),
+        Option(
+            "check_timeout",
+            ("--check-timeout",),
+            Kind.SECONDS,
+            f"Seconds each checker may take on one obligation (default {CHECK_TIMEOUT:g}).",
+        ),
+        json_option("catc.certify/1"),
+    ),
+    run=_run,
+    to_json=certify_json,
+    render=render,
+    check=_check,
+)

@@ -1,0 +1,207 @@
+"""Certificates of "no" answers (issue 31): every example's final UNSAT writes a
+catc.certificate/1 document whose obligations the z3 binary and cvc5 both prove unsat, and
+certificates that are wrong — a wrong invariant, edited text, a missing obligation, an
+incomplete horizon, another problem's — are rejected with the obligation that failed."""
+
+from __future__ import annotations
+
+import json
+import tomllib
+
+import pytest
+from conftest import ROOT, run_catc
+
+from catc.frontend.workspace import load_instance
+from catc.ir.views import apply_view
+from catc.queries.certify import (
+    CertifyStatus,
+    certificate,
+    certify,
+    cvc5_command,
+    invariant_obligations,
+    z3_command,
+)
+from catc.queries.solve import solve
+from catgrammar.diagnostics import Diagnostics
+
+pytestmark = pytest.mark.skipif(
+    z3_command() is None or cvc5_command() is None, reason="needs the z3 binary (z3-solver) and cvc5 (PyPI)"
+)
+
+
+def final_unsat_cases():
+    """Every example case expect.toml records as a final UNSAT (its reason written by hand)."""
+    for expect in sorted((ROOT / "examples").glob("*/expect.toml")):
+        for case in tomllib.loads(expect.read_text())["case"]:
+            if case.get("status") == "unsat" and case.get("final_unsat"):
+                yield pytest.param(
+                    expect.parent / case["file"],
+                    case.get("problem"),
+                    id=f"{expect.parent.name}/{case['file']}:{case.get('problem', '')}",
+                )
+
+
+def load(path, problem=None):
+    diags = Diagnostics()
+    _, inst = load_instance(None, str(path), diags, problem_name=problem)
+    assert inst is not None, diags
+    return apply_view(inst, None)
+
+
+def answered(path, problem=None):
+    inst = load(path, problem)
+    result = solve(inst)
+    assert result.status.value == "unsat" and result.final
+    return inst, certificate(inst, result)
+
+
+@pytest.mark.parametrize("path, problem", list(final_unsat_cases()))
+def test_every_final_unsat_of_the_examples_is_certified_by_z3_and_cvc5(path, problem):
+    inst, doc = answered(path, problem)
+    result = certify(inst, doc)
+    assert result.status is CertifyStatus.CERTIFIED, result.obligations
+    for row in result.obligations:
+        # both solvers, each in its own process, answer unsat; at least one is not the producer
+        assert {c: a["answer"] for c, a in row["checkers"].items()} == {"z3": "unsat", "cvc5": "unsat"}
+        assert row["proved_by"] and doc["producer"] not in row["proved_by"]
+
+
+def test_the_examples_cover_both_methods():
+    methods = {answered(p.values[0], p.values[1])[1]["method"] for p in final_unsat_cases()}
+    assert methods == {"invariant", "bounded"}
+
+
+# ---------------------------------------------------------------- mutations
+
+BUDGET_CUT = ROOT / "examples/lifelong/budget-cut.cat"  # budget 500 USD; the LiDAR needs 20,000
+
+
+def with_invariant(inst, doc, changes):
+    """``doc`` with its invariant changed and its obligations rebuilt to match (a wrong
+    certificate that is consistent with itself: only the solvers can reject it)."""
+    inv = {**doc["invariant"], **changes}
+    obligations = invariant_obligations(inst, inv, doc["horizon"])
+    for o in obligations:
+        o["producer"] = doc["producer"]
+    return {**doc, "invariant": inv, "obligations": obligations}
+
+
+def test_an_invariant_the_initial_state_breaks_is_refuted_at_initiation():
+    inst, doc = answered(BUDGET_CUT)
+    assert doc["method"] == "invariant"
+    wrong = with_invariant(inst, doc, {"budget": {"interval": ["0", "100"]}})  # the budget starts at 500
+    result = certify(inst, wrong)
+    assert result.status is CertifyStatus.REFUTED
+    rows = {r["name"]: r for r in result.obligations}
+    assert rows["initiation"]["status"] == "refuted"
+    assert rows["initiation"]["checkers"]["z3"]["answer"] == "sat"
+    assert rows["initiation"]["checkers"]["cvc5"]["answer"] == "sat"
+
+
+def test_an_invariant_that_allows_the_goal_is_refuted_at_the_goal():
+    inst, doc = answered(BUDGET_CUT)
+    # nothing known about any resource: trivially inductive, but it no longer excludes the goal
+    top = {}
+    for name, spec in doc["invariant"].items():
+        top[name] = {k: ([None, None] if k == "interval" else None if k in ("values", "may") else []) for k in spec}
+    result = certify(inst, with_invariant(inst, doc, top))
+    statuses = {r["name"]: r["status"] for r in result.obligations}
+    assert statuses == {"initiation": "proved", "consecution": "proved", "goal": "refuted"}
+    assert result.status is CertifyStatus.REFUTED
+
+
+def test_an_invariant_one_step_breaks_is_refuted_at_consecution():
+    inst, doc = answered(BUDGET_CUT)
+    # 'mounted' starts empty; the morphisms that mount hardware can fire, so "mounted stays
+    # empty" holds initially and excludes nothing by itself, but a step breaks it
+    spec = doc["invariant"]["mounted"]
+    assert spec["must"] == []
+    wrong = with_invariant(inst, doc, {"mounted": {"may": [], "must": []}})
+    statuses = {r["name"]: r["status"] for r in certify(inst, wrong).obligations}
+    assert statuses["initiation"] == "proved" and statuses["consecution"] == "refuted"
+
+
+def test_edited_obligation_text_does_not_match_the_model():
+    inst, doc = answered(BUDGET_CUT)
+    edited = json.loads(json.dumps(doc))
+    goal = next(o for o in edited["obligations"] if o["name"] == "goal")
+    goal["smtlib"] = goal["smtlib"].replace("(check-sat)", "(assert false)\n(check-sat)")
+    result = certify(inst, edited)
+    rows = {r["name"]: r for r in result.obligations}
+    assert result.status is CertifyStatus.REFUTED
+    assert rows["goal"]["status"] == "mismatch" and rows["goal"]["checkers"] == {}
+
+
+def test_a_dropped_obligation_is_missing():
+    inst, doc = answered(BUDGET_CUT)
+    dropped = {**doc, "obligations": [o for o in doc["obligations"] if o["name"] != "consecution"]}
+    result = certify(inst, dropped)
+    assert result.status is CertifyStatus.REFUTED
+    assert {r["name"]: r["status"] for r in result.obligations}["consecution"] == "missing"
+
+
+COARSE = ROOT / "examples/navigation/coarse.cat"  # one use of move: horizon 1 is complete
+
+
+def test_a_bounded_certificate_below_the_use_bound_is_rejected():
+    inst, doc = answered(COARSE)
+    assert doc["method"] == "bounded" and doc["producer"] == "z3"
+    short = {**doc, "horizon": 0}  # a horizon shorter than the use bound proves nothing final
+    result = certify(inst, short)
+    assert result.status is CertifyStatus.REFUTED
+    assert "horizon" in [r["name"] for r in result.obligations if r["status"] == "mismatch"]
+
+
+def test_an_answer_checked_only_by_its_own_producer_is_unchecked():
+    inst, doc = answered(COARSE)
+    only_z3 = {**doc, "obligations": [{**o, "checkers": ["z3"]} for o in doc["obligations"]]}
+    result = certify(inst, only_z3)
+    assert result.status is CertifyStatus.UNCHECKED
+    assert all(r["status"] == "unchecked" and r["proved_by"] == [] for r in result.obligations)
+
+
+# ---------------------------------------------------------------- the command line
+
+
+def test_solve_writes_and_certify_checks_a_certificate(tmp_path):
+    cert = tmp_path / "cut.json"
+    res = run_catc("solve", BUDGET_CUT, "--certificate", cert)
+    assert res.exit_code == 1, res.output  # UNSAT
+    res = run_catc("certify", BUDGET_CUT, cert, "--json")
+    assert res.exit_code == 0, res.output
+    doc = json.loads(res.stdout)
+    assert doc["schema"] == "catc.certify/1" and doc["status"] == "certified" and doc["failed"] == []
+    assert [o["name"] for o in doc["obligations"]] == ["initiation", "consecution", "goal"]
+
+
+def test_certify_rejects_a_wrong_certificate_with_exit_1_naming_the_obligation(tmp_path):
+    inst, doc = answered(BUDGET_CUT)
+    cert = tmp_path / "wrong.json"
+    cert.write_text(json.dumps(with_invariant(inst, doc, {"budget": {"interval": ["0", "100"]}})))
+    res = run_catc("certify", BUDGET_CUT, cert, "--json")
+    assert res.exit_code == 1, res.output
+    assert json.loads(res.stdout)["failed"] == ["initiation"]
+
+
+def test_certificate_input_errors(tmp_path):
+    bad = tmp_path / "bad.json"
+    bad.write_text("{not json")
+    res = run_catc("certify", BUDGET_CUT, bad)
+    assert res.exit_code == 2 and "error[E1301]" in res.stderr
+    bad.write_text(json.dumps({"schema": "catc.plan/1"}))
+    res = run_catc("certify", BUDGET_CUT, bad)
+    assert res.exit_code == 2 and "error[E1302]" in res.stderr
+    _, doc = answered(COARSE)
+    bad.write_text(json.dumps(doc))
+    res = run_catc("certify", BUDGET_CUT, bad)  # another problem's certificate
+    assert res.exit_code == 2 and "error[E1303]" in res.stderr
+
+
+def test_a_certificate_of_an_answer_that_has_none(tmp_path):
+    cert = tmp_path / "c.json"
+    res = run_catc("solve", ROOT / "examples/detection/person.cat", "--certificate", cert)
+    assert res.exit_code == 0 and "no certificate written" in res.stderr and not cert.exists()
+    # not final: a horizon shorter than the use bound (coarse's move has one use, and 0 steps
+    # reach nothing); the relaxation does not refute it, so there is no proof for every horizon
+    res = run_catc("solve", COARSE, "--horizon", "0", "--no-presolve", "--certificate", cert)
+    assert res.exit_code == 2 and "error[E1304]" in res.stderr
