@@ -310,10 +310,30 @@ CODES: dict[str, Code] = {
             "An imported model holds something .cat text cannot spell (a name or a string); the message says what.",
         ),
         # E13xx — certificates of answers (catc certify, --certificate)
-        Code("E1301", "unreadable-certificate", E, "A certificate file given to catc certify cannot be read or is not JSON."),
-        Code("E1302", "bad-certificate", E, "A file given to catc certify is not a well-formed catc.certificate/1 document."),
-        Code("E1303", "certificate-mismatch", E, "A certificate is for another problem or domain than the model given to catc certify."),
-        Code("E1304", "not-certifiable", E, "--certificate was asked of an answer that carries no certificate (the message says why)."),
+        Code(
+            "E1301",
+            "unreadable-certificate",
+            E,
+            "A certificate file given to catc certify cannot be read or is not JSON.",
+        ),
+        Code(
+            "E1302",
+            "bad-certificate",
+            E,
+            "A file given to catc certify is not a well-formed catc.certificate/1 document.",
+        ),
+        Code(
+            "E1303",
+            "certificate-mismatch",
+            E,
+            "A certificate is for another problem or domain than the model given to catc certify.",
+        ),
+        Code(
+            "E1304",
+            "not-certifiable",
+            E,
+            "--certificate was asked of an answer that carries no certificate (the message says why).",
+        ),
         # W01xx — lints (errors under --strict)
         Code("W0101", "unused-resource", W, "A resource is declared but nothing reads or writes it."),
         Code("W0102", "unused-sort", W, "A sort is declared but never used."),

@@ -94,7 +94,10 @@ def parse_query(query: Query, args: list[str]) -> dict[str, Any] | None:
         else:
             params[option.name] = converted
     for option in query.options:
-        if option.kind in (Kind.PLAN_FILE, Kind.DOCUMENT_FILE):  # the last word, as click gives it (a file, not a folder)
+        if option.kind in (
+            Kind.PLAN_FILE,
+            Kind.DOCUMENT_FILE,
+        ):  # the last word, as click gives it (a file, not a folder)
             if len(paths) not in (2, 3) or not paths[-1] or os.path.isdir(paths[-1]):
                 return None
             params[option.name] = paths.pop()
