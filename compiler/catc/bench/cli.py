@@ -62,6 +62,7 @@ class _Selection:
     measure: list[str]
     queries: bool
     sar_queries: bool
+    no_answers: tuple[str, ...] = ()  # the certificates table: paths containing one of these ("": all)
 
     @classmethod
     def of(cls, quick: bool, only: tuple[str, ...], tables: tuple[str, ...]) -> _Selection:
@@ -79,6 +80,7 @@ class _Selection:
             measure,
             "queries" in tables and keep(LIFELONG_BUDGET_CUT),
             not quick and keep(SAR_BUDGET_CUT),
+            (LIFELONG_BUDGET_CUT,) if quick else (only or ("",)),
         )
 
 
@@ -114,7 +116,15 @@ def _document(bench: Bench, sel: _Selection, tables: tuple[str, ...], command: s
         "runtimes": bench.runtime_rows(sel.runtime_files) if "runtimes" in tables else None,
         "perturbations": bench.perturbation_rows(sel.perturbations) if "perturbations" in tables else None,
         "queries": query_rows(bench, include_sar=sel.sar_queries) if sel.queries else None,
+        "certificates": _certificates(bench, sel.no_answers) if "certificates" in tables else None,
     }
+
+
+def _certificates(bench: Bench, keep: tuple[str, ...]) -> list[dict[str, Any]]:
+    """The certificates table: the final UNSATs of the examples, answered and certified."""
+    from catc.bench.certificates import certificate_rows
+
+    return certificate_rows(bench.examples, bench.runs, bench.timeout, bench.workdir, bench.log, keep)
 
 
 def _run(

@@ -14,7 +14,7 @@ from catc.bench.problems import grid_text
 from catc.bench.stats import quartiles
 
 #: The tables, in the order they are printed (``--table``).
-TABLES = ("runtimes", "perturbations", "queries")
+TABLES = ("runtimes", "perturbations", "queries", "certificates")
 
 
 def _wall(xs: Sequence[float]) -> str:
@@ -40,6 +40,10 @@ def markdown(doc: dict[str, Any]) -> str:
         out += _perturbations(doc["perturbations"])
     if doc.get("queries") is not None:
         out += _queries(doc["queries"])
+    if doc.get("certificates") is not None:
+        from catc.bench.certificates import certificate_table
+
+        out += certificate_table(doc["certificates"], doc["runs"])
     out += [f"SMTPlan+: {doc['smtplan']}.", ""]
     return "\n".join(out)
 

@@ -398,26 +398,42 @@ def run_checker(checker: str, path: str, seconds: float) -> tuple[str, float]:
     return ("timeout" if "timeout" in out.stdout + out.stderr else "error"), took
 
 
-def _checked(obligation: dict, expected: str | None, seconds: float) -> dict:
-    """One obligation: matched against the text rebuilt from the model, then run through
-    every checker it names."""
+def _checked(obligation: dict, expected: str | None, answers: Mapping[str, tuple[str, float]] | None) -> dict:
+    """One obligation's row: ``mismatch`` when its text is not the one rebuilt from the model
+    (``expected``), else what the checkers it names answered (``answers``)."""
     row = {"name": obligation["name"], "proves": obligation.get("proves", ""), "producer": obligation["producer"]}
-    if expected is None or _significant(obligation["smtlib"]) != _significant(expected):
+    if answers is None:
         return row | {"status": "mismatch", "checkers": {}, "proved_by": []}
-    import tempfile
-
-    answers: dict[str, dict] = {}
-    with tempfile.TemporaryDirectory(prefix="catc-certify-") as folder:
-        path = os.path.join(folder, f"{obligation['name']}.smt2")
-        with open(path, "w", encoding="utf-8") as fh:
-            fh.write(obligation["smtlib"])
-        for checker in obligation["checkers"]:
-            answer, took = run_checker(checker, path, seconds)
-            answers[checker] = {"answer": answer, "seconds": round(took, 3)}
-    proved = [c for c, a in answers.items() if a["answer"] == "unsat" and c != obligation["producer"]]
-    refuted = any(a["answer"] == "sat" for a in answers.values())
+    said = {c: {"answer": answer, "seconds": round(took, 3)} for c, (answer, took) in answers.items()}
+    proved = [c for c, a in said.items() if a["answer"] == "unsat" and c != obligation["producer"]]
+    refuted = any(a["answer"] == "sat" for a in said.values())
     status = "refuted" if refuted else ("proved" if proved else "unchecked")
-    return row | {"status": status, "checkers": answers, "proved_by": proved}
+    return row | {"status": status, "checkers": said, "proved_by": proved}
+
+
+def _matches(obligation: dict, expected: str | None) -> bool:
+    return expected is not None and _significant(obligation["smtlib"]) == _significant(expected)
+
+
+def _run_checkers(obligations: Sequence[dict], seconds: float) -> list[dict[str, tuple[str, float]]]:
+    """Every checker on every obligation, each a process of its own, as many at once as
+    there are cores (a checker shares nothing with another)."""
+    import tempfile
+    from concurrent.futures import ThreadPoolExecutor
+
+    with tempfile.TemporaryDirectory(prefix="catc-certify-") as folder:
+        jobs = []
+        for i, o in enumerate(obligations):
+            path = os.path.join(folder, f"{i}.smt2")
+            with open(path, "w", encoding="utf-8") as fh:
+                fh.write(o["smtlib"])
+            jobs += [(i, checker, path) for checker in o["checkers"]]
+        with ThreadPoolExecutor(max_workers=max(1, min(4, os.cpu_count() or 1))) as pool:
+            done = list(pool.map(lambda job: run_checker(job[1], job[2], seconds), jobs))
+    out: list[dict[str, tuple[str, float]]] = [{} for _ in obligations]
+    for (i, checker, _), answer in zip(jobs, done):
+        out[i][checker] = answer
+    return out
 
 
 def _significant(text: str) -> list[str]:
@@ -488,7 +504,9 @@ def certify(
     t0 = time.perf_counter()
     expected = _expected(inst, doc)
     seconds = CHECK_TIMEOUT if check_timeout is None else check_timeout
-    rows = [_checked(o, expected.get(o["name"]), seconds) for o in doc["obligations"]]
+    matching = [o for o in doc["obligations"] if _matches(o, expected.get(o["name"]))]
+    answers = dict(zip((id(o) for o in matching), _run_checkers(matching, seconds)))
+    rows = [_checked(o, expected.get(o["name"]), answers.get(id(o))) for o in doc["obligations"]]
     missing = sorted(set(expected) - {o["name"] for o in doc["obligations"]})
     rows += [
         {"name": n, "proves": "", "producer": "", "status": "missing", "checkers": {}, "proved_by": []} for n in missing
