@@ -295,7 +295,7 @@ def certificate_option() -> Option:
         "certificate",
         ("--certificate",),
         Kind.OUTPUT_FILE,
-        "Write a catc.certificate/1 proof of a final UNSAT answer, for 'catc certify' (docs/semantics.md).",
+        "Write a catc.certificate/1 proof of the answer (a final UNSAT, a core), for 'catc certify' (docs/semantics.md).",
         use=Use.OUTPUT,
     )
 
@@ -311,7 +311,7 @@ def with_certificate(
             return messages
         from catc.queries.certify import certificate_artifact
 
-        return [*messages, certificate_artifact(inst, result, options["certificate"])]
+        return [*messages, certificate_artifact(inst, result, options)]
 
     return both
 

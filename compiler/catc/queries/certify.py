@@ -276,6 +276,113 @@ def certificate(inst: ir.Instance, result: Any) -> dict:
     )
 
 
+# -- a core of catc diagnose: its UNSAT, and a witness for each member it cannot lose
+
+WITNESS = "catc.validator"  # the checker of a witness composition
+
+
+def _labelled(inst: ir.Instance, horizon: int, sequential: bool, components: Sequence[str] | None) -> Any:
+    from catc.smt.labelled import LabelledModel
+
+    return LabelledModel(inst, horizon, sequential=sequential, components=components)
+
+
+def _core_text(model: Any, inst: ir.Instance, enforced: Sequence[str], what: str) -> str:
+    """The labelled formula diagnose asks (every label behind its indicator) with the
+    indicators of ``enforced`` asserted."""
+    decls, asserts = model.formula()
+    body = [text for _, text in asserts] + [str(model.indicator[label]) for label in enforced]
+    return _script(_header(inst, what), [s.declaration() for s in decls], body)
+
+
+def core_obligations(
+    inst: ir.Instance, core: Sequence[str], horizon: int, sequential: bool, components: Sequence[str] | None
+) -> tuple[list[dict], dict[str, str]]:
+    """The core's UNSAT obligation, and for each member the text of "the core without it is
+    satisfiable" (used when no witness composition is at hand)."""
+    model = _labelled(inst, horizon, sequential, components)
+    unknown = [label for label in core if label not in model.indicator]
+    if unknown:
+        raise InputError(f"the core names labels the model does not have: {', '.join(unknown)}", codes.BAD_CERTIFICATE)
+    unsat = _obligation(
+        "core",
+        f"the {len(core)} constructs of the core admit no composition (diagnose's labelled formula, "
+        f"horizon {horizon}, extended to {model.extended})",
+        _core_text(model, inst, core, "core: the core's labels together are unsat"),
+    )
+    sat = {
+        label: _core_text(model, inst, [x for x in core if x != label], f"without {label} the core is satisfiable")
+        for label in core
+    }
+    return [unsat], sat
+
+
+def core_certificate(inst: ir.Instance, diag: Any, sequential: bool, producer: str) -> dict:
+    """The certificate of ``diag``'s first core (NotCertifiable without one)."""
+    from catc.semantics.plan import plan_to_json
+    from catc.semantics.witness import witness_plan
+
+    if diag.status.value != "unsat" or not diag.cores:
+        raise NotCertifiable("only a diagnosis that found a core carries a certificate")
+    core, components = list(diag.cores[0]), diag.relative_to
+    obligations, sat = core_obligations(inst, core, diag.horizon, sequential, components)
+    extended = _labelled(inst, diag.horizon, sequential, components).extended
+    for label in core:
+        rest = frozenset(core) - {label}
+        found = witness_plan(inst, rest, components, diag.horizon, extended)
+        if found is None:
+            o = _obligation(f"sat/{label}", f"the core without {label} is satisfiable", sat[label])
+            obligations.append(o | {"expect": "sat", "producer": producer})
+            continue
+        plan, big = found
+        obligations.append(
+            {
+                "name": f"witness/{label}",
+                "proves": f"the core without {label} is satisfiable: this composition meets every other member",
+                "expect": "valid",
+                "checkers": [WITNESS],
+                "producer": "catc.witness",
+                "plan": plan_to_json(plan),
+                "free_initial_values": "1000000000" if big else "as written",
+            }
+        )
+    doc: dict[str, Any] = {
+        "schema": SCHEMA,
+        "problem": inst.problem.name,
+        "domain": inst.domain.name,
+        "view": inst.view,
+    }
+    doc |= {"answer": "core", "method": "core", "producer": producer, "horizon": diag.horizon}
+    doc |= {"sequential": sequential, "components": None if components is None else list(components), "core": core}
+    for o in obligations:
+        o.setdefault("producer", producer)
+    return doc | {"obligations": obligations}
+
+
+def _replay(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> tuple[str, float]:
+    """A witness composition replayed by the validator on the instance whose constraints are
+    the core without the member it names: ``valid`` or ``invalid``."""
+    from catc.semantics.plan import PlanFormatError, read_plan
+    from catc.semantics.validate import validate
+    from catc.semantics.witness import restricted
+
+    t0 = time.perf_counter()
+    core, label = list(doc["core"]), o["name"].removeprefix("witness/")
+    rest = frozenset(core) - {label}
+    components = doc.get("components")
+    model = _labelled(inst, doc["horizon"], bool(doc.get("sequential")), components)
+    steps = doc["horizon"] if ir.Label.horizon() in rest else model.extended
+    try:
+        plan = read_plan(inst, o.get("plan"))
+    except PlanFormatError:
+        return "invalid", time.perf_counter() - t0
+    case = restricted(inst, rest, o.get("free_initial_values") == "1000000000")
+    ok = validate(case, plan, horizon=steps, sequential=bool(doc.get("sequential"))).ok
+    if components is not None:  # relative to a composition: exactly its components are used
+        ok = ok and {a.morphism for step in plan.steps for a in step} == set(components)
+    return ("valid" if ok else "invalid"), time.perf_counter() - t0
+
+
 def _produced(doc: dict, producer: str) -> dict:
     for o in doc["obligations"]:
         o["producer"] = producer
@@ -288,10 +395,15 @@ def _everything() -> Any:
     return _Everything()
 
 
-def write_certificate(inst: ir.Instance, result: Any, path: str) -> str:
+def write_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> str:
     """``--certificate FILE``: write ``result``'s certificate (E1304 when it has none)."""
+    path = options["certificate"]
     try:
-        doc = certificate(inst, result)
+        if result.query == "diagnose":
+            producer = "catc.relaxed" if result.checks == 0 else str(options.get("backend", "z3"))
+            doc = core_certificate(inst, result, bool(options.get("sequential")), producer)
+        else:
+            doc = certificate(inst, result)
     except NotCertifiable as exc:
         raise InputError(f"no certificate written: {exc}", codes.NOT_CERTIFIABLE) from None
     import json
@@ -305,11 +417,13 @@ def write_certificate(inst: ir.Instance, result: Any, path: str) -> str:
     return f"certificate ({len(doc['obligations'])} obligations) written to {path}; check it with: catc certify"
 
 
-def certificate_artifact(inst: ir.Instance, result: Any, path: str) -> str:
-    """``--certificate FILE`` (:func:`catc.queries.base.with_certificate`): what to tell the user."""
-    if getattr(result, "status", None) is None or result.status.value != "unsat":
+def certificate_artifact(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> str:
+    """``--certificate FILE`` (:func:`catc.queries.base.with_certificate`): write the
+    certificate of ``result``; what to tell the user."""
+    status = getattr(getattr(result, "status", None), "value", None)
+    if result.query == "solve" and status != "unsat":
         return "no certificate written: the answer is not a 'no' (its composition is replayed by the validator)"
-    return write_certificate(inst, result, path)
+    return write_certificate(inst, result, options)
 
 
 # ====================================================================== checking
@@ -405,8 +519,10 @@ def _checked(obligation: dict, expected: str | None, answers: Mapping[str, tuple
     if answers is None:
         return row | {"status": "mismatch", "checkers": {}, "proved_by": []}
     said = {c: {"answer": answer, "seconds": round(took, 3)} for c, (answer, took) in answers.items()}
-    proved = [c for c, a in said.items() if a["answer"] == "unsat" and c != obligation["producer"]]
-    refuted = any(a["answer"] == "sat" for a in said.values())
+    expect = obligation.get("expect", "unsat")
+    opposite = {"unsat": "sat", "sat": "unsat", "valid": "invalid"}[expect]
+    proved = [c for c, a in said.items() if a["answer"] == expect and c != obligation["producer"]]
+    refuted = any(a["answer"] == opposite for a in said.values())
     status = "refuted" if refuted else ("proved" if proved else "unchecked")
     return row | {"status": status, "checkers": said, "proved_by": proved}
 
@@ -455,6 +571,16 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any]) -> dict[str, str]:
         if bound is None or horizon < bound:
             return {}  # the horizon is not complete for this model: nothing matches
         built = bounded_obligations(inst, horizon, bool(doc.get("sequential")))
+    elif method == "core":
+        core, components = doc.get("core"), doc.get("components")
+        if not (isinstance(core, list) and core and all(isinstance(x, str) for x in core)):
+            raise InputError("a core certificate needs its core: a non-empty list of labels", codes.BAD_CERTIFICATE)
+        if components is not None and not (
+            isinstance(components, list) and all(c in inst.morphisms for c in components)
+        ):
+            raise InputError("the certificate's components are not morphisms of the model", codes.BAD_CERTIFICATE)
+        built, sat = core_obligations(inst, core, horizon, bool(doc.get("sequential")), components)
+        return {o["name"]: o["smtlib"] for o in built} | {f"sat/{label}": text for label, text in sat.items()}
     else:
         raise InputError(f"unknown certificate method {method!r}", codes.BAD_CERTIFICATE)
     return {o["name"]: o["smtlib"] for o in built}
@@ -473,17 +599,30 @@ def read_certificate(path: str) -> dict:
     if not isinstance(doc, dict) or doc.get("schema") != SCHEMA:
         raise InputError(f"{path} is not a {SCHEMA} document", codes.BAD_CERTIFICATE)
     obligations = doc.get("obligations")
-    fields = {"name": str, "smtlib": str, "producer": str, "checkers": list}
     if not isinstance(obligations, list) or not obligations:
         raise InputError(f"{path}: a certificate needs a non-empty list of obligations", codes.BAD_CERTIFICATE)
     for o in obligations:
-        if not isinstance(o, dict) or not all(isinstance(o.get(k), t) for k, t in fields.items()):
-            raise InputError(
-                f"{path}: each obligation needs name, smtlib, producer and checkers", codes.BAD_CERTIFICATE
-            )
-        if not set(o["checkers"]) <= set(CHECKERS):
-            raise InputError(f"{path}: unknown checker in {o['checkers']} (known: z3, cvc5)", codes.BAD_CERTIFICATE)
+        why = _malformed(o)
+        if why is not None:
+            raise InputError(f"{path}: {why}", codes.BAD_CERTIFICATE)
     return doc
+
+
+def _malformed(o: Any) -> str | None:
+    """Why an obligation is not one (None when it is)."""
+    base = {"name": str, "producer": str, "checkers": list}
+    if not isinstance(o, dict) or not all(isinstance(o.get(k), t) for k, t in base.items()):
+        return "each obligation needs name, producer and checkers"
+    expect = o.get("expect", "unsat")
+    if expect == "valid":
+        if o["checkers"] != [WITNESS] or not isinstance(o.get("plan"), dict):
+            return f"a witness ({o['name']}) needs a plan and the checker {WITNESS}"
+        return None
+    if expect not in ("unsat", "sat") or not isinstance(o.get("smtlib"), str):
+        return f"obligation {o['name']}: expect unsat, sat or valid; an SMT obligation needs its smtlib"
+    if not o["checkers"] or not set(o["checkers"]) <= set(CHECKERS):
+        return f"unknown checker in {o['checkers']} (known: z3, cvc5)"
+    return None
 
 
 def _same_problem(inst: ir.Instance, doc: Mapping[str, Any]) -> None:
@@ -504,10 +643,16 @@ def certify(
     t0 = time.perf_counter()
     expected = _expected(inst, doc)
     seconds = CHECK_TIMEOUT if check_timeout is None else check_timeout
-    matching = [o for o in doc["obligations"] if _matches(o, expected.get(o["name"]))]
-    answers = dict(zip((id(o) for o in matching), _run_checkers(matching, seconds)))
+    smt = [o for o in doc["obligations"] if o.get("expect", "unsat") != "valid"]
+    matching = [o for o in smt if _matches(o, expected.get(o["name"]))]
+    answers: dict[int, Mapping[str, tuple[str, float]]] = dict(
+        zip((id(o) for o in matching), _run_checkers(matching, seconds))
+    )
+    for o in doc["obligations"]:
+        if o.get("expect") == "valid" and doc.get("method") == "core" and f"sat/{o['name'][8:]}" in expected:
+            answers[id(o)] = {WITNESS: _replay(inst, doc, o)}
     rows = [_checked(o, expected.get(o["name"]), answers.get(id(o))) for o in doc["obligations"]]
-    missing = sorted(set(expected) - {o["name"] for o in doc["obligations"]})
+    missing = sorted(_missing(doc, expected))
     rows += [
         {"name": n, "proves": "", "producer": "", "status": "missing", "checkers": {}, "proved_by": []} for n in missing
     ]
@@ -525,6 +670,19 @@ def certify(
     result = Certification(status, str(doc.get("method")), str(doc.get("producer")), rows)
     result.timings = {"total": time.perf_counter() - t0}
     return result
+
+
+def _missing(doc: Mapping[str, Any], expected: Mapping[str, str]) -> set[str]:
+    """The obligations the certificate should hold and does not (for a core, each member
+    needs a witness or a satisfiable obligation)."""
+    names = {o["name"] for o in doc["obligations"]}
+    if doc.get("method") != "core":
+        return set(expected) - names
+    gone = {"core"} - names
+    for label in doc["core"]:
+        if not {f"witness/{label}", f"sat/{label}"} & names:
+            gone.add(f"witness/{label}")
+    return gone
 
 
 def certify_json(inst: ir.Instance, result: Certification) -> dict:

@@ -38,9 +38,12 @@ from catc.queries.base import (
     Result,
     Status,
     backend_option,
+    certificate_option,
+    diagram_artifact,
     json_option,
     presolve_option,
     timeout_option,
+    with_certificate,
 )
 from catc.queries.cores import AbstractCores
 from catc.semantics.horizon import horizon_of
@@ -356,9 +359,11 @@ QUERY = Query(
         json_option("catc.diagnose/1"),
         backend_option(),
         presolve_option(),
+        certificate_option(),
     ),
     run=diagnose,
     to_json=diagnosis_json,
     render=render,
+    artifacts=with_certificate(diagram_artifact),
     progress=True,
 )

@@ -39,19 +39,31 @@ def witnessed(
     """Whether a composition satisfying exactly the ``enforced`` labels (relative to
     ``components``) was found and accepted by the validator.  ``order``: the morphisms in the
     order the relaxation of the same labels first lets them fire (computed when not given)."""
+    return witness_plan(inst, enforced, components, horizon, extended, order) is not None
+
+
+def witness_plan(
+    inst: ir.Instance,
+    enforced: Collection[str],
+    components: Collection[str] | None,
+    horizon: int,
+    extended: int,
+    order: Sequence[str] | None = None,
+) -> tuple[Plan, bool] | None:
+    """The composition :func:`witnessed` found, and whether the free initial values were
+    set to :data:`BIG` (see :func:`_restricted`); None when none was found."""
     if order is None:
         order = list(RelaxedAnalysis(inst, enforced, components).fired)
     plan = _candidate(inst, enforced, components, order)
     if plan is None:
-        return False
+        return None
     steps = horizon if ir.Label.horizon() in enforced else extended
     if len(plan.steps) > steps:
-        return False
+        return None
     for big in (False, True):
-        restricted = _restricted(inst, enforced, big)
-        if validate(restricted, plan, horizon=steps).ok:
-            return True
-    return False
+        if validate(_restricted(inst, enforced, big), plan, horizon=steps).ok:
+            return plan, big
+    return None
 
 
 def _candidate(
@@ -118,3 +130,7 @@ def _restricted(inst: ir.Instance, enforced: Collection[str], big: bool) -> ir.I
         inst.problem, init=ir.frozen(init), goal=tuple(lit for lit in inst.problem.goal if lit.label in enforced)
     )
     return ir.Instance(domain, problem, inst.view)
+
+
+#: The instance whose constraints are exactly the enforced labels (a witness is replayed on it).
+restricted = _restricted

@@ -77,6 +77,7 @@ class LabelledModel:
         # the solver is opened, and the formula handed to it, on first use: a diagnosis whose
         # every test the relaxation and the validator settle never needs it
         self._pending: tuple[list[Symbol], list[tuple[str | None, str]]] | None = (decls, asserts)
+        self._formula = (decls, asserts)
         self._open = (backend, optimize, share_with)
         self._backend: Backend | None = None
         self.checks = 0
@@ -92,6 +93,11 @@ class LabelledModel:
             self._backend.add(*self._pending)
             self._pending = None
         return self._backend
+
+    def formula(self) -> tuple[list[Symbol], list[tuple[str | None, str]]]:
+        """The declarations and assertions the solver is given (a certificate's text,
+        :mod:`catc.queries.certify`); :attr:`indicator` names each label's literal."""
+        return self._formula
 
     def check(self, labels: Iterable[str], timeout: float | None = None) -> tuple[Check, list[str]]:
         """Check with exactly ``labels`` enforced; on UNSAT also return a core (labels, in
