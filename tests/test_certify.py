@@ -205,3 +205,89 @@ def test_a_certificate_of_an_answer_that_has_none(tmp_path):
     # reach nothing); the relaxation does not refute it, so there is no proof for every horizon
     res = run_catc("solve", COARSE, "--horizon", "0", "--no-presolve", "--certificate", cert)
     assert res.exit_code == 2 and "error[E1304]" in res.stderr
+
+
+# ---------------------------------------------------------------- cores (catc diagnose)
+
+
+def diagnose_cases():
+    """Every example case whose core expect.toml records by hand."""
+    for expect in sorted((ROOT / "examples").glob("*/expect.toml")):
+        for case in tomllib.loads(expect.read_text())["case"]:
+            if "diagnose" in case:
+                slow = [pytest.mark.slow] if expect.parent.name == "search-and-rescue" else []
+                yield pytest.param(
+                    expect.parent / case["file"],
+                    sorted(case["diagnose"]),
+                    id=f"{expect.parent.name}/{case['file']}",
+                    marks=slow,
+                )
+
+
+def core_certificate_of(path):
+    from catc.queries.certify import core_certificate
+    from catc.queries.diagnose import diagnose
+
+    inst = load(path)
+    diag = diagnose(inst)
+    return inst, core_certificate(inst, diag, False, "catc.relaxed" if diag.checks == 0 else "z3")
+
+
+@pytest.mark.parametrize("path, core", list(diagnose_cases()))
+def test_the_examples_cores_are_certified_with_a_witness_per_member(path, core):
+    inst, doc = core_certificate_of(path)
+    assert sorted(doc["core"]) == core
+    result = certify(inst, doc)
+    assert result.status is CertifyStatus.CERTIFIED, result.obligations
+    rows = {r["name"]: r for r in result.obligations}
+    assert {c: a["answer"] for c, a in rows["core"]["checkers"].items()} == {"z3": "unsat", "cvc5": "unsat"}
+    for label in core:  # irreducible: each member has a witness of the core without it
+        row = rows.get(f"witness/{label}") or rows[f"sat/{label}"]
+        assert row["status"] == "proved"
+
+
+def test_a_core_with_a_dropped_label_is_refuted():
+    from catc.queries.certify import core_obligations
+
+    inst, doc = core_certificate_of(BUDGET_CUT)
+    assert sorted(doc["core"]) == ["init/budget", "pre/buy-lidar/1"]
+    smaller = ["init/budget"]  # without the LiDAR's price nothing conflicts with the budget
+    built, _ = core_obligations(inst, smaller, doc["horizon"], False, doc["components"])
+    witnesses = [o for o in doc["obligations"] if o["name"] == "witness/init/budget"]
+    wrong = {**doc, "core": smaller, "obligations": [built[0] | {"producer": doc["producer"]}, *witnesses]}
+    result = certify(inst, wrong)
+    rows = {r["name"]: r for r in result.obligations}
+    assert result.status is CertifyStatus.REFUTED
+    assert rows["core"]["status"] == "refuted" and rows["core"]["checkers"]["z3"]["answer"] == "sat"
+
+
+def test_a_witness_that_does_not_replay_is_refuted():
+    inst, doc = core_certificate_of(BUDGET_CUT)
+    wrong = json.loads(json.dumps(doc))
+    for o in wrong["obligations"]:
+        if o["name"] == "witness/init/budget":
+            o["plan"] = {"schema": "catc.plan/1", "steps": []}  # reaches nothing: the goal is not met
+    result = certify(inst, wrong)
+    rows = {r["name"]: r for r in result.obligations}
+    assert rows["witness/init/budget"]["status"] == "refuted"
+    assert rows["witness/init/budget"]["checkers"] == {
+        "catc.validator": {"answer": "invalid", "seconds": pytest.approx(0, abs=60)}
+    }
+    assert result.status is CertifyStatus.REFUTED
+
+
+def test_a_core_certificate_missing_a_members_witness_is_rejected():
+    inst, doc = core_certificate_of(BUDGET_CUT)
+    dropped = {**doc, "obligations": [o for o in doc["obligations"] if o["name"] != "witness/pre/buy-lidar/1"]}
+    result = certify(inst, dropped)
+    assert result.status is CertifyStatus.REFUTED
+    assert {r["name"]: r["status"] for r in result.obligations}["witness/pre/buy-lidar/1"] == "missing"
+
+
+def test_diagnose_writes_a_certificate_certify_accepts(tmp_path):
+    cert = tmp_path / "core.json"
+    res = run_catc("diagnose", BUDGET_CUT, "--certificate", cert)
+    assert res.exit_code == 0, res.output
+    res = run_catc("certify", BUDGET_CUT, cert, "--json")
+    assert res.exit_code == 0, res.output
+    assert json.loads(res.stdout)["method"] == "core"
