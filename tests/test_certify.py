@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import tomllib
+from fractions import Fraction
 
 import pytest
 from conftest import ROOT, run_catc
@@ -291,3 +292,54 @@ def test_diagnose_writes_a_certificate_certify_accepts(tmp_path):
     res = run_catc("certify", BUDGET_CUT, cert, "--json")
     assert res.exit_code == 0, res.output
     assert json.loads(res.stdout)["method"] == "core"
+
+
+# ---------------------------------------------------------------- least restorations (catc relax)
+
+
+def least_certificate_of(path):
+    from catc.queries.certify import least_certificate
+    from catc.queries.relax import relax
+
+    inst = load(path)
+    return inst, least_certificate(inst, relax(inst), {})
+
+
+def claiming(inst, doc, budget):
+    """``doc`` claiming the budget restoration ``budget`` (consistent: obligations rebuilt)."""
+    from catc.queries.certify import least_obligation
+
+    least = least_obligation(inst, doc["requirements"], doc["horizon"], False, doc["components"], Fraction(budget)) | {
+        "producer": "z3"
+    }
+    witness = next(o for o in doc["obligations"] if o["name"] == "witness")
+    return {**doc, "relaxations": {"init/budget": budget}, "cost": budget, "obligations": [witness, least]}
+
+
+def test_the_least_restoration_of_the_budget_cut_is_certified():
+    inst, doc = least_certificate_of(BUDGET_CUT)
+    # expect.toml: the budget must rise by 20,360 - 500 = 19,860 USD
+    assert doc["relaxations"] == {"init/budget": "19860"} and doc["cost"] == "19860"
+    result = certify(inst, doc)
+    assert result.status is CertifyStatus.CERTIFIED, result.obligations
+    rows = {r["name"]: r for r in result.obligations}
+    assert rows["witness"]["checkers"]["catc.validator"]["answer"] == "valid"
+    assert {c: a["answer"] for c, a in rows["least"]["checkers"].items()} == {"z3": "unsat", "cvc5": "unsat"}
+    assert rows["least"]["proved_by"] == ["cvc5"]  # z3 produced the answer
+
+
+def test_a_cheaper_least_is_refuted_by_its_witness():
+    inst, doc = least_certificate_of(BUDGET_CUT)
+    result = certify(inst, claiming(inst, doc, "19000"))  # 19,500 USD cannot buy the 20,360 USD composition
+    statuses = {r["name"]: r["status"] for r in result.obligations}
+    assert statuses == {"witness": "refuted", "least": "proved"}
+    assert result.status is CertifyStatus.REFUTED
+
+
+def test_a_restoration_that_is_not_least_is_refuted_by_the_solvers():
+    inst, doc = least_certificate_of(BUDGET_CUT)
+    result = certify(inst, claiming(inst, doc, "20000"))  # enough, but 19,860 is cheaper
+    rows = {r["name"]: r for r in result.obligations}
+    assert rows["witness"]["status"] == "proved"
+    assert rows["least"]["status"] == "refuted" and rows["least"]["checkers"]["cvc5"]["answer"] == "sat"
+    assert result.status is CertifyStatus.REFUTED

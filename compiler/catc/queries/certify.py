@@ -383,6 +383,128 @@ def _replay(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> 
     return ("valid" if ok else "invalid"), time.perf_counter() - t0
 
 
+# -- a least restoration of catc relax: the witness, and nothing cheaper
+
+
+def least_obligation(
+    inst: ir.Instance,
+    reqs: Sequence[Mapping[str, Any]],
+    horizon: int,
+    sequential: bool,
+    components: Sequence[str] | None,
+    cost: Fraction,
+) -> dict:
+    """ "No restoration of weighted total below ``cost`` exists": relax's slack formula (every
+    requirement enforced, a non-negative slack on each eligible one — up and down for an
+    initial value) with the total below ``cost``, unsat."""
+    from catc.smt.labelled import LabelledModel
+    from catc.smt.script import SmtSort, Symbol
+    from catc.smt.terms import Term, minus, plus, times, to_real, to_text
+
+    slack: dict[str, str] = {}
+    weighted: list[Term] = []
+    decls: list[Symbol] = []
+    for req in reqs:
+        sort = SmtSort.INT if req["integral"] else SmtSort.REAL
+        base = f"d.{req['label']}"
+        vs = (
+            [Symbol(base + ".up", sort), Symbol(base + ".down", sort)]
+            if req["kind"] == "initial value"
+            else [Symbol(base, sort)]
+        )
+        slack[req["label"]] = to_text(minus(*vs)) if len(vs) == 2 else vs[0]
+        decls += vs
+        weighted += [times(Fraction(req["weight"]), to_real(v) if req["integral"] else v) for v in vs]
+    model = LabelledModel(
+        inst, horizon, sequential=sequential, components=components, horizon_label=False, slack=slack, slack_decls=decls
+    )
+    fdecls, asserts = model.formula()
+    body = [text for _, text in asserts] + [str(model.indicator[label]) for label in model.labels]
+    body += [f"(>= {v} {'0' if v.sort is SmtSort.INT else '0.0'})" for v in decls]
+    body.append(f"(< {to_text(plus(Fraction(0), *weighted))} {_number(cost, SortKind.REAL)})")
+    text = _script(
+        _header(inst, f"least: no restoration of weighted total below {cost}"), [s.declaration() for s in fdecls], body
+    )
+    return _obligation("least", f"no restoration of the eligible requirements has a weighted total below {cost}", text)
+
+
+def _read_requirements(inst: ir.Instance, reqs: Any) -> list[dict]:
+    """The certificate's eligible requirements, each a relaxable label of the model (E1302)."""
+    from catc.queries.relax import eligible_requirements
+
+    known = {r.label: r for r in eligible_requirements(inst)}
+    if not isinstance(reqs, list):
+        raise InputError("a least certificate needs its eligible requirements", codes.BAD_CERTIFICATE)
+    for req in reqs:
+        r = known.get(str(req.get("label"))) if isinstance(req, dict) else None
+        if (
+            r is None
+            or (req.get("kind"), req.get("integral")) != (r.kind, r.integral)
+            or not _pair([req.get("weight"), None])
+        ):
+            raise InputError(f"not a relaxable requirement of the model: {req!r}", codes.BAD_CERTIFICATE)
+    return reqs
+
+
+def least_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> dict:
+    """The certificate of a proven least restoration (NotCertifiable otherwise)."""
+    from catc.semantics.plan import plan_to_json
+
+    if result.status.value != "relaxed" or not result.proven or not result.attained or result.plan is None:
+        raise NotCertifiable("only a restoration proven least, and attained, carries a certificate")
+    relative = options.get("relative_to")
+    components = (tuple(relative) or None) if relative is not None else (inst.problem.deployed or None)
+    sequential = bool(options.get("sequential"))
+    reqs = [
+        {"label": r.label, "kind": r.kind, "weight": str(r.weight), "integral": r.integral} for r in result.eligible
+    ]
+    doc: dict[str, Any] = {
+        "schema": SCHEMA,
+        "problem": inst.problem.name,
+        "domain": inst.domain.name,
+        "view": inst.view,
+    }
+    doc |= {"answer": "least", "method": "least", "producer": "z3", "horizon": result.horizon, "sequential": sequential}
+    doc |= {"components": None if components is None else list(components), "requirements": reqs}
+    doc |= {"relaxations": {r.label: str(r.delta) for r in result.relaxations}, "cost": str(result.cost)}
+    witness = {
+        "name": "witness",
+        "proves": f"this composition reaches the goal with the relaxations applied (weighted total {result.cost})",
+        "expect": "valid",
+        "checkers": [WITNESS],
+        "producer": "z3",
+        "plan": plan_to_json(result.plan),
+    }
+    least = least_obligation(inst, reqs, result.horizon, sequential, components, result.cost) | {"producer": "z3"}
+    return doc | {"obligations": [witness, least]}
+
+
+def _replay_least(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> tuple[str, float]:
+    """The witness of a least restoration, replayed on the model with the certificate's
+    relaxations applied, and their weighted total checked against the claimed cost."""
+    from catc.queries.relax import relaxed_instance
+    from catc.semantics.plan import PlanFormatError, read_plan
+    from catc.semantics.validate import validate
+
+    t0 = time.perf_counter()
+    try:
+        deltas = {label: Fraction(v) for label, v in doc["relaxations"].items()}
+        weight = {r["label"]: Fraction(r["weight"]) for r in doc["requirements"]}
+        total = sum((weight[label] * abs(d) for label, d in deltas.items()), Fraction(0))
+        plan = read_plan(inst, o.get("plan"))
+    except (PlanFormatError, KeyError, ValueError, TypeError, ZeroDivisionError, AttributeError):
+        return "invalid", time.perf_counter() - t0
+    case = relaxed_instance(inst, deltas)
+    ok = (
+        total == Fraction(doc["cost"])
+        and validate(case, plan, horizon=doc["horizon"], sequential=bool(doc.get("sequential"))).ok
+    )
+    components = doc.get("components")
+    if components is not None:
+        ok = ok and {a.morphism for step in plan.steps for a in step} == set(components)
+    return ("valid" if ok else "invalid"), time.perf_counter() - t0
+
+
 def _produced(doc: dict, producer: str) -> dict:
     for o in doc["obligations"]:
         o["producer"] = producer
@@ -399,7 +521,9 @@ def write_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]
     """``--certificate FILE``: write ``result``'s certificate (E1304 when it has none)."""
     path = options["certificate"]
     try:
-        if result.query == "diagnose":
+        if result.query == "relax":
+            doc = least_certificate(inst, result, options)
+        elif result.query == "diagnose":
             producer = "catc.relaxed" if result.checks == 0 else str(options.get("backend", "z3"))
             doc = core_certificate(inst, result, bool(options.get("sequential")), producer)
         else:
@@ -571,6 +695,15 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any]) -> dict[str, str]:
         if bound is None or horizon < bound:
             return {}  # the horizon is not complete for this model: nothing matches
         built = bounded_obligations(inst, horizon, bool(doc.get("sequential")))
+    elif method == "least":
+        reqs = _read_requirements(inst, doc.get("requirements"))
+        try:
+            cost = Fraction(str(doc.get("cost")))
+        except (ValueError, TypeError, ZeroDivisionError):
+            raise InputError("a least certificate needs its cost: an exact number", codes.BAD_CERTIFICATE) from None
+        components = doc.get("components")
+        built = [least_obligation(inst, reqs, horizon, bool(doc.get("sequential")), components, cost)]
+        return {o["name"]: o["smtlib"] for o in built} | {"witness": ""}
     elif method == "core":
         core, components = doc.get("core"), doc.get("components")
         if not (isinstance(core, list) and core and all(isinstance(x, str) for x in core)):
@@ -651,6 +784,8 @@ def certify(
     for o in doc["obligations"]:
         if o.get("expect") == "valid" and doc.get("method") == "core" and f"sat/{o['name'][8:]}" in expected:
             answers[id(o)] = {WITNESS: _replay(inst, doc, o)}
+        elif o.get("expect") == "valid" and doc.get("method") == "least" and o["name"] == "witness":
+            answers[id(o)] = {WITNESS: _replay_least(inst, doc, o)}
     rows = [_checked(o, expected.get(o["name"]), answers.get(id(o))) for o in doc["obligations"]]
     missing = sorted(_missing(doc, expected))
     rows += [

@@ -21,7 +21,20 @@ from catc.present.composition import print_composition
 from catc.present.console import Console, escape
 from catc.present.labels import describe, label_json, where
 from catc.present.values import show_value, steps_json, timings_json
-from catc.queries.base import ExitCode, Kind, Option, Progress, Query, Result, Status, json_option, timeout_option
+from catc.queries.base import (
+    ExitCode,
+    Kind,
+    Option,
+    Progress,
+    Query,
+    Result,
+    Status,
+    certificate_option,
+    diagram_artifact,
+    json_option,
+    timeout_option,
+    with_certificate,
+)
 from catc.semantics.compositions import canonical_fresh, checked
 from catc.semantics.horizon import horizon_of
 from catc.semantics.plan import Plan, value_to_json
@@ -636,10 +649,12 @@ QUERY = Query(
         ),
         timeout_option("Stop after this many seconds; the best relaxation so far is reported (exit 3)."),
         json_option("catc.relax/1"),
+        certificate_option(),
     ),
     run=relax,
     check=check,
     to_json=relax_json,
     render=render,
+    artifacts=with_certificate(diagram_artifact),
     progress=True,
 )
