@@ -343,3 +343,65 @@ def test_a_restoration_that_is_not_least_is_refuted_by_the_solvers():
     assert rows["witness"]["status"] == "proved"
     assert rows["least"]["status"] == "refuted" and rows["least"]["checkers"]["cvc5"]["answer"] == "sat"
     assert result.status is CertifyStatus.REFUTED
+
+
+# ---------------------------------------------------------------- optima (catc optimize, catc recompose)
+
+MAX_CONFIDENCE = ROOT / "examples/gpu-allocation/max-confidence.cat"  # expect.toml: optimum 21/25
+CHEAPER_CAMERA = ROOT / "examples/lifelong/cheaper-camera.cat"
+
+
+def optimal_certificate_of(path, query="optimize", **options):
+    from catc.queries.certify import optimal_certificate
+    from catc.queries.optimize import optimize
+    from catc.queries.recompose import recompose
+
+    inst = load(path)
+    result = optimize(inst) if query == "optimize" else recompose(inst, **options)
+    return inst, optimal_certificate(inst, result, {})
+
+
+def claiming_values(inst, doc, values):
+    from catc.queries.certify import _objectives, optimal_obligation
+
+    model, objectives, softs = _objectives(inst, doc["objectives"])
+    best = optimal_obligation(model, objectives, softs, doc["horizon"], False, [Fraction(v) for v in values])
+    witness = next(o for o in doc["obligations"] if o["name"] == "witness")
+    return {**doc, "values": values, "obligations": [witness, best | {"producer": "z3"}]}
+
+
+def test_an_optimum_is_certified():
+    inst, doc = optimal_certificate_of(MAX_CONFIDENCE)
+    assert doc["values"] == ["21/25"]  # expect.toml, derived by hand
+    result = certify(inst, doc)
+    assert result.status is CertifyStatus.CERTIFIED, result.obligations
+
+
+def test_a_better_optimum_than_the_witness_reaches_is_refuted():
+    inst, doc = optimal_certificate_of(MAX_CONFIDENCE)
+    result = certify(inst, claiming_values(inst, doc, ["22/25"]))  # 0.88 needs m = 4.75 > 4.25
+    assert {r["name"]: r["status"] for r in result.obligations} == {"witness": "refuted", "optimal": "proved"}
+
+
+def test_a_worse_optimum_is_refuted_by_the_solvers():
+    inst, doc = optimal_certificate_of(MAX_CONFIDENCE)
+    wrong = claiming_values(inst, doc, ["4/5"])  # 0.8 < 0.84: a better composition exists
+    rows = {r["name"]: r for r in certify(inst, wrong).obligations}
+    assert rows["optimal"]["status"] == "refuted" and rows["optimal"]["checkers"]["z3"]["answer"] == "sat"
+    assert rows["witness"]["status"] == "refuted"  # the witness scores 0.84, not the 0.8 claimed
+
+
+@pytest.mark.parametrize("priority, churn", [("stability", "0"), ("objective", "4")])
+def test_a_recomposition_is_certified(priority, churn):
+    inst, doc = optimal_certificate_of(CHEAPER_CAMERA, "recompose", priority=priority)
+    # expect.toml: churn 0 keeping the deployed composition, churn 4 for the cheapest one
+    values = dict(zip(("churn", "objective") if priority == "stability" else ("objective", "churn"), doc["values"]))
+    assert values["churn"] == churn
+    assert certify(inst, doc).status is CertifyStatus.CERTIFIED
+
+
+def test_optimize_writes_a_certificate_certify_accepts(tmp_path):
+    cert = tmp_path / "opt.json"
+    assert run_catc("optimize", MAX_CONFIDENCE, "--certificate", cert).exit_code == 0
+    res = run_catc("certify", MAX_CONFIDENCE, cert)
+    assert res.exit_code == 0 and res.stdout.startswith("CERTIFIED  optimal certificate"), res.output

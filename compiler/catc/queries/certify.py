@@ -505,6 +505,132 @@ def _replay_least(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any
     return ("valid" if ok else "invalid"), time.perf_counter() - t0
 
 
+# -- an optimum of catc optimize / catc recompose: the witness, and nothing better
+
+
+def _objectives(inst: ir.Instance, spec: Any) -> tuple[ir.Instance, list[ir.Objective], list[ir.Soft]]:
+    """The model (with the certificate's deployed composition, for recompose), the objectives
+    in lexicographic order and the soft constraints an optimum is claimed for (E1302)."""
+    from dataclasses import replace
+
+    from catc.queries.optimum import objectives_of
+
+    kind = spec.get("kind") if isinstance(spec, dict) else None
+    if kind == "recompose" and spec.get("priority") in ("stability", "objective"):
+        deployed = spec.get("deployed")
+        if not (isinstance(deployed, list) and all(m in inst.morphisms for m in deployed)):
+            raise InputError("the certificate's deployed composition is not of the model", codes.BAD_CERTIFICATE)
+        inst = ir.Instance(inst.domain, replace(inst.problem, deployed=tuple(deployed)), inst.view)
+        mission = [o for o in objectives_of(inst) if not isinstance(o.term, ir.TotalChurn)]
+        churn = ir.Objective(ir.Sense.MINIMIZE, ir.TotalChurn())
+        objectives = [churn, *mission] if spec["priority"] == "stability" else [*mission, churn]
+    elif kind == "metric":
+        objectives = objectives_of(inst)
+    else:
+        raise InputError("the certificate's objectives are not known: metric or recompose", codes.BAD_CERTIFICATE)
+    softs = list(inst.problem.softs)
+    if not objectives and softs:
+        objectives = [ir.Objective(ir.Sense.MINIMIZE, ir.Const(Fraction(0), ir.REAL))]
+    return inst, objectives, softs
+
+
+def optimal_obligation(
+    inst: ir.Instance,
+    objectives: Sequence[ir.Objective],
+    softs: Sequence[ir.Soft],
+    horizon: int,
+    sequential: bool,
+    values: Sequence[Fraction],
+) -> dict:
+    """ "No composition of at most ``horizon`` steps is lexicographically better than
+    ``values``" (the first objective carrying the soft penalties), over the step encoding."""
+    from catc.smt.encoder import Encoder
+    from catc.smt.terms import Term, and_, better, eq, ite, minus, or_, plus, to_text
+
+    enc = Encoder(inst, horizon, sequential=sequential)
+    enc.unroll(horizon)
+    penalty: list[Term] = [ite(str(enc.at_state(s.expr, horizon)), Fraction(0), s.weight) for s in softs]
+    improvements: list[Term] = []
+    ties: list[Term] = []
+    for i, (obj, v) in enumerate(zip(objectives, values)):
+        term: Term = enc.objective(obj.term, horizon)
+        if i == 0 and penalty:
+            term = to_text((plus if obj.sense is ir.Sense.MINIMIZE else minus)(term, *penalty))
+        improvements.append(and_(*ties, better(term, v, obj.sense is ir.Sense.MINIMIZE)))
+        ties.append(eq(term, v))
+    decls, asserts = enc.script.take()
+    shown = ", ".join(str(v) for v in values)
+    text = _script(
+        _header(inst, f"optimal: nothing better than ({shown}) within {horizon} steps"),
+        [s.declaration() for s in decls],
+        [a for _, a in asserts] + [to_text(or_(*improvements))],
+    )
+    return _obligation("optimal", f"no composition of at most {horizon} steps is better than ({shown})", text)
+
+
+def optimal_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> dict:
+    """The certificate of a proven optimum of optimize or recompose (NotCertifiable otherwise)."""
+    from catc.semantics.plan import plan_to_json
+
+    if result.query == "recompose":
+        spec: dict[str, Any] = {"kind": "recompose", "priority": result.priority, "deployed": list(result.deployed)}
+        result = result.result
+    else:
+        spec = {"kind": "metric"}
+    if options.get("objectives"):
+        raise NotCertifiable("objectives given on the command line: a certificate states the problem's own metric")
+    values = [v.value for v in result.values]
+    if result.status.value != "opt" or result.plan is None or not all(v.attained for v in result.values):
+        raise NotCertifiable("only an optimum proven and attained carries a certificate")
+    sequential = bool(options.get("sequential"))
+    model, objectives, softs = _objectives(inst, spec)
+    doc: dict[str, Any] = {
+        "schema": SCHEMA,
+        "problem": inst.problem.name,
+        "domain": inst.domain.name,
+        "view": inst.view,
+    }
+    doc |= {"answer": "optimal", "method": "optimal", "producer": "z3", "horizon": result.horizon}
+    doc |= {"sequential": sequential, "objectives": spec, "values": [str(v) for v in values]}
+    witness = {
+        "name": "witness",
+        "proves": f"this composition is valid and scores ({', '.join(map(str, values))})",
+        "expect": "valid",
+        "checkers": [WITNESS],
+        "producer": "z3",
+        "plan": plan_to_json(result.plan),
+    }
+    best = optimal_obligation(model, objectives, softs, result.horizon, sequential, values) | {"producer": "z3"}
+    return doc | {"obligations": [witness, best]}
+
+
+def _replay_optimal(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> tuple[str, float]:
+    """The optimum's composition replayed by the validator, its objective values recomputed
+    exactly (the first with the soft penalties) and compared with the claimed ones."""
+    from catc.semantics.plan import PlanFormatError, read_plan
+    from catc.semantics.validate import evaluate, objective_value, validate
+
+    t0 = time.perf_counter()
+    model, objectives, softs = _objectives(inst, doc["objectives"])
+    try:
+        claimed = [Fraction(str(v)) for v in doc["values"]]
+        plan = read_plan(model, o.get("plan"))
+    except (PlanFormatError, ValueError, TypeError, ZeroDivisionError, KeyError):
+        return "invalid", time.perf_counter() - t0
+    rep = validate(model, plan, horizon=doc["horizon"], sequential=bool(doc.get("sequential")))
+    if not rep.ok:
+        return "invalid", time.perf_counter() - t0
+    fin = rep.states[-1]
+    pen = sum((s.weight for s in softs if evaluate(model, s.expr, fin) is not True), Fraction(0))
+    scores = []
+    for i, obj in enumerate(objectives):
+        v = objective_value(model, plan, obj.term, fin)
+        if v is not None and i == 0:
+            v = v + pen if obj.sense is ir.Sense.MINIMIZE else v - pen
+        scores.append(v)
+    return ("valid" if scores == claimed else "invalid"), time.perf_counter() - t0
+
+
 def _produced(doc: dict, producer: str) -> dict:
     for o in doc["obligations"]:
         o["producer"] = producer
@@ -521,7 +647,9 @@ def write_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]
     """``--certificate FILE``: write ``result``'s certificate (E1304 when it has none)."""
     path = options["certificate"]
     try:
-        if result.query == "relax":
+        if result.query in ("optimize", "recompose"):
+            doc = optimal_certificate(inst, result, options)
+        elif result.query == "relax":
             doc = least_certificate(inst, result, options)
         elif result.query == "diagnose":
             producer = "catc.relaxed" if result.checks == 0 else str(options.get("backend", "z3"))
@@ -695,6 +823,16 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any]) -> dict[str, str]:
         if bound is None or horizon < bound:
             return {}  # the horizon is not complete for this model: nothing matches
         built = bounded_obligations(inst, horizon, bool(doc.get("sequential")))
+    elif method == "optimal":
+        model, objectives, softs = _objectives(inst, doc.get("objectives"))
+        try:
+            values = [Fraction(str(v)) for v in doc.get("values") or []]
+        except (ValueError, ZeroDivisionError):
+            raise InputError("an optimal certificate needs its values: exact numbers", codes.BAD_CERTIFICATE) from None
+        if len(values) != len(objectives):
+            raise InputError("an optimal certificate needs one value per objective", codes.BAD_CERTIFICATE)
+        built = [optimal_obligation(model, objectives, softs, horizon, bool(doc.get("sequential")), values)]
+        return {o["name"]: o["smtlib"] for o in built} | {"witness": ""}
     elif method == "least":
         reqs = _read_requirements(inst, doc.get("requirements"))
         try:
@@ -786,6 +924,8 @@ def certify(
             answers[id(o)] = {WITNESS: _replay(inst, doc, o)}
         elif o.get("expect") == "valid" and doc.get("method") == "least" and o["name"] == "witness":
             answers[id(o)] = {WITNESS: _replay_least(inst, doc, o)}
+        elif o.get("expect") == "valid" and doc.get("method") == "optimal" and o["name"] == "witness":
+            answers[id(o)] = {WITNESS: _replay_optimal(inst, doc, o)}
     rows = [_checked(o, expected.get(o["name"]), answers.get(id(o))) for o in doc["obligations"]]
     missing = sorted(_missing(doc, expected))
     rows += [

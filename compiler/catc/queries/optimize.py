@@ -13,7 +13,18 @@ from catc.ir.text import to_text
 from catc.present.composition import print_composition, where_text
 from catc.present.console import Console, Table, counted
 from catc.present.values import parameter_units_json, show_value, state_json, steps_json, timings_json, units_json
-from catc.queries.base import Kind, Option, Query, diagram_option, json_option, objectives_option, timeout_option
+from catc.queries.base import (
+    Kind,
+    Option,
+    Query,
+    certificate_option,
+    diagram_artifact,
+    diagram_option,
+    json_option,
+    objectives_option,
+    timeout_option,
+    with_certificate,
+)
 from catc.queries.optimum import (
     DEEPEN_FROM,
     DEFAULT_TACTICS,
@@ -189,10 +200,12 @@ QUERY = Query(
             choices=STRATEGIES,
             show_default=True,
         ),
+        certificate_option(),
     ),
     run=optimize,
     to_json=optimize_json,
     render=render,
     check=check,
+    artifacts=with_certificate(diagram_artifact),
     progress=True,
 )

@@ -17,7 +17,19 @@ from catc import ir
 from catc.present.console import Console, Table, counted
 from catc.present.values import show_value, value_to_json
 from catc.queries import optimize as opt
-from catc.queries.base import Kind, Option, Progress, Query, Result, diagram_option, json_option, timeout_option
+from catc.queries.base import (
+    Kind,
+    Option,
+    Progress,
+    Query,
+    Result,
+    certificate_option,
+    diagram_artifact,
+    diagram_option,
+    json_option,
+    timeout_option,
+    with_certificate,
+)
 from catc.queries.optimize import DEFAULT_TACTICS, OptResult, OptStatus, Tactics, objectives_of, optimize
 
 
@@ -159,10 +171,12 @@ QUERY = Query(
         timeout_option("Stop after this many seconds; the best composition so far is reported (exit 3)."),
         json_option("catc.recompose/1"),
         diagram_option(),
+        certificate_option(),
     ),
     run=recompose,
     to_json=recompose_json,
     render=render,
     check=check,
+    artifacts=with_certificate(diagram_artifact),
     progress=True,
 )
