@@ -405,3 +405,20 @@ def test_optimize_writes_a_certificate_certify_accepts(tmp_path):
     assert run_catc("optimize", MAX_CONFIDENCE, "--certificate", cert).exit_code == 0
     res = run_catc("certify", MAX_CONFIDENCE, cert)
     assert res.exit_code == 0 and res.stdout.startswith("CERTIFIED  optimal certificate"), res.output
+
+
+def test_every_kind_of_certificate_follows_the_schema():
+    import jsonschema
+
+    schema = json.loads((ROOT / "docs/schemas/catc.certificate-1.json").read_text())
+    docs = [
+        answered(BUDGET_CUT)[1],  # invariant
+        answered(COARSE)[1],  # bounded
+        core_certificate_of(COARSE)[1],  # a core with witnesses and satisfiable obligations
+        least_certificate_of(BUDGET_CUT)[1],
+        optimal_certificate_of(MAX_CONFIDENCE)[1],
+        optimal_certificate_of(CHEAPER_CAMERA, "recompose", priority="stability")[1],
+    ]
+    assert {d["method"] for d in docs} == {"invariant", "bounded", "core", "least", "optimal"}
+    for doc in docs:
+        jsonschema.validate(json.loads(json.dumps(doc)), schema)

@@ -54,7 +54,7 @@ SECTIONS: dict[str, tuple[str, str]] = {
     ),
     "E13": (
         "Certificates (E13xx)",
-        "`catc certify` and `--certificate FILE` ([cli.md](cli.md#catc-certify), [semantics.md](semantics.md#certificates)).",
+        "`catc certify` and `--certificate FILE` ([cli.md](cli.md#catc-certify), [semantics.md](semantics.md#7-certificates)).",
     ),
     "W01": (
         "Lints (warnings; errors under `--strict`)",
@@ -159,7 +159,7 @@ EXPLANATIONS: dict[str, str] = {
     "E1301": "The file given to `catc certify PROBLEM CERT.json` cannot be read, or is not JSON (the\nmessage gives the line and column where the JSON breaks). Write it again with\n`catc solve PROBLEM --certificate CERT.json`; a certificate is plain JSON, so a truncated copy\nor an editor's stray character shows up here.",
     "E1302": "The file is JSON but not a `catc.certificate/1` document: no `\"schema\":\n\"catc.certificate/1\"`, no obligations, an obligation without `name`, `smtlib`, `producer` or\n`checkers`, an unknown checker (only `z3` and `cvc5`), or an invariant that does not give every\nresource of the model a value of its sort. The schema is docs/schemas/catc.certificate-1.json.",
     "E1303": "The certificate names another problem or domain than the model given to `catc certify`\n(`the certificate is for problem 'a' of domain 'd', not 'b' of 'd'`). Give the same files (and\n`--problem`) the certificate was written for: certify rebuilds every obligation from the\nmodel, so a certificate only proves something about its own problem.",
-    "E1304": "`--certificate FILE` was given to a query whose \"no\" carries no certificate yet: an UNSAT that\nis not final (raise `--horizon` to the use bound), or one proven by the consumption bound or\nthe forward search without a use bound (`no certificate written: ...`). The answer itself is\nprinted as usual; only the file is missing. A positive answer writes no certificate either: its\ncomposition is replayed by the validator, and a note says so.",
+    "E1304": "`--certificate FILE` was given to an answer that carries no certificate yet: an UNSAT that is\nnot final (raise `--horizon` to the use bound), or proven by the consumption bound; a diagnosis\nwithout a core, a relaxation or optimum not proven or not attained (`no certificate written:\n...`). The answer itself is printed as usual; only the file is missing. A SAT answer of\n`catc solve` writes none either: its composition is replayed by the validator (a note says so).",
     "W0101": "A resource is declared but no morphism reads or writes it (`(spare real)`), so it cannot\ninfluence any plan; a problem may still give it an initial value. Use it in a morphism, or\nremove its declaration. Warnings do not fail `catc check` unless `--strict`.",
     "W0102": "A sort is declared but nothing uses it: no resource, constant, parameter, object or other\nsort refers to it (`(:sorts module unused-sort - symbol)`). Remove it, or use it where it was\nmeant.",
     "W0103": "A morphism can never apply: one of its preconditions needs a set member or a bool value that\nneither the initial state nor any morphism ever produces (`needs 'lidar' in 'mounted'` when\nnothing adds `lidar`). A note points at that precondition. Add a morphism that produces it,\ngive it in `(:init ...)`, or fix the precondition. The analysis only follows memberships and\nbools, so it never warns wrongly but may miss some.",
