@@ -580,3 +580,21 @@ def test_planning_prints_no_credits_banner(catc_engine):
     finally:
         env.credits_stream = saved
     assert stream.getvalue() == ""
+
+
+def test_an_unsolvable_answer_carries_a_certificate_both_solvers_check(catc_engine):
+    import json
+
+    from catc.queries.certify import CertifyStatus, certify, cvc5_command, z3_command
+
+    if z3_command() is None or cvc5_command() is None:
+        pytest.skip("needs the z3 binary and cvc5")
+    problem = _islands()
+    r = _solve(problem)
+    assert r.status is Status.UNSOLVABLE_PROVEN
+    prefix = "catc certificate (check with catc.queries.certify.certify): "
+    line = next(m.message for m in r.log_messages if m.message.startswith(prefix))
+    doc = json.loads(line[len(prefix) :])
+    assert doc["method"] == "invariant"
+    inst, _ = up_to_instance(problem)
+    assert certify(inst, doc).status is CertifyStatus.CERTIFIED

@@ -276,9 +276,25 @@ class _Run:
         else:
             why = f"no plan of at most {r.horizon} actions (longer plans were not searched: max_horizon)"
         self.say("catc: " + why)
+        if proven:
+            self._certificate(r)
         if self.engine.diagnose:
             self._diagnosis(min(r.horizon, 2 * len(self.inst.morphisms) + 2))
         return self.result(Status.UNSOLVABLE_PROVEN if proven else Status.UNSOLVABLE_INCOMPLETELY)
+
+    def _certificate(self, r: SolveResult) -> None:
+        """The proof of an unsolvable answer in the log, for a second tool (issue 31): a
+        catc.certificate/1 document, or why there is none (catc.queries.certify)."""
+        import json
+
+        from catc.queries.certify import NotCertifiable, certificate
+
+        try:
+            doc = certificate(self.inst, r)
+        except NotCertifiable as exc:
+            self.say(f"catc certificate: none ({exc})", LogLevel.DEBUG)
+            return
+        self.say("catc certificate (check with catc.queries.certify.certify): " + json.dumps(doc), LogLevel.DEBUG)
 
     def _diagnosis(self, horizon: int) -> None:
         budget = DIAGNOSIS_TIME if self.remaining() is None else min(DIAGNOSIS_TIME, self.remaining() or 0.0)
