@@ -1,30 +1,32 @@
-"""certify: check a ``catc.certificate/1`` document — the proof that comes with a "no" — with
-tools catc did not write.
+"""certify: check a ``catc.certificate/1`` document — the proof that comes with an answer no
+composition can show — with tools catc did not write (docs/semantics.md §7).
 
-A certificate is a list of *obligations*.  Each is a self-contained SMT-LIB2 script whose
-``(check-sat)`` must answer ``unsat``, with what it proves, the tool that produced the answer
-and the checkers that must confirm it: the ``z3`` binary (installed by z3-solver) and cvc5's
-own SMT-LIB2 front end, each in a process of its own, with a time limit.  Two kinds of "no"
-are certified (docs/semantics.md, "Certificates"):
+A certificate is a list of *obligations*: a self-contained SMT-LIB2 script whose
+``(check-sat)`` must answer ``unsat`` (or ``sat``), or a composition the independent
+validator must replay (``valid``); each says what it proves, which tool produced the answer
+and which checkers must confirm it — the ``z3`` binary (installed by z3-solver) and cvc5's own
+SMT-LIB2 front end, each in a process of its own with a time limit, or ``catc.validator``.
 
-* **relaxed reachability** (:mod:`catc.semantics.relaxed`): the relaxed fixpoint — an
-  interval for every number, the possible values of every Boolean and symbol, the may/must
-  elements of every set — is an *inductive invariant* ``Inv`` of the unrelaxed one-step
-  encoding (:class:`catc.smt.encoder.Encoder`, one parallel step, which also covers
-  sequential steps).  Three obligations: ``Init ∧ ¬Inv`` (initiation), ``Inv ∧ Step ∧ ¬Inv′``
-  (consecution) and ``Inv ∧ Goal`` (the goal is excluded), each unsat;
-* **the step encoding at a complete horizon**: the bounded problem's SMT-LIB2 (``catc
-  compile``'s text) is unsat, and the horizon is complete: no composition has more
-  non-idle steps than the sum of the use limits (a linear-arithmetic obligation built from
-  the model's ``:uses``).
+* a final UNSAT by **relaxed reachability** (:mod:`catc.semantics.relaxed`): the relaxed
+  fixpoint — intervals, possible values, may/must sets — as an *inductive invariant* of the
+  unrelaxed one-step encoding (one parallel step, which covers sequential ones):
+  ``Init ∧ ¬Inv``, ``Inv ∧ Step ∧ ¬Inv′`` and ``Inv ∧ Goal``, each unsat;
+* a final UNSAT by **the step encoding at a complete horizon**: the bounded problem (``catc
+  compile``'s text) unsat, and the horizon complete (Σ uses, a linear-arithmetic obligation);
+* a **core** (``catc diagnose``): diagnose's labelled formula with the core enforced, unsat,
+  and per member a witness composition of the rest (or a ``sat`` obligation);
+* a **least restoration** (``catc relax``): the witness on the relaxed model with its
+  weighted total, and relax's slack formula below that total, unsat;
+* an **optimum** (``catc optimize``, ``catc recompose``): the witness with its values
+  recomputed, and "lexicographically better within the horizon", unsat.
 
-``catc certify PROBLEM CERT`` rebuilds every obligation from the model it is given and the
-certificate's invariant, so a certificate for another model, or one whose text was edited,
-is rejected before any solver runs ("does not match the model"); then it runs the checkers.
-It exits 0 only when every obligation is proven unsat by a checker other than the tool that
-produced the answer and no checker found it satisfiable; 1 when one is refuted (the JSON
-names the obligation and the checker); 3 when one could not be decided (a time limit, a
-checker that is not installed).
+``catc certify PROBLEM CERT`` rebuilds every SMT obligation from the model it is given and the
+certificate's claims, so a certificate for another model, or one whose text was edited, is a
+mismatch before any solver runs; then it runs the checkers.  It exits 0 only when every
+obligation is proven by a checker other than the tool that produced the answer and no checker
+answers the opposite; 1 when one is refuted or does not match (the JSON names it and the
+checker); 3 when one could not be decided (a time limit, a checker that is not installed).
+`--certificate FILE` on the queries writes one (:func:`certificate_artifact`).
 """
 
 from __future__ import annotations
