@@ -216,12 +216,10 @@ def diagnose_cases():
     for expect in sorted((ROOT / "examples").glob("*/expect.toml")):
         for case in tomllib.loads(expect.read_text())["case"]:
             if "diagnose" in case:
-                slow = [pytest.mark.slow] if expect.parent.name == "search-and-rescue" else []
                 yield pytest.param(
                     expect.parent / case["file"],
                     sorted(case["diagnose"]),
                     id=f"{expect.parent.name}/{case['file']}",
-                    marks=slow,
                 )
 
 
