@@ -1019,7 +1019,8 @@ def _run(
 
 QUERY = Query(
     "certify",
-    summary="Check the certificate of a 'no' (catc.certificate/1, from --certificate) with the z3 binary and cvc5.",
+    summary="Check a catc.certificate/1 (from --certificate: a final UNSAT, a core, a least restoration, an "
+    "optimum) with the z3 binary, cvc5 and the validator.",
     description="PATHS is PROBLEM, or DOMAIN PROBLEM, then the certificate.  Exit 0 every obligation proven by a "
     "checker other than the tool that produced the answer, 1 one refuted or not matching the model, 3 one "
     "undecided, 2 input error.",
