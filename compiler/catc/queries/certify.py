@@ -668,7 +668,7 @@ def write_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]
             out.write("\n")
     except OSError as exc:
         raise InputError(f"cannot write the certificate to {path}: {exc.strerror or exc}", codes.CANNOT_WRITE) from exc
-    return f"certificate ({len(doc['obligations'])} obligations) written to {path}; check it with: catc certify"
+    return f"certificate ({len(doc['obligations'])} obligations) written to {path}; check it with: catc certify [DOMAIN] PROBLEM {path}"
 
 
 def certificate_artifact(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> str:
