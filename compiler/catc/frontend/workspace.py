@@ -43,7 +43,12 @@ def stdlib_dir() -> Path:
 
 
 def stdlib_names() -> list[str]:
-    return sorted(p.stem for p in stdlib_dir().glob("*.cat"))
+    """The standard library's domains, by its registry (``stdlib_domains.DOMAINS``)."""
+    try:
+        from stdlib_domains import DOMAINS
+    except ImportError:  # pragma: no cover - running from a bare checkout
+        return sorted(p.stem for p in stdlib_dir().glob("*.cat"))
+    return sorted(DOMAINS)
 
 
 class Loaded:
