@@ -3,22 +3,24 @@ parse and check the standard library a model imports on every run (``robot-base`
 domains, about as long to check as the rest of a small model).
 
 A domain is stored as its checked IR (pickled) in a folder the interfaces name (the user's
-cache folder; the library never caches on its own), under a key that changes whenever
-anything that made it may have: the text of every standard-library file, and the size and
-modification time of every source file of the front end, the IR and the language
-(``catc/frontend``, ``catc/ir``, ``catgrammar``) and the Python version.  A file that cannot
-be read, written or unpickled is a miss; the domain is then checked as usual.  Only a domain
-whose check reported nothing is stored, so a hit reports nothing either.
+cache folder; the library never caches on its own), with the key it was made under: the
+size and modification time (ns) of every standard-library file and of every source file of
+the front end, the IR and the language (``catc/frontend``, ``catc/ir``, ``catgrammar``), and
+the Python version.  A file is read back only when its key is the key now (compared whole,
+not by a digest: the file name carries a CRC of it only to keep entries apart), so an edit
+to any of them is a miss.  A file that cannot be read, written or unpickled is a miss; the
+domain is then checked as usual.  Only a domain whose check reported nothing is stored, so
+a hit reports nothing either.  (No hashlib: loading OpenSSL costs a command ~3 ms.)
 """
 
 from __future__ import annotations
 
 import copyreg
-import hashlib
 import io
 import os
 import pickle
 import sys
+import zlib
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any
@@ -52,36 +54,37 @@ class StdlibCache:
     @property
     def key(self) -> str:
         if self._key is None:
-            digest = hashlib.sha256(sys.version.encode())
-            for path in sorted(self.stdlib.glob("*.cat")):
-                digest.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
-            for folder in _code_folders():
-                for path in sorted(folder.glob("*.py")):
+            parts = [sys.version]
+            for folder, pattern in ((self.stdlib, "*.cat"), *((f, "*.py") for f in _code_folders())):
+                for path in sorted(folder.glob(pattern)):
                     st = path.stat()
-                    digest.update(f"{path.name}:{st.st_size}:{st.st_mtime_ns}\0".encode())
-            self._key = digest.hexdigest()[:32]
+                    parts.append(f"{path}:{st.st_size}:{st.st_mtime_ns}")
+            self._key = "\n".join(parts)
         return self._key
 
     def _path(self, name: str) -> Path:
-        return self.folder / f"{name}-{self.key}.pickle"
+        return self.folder / f"{name}-{zlib.crc32(self.key.encode()):08x}.pickle"
 
     def get(self, name: str) -> ir.Domain | None:
         try:
-            found = pickle.loads(self._path(name).read_bytes())
+            key, found = pickle.loads(self._path(name).read_bytes())
         except Exception:
             return None
-        return found if isinstance(found, ir.Domain) else None
+        return found if key == self.key and isinstance(found, ir.Domain) else None
 
     def put(self, name: str, domain: ir.Domain) -> None:
         buffer = io.BytesIO()
         pickler = pickle.Pickler(buffer, protocol=pickle.HIGHEST_PROTOCOL)
         pickler.dispatch_table = {**copyreg.dispatch_table, MappingProxyType: _reduce_proxy}  # this pickler only
         try:
-            pickler.dump(domain)
+            pickler.dump((self.key, domain))
             self.folder.mkdir(parents=True, exist_ok=True)
             path = self._path(name)
             part = path.with_name(f"{path.name}.{os.getpid()}.part")
             part.write_bytes(buffer.getvalue())
             os.replace(part, path)  # whole or not at all, whoever reads it at the same time
+            for stale in self.folder.glob(f"{name}-*.pickle"):  # made under another key
+                if stale != path and stale.name[len(name) + 1 : -len(".pickle")].isalnum():
+                    stale.unlink(missing_ok=True)
         except (OSError, pickle.PicklingError, TypeError, AttributeError, RecursionError):
             return
