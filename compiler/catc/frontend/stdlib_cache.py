@@ -4,9 +4,9 @@ domains, about as long to check as the rest of a small model).
 
 A domain is stored as its checked IR (pickled) in a folder the interfaces name (the user's
 cache folder; the library never caches on its own), with the key it was made under: the
-size and modification time (ns) of every standard-library file and of every source file of
-the front end, the IR and the language (``catc/frontend``, ``catc/ir``, ``catgrammar``), and
-the Python version.  A file is read back only when its key is the key now (compared whole,
+size and modification time (ns) of every standard-library file and of every file (modules
+and their data) of the front end, the IR and the language (``catc/frontend``, ``catc/ir``,
+``catgrammar``), and the Python version.  A file is read back only when its key is the key now (compared whole,
 not by a digest: the file name carries a CRC of it only to keep entries apart), so an edit
 to any of them is a miss.  A file that cannot be read, written or unpickled is a miss; the
 domain is then checked as usual.  Only a domain whose check reported nothing is stored, so
@@ -55,8 +55,8 @@ class StdlibCache:
     def key(self) -> str:
         if self._key is None:
             parts = [sys.version]
-            for folder, pattern in ((self.stdlib, "*.cat"), *((f, "*.py") for f in _code_folders())):
-                for path in sorted(folder.glob(pattern)):
+            for folder, pattern in ((self.stdlib, "*.cat"), *((f, "*.*") for f in _code_folders())):
+                for path in sorted(folder.glob(pattern)):  # code: the modules and their data (units.txt)
                     st = path.stat()
                     parts.append(f"{path}:{st.st_size}:{st.st_mtime_ns}")
             self._key = "\n".join(parts)
