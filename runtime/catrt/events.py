@@ -21,9 +21,10 @@ from importlib import resources
 from typing import Any
 
 from catc.ir.numbers import ratio_text
+from catrt.changes import registry as changes
 
 SCHEMA = "catrt.event/1"
-CHANGE_KEYS = ("set", "goal", "metric", "softs", "horizon", "catalog", "health")
+CHANGE_KEYS = changes.fields()  # set, goal, metric, softs, horizon, catalog, health
 APPROVAL_KEYS = ("approve", "reject")
 MAX_LINE = 1_000_000  # bytes: a longer line is rejected, read no further than this (read_lines)
 MAX_DIGITS = 1000  # digits of a number's numerator or denominator (1e9999 is no measurement)

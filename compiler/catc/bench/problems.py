@@ -9,7 +9,6 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
-from catc.bench.stats import fraction_text
 from catc.queries import registry
 
 Grid = dict[str, Fraction]
@@ -19,6 +18,14 @@ GRID_DETECTION: Grid = {"ram-req": Fraction(1, 2)}
 GRID_GPU: Grid = {"m": Fraction(1, 4)}
 GRID_NAV: Grid = {"d": Fraction(1)}
 GRID_SAR: Grid = {"ram-req": Fraction(1, 4), "d": Fraction(1), "mem": Fraction(1, 2)}
+
+
+def fraction_text(v: Fraction | None) -> str:
+    if v is None:
+        return "—"
+    from catc.ir.numbers import decimal_text
+
+    return decimal_text(Fraction(v))
 
 
 @dataclass(frozen=True)

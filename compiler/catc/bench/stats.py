@@ -9,6 +9,8 @@ from collections.abc import Sequence
 from fractions import Fraction
 from typing import TYPE_CHECKING
 
+from catc.bench.problems import fraction_text
+
 if TYPE_CHECKING:
     from catc.bench.problems import Expected
     from catc.bench.runners import ToolRun
@@ -59,14 +61,6 @@ def judge(
         return "OPT"
     better = value > optimum if sense == "maximize" else value < optimum
     return "BETTER ✗" if better else "SUBOPT"
-
-
-def fraction_text(v: Fraction | None) -> str:
-    if v is None:
-        return "—"
-    from catc.ir.numbers import decimal_text
-
-    return decimal_text(Fraction(v))
 
 
 def consensus(runs: Sequence[ToolRun]) -> ToolRun | None:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from fractions import Fraction
-from typing import TYPE_CHECKING, TypeVar
+from typing import Protocol, TypeVar
 
 from catc import ir
 from catc.frontend.typecheck import ExprChecker, describe
@@ -18,8 +18,13 @@ from catgrammar.symbols import (
     expand_requirements,
 )
 
-if TYPE_CHECKING:
-    pass
+
+class DomainSource(Protocol):
+    """Where the checkers get the domains a definition names (the workspace,
+    :class:`catc.frontend.workspace.Workspace`; named by this protocol so the checkers do not
+    import the workspace that imports them)."""
+
+    def domain_ir(self, name: str, near: str | None, ref: Span | None, importing: bool = False) -> ir.Domain | None: ...
 
 
 _REQUIREMENTS = {r.value: r for r in Requirement}

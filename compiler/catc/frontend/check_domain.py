@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, TypeVar
 from catc import ir
 from catc.frontend.check_common import (
     _KINDS,
+    DomainSource,
     _bounds,
     _options,
     _positive_int,
@@ -37,14 +38,13 @@ from catgrammar.symbols import (
 
 if TYPE_CHECKING:
     from catc.frontend.units import Unit  # pragma: no cover
-    from catc.frontend.workspace import Workspace
 
 
 _V = TypeVar("_V")
 
 
 class DomainChecker:
-    def __init__(self, workspace: Workspace, node: ast.Domain, path: str, diags: Diagnostics):
+    def __init__(self, workspace: DomainSource, node: ast.Domain, path: str, diags: Diagnostics):
         self.ws = workspace
         self.node = node
         self.path = path

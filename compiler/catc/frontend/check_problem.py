@@ -4,10 +4,10 @@ texts given on the command line."""
 from __future__ import annotations
 
 from fractions import Fraction
-from typing import TYPE_CHECKING
 
 from catc import ir
 from catc.frontend.check_common import (
+    DomainSource,
     _options,
     _positive_int,
     _Requirements,
@@ -31,12 +31,9 @@ from catgrammar.symbols import (
     Requirement,
 )
 
-if TYPE_CHECKING:
-    from catc.frontend.workspace import Workspace
-
 
 class ProblemChecker:
-    def __init__(self, workspace: Workspace, node: ast.Problem, path: str, diags: Diagnostics):
+    def __init__(self, workspace: DomainSource, node: ast.Problem, path: str, diags: Diagnostics):
         self.ws = workspace
         self.node = node
         self.path = path

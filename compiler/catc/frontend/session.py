@@ -112,10 +112,13 @@ def load_checked(
     view: str | None = None,
     problem_name: str | None = None,
     search_paths: Iterable[str | os.PathLike[str]] = (),
+    stdlib_cache: Path | None = None,
 ) -> ir.Instance | None:
     """Files → the checked instance with its view applied, or None with errors in ``diags``
     (the front end of every query: the command line, the API, the language server).  Paths
-    are written as ``catc check`` writes them (``./x.cat`` is ``x.cat``) in diagnostics."""
+    are written as ``catc check`` writes them (``./x.cat`` is ``x.cat``) in diagnostics.
+    ``stdlib_cache``: a folder where checked standard-library domains are kept between runs
+    (:mod:`catc.frontend.stdlib_cache`; the command line's, under the user's cache folder)."""
     problem = str(Path(problem))
     domain = None if domain is None else str(Path(domain))
     paths = [problem] if domain is None else [domain, problem]
@@ -126,7 +129,11 @@ def load_checked(
             diags.report(codes.UNREADABLE_FILE, f"cannot read '{p}': no such file", None)
     if diags.has_errors:
         return None
-    _, inst = load_instance(
-        None if domain is None else str(domain), str(problem), diags, tuple(str(p) for p in search_paths), problem_name
-    )
+    found = tuple(str(p) for p in search_paths)
+    ws = None
+    if stdlib_cache is not None:
+        from catc.frontend.stdlib_cache import StdlibCache
+
+        ws = Workspace(diags, found, stdlib_cache=StdlibCache(stdlib_cache, stdlib_dir()))
+    _, inst = load_instance(None if domain is None else str(domain), str(problem), diags, found, problem_name, ws)
     return _viewed(inst, view, diags)

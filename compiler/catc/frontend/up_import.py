@@ -343,16 +343,16 @@ class _Converter:
             if m is not None:
                 morphisms[m.name] = m
         self.reader = "the goal"
-        goal = self._literals(self.g.goals, "goal", lambda i: f"goal {i + 1}")
+        goal = self._literals(self.g.goals, ir.Label.goal, lambda i: f"goal {i + 1}")
         self.reader = "the metric"
         softs, metric = self._metric()
         self._invariants_hold_initially(goal)
         init = self._initial_state(_readers(morphisms, goal, softs, metric, self.report.actions))
         if self.cost_resource is not None:
             init[self.cost_resource] = ir.InitValue(
-                self.cost_resource, ir.Const(Fraction(0), REAL), f"init/{self.cost_resource}"
+                self.cost_resource, ir.Const(Fraction(0), REAL), ir.Label.init(self.cost_resource)
             )
-            self.report.labels[f"init/{self.cost_resource}"] = "no cost at first"
+            self.report.labels[ir.Label.init(self.cost_resource)] = "no cost at first"
         reqs = {"numeric", "optimization"} if (self.numeric or metric or softs) else set()
         if self.symbols:
             reqs.add("symbols")
@@ -412,7 +412,7 @@ class _Converter:
             self.resources[name] = ir.Resource(name, sort, lower=lo, upper=hi, doc=f"UP fluent {node}")
             self.report.fluents[name] = str(node)
             if lo is not None or hi is not None:
-                self.report.labels[f"bounds/{name}"] = f"the bounds of {node.fluent().type} on {node}"
+                self.report.labels[ir.Label.bounds(name)] = f"the bounds of {node.fluent().type} on {node}"
         return name
 
     def _initial_state(self, readers: Mapping[str, str]) -> dict[str, ir.InitValue]:
@@ -429,12 +429,14 @@ class _Converter:
                     continue
                 value = _placeholder(sort, self.constants)
                 placeholders.append(str(node))
-                out[name] = ir.InitValue(name, value, f"init/{name}")
-                self.report.labels[f"init/{name}"] = f"no initial value for {node} (a placeholder: nothing reads it)"
+                out[name] = ir.InitValue(name, value, ir.Label.init(name))
+                self.report.labels[ir.Label.init(name)] = (
+                    f"no initial value for {node} (a placeholder: nothing reads it)"
+                )
                 continue
             value = self._constant(self.init[node], sort)
-            out[name] = ir.InitValue(name, value, f"init/{name}")
-            self.report.labels[f"init/{name}"] = f"initial value {node} := {self.init[node]}"
+            out[name] = ir.InitValue(name, value, ir.Label.init(name))
+            self.report.labels[ir.Label.init(name)] = f"initial value {node} := {self.init[node]}"
         if placeholders:
             self.report.notes.append(
                 "fluents without an initial value that no ground action, goal or metric reads (they are only "
@@ -498,11 +500,13 @@ class _Converter:
             return ir.Arith(ir.ArithOp.DIV, tuple(args), REAL)
         raise _Refused(f"expression {node}", f"{node.node_type.name} is not expressible in catc")
 
-    def _literals(self, nodes: Iterable[Any], prefix: str, say: Callable[[int], str]) -> list[ir.Literal]:
+    def _literals(
+        self, nodes: Iterable[Any], label_of: Callable[[int], ir.Label], say: Callable[[int], str]
+    ) -> list[ir.Literal]:
         out: list[ir.Literal] = []
         for node in nodes:
             for part in _conjuncts(node):
-                label = f"{prefix}/{len(out)}"
+                label = label_of(len(out))
                 try:
                     out.append(ir.Literal(self.expr(part), label))
                 except _Refused as r:
@@ -521,9 +525,11 @@ class _Converter:
         up_name = str(self.report.actions[name])
         self.reader = f"the ground action {up_name}"
         try:
-            pre = self._literals(action.preconditions, f"pre/{name}", lambda i: f"precondition {i + 1} of {up_name}")
+            pre = self._literals(
+                action.preconditions, lambda i: ir.Label.pre(name, i), lambda i: f"precondition {i + 1} of {up_name}"
+            )
             effects, guards = _Effects(self, name, up_name).run(action.effects)
-            pre += [ir.Literal(g, f"pre/{name}/{len(pre) + i}") for i, g in enumerate(guards)]
+            pre += [ir.Literal(g, ir.Label.pre(name, len(pre) + i)) for i, g in enumerate(guards)]
             for i in range(len(pre) - len(guards), len(pre)):
                 self.report.labels[pre[i].label] = f"{up_name} has no conflicting effects"
             pre += self._invariants_after(action, name, up_name, effects, len(pre))
@@ -533,7 +539,7 @@ class _Converter:
         cost = costs.get(action)
         if self.cost_resource is not None and cost is not None:  # costs summed in a resource
             amount = ir.Const(cost, REAL) if isinstance(cost, Fraction) else cost
-            label = f"eff/{name}/{len(effects)}"
+            label = ir.Label.eff(name, len(effects))
             effects.append(ir.Effect(ir.EffectKind.INCREASE, self.cost_resource, amount, label))
             self.report.labels[label] = f"the cost of {up_name}"
             cost = None
@@ -561,7 +567,7 @@ class _Converter:
         out = []
         post = _post_values(effects, self.resources)
         for i, inv in enumerate(self._invariant_exprs()):
-            label = f"pre/{name}/{start + i}"
+            label = ir.Label.pre(name, start + i)
             out.append(ir.Literal(_substitute(inv, post), label))
             self.report.labels[label] = f"state invariant {i + 1} after {up_name}: {self.g.state_invariants[i]}"
         return out
@@ -577,7 +583,7 @@ class _Converter:
         state, evaluator = UPState(self.g.initial_values, self.g), StateEvaluator(self.g)
         for i, inv in enumerate(invs):
             if not evaluator.evaluate(inv, state).bool_constant_value():
-                label = f"goal/{len(goal)}"
+                label = ir.Label.goal(len(goal))
                 goal.append(ir.Literal(ir.Const(False, BOOL), label))
                 self.report.labels[label] = f"state invariant {i + 1} is false in the initial state: {inv}"
 
@@ -665,7 +671,7 @@ class _Converter:
             if gain <= 0:
                 self.report.refuse(f"oversubscription goal {goal}", "a gain that is not positive")
                 continue
-            label = f"soft/{i}"
+            label = ir.Label.soft(i)
             softs.append(ir.Soft(self.expr(goal), gain, label))
             self.report.labels[label] = f"oversubscription goal {goal} (gain {gain})"
         return softs
@@ -752,7 +758,7 @@ class _Effects:
                 continue
             r = self.conv._resource(node)
             for kind, value in self._one(r, group, guards):
-                label = f"eff/{self.morphism}/{len(out)}"
+                label = ir.Label.eff(self.morphism, len(out))
                 out.append(ir.Effect(kind, r, value, label))
                 self.conv.report.labels[label] = f"effect on {node} of {self.up_name}"
         return out, guards

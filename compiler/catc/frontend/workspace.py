@@ -19,6 +19,7 @@ from __future__ import annotations
 import os
 from collections.abc import Iterator, Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from catc import ir
 from catc.frontend.check import DomainChecker, ProblemChecker
@@ -28,6 +29,9 @@ from catgrammar.diagnostics import Diagnostics, Note, Suggestion
 from catgrammar.parser import decode_source, parse_source, read_regular, read_source
 from catgrammar.span import Source, Span
 from catgrammar.tokens import tokenize
+
+if TYPE_CHECKING:
+    from catc.frontend.stdlib_cache import StdlibCache
 
 STDLIB_DIR = Path(__file__).resolve().parents[3] / "stdlib_domains"
 
@@ -43,7 +47,19 @@ def stdlib_dir() -> Path:
 
 
 def stdlib_names() -> list[str]:
-    return sorted(p.stem for p in stdlib_dir().glob("*.cat"))
+    """The standard library's domains, by its registry (``stdlib_domains.DOMAINS``)."""
+    try:
+        from stdlib_domains import DOMAINS
+    except ImportError:  # pragma: no cover - running from a bare checkout
+        return sorted(p.stem for p in stdlib_dir().glob("*.cat"))
+    return sorted(DOMAINS)
+
+
+class _Stdlib:
+    """Not found outside the standard library: look there (a sentinel)."""
+
+
+_STDLIB = _Stdlib()
 
 
 class Loaded:
@@ -93,12 +109,15 @@ class Workspace:
         search_paths: list[str] | tuple[str, ...] = (),
         texts: Mapping[str, str] | None = None,
         scan_max_bytes: int | None = None,
+        stdlib_cache: StdlibCache | None = None,
     ):
         """``search_paths``: extra folders to look for domains in, in order (the interfaces
         add ``--path`` and ``CATC_PATH``; nothing here reads the environment).  ``texts``:
         files given as text (path → text), read instead of the disk (the runtime's model).
         ``scan_max_bytes``: the largest file read while looking for a domain (default: the
-        input-bytes limit in force, :mod:`catgrammar.limits`)."""
+        input-bytes limit in force, :mod:`catgrammar.limits`).  ``stdlib_cache``: where
+        checked standard-library domains are kept between runs (the command line's; none:
+        each is parsed and checked)."""
         self.diags = diags
         self.texts = {normalise_path(k): v for k, v in (texts or {}).items()}
         self.search_paths = [Path(p) for p in search_paths]
@@ -116,6 +135,8 @@ class Workspace:
         self._listed: dict[Path, list[Path]] = {}  # a folder → its .cat files, sorted (listed once)
         self._resolved: dict[str, Path] = {}  # a file → its folder, resolved (once)
         self._real: dict[Path, Path] = {}  # a folder → itself, resolved (once)
+        self.stdlib_cache = stdlib_cache
+        self._cached: dict[str, ir.Domain] = {}  # standard-library domains read from stdlib_cache
 
     # -------------------------------------------------------------- files
     def load(self, path: str) -> ast.SourceFile | None:
@@ -230,6 +251,14 @@ class Workspace:
         """The domain ``name`` as seen from the file ``near``: a loaded file of its own folder,
         the one given file that defines it, the other files of that folder, the other loaded
         files (when exactly one folder defines it), ``--path``, the stdlib."""
+        found = self._find_outside_stdlib(name, near, ref)
+        return self._scan(self.stdlib, name) if isinstance(found, _Stdlib) else found
+
+    def _find_outside_stdlib(
+        self, name: str, near: str | None, ref: Span | None
+    ) -> tuple[ast.Domain, str] | _Stdlib | None:
+        """What :meth:`find_domain` finds before the stdlib: a domain, None (not found, and
+        an error reported: defined in several folders), or ``_STDLIB`` (look there)."""
         if near is not None:
             found = self._in_folder(name, Path(near).parent)
             if found:
@@ -253,18 +282,23 @@ class Workspace:
                 *[Note("defined here", d.name.span) for d, _ in loaded],
             )
             return None
-        for folder in self.search_paths + [self.stdlib]:
+        for folder in self.search_paths:
             found = self._scan(folder, name)
             if found:
                 return found
-        return None
+        return _STDLIB
 
     def known_domain_names(self) -> list[str]:
         return sorted(set(self.domains) | set(stdlib_names()))
 
     # -------------------------------------------------------------- checking
     def domain_ir(self, name: str, near: str | None, ref: Span | None, importing: bool = False) -> ir.Domain | None:
-        found = self.find_domain(name, near, ref)
+        found = self._find_outside_stdlib(name, near, ref)
+        if isinstance(found, _Stdlib):
+            cached = self._from_cache(name)
+            if cached is not None:
+                return cached
+            found = self._scan(self.stdlib, name)
         if found is None:
             if not self.domains.get(name) or len(self.domains[name]) <= 1:
                 code = codes.UNKNOWN_IMPORT if importing else codes.UNKNOWN_DOMAIN
@@ -288,15 +322,34 @@ class Workspace:
         if key in self._checked:
             return self._checked[key]
         self._stack.append((name, key))
+        reported = len(self.diags)
         try:
             result = DomainChecker(self, node, path, self.diags).run()
         finally:
             self._stack.pop()
         self._checked[key] = result
+        if self.stdlib_cache is not None and result is not None and len(self.diags) == reported:
+            self._keep(name, path, result)
         return result
 
+    def _keep(self, name: str, path: str, domain: ir.Domain) -> None:
+        """Keep a standard-library domain that checked without a word (its file named after it)."""
+        if self.stdlib_cache is not None and _folder(path) == self.stdlib.resolve() and Path(path).stem == name:
+            self.stdlib_cache.put(name, domain)
+
+    def _from_cache(self, name: str) -> ir.Domain | None:
+        """The standard-library domain ``name`` as kept by :attr:`stdlib_cache` (None: not kept)."""
+        if self.stdlib_cache is None or name not in stdlib_names():
+            return None
+        if name not in self._cached:
+            found = self.stdlib_cache.get(name)
+            if found is None:
+                return None
+            self._cached[name] = found
+        return self._cached[name]
+
     def checked_domains(self) -> list[ir.Domain]:
-        return [d for d in self._checked.values() if d is not None]
+        return [d for d in self._checked.values() if d is not None] + list(self._cached.values())
 
     def check_problem(self, node: ast.Problem, path: str) -> ir.Instance | None:
         return ProblemChecker(self, node, path, self.diags).run()

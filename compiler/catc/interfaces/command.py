@@ -18,6 +18,7 @@ import os
 import sys
 from collections.abc import Callable, Mapping, Sequence
 from fractions import Fraction
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn
 
 from catc.queries.base import ExitCode, InputError, Kind, Query
@@ -141,6 +142,19 @@ def search_path(extra: Sequence[str] = ()) -> tuple[str, ...]:
     return (*extra, *env)
 
 
+def stdlib_cache() -> Path | None:
+    """Where the command line keeps checked standard-library domains between runs:
+    ``$CATC_CACHE/stdlib``, else ``$XDG_CACHE_HOME/catc/stdlib``, else ``~/.cache/catc/stdlib``;
+    ``CATC_CACHE=off`` keeps none (docs/cli.md)."""
+    chosen = os.environ.get("CATC_CACHE", "")
+    if chosen.lower() in ("off", "0", "no", "false"):
+        return None
+    if chosen:
+        return Path(chosen) / "stdlib"
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "catc" / "stdlib"
+
+
 def instance(
     paths: Sequence[str], view: str | None, search_paths: Sequence[str], problem: str | None, as_json: bool
 ) -> ir.Instance:
@@ -154,7 +168,13 @@ def instance(
     domain_path, problem_path = (None, paths[0]) if len(paths) == 1 else paths
     diags = Diagnostics()
     inst = load_checked(
-        problem_path, domain_path, diags, view=view, problem_name=problem, search_paths=search_path(search_paths)
+        problem_path,
+        domain_path,
+        diags,
+        view=view,
+        problem_name=problem,
+        search_paths=search_path(search_paths),
+        stdlib_cache=stdlib_cache(),
     )
     if inst is None:
         input_errors(diags, as_json)

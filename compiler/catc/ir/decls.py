@@ -11,7 +11,7 @@ from typing import Never, TypeVar
 
 from catc.ir.expr import Expr, resources_in
 from catc.ir.grounding import Grounding
-from catc.ir.labels import Label
+from catc.ir.label import Label
 from catc.ir.sorts import Sort
 from catgrammar.record import Record
 from catgrammar.record import set_field as _set

@@ -50,7 +50,7 @@ from catc.ir.expr import (
     resources_in,
     walk,
 )
-from catc.ir.labels import Label, LabelKind
+from catc.ir.label import Label, LabelKind
 from catc.ir.model import (
     Domain,
     InitValue,

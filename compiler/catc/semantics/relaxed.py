@@ -435,7 +435,7 @@ class RelaxedAnalysis:
 
     # -- the initial state and the bounds
     def _bounds(self, r: ir.Resource) -> tuple[Bound, Bound]:
-        if f"bounds/{r.name}" not in self.on:
+        if r.bounds_label not in self.on:
             return None, None
         return r.lower, r.upper
 
@@ -453,7 +453,7 @@ class RelaxedAnalysis:
             v = self._cut(r, v)
             if isinstance(v, Interval) and v.empty:
                 why = "its initial value is outside its bounds" if init is not None else "its bounds are empty"
-                return Refutation(f"resource '{r.name}': {why}", f"bounds/{r.name}")
+                return Refutation(f"resource '{r.name}': {why}", r.bounds_label)
             self.state[r.name] = v
         return None
 
@@ -463,7 +463,7 @@ class RelaxedAnalysis:
         for p in m.params:
             v = top(p.sort)
             bounded = p.fixed or m.uses != 0  # a switched-off morphism's θ has no constraints
-            if isinstance(v, Interval) and bounded and f"bound/{m.name}/{p.name}" in self.on:
+            if isinstance(v, Interval) and bounded and m.bound_label(p.name) in self.on:
                 v = v.meet(p.lower, p.upper)
                 v = v.integral() if p.sort.kind is SortKind.INT else v
                 if v.empty:
@@ -475,7 +475,7 @@ class RelaxedAnalysis:
         """θ's values when every enforced precondition of ``m`` can hold (else None)."""
         if self.components is not None and m.name not in self.components:
             return None
-        if m.uses == 0 and f"uses/{m.name}" in self.on:
+        if m.uses == 0 and m.uses_label in self.on:
             return None
         params = self._params(m)
         if params is None:

@@ -17,6 +17,7 @@ from __future__ import annotations
 import importlib
 from abc import ABC, abstractmethod
 from collections.abc import Sequence
+from contextvars import ContextVar
 from enum import Enum
 from fractions import Fraction
 from typing import Any
@@ -70,6 +71,9 @@ class Backend(ABC):
 
     name: str = ""
     capabilities: frozenset[Capability] = frozenset()
+    #: the most memory (MB) this solver may allocate during a check (0: no limit); set per
+    #: backend by :func:`open_backend`
+    memory: int = 0
 
     # ------------------------------------------------------------ input
     @abstractmethod
@@ -138,17 +142,23 @@ class Backend(ABC):
         return BackendError(f"the {self.name} backend cannot do this: no {capability.value} support")
 
 
-class SolverMemory:
-    """The most memory (MB) a solver of this process may allocate during a check (0: no
-    limit).  A setting of the whole process, like the process's own memory limit, so only the
-    ``catc`` executable makes it (``--memory``, docs/limits.md); the library leaves it at 0.
-    Z3 applies it during its checks only: when its parser runs out, Z3 ends the process."""
-
-    megabytes = 0
+#: The solver memory (MB, 0: no limit) that :func:`open_backend` gives a backend when the
+#: caller names none: a context variable, as the limits in force are
+#: (:mod:`catgrammar.limits`), so each thread starts at 0.  Only the ``catc`` executable sets
+#: it (``--memory``, docs/limits.md, :func:`limit_solver_memory`); the library leaves it at 0.
+_SOLVER_MEMORY: ContextVar[int] = ContextVar("catc_solver_memory", default=0)
 
 
 def limit_solver_memory(megabytes: int) -> None:
-    SolverMemory.megabytes = megabytes
+    """The solver memory of the backends opened from now on in this context (the executable's
+    ``--memory``).  Z3 applies it during its checks only: when its parser runs out, Z3 ends
+    the process."""
+    _SOLVER_MEMORY.set(megabytes)
+
+
+def solver_memory() -> int:
+    """The solver memory :func:`open_backend` gives in this context (MB, 0: no limit)."""
+    return _SOLVER_MEMORY.get()
 
 
 #: Backend name → "module:class", imported on first use.
@@ -175,10 +185,12 @@ def open_backend(
     optimize: bool = False,
     logic: str | None = None,
     share_with: Backend | None = None,
+    memory: int | None = None,
 ) -> Backend:
     """A fresh solver: an optimiser with ``optimize``, configured for ``logic`` when given;
     ``share_with`` another backend of the same kind to share its term store (Z3: its
-    context), so that both see the same term identities."""
+    context), so that both see the same term identities; ``memory`` the most MB it may
+    allocate during a check (0: no limit; default: :func:`solver_memory`)."""
     cls = backend_class(name)
     needed = {Capability.OPTIMIZE} if optimize else set()
     if logic:
@@ -189,4 +201,6 @@ def open_backend(
         raise BackendError(f"the {name} backend has no {what} support")
     # the registered backends take these keywords (Backend declares no __init__: an
     # SmtlibWriter is made with others)
-    return cls(optimize=optimize, logic=logic, share_with=share_with)  # type: ignore[call-arg]
+    backend = cls(optimize=optimize, logic=logic, share_with=share_with)  # type: ignore[call-arg]
+    backend.memory = solver_memory() if memory is None else memory
+    return backend

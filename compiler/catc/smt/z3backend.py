@@ -25,7 +25,7 @@ from typing import Any
 import z3
 
 from catc.ir.numbers import fraction_text, int_text, int_value
-from catc.smt.backend import Backend, Bound, Capability, Check, SolverMemory
+from catc.smt.backend import Backend, Bound, Capability, Check
 from catc.smt.script import Assertion, SmtSort, Symbol, commands_text
 from catc.smt.terms import App, Interned, Term
 from catgrammar import limits
@@ -153,7 +153,7 @@ class Z3Backend(Backend):
         self._failure = None
         limits.note_phase("solving")
         started = time.perf_counter()
-        memory = SolverMemory.megabytes
+        memory = self.memory
         try:
             if memory:
                 z3.set_param("memory_max_size", memory)

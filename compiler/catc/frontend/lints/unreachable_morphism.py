@@ -1,93 +1,22 @@
-"""Warnings a modeller wants (errors under ``catc check --strict``).
-
-Domain lints look at one checked domain; instance lints use the problem's initial state
-for a relaxed reachability analysis (delete relaxation over set memberships and bool
-resources; numbers are assumed reachable) to find morphisms that can never apply.
-"""
+"""W0103: a morphism that can never apply.  The problem's initial state feeds a relaxed
+reachability analysis (delete relaxation over set memberships and bool resources; numbers
+are assumed reachable) that finds morphisms whose preconditions can never hold."""
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Iterator
 
 from catc import ir
+from catc.frontend.lints.base import IsUser, Lint, Scope, user
 from catc.ir import SortKind
 from catc.semantics.validate import initial_state
 from catgrammar import codes
 from catgrammar.diagnostics import Diagnostics, Note
-from catgrammar.span import Span
 
 
-def _user(span: Span | None, is_user: Callable[[str], bool]) -> bool:
-    return span is not None and is_user(span.file)
-
-
-def lint_domain(
-    domain: ir.Domain,
-    diags: Diagnostics,
-    is_user: Callable[[str], bool],
-    problems: Sequence[ir.Problem] = (),
-) -> None:
-    """``problems`` are this domain's problems checked in the same run: a sort used only
-    for their objects is used."""
-    used_resources: set[str] = set()
-    used_sorts: set[str] = {o.sort.name for p in problems for o in p.objects.values()}
-    for m in domain.morphisms.values():
-        used_resources |= m.reads | m.writes
-        for p in m.params:
-            used_sorts.add(_base(p.sort))
-            if p.sort.kind is SortKind.REAL and (p.lower is None or p.upper is None) and _user(p.span, is_user):
-                missing = (
-                    "no bounds"
-                    if p.lower is None and p.upper is None
-                    else ("no lower bound" if p.lower is None else "no upper bound")
-                )
-                diags.report(
-                    codes.UNBOUNDED_PARAMETER,
-                    f"real parameter '{p.name}' of '{m.name}' has {missing}; "
-                    f"optimisation over it may be unbounded and exports cannot grid it",
-                    p.span,
-                )
-    for r in domain.resources.values():
-        used_sorts.add(_base(r.sort))
-        if r.name not in used_resources and _user(r.span, is_user):
-            diags.report(codes.UNUSED_RESOURCE, f"resource '{r.name}' is never read or written by any morphism", r.span)
-    for c in domain.constants.values():
-        used_sorts.add(c.sort.name)
-    for s in domain.sorts.values():
-        if s.parent:
-            used_sorts.add(s.parent)
-    for s in domain.sorts.values():
-        span = _sort_span(domain, s)
-        if s.name not in used_sorts and span is not None and _user(span, is_user):
-            diags.report(codes.UNUSED_SORT, f"sort '{s.name}' is never used", span)
-
-
-def _base(sort: ir.Sort) -> str:
-    return sort.element.name if sort.kind is SortKind.SET and sort.element else sort.name
-
-
-def _sort_span(domain: ir.Domain, sort: ir.Sort) -> Span | None:
-    return sort.span
-
-
-# ---------------------------------------------------------------- instance lints
-
-
-def lint_instance(inst: ir.Instance, diags: Diagnostics, is_user: Callable[[str], bool]) -> None:
-    written: set[str] = set()
-    for m in inst.morphisms.values():
-        written |= m.writes
-    for lit in inst.problem.goal:
-        reads = ir.resources_in(lit.expr)
-        if reads and not (reads & written) and _user(lit.span, is_user):
-            names = ", ".join(f"'{r}'" for r in sorted(reads))
-            diags.report(
-                codes.UNWRITABLE_GOAL,
-                f"this goal reads only {names}, which no morphism writes: the initial state alone decides it",
-                lit.span,
-            )
+def run(inst: ir.Instance, diags: Diagnostics, is_user: IsUser) -> None:
     for m, lit, why in unreachable_morphisms(inst):
-        if _user(m.span, is_user):
+        if user(m.span, is_user):
             notes = [Note(why, lit.span)] if lit.span else []
             diags.report(codes.UNREACHABLE_MORPHISM, f"morphism '{m.name}' can never apply: {why}", m.span, *notes)
 
@@ -176,3 +105,6 @@ class _Facts:
                 self.bools.add((eff.resource, eff.value.value))
             elif eff.kind is ir.EffectKind.ASSIGN and eff.value.sort.kind is SortKind.BOOL:
                 self.bools |= {(eff.resource, True), (eff.resource, False)}
+
+
+LINT = Lint(codes.UNREACHABLE_MORPHISM, Scope.INSTANCE, run)
