@@ -484,6 +484,10 @@ def _answer(query: Query, paths: Sequence[str], values: dict[str, Any], as_json:
         result = query.run(inst, **kwargs)
     try:
         messages = query.artifacts(inst, result, values)
+        if values.get("certificate"):  # the certificate module loads only when asked
+            from catc.queries.registry import certificate_artifact
+
+            messages = [*messages, certificate_artifact(inst, result, values)]
     except InputError as exc:
         argument_error(str(exc), exc.code, as_json)
     if as_json:

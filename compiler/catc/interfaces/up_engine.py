@@ -287,12 +287,11 @@ class _Run:
         catc.certificate/1 document, or why there is none (catc.queries.certify)."""
         import json
 
-        from catc.queries.certify import NotCertifiable, certificate
+        from catc.queries.registry import certificate_document
 
-        try:
-            doc = certificate(self.inst, r)
-        except NotCertifiable as exc:
-            self.say(f"catc certificate: none ({exc})", LogLevel.DEBUG)
+        doc, why = certificate_document(self.inst, r)
+        if doc is None:
+            self.say(f"catc certificate: none ({why})", LogLevel.DEBUG)
             return
         self.say("catc certificate (check with catc.queries.certify.certify): " + json.dumps(doc), LogLevel.DEBUG)
 

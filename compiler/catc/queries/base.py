@@ -300,22 +300,6 @@ def certificate_option() -> Option:
     )
 
 
-def with_certificate(
-    artifacts: Callable[[ir.Instance, Any, Mapping[str, Any]], list[str]],
-) -> Callable[[ir.Instance, Any, Mapping[str, Any]], list[str]]:
-    """``artifacts`` plus ``--certificate FILE`` (the certificate module loads only when asked)."""
-
-    def both(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> list[str]:
-        messages = artifacts(inst, result, options)
-        if not options.get("certificate"):
-            return messages
-        from catc.queries.certify import certificate_artifact
-
-        return [*messages, certificate_artifact(inst, result, options)]
-
-    return both
-
-
 def objectives_option(minimize_help: str, maximize_help: str) -> Option:
     """``--minimize``/``--maximize``: one option of the API (``objectives``), two spellings
     whose order of occurrence is the lexicographic order."""

@@ -672,7 +672,7 @@ def write_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]
 
 
 def certificate_artifact(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> str:
-    """``--certificate FILE`` (:func:`catc.queries.base.with_certificate`): write the
+    """``--certificate FILE`` (called by :mod:`catc.interfaces.command` after the query): write the
     certificate of ``result``; what to tell the user."""
     status = getattr(getattr(result, "status", None), "value", None)
     if result.query == "solve" and status != "unsat":

@@ -43,7 +43,6 @@ from catc.queries.base import (
     json_option,
     presolve_option,
     timeout_option,
-    with_certificate,
 )
 from catc.queries.cores import AbstractCores
 from catc.semantics.horizon import horizon_of
@@ -364,6 +363,6 @@ QUERY = Query(
     run=diagnose,
     to_json=diagnosis_json,
     render=render,
-    artifacts=with_certificate(diagram_artifact),
+    artifacts=diagram_artifact,
     progress=True,
 )

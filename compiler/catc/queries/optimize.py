@@ -23,7 +23,6 @@ from catc.queries.base import (
     json_option,
     objectives_option,
     timeout_option,
-    with_certificate,
 )
 from catc.queries.optimum import (
     DEEPEN_FROM,
@@ -206,6 +205,6 @@ QUERY = Query(
     to_json=optimize_json,
     render=render,
     check=check,
-    artifacts=with_certificate(diagram_artifact),
+    artifacts=diagram_artifact,
     progress=True,
 )

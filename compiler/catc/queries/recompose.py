@@ -28,7 +28,6 @@ from catc.queries.base import (
     diagram_option,
     json_option,
     timeout_option,
-    with_certificate,
 )
 from catc.queries.optimize import DEFAULT_TACTICS, OptResult, OptStatus, Tactics, objectives_of, optimize
 
@@ -177,6 +176,6 @@ QUERY = Query(
     to_json=recompose_json,
     render=render,
     check=check,
-    artifacts=with_certificate(diagram_artifact),
+    artifacts=diagram_artifact,
     progress=True,
 )

@@ -5,7 +5,8 @@ answering one query loads only its own module."""
 from __future__ import annotations
 
 import importlib
-from typing import TYPE_CHECKING
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
 
 from catc.queries.base import Query
 
@@ -48,3 +49,19 @@ def deploy_query(inst: ir.Instance) -> str:
     optimum when the problem says what is best — a metric or soft constraints — else the
     shortest (``solve``)."""
     return "optimize" if inst.problem.metric is not None or inst.problem.softs else "solve"
+
+
+def certificate_artifact(inst: ir.Instance, result: object, options: Mapping[str, Any]) -> str:
+    """``--certificate FILE`` of any query that offers it: write the proof of its answer and
+    say where (the certificate module loads only when asked)."""
+    artifact: str = importlib.import_module(QUERIES["certify"]).certificate_artifact(inst, result, options)
+    return artifact
+
+
+def certificate_document(inst: ir.Instance, result: object) -> tuple[dict[str, Any] | None, str]:
+    """The catc.certificate/1 document proving ``result``, or ``None`` and why there is none."""
+    certify = importlib.import_module(QUERIES["certify"])
+    try:
+        return certify.certificate(inst, result), ""
+    except certify.NotCertifiable as exc:
+        return None, str(exc)

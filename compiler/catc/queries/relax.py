@@ -33,7 +33,6 @@ from catc.queries.base import (
     diagram_artifact,
     json_option,
     timeout_option,
-    with_certificate,
 )
 from catc.semantics.compositions import canonical_fresh, checked
 from catc.semantics.horizon import horizon_of
@@ -655,6 +654,6 @@ QUERY = Query(
     check=check,
     to_json=relax_json,
     render=render,
-    artifacts=with_certificate(diagram_artifact),
+    artifacts=diagram_artifact,
     progress=True,
 )

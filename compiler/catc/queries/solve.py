@@ -39,7 +39,6 @@ from catc.queries.base import (
     json_option,
     presolve_option,
     timeout_option,
-    with_certificate,
 )
 from catc.semantics.compositions import canonical_fresh, checked, prune_plan
 from catc.semantics.horizon import horizon_of, use_bound
@@ -588,6 +587,6 @@ QUERY = Query(
     run=solve,
     to_json=solve_json,
     render=render,
-    artifacts=with_certificate(diagram_artifact),
+    artifacts=diagram_artifact,
     progress=True,
 )
