@@ -69,6 +69,9 @@ class Decision:
     proposal: dict[str, Any] | None = None
     churn: str | None = None
     changes: list[dict[str, Any]] = field(default_factory=list)
+    #: A kept composition's states as the validator replayed them (s₀ … sₙ; not journaled):
+    #: what its grounding reads.
+    states: Any = field(default=None, repr=False)
 
     def to_json(self) -> dict[str, Any]:
         return {
@@ -97,6 +100,24 @@ def incumbent_plan(inst: ir.Instance, doc: dict[str, Any] | None) -> tuple[Plan 
         return None, str(exc)
 
 
+def kept(model: Model, incumbent: dict[str, Any] | None) -> Decision | None:
+    """The keep decision when the deployed composition is still valid in ``model`` (the
+    validator's replay, no solver), else None: :func:`decide` answers."""
+    if incumbent is None:
+        return None
+    t = time.perf_counter()
+    plan, _ = incumbent_plan(model.instance, incumbent)
+    if plan is None:
+        return None
+    report = validate(model.instance, plan)
+    if not report.ok:
+        return None
+    return Decision(Action.KEEP, KEPT, plan, timings={"validate": time.perf_counter() - t}, states=report.states)
+
+
+KEPT = "the deployed composition is still valid (replayed step by step)"
+
+
 def decide(model: Model, incumbent: dict[str, Any] | None, limits: Limits, warm: WarmStart | None = None) -> Decision:
     """``warm`` (kept by the caller from one decision to the next) lets ``solve`` answer on
     the previous decision's encoding when only initial values or the goal changed."""
@@ -109,8 +130,7 @@ def decide(model: Model, incumbent: dict[str, Any] | None, limits: Limits, warm:
             report = validate(inst, plan)
             timings["validate"] = time.perf_counter() - t
             if report.ok:
-                return Decision(Action.KEEP, "the deployed composition is still valid (replayed step by step)", plan,
-                                timings=timings)  # fmt: skip
+                return Decision(Action.KEEP, KEPT, plan, timings=timings, states=report.states)
             why = "; ".join(_violation_text(v) for v in report.violations[:3])
         timings.setdefault("validate", time.perf_counter() - t)
         decision = _recompose(model, incumbent, limits, why or "it no longer applies")

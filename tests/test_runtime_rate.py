@@ -1,0 +1,174 @@
+"""The runtime's fast path for events that only set values (issue 26: ≥ 10× the keep rate):
+the event's values are put into the checked model — no source is parsed or checked again —
+and a kept composition's grounding is reused while the values it reads stay the same.  Every
+test compares the fast path with the whole check, which stays the reference."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import threading
+from pathlib import Path
+
+import pytest
+
+from catrt.api import connect, init
+from catrt.apply import apply_change, check, check_values
+from catrt.enact import generation_name
+from catrt.events import parse_event
+from catrt.runtime import MODEL_FOLDER
+
+ROOT = Path(__file__).resolve().parent.parent
+MISSION = ROOT / "examples" / "search-and-rescue" / "mission.cat"
+
+# a lamp whose software's parameters read two resources (power, spare): its artifacts change
+# when they do, and only then
+MODEL = """\
+(define (domain lamps)
+  (:requirements :numeric :sets :grounding)
+  (:sorts room - symbol)
+  (:constants hall porch - room)
+  (:resources
+    (power real :unit W :bounds (0 100))
+    (lit (set room))
+    (dimmed bool)
+    (spare int :bounds (0 10))
+    (mood real))
+  (:morphism lamp :kind software :uses 1
+    :precondition (>= power 3)
+    :effect (and (add lit hall) (decrease power 1))
+    :ground (software :image "example/lamp:1" :node lamp
+                      :params ((watts power) (spares spare)))))
+
+(define (problem light)
+  (:domain lamps)
+  (:init (= power 4) (= spare 2) (= mood 1))
+  (:goal (member hall lit))
+  (:horizon 1))
+"""
+
+
+@pytest.fixture
+def lamps(tmp_path: Path) -> Path:
+    model = tmp_path / "lamps.cat"
+    model.write_text(MODEL, encoding="utf-8")
+    state = tmp_path / "st"
+    init(state, str(model))
+    return state
+
+
+def values(inst) -> dict:
+    return {name: getattr(iv.value, "value", None) for name, iv in inst.problem.init.items()}
+
+
+@pytest.mark.parametrize(
+    "body",
+    [
+        {"power": "21/2"},
+        {"power": "2500 mW"},  # converted to W as a .cat literal is
+        {"dimmed": True},
+        {"spare": "7", "mood": "-3.25"},
+        {"power": "100", "dimmed": "false"},
+    ],
+)
+def test_setting_values_gives_the_model_the_whole_check_gives(lamps: Path, body: dict):
+    with connect(lamps) as rt:
+        r = rt.runtime
+        state, origins = apply_change(
+            r.state, r.current.instance, r.sources, parse_event(json.dumps({"set": body}), "t")
+        )
+        quick = check_values(r.current, state, {"set": body})
+        whole = check(state, r.sources, str(lamps / MODEL_FOLDER), origins)
+    assert quick is not None
+    assert values(quick.instance) == values(whole.instance)
+    assert quick.files == whole.files  # the same texts: the same digest in the manifest
+    assert quick.instance.domain == whole.instance.domain
+
+
+@pytest.mark.parametrize("body", [{"power": "101"}, {"spare": "11"}, {"power": "-1"}])
+def test_a_value_out_of_bounds_takes_the_whole_check_and_is_refused_there(lamps: Path, body: dict):
+    with connect(lamps) as rt:
+        r = rt.runtime
+        state, _ = apply_change(r.state, r.current.instance, r.sources, parse_event(json.dumps({"set": body}), "t"))
+        assert check_values(r.current, state, {"set": body}) is None
+        outcome = rt.submit({"id": "x", "set": body})
+    assert outcome.status == "rejected" and "E1002" in outcome.message and "bounds" in outcome.message
+
+
+def test_events_of_other_kinds_take_the_whole_check(lamps: Path):
+    with connect(lamps) as rt:
+        r = rt.runtime
+        for body in ({"set": {"power": "5"}, "horizon": 2}, {"goal": "(member porch lit)"}):
+            state, _ = apply_change(r.state, r.current.instance, r.sources, parse_event(json.dumps(body), "t"))
+            assert check_values(r.current, state, body) is None
+
+
+def test_a_kept_composition_parses_no_source(monkeypatch: pytest.MonkeyPatch, tmp_path: Path):
+    """Today's code parsed every source (~11 on the mission) for each event."""
+    import catgrammar.parser as parser
+
+    state = tmp_path / "st"
+    init(state, str(MISSION))
+    calls = []
+    real = parser.parse_source
+    monkeypatch.setattr(parser, "parse_source", lambda *a, **k: calls.append(1) or real(*a, **k))
+    with connect(state) as rt:
+        before = len(calls)
+        for i in range(12):
+            outcome = rt.submit({"id": f"k{i}", "set": {"range-to-base": str(1 + i % 9)}})
+            assert outcome.decision is not None and outcome.decision.action == "keep"
+        during = len(calls) - before
+    assert during == 0
+
+
+def test_the_grounding_follows_the_values_it_reads(lamps: Path):
+    """Reused only while power and spare are the same: each change of them is a new
+    generation, and its artifacts are those the whole check and a fresh grounding give."""
+    said = []
+    with connect(lamps, say=said.append) as rt:
+        generations = [rt.runtime.incumbent["generation"]]
+        for i, body in enumerate([{"mood": "2"}, {"power": "9"}, {"mood": "3"}, {"spare": "3"}, {"power": "9"}]):
+            outcome = rt.submit({"id": f"e{i}", "set": body})
+            assert outcome.decision.action == "keep", outcome.message
+            generations.append(rt.runtime.incumbent["generation"])
+        params = (lamps / "generations" / generation_name(generations[-1]) / "params.yaml").read_text()
+        fresh, _ = rt.runtime._artifacts(check(rt.runtime.state, rt.runtime.sources, str(lamps / MODEL_FOLDER)),
+                                         rt.runtime.current.model and _plan(rt))  # fmt: skip
+    # mood is read by no grounding: no new generation; power and spare are
+    assert generations == [1, 1, 2, 2, 3, 3]
+    assert "watts: 9.0" in params and "spares: 3" in params
+    assert fresh[0]["params.yaml"].decode() == params
+
+
+def _plan(rt):
+    from catc.api import read_plan
+
+    return read_plan(rt.runtime.current.instance, rt.runtime.incumbent["plan"])
+
+
+def test_a_loop_on_a_file_writes_the_model_files_at_its_end(lamps: Path, tmp_path: Path):
+    from catrt.loop import loop
+
+    feed = tmp_path / "events.jsonl"
+    feed.write_text("".join(json.dumps({"id": f"e{i}", "set": {"mood": str(i)}}) + "\n" for i in range(1, 30)))
+    with connect(lamps) as rt:
+        loop(rt.runtime, str(feed), once=True, stop=threading.Event(), sensors=())
+        text = (lamps / MODEL_FOLDER / "problem.cat").read_text(encoding="utf-8")
+        assert "(= mood 29)" in text
+        from catc.api import load
+
+        again = load(lamps / MODEL_FOLDER / "problem.cat").instance
+        assert values(again) == values(rt.runtime.current.instance)
+
+
+@pytest.mark.slow
+def test_the_rate_benchmark_fails_when_asked_for_more_than_it_measures():
+    """The regression check can fail: against this very tree, 1000× is never met."""
+    done = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "runtime_bench.py"), "rate", "--against", str(ROOT),
+         "--keep", "20", "--base-keep", "20", "--burst", "6", "--rounds", "1", "--min-ratio", "1000"],
+        capture_output=True, text=True, check=False, timeout=600,
+    )  # fmt: skip
+    assert done.returncode == 1, done.stderr
+    assert "REGRESSION" in done.stderr and "| keep |" in done.stdout.replace("this tree (", "").replace(") |", " |")
