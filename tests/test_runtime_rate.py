@@ -172,3 +172,60 @@ def test_the_rate_benchmark_fails_when_asked_for_more_than_it_measures():
     )  # fmt: skip
     assert done.returncode == 1, done.stderr
     assert "REGRESSION" in done.stderr and "| keep |" in done.stdout.replace("this tree (", "").replace(") |", " |")
+
+
+def _sensor_entries(state: Path) -> list[dict]:
+    from catrt.store import Store
+
+    store = Store.open(state, write=False)
+    try:
+        return [e for e in store.entries() if e["kind"] in ("sensor", "sensor-repeats", "event")]
+    finally:
+        store.close()
+
+
+def test_an_unchanged_sensor_answer_is_counted_not_journaled_each_time(lamps: Path):
+    """A sensor read 200 times with the same answer (at 0.01 s that is 2 s): today's code
+    wrote 200 journal entries; now one entry, and the count of the 199 repeats."""
+    from catrt.config import Sensor
+    from catrt.views import sensor_counts, status_document
+
+    mood = Sensor("mood", "mood", ("/bin/echo", "5"), every=0.01)
+    with connect(lamps) as rt:
+        for _ in range(200):
+            rt.runtime.read_sensors([mood])
+        live = rt.status()["sensors"]["mood"]
+    entries = _sensor_entries(lamps)
+    kinds = [e["kind"] for e in entries]
+    assert kinds == ["sensor", "event", "sensor-repeats"]  # the change, its event, the count at close
+    assert entries[2]["data"]["repeats"] == 199 and entries[2]["data"]["value"] == "5"
+    assert live["value"] == "5" and live["readings"] == 1  # the count not yet journaled
+    from catrt.store import Store
+
+    store = Store.open(lamps, write=False)
+    try:
+        counts = sensor_counts(store)
+        assert status_document(store, lamps)["sensors"] == counts
+    finally:
+        store.close()
+    assert counts["mood"]["readings"] == 200 and counts["mood"]["repeats"] == 199
+
+
+def test_a_changed_answer_is_journaled_with_the_repeats_before_it(lamps: Path, tmp_path: Path):
+    from catrt.config import Sensor
+
+    value = tmp_path / "value"
+    probe = Sensor("mood", "mood", ("/bin/cat", str(value)))
+    with connect(lamps) as rt:
+        for answer, times in (("5", 3), ("6", 4), ("5", 1)):
+            value.write_text(answer + "\n")
+            for _ in range(times):
+                rt.runtime.read_sensors([probe])
+        # another event moves the resource: the sensor's same answer is an event again
+        assert rt.submit({"id": "hand", "set": {"mood": "9"}}).status == "accepted"
+        rt.runtime.read_sensors([probe])
+        assert rt.runtime.state.problem.init["mood"] == "5"
+    sensed = [
+        (e["data"]["value"], e["data"]["repeats_before"]) for e in _sensor_entries(lamps) if e["kind"] == "sensor"
+    ]
+    assert sensed == [("5", 0), ("6", 2), ("5", 3), ("5", 0)]

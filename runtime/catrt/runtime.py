@@ -134,6 +134,22 @@ def grounding_reads(inst: ir.Instance, plan: Plan) -> tuple[str, ...]:
     return tuple(sorted(found))
 
 
+#: Seconds of unchanged sensor answers summed up in one ``sensor-repeats`` entry.
+REPEATS_EVERY = 60.0
+
+
+@dataclass
+class _Sensed:
+    """A sensor's last journaled answer and how often it was read again since."""
+
+    resource: str
+    value: Any
+    error: str | None
+    since: float  # time.monotonic() of the last entry
+    repeats: int = 0
+    init: Any = None  # the resource's value once the answer was handled
+
+
 def model_sha(state: ModelState) -> str:
     return hashlib.sha256(dumps(state.to_json()).encode()).hexdigest()
 
@@ -170,6 +186,7 @@ class Runtime:
         #: The loop sets it: during a burst of events that change only values, the model files
         #: are written at most every MODEL_EVERY seconds (each call of the API writes them).
         self.defer_model = False
+        self._sensed: dict[str, _Sensed] = {}  # each sensor's last journaled answer
         #: groundings of kept compositions, by (plan, the values the grounding reads), and by
         #: plan the resources it reads; cleared when the model changes beyond initial values
         self._grounded: dict[Any, Any] = {}
@@ -454,9 +471,22 @@ class Runtime:
         out = []
         for sensor in due:
             reading = run_sensor(sensor, self.current.instance.resources.get(sensor.resource), self.folder)
+            last = self._sensed.get(sensor.name)
+            init = self.state.problem.init.get(sensor.resource)
+            if last is not None and (last.value, last.error, last.init) == (reading.value, reading.error, init):
+                # the same answer again, and nothing else changed the resource since
+                last.repeats += 1  # counted, journaled in sum (below)
+                if time.monotonic() - last.since >= REPEATS_EVERY:
+                    self._journal_repeats(sensor.name)
+                continue
+            repeats = last.repeats if last is not None else 0
+            sensed = self._sensed[sensor.name] = _Sensed(
+                sensor.resource, reading.value, reading.error, time.monotonic()
+            )
             with self.store.transaction():
                 seq = self.store.journal("sensor", {**reading.to_json(), "argv": list(sensor.argv),
-                                                    **({"code": "E1009"} if reading.error else {})})  # fmt: skip
+                                                    **({"code": "E1009"} if reading.error else {}),
+                                                    "repeats_before": repeats})  # fmt: skip
             if reading.error is not None:
                 outcome = Outcome(
                     Status.REJECTED, "", f"sensor {sensor.name}", f"error[E1009]: {reading.error}", seq=seq
@@ -467,7 +497,18 @@ class Runtime:
                 event = Event(f"sensor-{sensor.name}-{seq}", {"set": {sensor.resource: reading.value}},
                               f"sensor {sensor.name}", False)  # fmt: skip
                 out.append(self.handle(event))
+            sensed.init = self.state.problem.init.get(sensor.resource)  # after its event, if any
         return out
+
+    def _journal_repeats(self, name: str) -> None:
+        """A ``sensor-repeats`` entry: how often the sensor read its last journaled answer
+        again since its last entry (the count starts anew)."""
+        last = self._sensed[name]
+        if last.repeats:
+            with self.store.transaction():
+                self.store.journal("sensor-repeats", {"sensor": name, "resource": last.resource, "value": last.value,
+                                                      "error": last.error, "repeats": last.repeats})  # fmt: skip
+        last.repeats, last.since = 0, time.monotonic()
 
     def say_disk_full(self, where: str, message: str, wait: float) -> None:
         """Tell the person watching that the disk is full and when the loop tries again."""
@@ -476,5 +517,7 @@ class Runtime:
     def close(self) -> None:
         try:
             self.flush_model()
+            for name in self._sensed:
+                self._journal_repeats(name)
         finally:
             self.store.close()
