@@ -229,3 +229,38 @@ def test_a_changed_answer_is_journaled_with_the_repeats_before_it(lamps: Path, t
         (e["data"]["value"], e["data"]["repeats_before"]) for e in _sensor_entries(lamps) if e["kind"] == "sensor"
     ]
     assert sensed == [("5", 0), ("6", 2), ("5", 3), ("5", 0)]
+
+
+def test_a_decision_past_its_budget_is_undecided_journaled_and_the_loop_goes_on(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+):
+    """[limits] decision: every query of one event together.  A fake clock that jumps 10 s
+    at each look makes the 5 s budget run out before the recomposition: E1017, the event
+    journaled, the deployed composition kept, and the next event handled as ever."""
+    import catrt.decide
+
+    model = tmp_path / "lamps.cat"
+    model.write_text(MODEL, encoding="utf-8")
+    state = tmp_path / "st"
+    init(state, str(model), config_text="[limits]\ndecision = 5\n")
+    with connect(state) as rt:
+        generation = rt.runtime.incumbent["generation"]
+        clock = iter(range(0, 10**6, 10))
+        monkeypatch.setattr(catrt.decide, "_now", lambda: float(next(clock)))
+        low = rt.submit({"id": "low", "set": {"power": "1"}})  # the lamp needs 3: recompose
+        monkeypatch.undo()
+        assert rt.runtime.incumbent["generation"] == generation  # the deployed composition stays
+        again = rt.submit({"id": "again", "set": {"power": "8"}})
+    assert low.status == "accepted" and low.decision.action == "undecided" and low.decision.code == "E1017"
+    assert "error[E1017]" in low.message and "decision budget of 5 s" in low.message
+    assert again.status == "accepted" and again.decision.action == "keep"
+    from catrt.store import Store
+
+    store = Store.open(state, write=False)
+    try:
+        entries = [
+            (e["kind"], e["event_id"], e["data"].get("code")) for e in store.entries(kinds=("event", "decision"))
+        ]
+    finally:
+        store.close()
+    assert ("event", "low", None) in entries and ("decision", None, "E1017") in entries

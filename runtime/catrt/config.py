@@ -5,6 +5,7 @@ hand), checked against a JSON schema so that a typo is an error, not a silent de
     compose = 120
     diagnose = 30
     relax = 30
+    decision = 60         # all the queries of one event together (E1017 past it)
 
     [enactor]
     kind = "dry"          # or "compose"
@@ -36,6 +37,8 @@ TEMPLATE = """# catrt configuration (docs/runtime.md).  Every key is optional.
 compose = 120       # recompose / optimize / solve
 diagnose = 30
 relax = 30
+# decision = 60     # all the queries of one event together; past it the decision is
+                    # "undecided" (E1017), the event stays journaled, the loop goes on
 
 [enactor]
 kind = "dry"        # dry: write generations, run nothing; compose: docker compose up
@@ -62,7 +65,7 @@ _SCHEMA: dict[str, Any] = {
         "limits": {
             "type": "object",
             "additionalProperties": False,
-            "properties": {"compose": _NUMBER, "diagnose": _NUMBER, "relax": _NUMBER},
+            "properties": {"compose": _NUMBER, "diagnose": _NUMBER, "relax": _NUMBER, "decision": _NUMBER},
         },
         "enactor": {
             "type": "object",

@@ -37,6 +37,33 @@ class Limits:
     compose: float | None = 120.0
     diagnose: float | None = 30.0
     relax: float | None = 30.0
+    #: Seconds all the queries of one decision may take together (``[limits] decision``):
+    #: past it the decision is ``undecided`` with E1017, the deployed composition stays.
+    decision: float | None = None
+
+    def within(self, deadline: float | None) -> Limits:
+        """These limits, none past ``deadline`` (a ``time.monotonic()``); OutOfBudget when
+        it has passed."""
+        if deadline is None:
+            return self
+        left = deadline - _now()
+        if left <= 0:
+            raise OutOfBudget
+        cut = lambda limit: left if limit is None else min(limit, left)  # noqa: E731
+        return Limits(cut(self.compose), cut(self.diagnose), cut(self.relax), self.decision)
+
+
+def _now() -> float:
+    """The clock of the decision budget (a test's fake clock replaces it)."""
+    return time.monotonic()
+
+
+class OutOfBudget(Exception):
+    """The decision budget ran out before the next query."""
+
+
+#: The code of a decision whose budget ran out.
+BUDGET_CODE = "E1017"
 
 
 class Action(StrEnum):
@@ -69,6 +96,7 @@ class Decision:
     proposal: dict[str, Any] | None = None
     churn: str | None = None
     changes: list[dict[str, Any]] = field(default_factory=list)
+    code: str | None = None  # E1017: the decision budget ran out
     #: A kept composition's states as the validator replayed them (s₀ … sₙ; not journaled):
     #: what its grounding reads.
     states: Any = field(default=None, repr=False)
@@ -84,6 +112,7 @@ class Decision:
             "solver_calls": self.solver_calls,
             "timings": {k: round(v, 6) for k, v in self.timings.items()},
             "documents": self.documents,
+            **({"code": self.code} if self.code else {}),
         }
 
 
@@ -121,8 +150,23 @@ KEPT = "the deployed composition is still valid (replayed step by step)"
 def decide(model: Model, incumbent: dict[str, Any] | None, limits: Limits, warm: WarmStart | None = None) -> Decision:
     """``warm`` (kept by the caller from one decision to the next) lets ``solve`` answer on
     the previous decision's encoding when only initial values or the goal changed."""
-    inst = model.instance
+    deadline = _now() + limits.decision if limits.decision is not None else None
     timings: dict[str, float] = {}
+    try:
+        return _decide(model, incumbent, limits, warm, deadline, timings)
+    except OutOfBudget:
+        return _out_of_budget(limits, timings)
+
+
+def _out_of_budget(limits: Limits, timings: dict[str, float], documents: dict[str, Any] | None = None) -> Decision:
+    return Decision(Action.UNDECIDED, f"error[{BUDGET_CODE}]: the decision budget of {limits.decision:g} s ran out "
+                    "(config.toml [limits] decision); the deployed composition stays", documents=documents or {},
+                    timings=timings, code=BUDGET_CODE)  # fmt: skip
+
+
+def _decide(model: Model, incumbent: dict[str, Any] | None, limits: Limits, warm: WarmStart | None,
+            deadline: float | None, timings: dict[str, float]) -> Decision:  # fmt: skip
+    inst = model.instance
     if incumbent is not None:
         t = time.perf_counter()
         plan, why = incumbent_plan(inst, incumbent)
@@ -133,13 +177,16 @@ def decide(model: Model, incumbent: dict[str, Any] | None, limits: Limits, warm:
                 return Decision(Action.KEEP, KEPT, plan, timings=timings, states=report.states)
             why = "; ".join(_violation_text(v) for v in report.violations[:3])
         timings.setdefault("validate", time.perf_counter() - t)
-        decision = _recompose(model, incumbent, limits, why or "it no longer applies")
+        decision = _recompose(model, incumbent, limits.within(deadline), why or "it no longer applies")
     else:
-        decision = _compose(model, limits, warm)
+        decision = _compose(model, limits.within(deadline), warm)
     decision.timings = {**timings, **decision.timings}
+    if decision.action is Action.UNDECIDED and deadline is not None and _now() >= deadline:
+        return _out_of_budget(limits, decision.timings, decision.documents)
     if decision.action is not Action.INFEASIBLE:
         return decision
-    restore = _restore(model, incumbent, limits)
+    timings.update(decision.timings)
+    restore = _restore(model, incumbent, limits, deadline)
     restore.timings = {**decision.timings, **restore.timings}
     restore.solver_calls += decision.solver_calls
     restore.documents = {**decision.documents, **restore.documents}
@@ -201,9 +248,10 @@ def _compose(model: Model, limits: Limits, warm: WarmStart | None) -> Decision:
                     timings=took, solver_calls=1)  # fmt: skip
 
 
-def _restore(model: Model, incumbent: dict[str, Any] | None, limits: Limits) -> Decision:
+def _restore(model: Model, incumbent: dict[str, Any] | None, limits: Limits, deadline: float | None) -> Decision:
     """Diagnose, then the least restoration of initial values: a proposal."""
     inst = model.instance
+    limits = limits.within(deadline)
     relative = _components(incumbent) if incumbent is not None else []
     relative = [c for c in relative if c in inst.morphisms]
     t = time.perf_counter()
@@ -212,8 +260,10 @@ def _restore(model: Model, incumbent: dict[str, Any] | None, limits: Limits) -> 
     documents = {"diagnose": model.to_json(diag)}
     core = diag.cores[0] if diag.cores else []
     t = time.perf_counter()
+    limits = limits.within(deadline)
     rel = cast("RelaxResult", model.query("relax", only=["init/"], relative_to=relative, timeout=limits.relax))
     if relative and not rel.relaxations:  # nothing restores the deployed composition: any composition
+        limits = limits.within(deadline)
         rel = cast("RelaxResult", model.query("relax", only=["init/"], relative_to=(), timeout=limits.relax))
     timings["relax"] = time.perf_counter() - t
     documents["relax"] = model.to_json(rel)

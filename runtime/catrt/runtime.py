@@ -171,7 +171,7 @@ class Runtime:
         # solve's encoding, from one decision to the next; sensed values start behind literals
         self.warm = warm_start(s.resource for s in config.sensors)
         limits = {**{"compose": 120.0, "diagnose": 30.0, "relax": 30.0}, **config.limits}
-        self.limits = Limits(limits["compose"], limits["diagnose"], limits["relax"])
+        self.limits = Limits(limits["compose"], limits["diagnose"], limits["relax"], limits.get("decision"))
         kind = enactor or config.enactor.get("kind", "dry")
         self.enactor: Enactor = ENACTORS[kind](config.enactor)
         self.approve, self.say, self.ask = approve, say or (lambda outcome: None), ask

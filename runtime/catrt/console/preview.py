@@ -32,7 +32,7 @@ def preview(store: Store, folder: Path, request: str) -> tuple[str, str | None]:
     incumbent: dict[str, Any] | None = store.get("incumbent")
     limits = {"compose": 120.0, "diagnose": 30.0, "relax": 30.0, **load_config(folder).limits}  # as the loop's
     decision = decide(candidate.model, incumbent["plan"] if incumbent else None,
-                      Limits(limits["compose"], limits["diagnose"], limits["relax"]))  # fmt: skip
+                      Limits(limits["compose"], limits["diagnose"], limits["relax"], limits.get("decision")))  # fmt: skip
     if not decision.action.deploys or decision.plan is None:
         return str(decision.reason), None
     plan = read_plan(candidate.instance, decision.to_json()["plan"])
