@@ -151,8 +151,8 @@ def _mqtt(runtime: Runtime, subscriber: Subscriber, clock: _Sensors, stop: threa
             message = subscriber.get(min(clock.wait(), 0.5))
             if message is None:  # nothing waiting: the model files catch up
                 runtime.flush_model()
-            else:
-                runtime.handle_line(message.text, message.where)
+            else:  # a full disk: retried with back-off; acknowledged only once handled
+                handle(runtime, message.text, message.where, stop)
                 subscriber.ack(message)
             clock.poll(runtime)
     finally:
