@@ -264,3 +264,73 @@ def test_a_decision_past_its_budget_is_undecided_journaled_and_the_loop_goes_on(
     finally:
         store.close()
     assert ("event", "low", None) in entries and ("decision", None, "E1017") in entries
+
+
+# ---------------------------------------------------------------- the relaxation policy
+
+# Two ways to light the hall, one short of power (W), one of money (USD): restoring power
+# needs +10 W (half its value), restoring the budget +100 USD (a ninth of it).
+UNLIKE = """\
+(define (domain shop)
+  (:requirements :numeric :sets)
+  (:sorts room - symbol)
+  (:constants hall - room)
+  (:resources
+    (power real :unit W :bounds (0 *))
+    (budget real :unit USD :bounds (0 *))
+    (lit (set room)))
+  (:morphism lamp :kind software :uses 1
+    :precondition (>= power 30)
+    :effect (add lit hall))
+  (:morphism buy-lamp :kind software :uses 1
+    :precondition (>= budget 1000)
+    :effect (add lit hall)))
+
+(define (problem light)
+  (:domain shop)
+  (:init (= power 20) (= budget 900))
+  (:goal (member hall lit))
+  (:horizon 1))
+"""
+
+
+def _proposal(tmp_path: Path, config: str) -> dict:
+    model = tmp_path / "shop.cat"
+    model.write_text(UNLIKE, encoding="utf-8")
+    state = tmp_path / "st"
+    init(state, str(model), config_text=config)
+    with connect(state) as rt:
+        (start,) = rt.started
+    assert start.decision.action in ("restore", "stuck"), start.message
+    return start.decision.proposal or {}
+
+
+@pytest.mark.parametrize(
+    ("config", "restored"),
+    [
+        ("", {"budget": "1000"}),  # W and USD: by relative change, 1/9 < 1/2 (not 100 USD > 10 W)
+        ("[relax]\nfixed = ['budget']\n", {"power": "30"}),
+        ("[relax]\nweights = { power = '1/100' }\n", {"power": "30"}),  # 10 × 1/100 < 100 × 1/900
+        ("[relax]\nweights = { power = 1, budget = 1 }\n", {"power": "30"}),  # said: 1 W counts as 1 USD
+    ],
+)
+def test_restorations_follow_the_relax_policy_and_never_add_unlike_units(tmp_path: Path, config: str, restored):
+    assert _proposal(tmp_path, config)["set"] == restored
+
+
+def test_every_resource_fixed_leaves_nothing_to_propose(tmp_path: Path):
+    assert _proposal(tmp_path, "[relax]\nfixed = ['budget', 'power']\n") == {}
+
+
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [("[relax]\nweights = { power = 0 }\n", "relax.weights"), ("[relax]\nfixd = []\n", "fixd"),
+     ("[relax]\nweights = { power = '1/0' }\n", "relax.weights")],
+)  # fmt: skip
+def test_a_bad_relax_policy_is_refused(tmp_path: Path, text: str, words: str):
+    from catrt.config import ConfigError, load_config
+
+    (tmp_path / "config.toml").write_text(text, encoding="utf-8")
+    with pytest.raises(ConfigError) as exc:
+        load_config(tmp_path)
+    assert words in str(exc.value)

@@ -58,6 +58,32 @@ def _now() -> float:
     return time.monotonic()
 
 
+@dataclass(frozen=True)
+class RelaxPolicy:
+    """How restorations weigh the initial values they change (``[relax]`` in config.toml):
+    ``weights`` per resource (per unit of it), ``fixed`` resources never changed; the rest,
+    when the relaxable resources are of different units, by their relative change."""
+
+    weights: dict[str, Fraction] = field(default_factory=dict)
+    fixed: frozenset[str] = frozenset()
+
+    def for_model(self, inst: ir.Instance) -> tuple[list[str], dict[str, Fraction]]:
+        """(``only``, ``weights``) of the relax query: the initial values that may change,
+        and the weight of each.  Given weights are kept; when the resources that may change
+        do not all have the same unit, each other one is weighed by its relative change
+        (1/|its value|, 1 at 0), so that 1 GB never counts as 1 USD; of one unit, weight 1."""
+        numeric = sorted(r for r, iv in inst.problem.init.items()
+                         if r in inst.resources and inst.resources[r].sort.is_numeric)  # fmt: skip
+        free = [r for r in numeric if r not in self.fixed]
+        weights = {f"init/{r}": w for r, w in self.weights.items() if r in free}
+        if len({inst.resources[r].unit for r in free if r not in self.weights}) > 1:
+            for r in free:
+                if r not in self.weights:
+                    value = abs(Fraction(inst.problem.init[r].value.value))  # type: ignore[union-attr]
+                    weights[f"init/{r}"] = 1 / value if value else Fraction(1)
+        return ([f"init/{r}" for r in free] if self.fixed else ["init/"]) if free else [], weights
+
+
 class OutOfBudget(Exception):
     """The decision budget ran out before the next query."""
 
@@ -147,13 +173,14 @@ def kept(model: Model, incumbent: dict[str, Any] | None) -> Decision | None:
 KEPT = "the deployed composition is still valid (replayed step by step)"
 
 
-def decide(model: Model, incumbent: dict[str, Any] | None, limits: Limits, warm: WarmStart | None = None) -> Decision:
+def decide(model: Model, incumbent: dict[str, Any] | None, limits: Limits, warm: WarmStart | None = None,
+           policy: RelaxPolicy | None = None) -> Decision:  # fmt: skip
     """``warm`` (kept by the caller from one decision to the next) lets ``solve`` answer on
     the previous decision's encoding when only initial values or the goal changed."""
     deadline = _now() + limits.decision if limits.decision is not None else None
     timings: dict[str, float] = {}
     try:
-        return _decide(model, incumbent, limits, warm, deadline, timings)
+        return _decide(model, incumbent, limits, warm, deadline, timings, policy or RelaxPolicy())
     except OutOfBudget:
         return _out_of_budget(limits, timings)
 
@@ -165,7 +192,7 @@ def _out_of_budget(limits: Limits, timings: dict[str, float], documents: dict[st
 
 
 def _decide(model: Model, incumbent: dict[str, Any] | None, limits: Limits, warm: WarmStart | None,
-            deadline: float | None, timings: dict[str, float]) -> Decision:  # fmt: skip
+            deadline: float | None, timings: dict[str, float], policy: RelaxPolicy) -> Decision:  # fmt: skip
     inst = model.instance
     if incumbent is not None:
         t = time.perf_counter()
@@ -186,7 +213,7 @@ def _decide(model: Model, incumbent: dict[str, Any] | None, limits: Limits, warm
     if decision.action is not Action.INFEASIBLE:
         return decision
     timings.update(decision.timings)
-    restore = _restore(model, incumbent, limits, deadline)
+    restore = _restore(model, incumbent, limits, deadline, policy)
     restore.timings = {**decision.timings, **restore.timings}
     restore.solver_calls += decision.solver_calls
     restore.documents = {**decision.documents, **restore.documents}
@@ -248,10 +275,12 @@ def _compose(model: Model, limits: Limits, warm: WarmStart | None) -> Decision:
                     timings=took, solver_calls=1)  # fmt: skip
 
 
-def _restore(model: Model, incumbent: dict[str, Any] | None, limits: Limits, deadline: float | None) -> Decision:
+def _restore(model: Model, incumbent: dict[str, Any] | None, limits: Limits, deadline: float | None,
+             policy: RelaxPolicy) -> Decision:  # fmt: skip
     """Diagnose, then the least restoration of initial values: a proposal."""
     inst = model.instance
     limits = limits.within(deadline)
+    only, weights = policy.for_model(inst)
     relative = _components(incumbent) if incumbent is not None else []
     relative = [c for c in relative if c in inst.morphisms]
     t = time.perf_counter()
@@ -260,11 +289,17 @@ def _restore(model: Model, incumbent: dict[str, Any] | None, limits: Limits, dea
     documents = {"diagnose": model.to_json(diag)}
     core = diag.cores[0] if diag.cores else []
     t = time.perf_counter()
+    if not only:  # every initial value is fixed: nothing to propose
+        timings["relax"] = 0.0
+        return Decision(Action.STUCK, f"no composition exists (core: {', '.join(core) or 'none found'}) and every "
+                        "initial value is fixed ([relax] fixed): waiting for a change of the task or the catalogue",
+                        documents=documents, timings=timings, solver_calls=1)  # fmt: skip
     limits = limits.within(deadline)
-    rel = cast("RelaxResult", model.query("relax", only=["init/"], relative_to=relative, timeout=limits.relax))
+    options: dict[str, Any] = {"only": only, **({"weights": weights} if weights else {})}
+    rel = cast("RelaxResult", model.query("relax", relative_to=relative, timeout=limits.relax, **options))
     if relative and not rel.relaxations:  # nothing restores the deployed composition: any composition
         limits = limits.within(deadline)
-        rel = cast("RelaxResult", model.query("relax", only=["init/"], relative_to=(), timeout=limits.relax))
+        rel = cast("RelaxResult", model.query("relax", relative_to=(), timeout=limits.relax, **options))
     timings["relax"] = time.perf_counter() - t
     documents["relax"] = model.to_json(rel)
     values: dict[str, str] = {}

@@ -32,7 +32,7 @@ from catc.ir.grounding import Value, ValueKind
 from catc.semantics.plan import Plan, plan_to_json
 from catrt.apply import Candidate, Rejection, apply_change, check, check_values
 from catrt.config import Config
-from catrt.decide import Action, Decision, Limits, decide, kept
+from catrt.decide import Action, Decision, Limits, RelaxPolicy, decide, kept
 from catrt.enact import (
     ENACTORS,
     EnactError,
@@ -171,6 +171,7 @@ class Runtime:
         # solve's encoding, from one decision to the next; sensed values start behind literals
         self.warm = warm_start(s.resource for s in config.sensors)
         limits = {**{"compose": 120.0, "diagnose": 30.0, "relax": 30.0}, **config.limits}
+        self.policy = RelaxPolicy(dict(config.relax_weights), config.relax_fixed)
         self.limits = Limits(limits["compose"], limits["diagnose"], limits["relax"], limits.get("decision"))
         kind = enactor or config.enactor.get("kind", "dry")
         self.enactor: Enactor = ENACTORS[kind](config.enactor)
@@ -323,7 +324,8 @@ class Runtime:
             if quick:  # a solver query follows: on the model checked whole, so that what the
                 # queries report (cores, restorations) points into the files as catc reads them
                 candidate, quick = check(candidate.state, self.sources, str(self.folder / MODEL_FOLDER)), False
-            decision = decide(candidate.model, incumbent["plan"] if incumbent else None, self.limits, self.warm)
+            decision = decide(candidate.model, incumbent["plan"] if incumbent else None, self.limits, self.warm,
+                              self.policy)  # fmt: skip
         if not quick:  # the model changed beyond initial values: ground afresh
             self._grounded.clear()
         plan = decision.plan if decision.action.deploys else None
