@@ -50,6 +50,8 @@ from catrt.store import Store, Verdict, dumps
 MODEL_FOLDER = "model"
 #: Seconds between two writes of the model files while a loop defers them (a burst of values).
 MODEL_EVERY = 1.0
+#: Groundings of kept compositions remembered at most (by the values they read).
+GROUNDINGS_KEPT = 256
 GENERATIONS = "generations"
 
 
@@ -408,6 +410,8 @@ class Runtime:
         except ValueError as exc:  # GroundingConflict, a real no artifact can carry
             return None, f"the composition cannot be grounded: {exc}"
         if key is not None:
+            if len(self._grounded) > GROUNDINGS_KEPT:  # values that keep changing: start again
+                self._grounded.clear()
             self._grounded[key] = made
         return made, None
 
