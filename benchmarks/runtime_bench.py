@@ -8,6 +8,17 @@ whole step (apply, check, decide, commit, ground, write the generation).  Then, 
 kind, the median.  A kept composition needs no solver call: its cost is the validator's replay.
 
     python benchmarks/runtime_bench.py [--runs 3] [--stream 40]
+
+``rate`` measures the event rate of a long stream, side by side against another checkout of
+the code (``git worktree add /tmp/base main``) in one run, rounds alternating: 10,000 keep
+events on the search-and-rescue mission (the range to base sensed within the comms range:
+the deployed composition stays valid), and a burst of mixed events on the detection example
+(kept, restorations asked for and approved, a value refused, a duplicate).  Each tree runs in
+a child process of its own with only that tree on ``sys.path``.  It exits 1 — the
+regression check — when the keep rate is less than ``--min-ratio`` times the other tree's,
+or the burst rate less than ``--min-burst-ratio`` times:
+
+    python benchmarks/runtime_bench.py rate --against /tmp/base [--keep 10000] [--base-keep 300]
 """
 
 from __future__ import annotations
@@ -21,7 +32,8 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path[:0] = [str(ROOT), str(ROOT / "compiler"), str(ROOT / "runtime")]
+TREE = Path(sys.argv[sys.argv.index("--tree") + 1]) if "--tree" in sys.argv else ROOT  # rate's child process
+sys.path[:0] = [str(TREE), str(TREE / "compiler"), str(TREE / "runtime")]
 
 from catrt.api import connect, init  # noqa: E402
 
@@ -84,7 +96,119 @@ def by_kind(rows: list[dict]) -> None:
     print()
 
 
+# ---------------------------------------------------------------- rate: long streams, two trees
+
+
+def keep_events(n: int) -> list[dict]:
+    """``n`` sensed ranges to base within the comms range (10): each keeps the composition."""
+    return [{"id": f"k{i}", "set": {"range-to-base": f"{1 + i % 9}.{i % 10}"}} for i in range(n)]
+
+
+def burst_events(n: int) -> list[dict]:
+    """``n`` mixed events on detection: RAM values that keep or ask for a restoration, each
+    request approved, a value refused, a duplicate id."""
+    out: list[dict] = []
+    request = 0
+    while len(out) < n:
+        i = len(out)
+        out += [{"id": f"b{i}", "set": {"ram": "16"}}, {"id": f"b{i}", "set": {"ram": "12"}},  # a duplicate
+                {"id": f"b{i}-bad", "set": {"ram": "lots"}}, {"id": f"b{i}-low", "set": {"ram": "1"}}]  # fmt: skip
+        request += 1
+        out += [{"id": f"b{i}-ok", "approve": f"r{request}"}, {"id": f"b{i}-up", "set": {"ram": "64"}}]
+    return out[:n]
+
+
+def rate_of(problem: Path, events: list[dict]) -> dict:
+    """Events per second of one runtime's loop reading ``events`` from a file after its
+    start, as ``catrt run --events FILE`` does (in-process; the model files written at the
+    end included)."""
+    import threading
+
+    from catrt.loop import loop
+
+    with tempfile.TemporaryDirectory() as tmp:
+        state, feed = Path(tmp) / "st", Path(tmp) / "events.jsonl"
+        init(state, str(problem))
+        feed.write_text("".join(json.dumps(e) + "\n" for e in events), encoding="utf-8")
+        actions: dict[str, int] = {}
+
+        def count(o: object) -> None:
+            d = getattr(o, "decision", None)
+            kind = str(d.action) if d is not None else str(getattr(o, "status", "?"))
+            actions[kind] = actions.get(kind, 0) + 1
+
+        with connect(state, say=count) as rt:
+            actions.clear()  # the start's
+            t = time.perf_counter()
+            loop(rt.runtime, str(feed), once=True, stop=threading.Event(), sensors=())
+            rt.close()
+            took = time.perf_counter() - t
+    return {"events": len(events), "seconds": took, "rate": len(events) / took, "actions": actions}
+
+
+def child(args: argparse.Namespace) -> None:
+    keep = rate_of(MISSION / "mission.cat", keep_events(args.keep))
+    burst = rate_of(DETECTION, burst_events(args.burst))
+    print(json.dumps({"keep": keep, "burst": burst}))
+
+
+def rate(args: argparse.Namespace) -> int:
+    import subprocess
+
+    trees = {"this tree": (ROOT, args.keep), "--against": (Path(args.against).resolve(), args.base_keep)}
+    runs: dict[str, list[dict]] = {name: [] for name in trees}
+    for _ in range(args.rounds):
+        for name, (tree, keep) in trees.items():
+            argv = [sys.executable, __file__, "child", "--tree", str(tree), "--keep", str(keep),
+                    "--burst", str(args.burst)]  # fmt: skip
+            done = subprocess.run(argv, capture_output=True, text=True, check=False, env={"PATH": "/usr/bin:/bin"})
+            if done.returncode != 0:
+                print(f"{name} ({tree}) failed:\n{done.stderr[-2000:]}", file=sys.stderr)
+                return 2
+            runs[name].append(json.loads(done.stdout.splitlines()[-1]))
+    print(f"`python benchmarks/runtime_bench.py rate --against {args.against} --keep {args.keep} "
+          f"--base-keep {args.base_keep} --burst {args.burst} --rounds {args.rounds}` on {machine()}\n")  # fmt: skip
+    print("| tree | workload | events | decisions | events/s (median of rounds) | ms/event |")
+    print("|---|---|---:|---|---:|---:|")
+    best: dict[tuple[str, str], float] = {}
+    for name, (tree, _) in trees.items():
+        for workload in ("keep", "burst"):
+            rs = [r[workload] for r in runs[name]]
+            median = statistics.median(r["rate"] for r in rs)
+            best[name, workload] = median
+            actions = ", ".join(f"{k} {v}" for k, v in sorted(rs[0]["actions"].items()))
+            print(f"| {name} ({tree.name}) | {workload} | {rs[0]['events']} | {actions} | {median:.1f} | "
+                  f"{1000 / median:.2f} |")  # fmt: skip
+    keep_ratio = best["this tree", "keep"] / best["--against", "keep"]
+    burst_ratio = best["this tree", "burst"] / best["--against", "burst"]
+    print(f"\nkeep: {keep_ratio:.1f}× the other tree's rate (at least {args.min_ratio:g}× required); "
+          f"burst: {burst_ratio:.2f}× (at least {args.min_burst_ratio:g}× required)")  # fmt: skip
+    if keep_ratio < args.min_ratio or burst_ratio < args.min_burst_ratio:
+        sys.stdout.flush()
+        print("REGRESSION: an event rate is below what is required", file=sys.stderr)
+        return 1
+    return 0
+
+
 def main() -> None:
+    if sys.argv[1:2] in (["rate"], ["child"]):
+        ap = argparse.ArgumentParser(description="event rate, side by side against another tree")
+        ap.add_argument("mode", choices=["rate", "child"])
+        ap.add_argument("--against", default="/tmp/base", help="another checkout (e.g. a worktree of main)")
+        ap.add_argument("--tree", default=str(ROOT), help="(child) the tree whose code runs")
+        ap.add_argument("--keep", type=int, default=10000, help="keep events for this tree")
+        ap.add_argument(
+            "--base-keep", type=int, default=300, help="keep events for the other tree (its rate is steady)"
+        )
+        ap.add_argument("--burst", type=int, default=60, help="mixed events on detection")
+        ap.add_argument("--rounds", type=int, default=2)
+        ap.add_argument("--min-ratio", type=float, default=10.0, help="keep rate: at least this × the other tree's")
+        ap.add_argument("--min-burst-ratio", type=float, default=1.0, help="burst rate: at least this × the other's")
+        args = ap.parse_args()
+        if args.mode == "child":
+            child(args)
+            return
+        sys.exit(rate(args))
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--runs", type=int, default=3)
     ap.add_argument("--stream", type=int, default=40, help="sensed RAM values on detection")

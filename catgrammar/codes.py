@@ -234,6 +234,12 @@ CODES: dict[str, Code] = {
             E,
             "The disk is full: the event was not acknowledged (catrt run retries, backing off).",
         ),
+        Code(
+            "E1017",
+            "decision-budget",
+            E,
+            "An event's decision ran past its budget ([limits] decision): undecided, the deployed composition stays.",
+        ),
         # E11xx — limits (docs/limits.md)
         Code("E1101", "input-too-large", E, "An input file is larger than the input-bytes limit."),
         Code("E1102", "too-many-tokens", E, "An input file has more tokens than the tokens limit."),
@@ -440,6 +446,7 @@ SOURCE_TAMPERED = "E1013"
 STORE_DAMAGED = "E1014"
 STATE_READ_ONLY = "E1015"
 DISK_FULL = "E1016"
+DECISION_BUDGET = "E1017"
 INPUT_TOO_LARGE = "E1101"
 TOO_MANY_TOKENS = "E1102"
 CONSTANT_TOO_LARGE = "E1103"

@@ -287,3 +287,78 @@ def test_verify_names_the_edited_artifact(state: Path):
     (generation / name).write_bytes((generation / name).read_bytes() + b"\n# edited\n")
     res = catrt("verify", state)
     assert res.returncode == 1 and f"generation 000001: {name} differs from its manifest" in res.stderr, res.stderr
+
+
+# ---------------------------------------------------------------- a full disk behind MQTT
+
+
+class _FullCommits:
+    """The store's connection, its COMMIT failing as SQLite fails on ENOSPC ``left`` times."""
+
+    def __init__(self, db, left: int) -> None:
+        self.db, self.left = db, left
+
+    def __getattr__(self, name):
+        return getattr(self.db, name)
+
+    def execute(self, sql, *args):
+        if sql == "COMMIT" and self.left > 0:
+            self.left -= 1
+            raise sqlite3.OperationalError("database or disk is full")
+        return self.db.execute(sql, *args)
+
+
+class _Subscriber:
+    """MQTT as the loop sees it: the messages, then nothing (and the loop is stopped)."""
+
+    def __init__(self, stop, *texts: str) -> None:
+        from catrt.mqtt import Message
+
+        self.stop, self.acked = stop, []
+        self.inbox = [Message("mqtt robot/events", text, i + 1, 1) for i, text in enumerate(texts)]
+
+    def get(self, timeout: float):
+        if self.inbox:
+            return self.inbox.pop(0)
+        self.stop.set()
+        return None
+
+    def ack(self, message) -> None:
+        self.acked.append(message.mid)
+
+    def close(self) -> None:
+        pass
+
+
+@pytest.mark.parametrize("full", [3, 1000])
+def test_a_full_disk_behind_mqtt_is_retried_and_acknowledged_only_once_handled(
+    state: Path, monkeypatch: pytest.MonkeyPatch, full: int
+):
+    """3 full commits: retried with back-off, then handled and acknowledged; a disk that stays
+    full: E1016 and the message not acknowledged (the broker delivers it again)."""
+    import threading
+
+    from catrt import loop as catrt_loop
+    from catrt.api import connect
+    from catrt.store import StoreError
+
+    monkeypatch.setattr(catrt_loop, "BACKOFF", (0.0,) * 10)
+    said = []
+    with connect(state, say=said.append) as rt:
+        store = rt.runtime.store
+        store.db = _FullCommits(store.db, full)
+        stop = threading.Event()
+        sub = _Subscriber(stop, json.dumps({"id": "e2", "set": {"ram": 6}}))
+        if full > len(catrt_loop.BACKOFF):
+            with pytest.raises(StoreError) as exc:
+                catrt_loop._mqtt(rt.runtime, sub, catrt_loop._Sensors(()), stop)
+            assert exc.value.code == "E1016"
+        else:
+            catrt_loop._mqtt(rt.runtime, sub, catrt_loop._Sensors(()), stop)
+        store.db = store.db.db
+    tries = [o.message for o in said if "E1016" in o.message]
+    if full > 10:
+        assert sub.acked == [] and event_ids(state) == ["e1"] and len(tries) == 10
+    else:
+        assert sub.acked == [1] and event_ids(state) == ["e1", "e2"] and len(tries) == 3
+        assert catrt("verify", state).returncode == 0

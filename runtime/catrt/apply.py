@@ -10,8 +10,10 @@ error is mapped back to the event field whose text it points into.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from fractions import Fraction
 from typing import Any
 
 from catc import ir
@@ -20,9 +22,9 @@ from catgrammar.diagnostics import Diagnostic
 from catrt.changes import registry as changes
 from catrt.changes.base import Rejection
 from catrt.events import Event
-from catrt.model import ModelState, Region, texts
+from catrt.model import PROBLEM_FILE, ModelState, Region, problem_text, texts
 
-__all__ = ["Candidate", "Rejection", "apply_change", "check"]
+__all__ = ["Candidate", "Rejection", "apply_change", "check", "check_values"]
 
 
 @dataclass
@@ -51,6 +53,45 @@ def apply_change(
     for change in changes.for_fields(event.body):
         state = change.apply(state, inst, sources, event.body, origins)
     return state, origins
+
+
+def _only_values(body: Mapping[str, Any]) -> bool:
+    """The event changes initial values and nothing else."""
+    return set(body) == {"set"}
+
+
+def check_values(current: Candidate, state: ModelState, body: Mapping[str, Any]) -> Candidate | None:
+    """The candidate after an event that only sets numeric or Boolean initial values, made
+    from the checked ``current`` one without parsing or checking the sources again: each
+    value was converted and checked for its sort by :func:`apply_change`; here it is checked
+    against its resource's bounds and put into the problem.  Only the problem's text is
+    written anew (for the model files and the digest); the other files cannot change.
+    None when the event is of another kind, or a value is out of bounds, or of a resource
+    of another sort: then :func:`check` checks the whole model, and says what is wrong."""
+    if not _only_values(body):
+        return None
+    inst = current.instance
+    init = dict(inst.problem.init)
+    for name in body["set"]:
+        r, old, value = inst.resources.get(name), init.get(name), state.problem.init.get(name)
+        if r is None or old is None or not isinstance(old.value, ir.Const) or isinstance(value, list):
+            return None
+        if r.sort.is_numeric and isinstance(value, str):
+            number = Fraction(value)
+            if (r.lower is not None and number < r.lower) or (r.upper is not None and number > r.upper):
+                return None
+            new: Fraction | bool = number
+        elif r.sort.kind is ir.SortKind.BOOL and isinstance(value, bool):
+            new = value
+        else:
+            return None
+        init[name] = dataclasses.replace(old, value=dataclasses.replace(old.value, value=new, span=None), span=None)
+    problem = dataclasses.replace(inst.problem, init=ir.frozen(init))
+    model = Model(dataclasses.replace(inst, problem=problem), current.model.limits)
+    files = dict(current.files)
+    path = next(p for p in files if p.endswith("/" + PROBLEM_FILE))
+    files[path] = problem_text(state.problem, path, {})[0]
+    return Candidate(state, model, files)
 
 
 def check(

@@ -403,10 +403,14 @@ def replay(state: str, as_json: bool) -> None:
     from catrt.replay import replay as run_replay
 
     store = open_store(state, write=False)
+    from catrt.views import sensor_counts
+
     replayed = run_replay(store, Path(state))
     problems = replayed.problems + differences(store, replayed)
+    notes = [f"{replayed.entries} journal entries replayed"]
+    notes += [f"sensor {name}: {c['readings']} readings" for name, c in sensor_counts(store).items()]
     store.close()
-    _report("replay", problems, [f"{replayed.entries} journal entries replayed"], as_json)
+    _report("replay", problems, notes, as_json)
 
 
 @main.command()

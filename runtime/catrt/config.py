@@ -5,6 +5,11 @@ hand), checked against a JSON schema so that a typo is an error, not a silent de
     compose = 120
     diagnose = 30
     relax = 30
+    decision = 60         # all the queries of one event together (E1017 past it)
+
+    [relax]               # restorations: weights per resource, resources never changed
+    weights = { budget = 1, ram = "1/2" }
+    fixed = ["battery"]
 
     [enactor]
     kind = "dry"          # or "compose"
@@ -25,6 +30,7 @@ from __future__ import annotations
 
 import tomllib
 from dataclasses import dataclass, field
+from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
@@ -36,6 +42,13 @@ TEMPLATE = """# catrt configuration (docs/runtime.md).  Every key is optional.
 compose = 120       # recompose / optimize / solve
 diagnose = 30
 relax = 30
+# decision = 60     # all the queries of one event together; past it the decision is
+                    # "undecided" (E1017), the event stays journaled, the loop goes on
+
+[relax]             # how a restoration (no composition exists) weighs the values it changes
+# weights = { budget = 1, ram = "1/2" }   # per unit of each resource (exact)
+# fixed = ["battery"]                     # never proposed: resources nobody can change
+# The rest: weight 1 when they share one unit, else their relative change (1/|value|).
 
 [enactor]
 kind = "dry"        # dry: write generations, run nothing; compose: docker compose up
@@ -62,7 +75,23 @@ _SCHEMA: dict[str, Any] = {
         "limits": {
             "type": "object",
             "additionalProperties": False,
-            "properties": {"compose": _NUMBER, "diagnose": _NUMBER, "relax": _NUMBER},
+            "properties": {"compose": _NUMBER, "diagnose": _NUMBER, "relax": _NUMBER, "decision": _NUMBER},
+        },
+        "relax": {
+            "type": "object",
+            "additionalProperties": False,
+            "properties": {
+                "weights": {
+                    "type": "object",
+                    "additionalProperties": {
+                        "oneOf": [
+                            {"type": "number", "exclusiveMinimum": 0},
+                            {"type": "string", "pattern": "^[0-9]+(\\.[0-9]+)?(/[1-9][0-9]*)?$"},
+                        ]
+                    },
+                },
+                "fixed": {"type": "array", "items": {"type": "string", "minLength": 1}},
+            },
         },
         "enactor": {
             "type": "object",
@@ -117,6 +146,9 @@ class Config:
     limits: dict[str, float] = field(default_factory=dict)
     enactor: dict[str, Any] = field(default_factory=dict)
     sensors: tuple[Sensor, ...] = ()
+    #: ``[relax]``: weights per resource (exact), resources never relaxed
+    relax_weights: dict[str, Fraction] = field(default_factory=dict)
+    relax_fixed: frozenset[str] = frozenset()
 
 
 def load_config(state: Path) -> Config:
@@ -141,4 +173,9 @@ def load_config(state: Path) -> Config:
         raise ConfigError(f"{path}: two sensors share a name")
     sensors = tuple(Sensor(s["name"], s["resource"], tuple(s["argv"]), float(s.get("timeout", 2.0)),
                            float(s.get("every", 10.0))) for s in doc.get("sensor", []))  # fmt: skip
-    return Config(dict(doc.get("limits", {})), dict(doc.get("enactor", {})), sensors)
+    relax = doc.get("relax", {})
+    weights = {name: Fraction(str(w)) for name, w in relax.get("weights", {}).items()}  # 0.1 as written: 1/10
+    if any(w <= 0 for w in weights.values()):
+        raise ConfigError(f"{path}: relax.weights: a weight is more than 0")
+    return Config(dict(doc.get("limits", {})), dict(doc.get("enactor", {})), sensors, weights,
+                  frozenset(relax.get("fixed", [])))  # fmt: skip

@@ -37,6 +37,59 @@ class Limits:
     compose: float | None = 120.0
     diagnose: float | None = 30.0
     relax: float | None = 30.0
+    #: Seconds all the queries of one decision may take together (``[limits] decision``):
+    #: past it the decision is ``undecided`` with E1017, the deployed composition stays.
+    decision: float | None = None
+
+    def within(self, deadline: float | None) -> Limits:
+        """These limits, none past ``deadline`` (a ``time.monotonic()``); OutOfBudget when
+        it has passed."""
+        if deadline is None:
+            return self
+        left = deadline - _now()
+        if left <= 0:
+            raise OutOfBudget
+        cut = lambda limit: left if limit is None else min(limit, left)  # noqa: E731
+        return Limits(cut(self.compose), cut(self.diagnose), cut(self.relax), self.decision)
+
+
+def _now() -> float:
+    """The clock of the decision budget (a test's fake clock replaces it)."""
+    return time.monotonic()
+
+
+@dataclass(frozen=True)
+class RelaxPolicy:
+    """How restorations weigh the initial values they change (``[relax]`` in config.toml):
+    ``weights`` per resource (per unit of it), ``fixed`` resources never changed; the rest,
+    when the relaxable resources are of different units, by their relative change."""
+
+    weights: dict[str, Fraction] = field(default_factory=dict)
+    fixed: frozenset[str] = frozenset()
+
+    def for_model(self, inst: ir.Instance) -> tuple[list[str], dict[str, Fraction]]:
+        """(``only``, ``weights``) of the relax query: the initial values that may change,
+        and the weight of each.  Given weights are kept; when the resources that may change
+        do not all have the same unit, each other one is weighed by its relative change
+        (1/|its value|, 1 at 0), so that 1 GB never counts as 1 USD; of one unit, weight 1."""
+        numeric = sorted(r for r, iv in inst.problem.init.items()
+                         if r in inst.resources and inst.resources[r].sort.is_numeric)  # fmt: skip
+        free = [r for r in numeric if r not in self.fixed]
+        weights = {f"init/{r}": w for r, w in self.weights.items() if r in free}
+        if len({inst.resources[r].unit for r in free if r not in self.weights}) > 1:
+            for r in free:
+                if r not in self.weights:
+                    value = abs(Fraction(inst.problem.init[r].value.value))  # type: ignore[union-attr]
+                    weights[f"init/{r}"] = 1 / value if value else Fraction(1)
+        return ([f"init/{r}" for r in free] if self.fixed else ["init/"]) if free else [], weights
+
+
+class OutOfBudget(Exception):
+    """The decision budget ran out before the next query."""
+
+
+#: The code of a decision whose budget ran out.
+BUDGET_CODE = "E1017"
 
 
 class Action(StrEnum):
@@ -69,6 +122,10 @@ class Decision:
     proposal: dict[str, Any] | None = None
     churn: str | None = None
     changes: list[dict[str, Any]] = field(default_factory=list)
+    code: str | None = None  # E1017: the decision budget ran out
+    #: A kept composition's states as the validator replayed them (s₀ … sₙ; not journaled):
+    #: what its grounding reads.
+    states: Any = field(default=None, repr=False)
 
     def to_json(self) -> dict[str, Any]:
         return {
@@ -81,6 +138,7 @@ class Decision:
             "solver_calls": self.solver_calls,
             "timings": {k: round(v, 6) for k, v in self.timings.items()},
             "documents": self.documents,
+            **({"code": self.code} if self.code else {}),
         }
 
 
@@ -97,11 +155,45 @@ def incumbent_plan(inst: ir.Instance, doc: dict[str, Any] | None) -> tuple[Plan 
         return None, str(exc)
 
 
-def decide(model: Model, incumbent: dict[str, Any] | None, limits: Limits, warm: WarmStart | None = None) -> Decision:
+def kept(model: Model, incumbent: dict[str, Any] | None) -> Decision | None:
+    """The keep decision when the deployed composition is still valid in ``model`` (the
+    validator's replay, no solver), else None: :func:`decide` answers."""
+    if incumbent is None:
+        return None
+    t = time.perf_counter()
+    plan, _ = incumbent_plan(model.instance, incumbent)
+    if plan is None:
+        return None
+    report = validate(model.instance, plan)
+    if not report.ok:
+        return None
+    return Decision(Action.KEEP, KEPT, plan, timings={"validate": time.perf_counter() - t}, states=report.states)
+
+
+KEPT = "the deployed composition is still valid (replayed step by step)"
+
+
+def decide(model: Model, incumbent: dict[str, Any] | None, limits: Limits, warm: WarmStart | None = None,
+           policy: RelaxPolicy | None = None) -> Decision:  # fmt: skip
     """``warm`` (kept by the caller from one decision to the next) lets ``solve`` answer on
     the previous decision's encoding when only initial values or the goal changed."""
-    inst = model.instance
+    deadline = _now() + limits.decision if limits.decision is not None else None
     timings: dict[str, float] = {}
+    try:
+        return _decide(model, incumbent, limits, warm, deadline, timings, policy or RelaxPolicy())
+    except OutOfBudget:
+        return _out_of_budget(limits, timings)
+
+
+def _out_of_budget(limits: Limits, timings: dict[str, float], documents: dict[str, Any] | None = None) -> Decision:
+    return Decision(Action.UNDECIDED, f"error[{BUDGET_CODE}]: the decision budget of {limits.decision:g} s ran out "
+                    "(config.toml [limits] decision); the deployed composition stays", documents=documents or {},
+                    timings=timings, code=BUDGET_CODE)  # fmt: skip
+
+
+def _decide(model: Model, incumbent: dict[str, Any] | None, limits: Limits, warm: WarmStart | None,
+            deadline: float | None, timings: dict[str, float], policy: RelaxPolicy) -> Decision:  # fmt: skip
+    inst = model.instance
     if incumbent is not None:
         t = time.perf_counter()
         plan, why = incumbent_plan(inst, incumbent)
@@ -109,17 +201,19 @@ def decide(model: Model, incumbent: dict[str, Any] | None, limits: Limits, warm:
             report = validate(inst, plan)
             timings["validate"] = time.perf_counter() - t
             if report.ok:
-                return Decision(Action.KEEP, "the deployed composition is still valid (replayed step by step)", plan,
-                                timings=timings)  # fmt: skip
+                return Decision(Action.KEEP, KEPT, plan, timings=timings, states=report.states)
             why = "; ".join(_violation_text(v) for v in report.violations[:3])
         timings.setdefault("validate", time.perf_counter() - t)
-        decision = _recompose(model, incumbent, limits, why or "it no longer applies")
+        decision = _recompose(model, incumbent, limits.within(deadline), why or "it no longer applies")
     else:
-        decision = _compose(model, limits, warm)
+        decision = _compose(model, limits.within(deadline), warm)
     decision.timings = {**timings, **decision.timings}
+    if decision.action is Action.UNDECIDED and deadline is not None and _now() >= deadline:
+        return _out_of_budget(limits, decision.timings, decision.documents)
     if decision.action is not Action.INFEASIBLE:
         return decision
-    restore = _restore(model, incumbent, limits)
+    timings.update(decision.timings)
+    restore = _restore(model, incumbent, limits, deadline, policy)
     restore.timings = {**decision.timings, **restore.timings}
     restore.solver_calls += decision.solver_calls
     restore.documents = {**decision.documents, **restore.documents}
@@ -181,9 +275,12 @@ def _compose(model: Model, limits: Limits, warm: WarmStart | None) -> Decision:
                     timings=took, solver_calls=1)  # fmt: skip
 
 
-def _restore(model: Model, incumbent: dict[str, Any] | None, limits: Limits) -> Decision:
+def _restore(model: Model, incumbent: dict[str, Any] | None, limits: Limits, deadline: float | None,
+             policy: RelaxPolicy) -> Decision:  # fmt: skip
     """Diagnose, then the least restoration of initial values: a proposal."""
     inst = model.instance
+    limits = limits.within(deadline)
+    only, weights = policy.for_model(inst)
     relative = _components(incumbent) if incumbent is not None else []
     relative = [c for c in relative if c in inst.morphisms]
     t = time.perf_counter()
@@ -192,9 +289,17 @@ def _restore(model: Model, incumbent: dict[str, Any] | None, limits: Limits) -> 
     documents = {"diagnose": model.to_json(diag)}
     core = diag.cores[0] if diag.cores else []
     t = time.perf_counter()
-    rel = cast("RelaxResult", model.query("relax", only=["init/"], relative_to=relative, timeout=limits.relax))
+    if not only:  # every initial value is fixed: nothing to propose
+        timings["relax"] = 0.0
+        return Decision(Action.STUCK, f"no composition exists (core: {', '.join(core) or 'none found'}) and every "
+                        "initial value is fixed ([relax] fixed): waiting for a change of the task or the catalogue",
+                        documents=documents, timings=timings, solver_calls=1)  # fmt: skip
+    limits = limits.within(deadline)
+    options: dict[str, Any] = {"only": only, **({"weights": weights} if weights else {})}
+    rel = cast("RelaxResult", model.query("relax", relative_to=relative, timeout=limits.relax, **options))
     if relative and not rel.relaxations:  # nothing restores the deployed composition: any composition
-        rel = cast("RelaxResult", model.query("relax", only=["init/"], relative_to=(), timeout=limits.relax))
+        limits = limits.within(deadline)
+        rel = cast("RelaxResult", model.query("relax", relative_to=(), timeout=limits.relax, **options))
     timings["relax"] = time.perf_counter() - t
     documents["relax"] = model.to_json(rel)
     values: dict[str, str] = {}

@@ -54,9 +54,14 @@ def loop(runtime: Runtime, source: str | None, *, once: bool, stop: threading.Ev
         _lines(runtime, read_lines(stdin_text(), "<stdin>"), clock, stop)
         return
     if path.exists() and not path.is_dir():  # a file, a FIFO, <(…), /dev/stdin, /dev/null: a stream of lines
+        # a regular file's lines never keep the loop waiting: the model files are written at
+        # most every second during them, and at their end (a stream may wait: written each time)
+        runtime.defer_model = path.is_file()
         _lines(runtime, file_lines(path), clock, stop)
+        runtime.flush_model()
         return
     path.mkdir(parents=True, exist_ok=True)
+    runtime.defer_model = True  # written before the spool is watched again
     _spool(runtime, path, clock, stop, once)
 
 
@@ -121,6 +126,7 @@ def _spool(runtime: Runtime, folder: Path, clock: _Sensors, stop: threading.Even
                     handle(runtime, line, where, stop)
                     clock.poll(runtime)
                 finish(path)
+            runtime.flush_model()
             if watcher is None:  # --once
                 return
             watcher.wait(min(clock.wait(), 1.0), stop)
@@ -137,13 +143,16 @@ def _mqtt(runtime: Runtime, subscriber: Subscriber, clock: _Sensors, stop: threa
     acknowledges it (one handled but not acknowledged is delivered again: its id makes it a
     no-op)."""
     previous = _on_signals(stop)
+    runtime.defer_model = True
     try:
         runtime.start()
         clock.poll(runtime)
         while not stop.is_set():
             message = subscriber.get(min(clock.wait(), 0.5))
-            if message is not None:
-                runtime.handle_line(message.text, message.where)
+            if message is None:  # nothing waiting: the model files catch up
+                runtime.flush_model()
+            else:  # a full disk: retried with back-off; acknowledged only once handled
+                handle(runtime, message.text, message.where, stop)
                 subscriber.ack(message)
             clock.poll(runtime)
     finally:

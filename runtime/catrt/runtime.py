@@ -20,16 +20,19 @@ import hashlib
 import os
 import signal
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from enum import StrEnum
 from pathlib import Path
 from typing import Any
 
+from catc import ir
 from catc.api import warm_start
-from catrt.apply import Candidate, Rejection, apply_change, check
+from catc.ir.grounding import Value, ValueKind
+from catc.semantics.plan import Plan, plan_to_json
+from catrt.apply import Candidate, Rejection, apply_change, check, check_values
 from catrt.config import Config
-from catrt.decide import Action, Decision, Limits, decide
+from catrt.decide import Action, Decision, Limits, RelaxPolicy, decide, kept
 from catrt.enact import (
     ENACTORS,
     EnactError,
@@ -41,10 +44,14 @@ from catrt.enact import (
     write_generation,
 )
 from catrt.events import Event, EventError, parse_event
-from catrt.model import PROBLEM_FILE, ModelState, problem_file
+from catrt.model import PROBLEM_FILE, ModelState, problem_file, stored_value
 from catrt.store import Store, Verdict, dumps
 
 MODEL_FOLDER = "model"
+#: Seconds between two writes of the model files while a loop defers them (a burst of values).
+MODEL_EVERY = 1.0
+#: Groundings of kept compositions remembered at most (by the values they read).
+GROUNDINGS_KEPT = 256
 GENERATIONS = "generations"
 
 
@@ -105,6 +112,46 @@ class Outcome:
     enactment: Outcome | None = None
 
 
+def grounding_reads(inst: ir.Instance, plan: Plan) -> tuple[str, ...]:
+    """The resources whose values the grounding of ``plan``'s components reads (a template's
+    resource value, in the state before its step), sorted."""
+    found: set[str] = set()
+
+    def walk(node: Any) -> None:
+        if isinstance(node, Value):
+            if node.kind is ValueKind.RESOURCE and node.name:
+                found.add(node.name)
+        elif hasattr(type(node), "_fields") and not isinstance(node, tuple):  # an IR record
+            for name in type(node)._fields:
+                walk(getattr(node, name))
+        elif isinstance(node, tuple | list | frozenset):
+            for item in node:
+                walk(item)
+        elif isinstance(node, Mapping):
+            for item in node.values():
+                walk(item)
+
+    for name in sorted({a.morphism for step in plan.steps for a in step}):
+        walk(inst.morphisms[name].grounding)
+    return tuple(sorted(found))
+
+
+#: Seconds of unchanged sensor answers summed up in one ``sensor-repeats`` entry.
+REPEATS_EVERY = 60.0
+
+
+@dataclass
+class _Sensed:
+    """A sensor's last journaled answer and how often it was read again since."""
+
+    resource: str
+    value: Any
+    error: str | None
+    since: float  # time.monotonic() of the last entry
+    repeats: int = 0
+    init: Any = None  # the resource's value once the answer was handled
+
+
 def model_sha(state: ModelState) -> str:
     return hashlib.sha256(dumps(state.to_json()).encode()).hexdigest()
 
@@ -126,7 +173,8 @@ class Runtime:
         # solve's encoding, from one decision to the next; sensed values start behind literals
         self.warm = warm_start(s.resource for s in config.sensors)
         limits = {**{"compose": 120.0, "diagnose": 30.0, "relax": 30.0}, **config.limits}
-        self.limits = Limits(limits["compose"], limits["diagnose"], limits["relax"])
+        self.policy = RelaxPolicy(dict(config.relax_weights), config.relax_fixed)
+        self.limits = Limits(limits["compose"], limits["diagnose"], limits["relax"], limits.get("decision"))
         kind = enactor or config.enactor.get("kind", "dry")
         self.enactor: Enactor = ENACTORS[kind](config.enactor)
         self.approve, self.say, self.ask = approve, say or (lambda outcome: None), ask
@@ -135,17 +183,42 @@ class Runtime:
         self.sources = store.sources()
         self.state = ModelState.from_json(store.get("model"))
         self.current: Candidate = check(self.state, self.sources, str(folder / MODEL_FOLDER))
+        self._written: dict[str, bytes] = {}  # the model files as last written by this runtime
+        self._written_at = 0.0
+        self._unwritten: Candidate | None = None
+        #: The loop sets it: during a burst of events that change only values, the model files
+        #: are written at most every MODEL_EVERY seconds (each call of the API writes them).
+        self.defer_model = False
+        self._sensed: dict[str, _Sensed] = {}  # each sensor's last journaled answer
+        #: groundings of kept compositions, by (plan, the values the grounding reads), and by
+        #: plan the resources it reads; cleared when the model changes beyond initial values
+        self._grounded: dict[Any, Any] = {}
         self.write_model(self.current)
 
     # ------------------------------------------------------------ the model on disk
-    def write_model(self, candidate: Candidate) -> None:
-        """``STATE/model/``: the model as files a person can read and give to catc."""
+    def write_model(self, candidate: Candidate, *, values_only: bool = False) -> None:
+        """``STATE/model/``: the model as files a person can read and give to catc.  A model
+        that changed only in initial values, in a loop that defers (:attr:`defer_model`), is
+        written at most every :data:`MODEL_EVERY` seconds and whenever the loop waits, enacts
+        or stops (:meth:`flush_model`); the store is the model, these files show it."""
+        if values_only and self.defer_model and time.monotonic() - self._written_at < MODEL_EVERY:
+            self._unwritten = candidate
+            return
+        self._unwritten = None
+        self._written_at = time.monotonic()
         from catc.api import write_files
 
         folder = self.folder / MODEL_FOLDER
         names = {Path(p).name: t.encode("utf-8") for p, t in candidate.files.items()}
         names[PROBLEM_FILE] = problem_file(candidate.instance).encode("utf-8")  # catc's writer, catc fmt's layout
-        write_files(folder, names, {"schema": "catrt.model-files/1", "model_sha256": model_sha(candidate.state)})
+        changed = {n: data for n, data in names.items() if self._written.get(n) != data}  # the rest are on disk
+        write_files(folder, changed, {"schema": "catrt.model-files/1", "model_sha256": model_sha(candidate.state)})
+        self._written = names
+
+    def flush_model(self) -> None:
+        """Write the model files a deferring loop has not written yet."""
+        if self._unwritten is not None:
+            self.write_model(self._unwritten)
 
     @property
     def incumbent(self) -> dict[str, Any] | None:
@@ -212,11 +285,12 @@ class Runtime:
         t = time.perf_counter()
         try:
             state, origins = apply_change(self.state, self.current.instance, self.sources, event)
-            candidate = check(state, self.sources, str(self.folder / MODEL_FOLDER), origins)
+            quick = check_values(self.current, state, event.body)  # only what changed: values
+            candidate = quick or check(state, self.sources, str(self.folder / MODEL_FOLDER), origins)
         except Rejection as rejection:
             return self._reject(event, "E1002" if rejection.details else "E1001", rejection)
         checked = time.perf_counter() - t
-        outcome = self._decide_and_commit(event, candidate)
+        outcome = self._decide_and_commit(event, candidate, quick=quick is not None)
         outcome.timings = {"apply": checked, **outcome.timings}
         return outcome
 
@@ -245,11 +319,19 @@ class Runtime:
 
     # ------------------------------------------------------------ decide, commit, enact
     def _decide_and_commit(self, event: Event, candidate: Candidate, kind: str = "event",
-                           approval: str | None = None) -> Outcome:  # fmt: skip
+                           approval: str | None = None, quick: bool = False) -> Outcome:  # fmt: skip
         incumbent = self.incumbent
-        decision = decide(candidate.model, incumbent["plan"] if incumbent else None, self.limits, self.warm)
+        decision = kept(candidate.model, incumbent["plan"] if incumbent else None) if quick else None
+        if decision is None:
+            if quick:  # a solver query follows: on the model checked whole, so that what the
+                # queries report (cores, restorations) points into the files as catc reads them
+                candidate, quick = check(candidate.state, self.sources, str(self.folder / MODEL_FOLDER)), False
+            decision = decide(candidate.model, incumbent["plan"] if incumbent else None, self.limits, self.warm,
+                              self.policy)  # fmt: skip
+        if not quick:  # the model changed beyond initial values: ground afresh
+            self._grounded.clear()
         plan = decision.plan if decision.action.deploys else None
-        artifacts, why_not = self._artifacts(candidate, plan) if plan is not None else (None, None)
+        artifacts, why_not = self._artifacts(candidate, plan, decision.states) if plan is not None else (None, None)
         enact = artifacts is not None and (decision.action is not Action.KEEP or not self._deployed_as(artifacts[0]))
         request: str | None = None
         with self.store.transaction():
@@ -279,7 +361,7 @@ class Runtime:
                 self.store.journal("enact-begin", {"generation": generation, "decision": seq})
         self.crash("after-journal")
         self.state, self.current = candidate.state, candidate
-        self.write_model(candidate)
+        self.write_model(candidate, values_only=quick and generation is None)
         message = decision.reason + (
             f"; request {request} waits for approval: catrt approve {self.folder} {request}" if request else ""
         )
@@ -304,16 +386,34 @@ class Runtime:
             self.store.journal("approval", {"request": approval, "verdict": Verdict.APPROVED, "event": seq})
         return seq
 
-    def _artifacts(self, candidate: Candidate, plan: Any) -> tuple[Any, str | None]:
-        """(files, manifest) of ``plan`` grounded in the candidate model, or (None, why not)."""
+    def _artifacts(self, candidate: Candidate, plan: Any, states: Any = None) -> tuple[Any, str | None]:
+        """(files, manifest) of ``plan`` grounded in the candidate model, or (None, why not).
+        With the validator's ``states`` (a kept composition), the grounding is reused while
+        nothing it reads changed: the same plan, the same values of the resources its
+        templates name, in a model that changed only in initial values since it was made."""
         from catc.api import deployment
 
         digest = hashlib.sha256("\n".join(sorted(hashlib.sha256(t.encode()).hexdigest()
                                                  for t in candidate.files.values())).encode()).hexdigest()  # fmt: skip
+        key = None
+        if states is not None:
+            text = dumps(plan_to_json(plan))
+            reads = self._grounded.get(text)
+            if reads is None:
+                reads = self._grounded[text] = grounding_reads(candidate.instance, plan)
+            key = (text, tuple(stored_value(s.get(r)) for s in states for r in reads))
+            if key in self._grounded:
+                files, manifest = self._grounded[key]
+                return (files, {**manifest, "model": {**manifest["model"], "sha256": digest}}), None
         try:
-            return deployment(candidate.instance, plan, digest), None
+            made = deployment(candidate.instance, plan, digest)
         except ValueError as exc:  # GroundingConflict, a real no artifact can carry
             return None, f"the composition cannot be grounded: {exc}"
+        if key is not None:
+            if len(self._grounded) > GROUNDINGS_KEPT:  # values that keep changing: start again
+                self._grounded.clear()
+            self._grounded[key] = made
+        return made, None
 
     def _deployed_as(self, files: dict[str, bytes]) -> bool:
         """The deployed generation has exactly these artifacts."""
@@ -377,9 +477,22 @@ class Runtime:
         out = []
         for sensor in due:
             reading = run_sensor(sensor, self.current.instance.resources.get(sensor.resource), self.folder)
+            last = self._sensed.get(sensor.name)
+            init = self.state.problem.init.get(sensor.resource)
+            if last is not None and (last.value, last.error, last.init) == (reading.value, reading.error, init):
+                # the same answer again, and nothing else changed the resource since
+                last.repeats += 1  # counted, journaled in sum (below)
+                if time.monotonic() - last.since >= REPEATS_EVERY:
+                    self._journal_repeats(sensor.name)
+                continue
+            repeats = last.repeats if last is not None else 0
+            sensed = self._sensed[sensor.name] = _Sensed(
+                sensor.resource, reading.value, reading.error, time.monotonic()
+            )
             with self.store.transaction():
                 seq = self.store.journal("sensor", {**reading.to_json(), "argv": list(sensor.argv),
-                                                    **({"code": "E1009"} if reading.error else {})})  # fmt: skip
+                                                    **({"code": "E1009"} if reading.error else {}),
+                                                    "repeats_before": repeats})  # fmt: skip
             if reading.error is not None:
                 outcome = Outcome(
                     Status.REJECTED, "", f"sensor {sensor.name}", f"error[E1009]: {reading.error}", seq=seq
@@ -390,11 +503,27 @@ class Runtime:
                 event = Event(f"sensor-{sensor.name}-{seq}", {"set": {sensor.resource: reading.value}},
                               f"sensor {sensor.name}", False)  # fmt: skip
                 out.append(self.handle(event))
+            sensed.init = self.state.problem.init.get(sensor.resource)  # after its event, if any
         return out
+
+    def _journal_repeats(self, name: str) -> None:
+        """A ``sensor-repeats`` entry: how often the sensor read its last journaled answer
+        again since its last entry (the count starts anew)."""
+        last = self._sensed[name]
+        if last.repeats:
+            with self.store.transaction():
+                self.store.journal("sensor-repeats", {"sensor": name, "resource": last.resource, "value": last.value,
+                                                      "error": last.error, "repeats": last.repeats})  # fmt: skip
+        last.repeats, last.since = 0, time.monotonic()
 
     def say_disk_full(self, where: str, message: str, wait: float) -> None:
         """Tell the person watching that the disk is full and when the loop tries again."""
         self.say(Outcome(Status.REJECTED, "", where, f"error[E1016]: {message}; trying again in {wait:g} s"))
 
     def close(self) -> None:
-        self.store.close()
+        try:
+            self.flush_model()
+            for name in self._sensed:
+                self._journal_repeats(name)
+        finally:
+            self.store.close()

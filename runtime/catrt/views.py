@@ -13,7 +13,8 @@ STATUS_SCHEMA = "catrt.status/1"
 
 #: The kinds of journal entry, in the order a run writes them (``catrt journal --kind``).
 ENTRY_KINDS = ("init", "migrated", "start", "event", "rejected", "decision", "approval-request", "approval",
-               "enact-begin", "enact-done", "enact-failed", "recovery", "sensor")  # fmt: skip
+               "enact-begin", "enact-done", "enact-failed", "recovery", "sensor",
+               "sensor-repeats")  # fmt: skip
 
 
 def _components(plan: dict[str, Any] | None) -> list[str]:
@@ -131,8 +132,26 @@ def status_document(store: Store, folder: Path) -> dict[str, Any]:
             "timings": last["data"]["timings"],
             "solver_calls": last["data"]["solver_calls"],
         },
+        "sensors": sensor_counts(store),
         "journal_entries": store.last_seq(),
     }
+
+
+def sensor_counts(store: Store) -> dict[str, dict[str, Any]]:
+    """Each sensor's last journaled answer and its readings: ``readings`` in all, and
+    ``repeats``, those of the last answer after its entry (unchanged answers are journaled
+    as a count, not one by one)."""
+    out: dict[str, dict[str, Any]] = {}
+    for e in store.entries(kinds=("sensor", "sensor-repeats")):
+        d = e["data"]
+        now = out.setdefault(d["sensor"], {"readings": 0, "repeats": 0})
+        if e["kind"] == "sensor":
+            now.update(resource=d["resource"], value=d["value"], error=d["error"], seq=e["seq"], at=e["at"],
+                       repeats=0, readings=now["readings"] + 1 + d.get("repeats_before", 0))  # fmt: skip
+        else:
+            now["repeats"] += d["repeats"]
+            now["readings"] += d["repeats"]
+    return out
 
 
 def status_text(doc: dict[str, Any], plan: bool = False) -> str:
@@ -165,6 +184,10 @@ def status_text(doc: dict[str, Any], plan: bool = False) -> str:
         took = sum(last["timings"].values())
         lines.append(f"last decision ({last['at']}): {last['action']} — {last['reason']} [{took:.2f} s, "
                      f"{last['solver_calls']} solver call(s)]")  # fmt: skip
+    for name, sensed in doc.get("sensors", {}).items():
+        what = sensed.get("error") or f"{sensed.get('resource')} = {sensed.get('value')}"
+        lines.append(f"sensor {name}: {what}, {sensed['readings']} readings ({sensed['repeats']} unchanged since its "
+                     f"entry {sensed.get('seq')})")  # fmt: skip
     lines.append(f"journal: {doc['journal_entries']} entries")
     return "\n".join(lines)
 
@@ -204,7 +227,11 @@ def entry_text(entry: dict[str, Any]) -> str:
         return f"{head}{data['request']}: {data.get('verdict') or json.dumps(data.get('set'))}"
     if kind == "sensor":
         what = data["error"] or f"{data['resource']} = {data['value']}"
-        return f"{head}{data['sensor']}: {what}"
+        before = data.get("repeats_before")
+        return f"{head}{data['sensor']}: {what}" + (f" (the answer before read {before} more times)" if before else "")
+    if kind == "sensor-repeats":
+        what = data["error"] or f"{data['resource']} = {data['value']}"
+        return f"{head}{data['sensor']}: {what} read {data['repeats']} more times (not journaled one by one)"
     return f"{head}{json.dumps(data, ensure_ascii=False)[:160]}"
 
 

@@ -143,6 +143,12 @@ def check(inst: ir.Instance, options: Mapping[str, Any]) -> str | None:
     names = sorted(labels | {r for req in every for r in req.resources} | {lab.split("/")[0] + "/" for lab in labels})
     keys = [("--only", k) for k in options.get("only") or ()]
     keys += [("--weights", k) for k in (options.get("weights") or {})]
+    initial = sorted({r for req in every if req.kind == "initial value" for r in req.resources})
+    for name in options.get("fixed") or ():
+        if name not in initial:
+            from catgrammar.diagnostics import did_you_mean
+
+            return f"--fixed {name!r} is no resource with a numeric initial value{did_you_mean(name, initial)}"
     for flag, key in keys:
         if not eligible_requirements(inst, [key]):
             from catgrammar.diagnostics import did_you_mean
@@ -175,13 +181,22 @@ def relax(
     timeout: float | None = None,
     progress: Progress | None = None,
     counting: bool = True,
+    fixed: Iterable[str] = (),
 ) -> RelaxResult:
     """``counting=False`` proves a restoration least by search alone, without the lower
-    bound of :mod:`catc.smt.counting` (for tests and benchmarks)."""
+    bound of :mod:`catc.smt.counting` (for tests and benchmarks).  ``fixed`` resources keep
+    their initial values (``--fixed``: a battery nobody can recharge)."""
     start = time.perf_counter()
     with limits.deadline(timeout):
         k = horizon_of(inst, horizon)
         result = RelaxResult(RelaxStatus.UNKNOWN, horizon=k)
+        if fixed and not discrete:  # every eligible requirement but the fixed initial values
+            held = set(fixed)
+            kept = eligible_requirements(inst, only, weights)
+            only = [r.label for r in kept if not (r.kind == "initial value" and r.resources & held)]
+            if not only:  # nothing may change
+                result.status = RelaxStatus.UNSAT
+                return _finish(result, start)
         try:
             return _relax(inst, k, sequential, only, weights, discrete, relative_to, progress, result, start, counting)
         except limits.Stopped as stop:  # encoding or validating when the time ran out
@@ -630,6 +645,14 @@ QUERY = Query(
             "Weight of the slack on matching requirements (default 1; repeatable).",
             default=(),
             metavar="KEY=W",
+        ),
+        Option(
+            "fixed",
+            ("--fixed",),
+            Kind.TEXTS,
+            "Never change this resource's initial value (repeatable).",
+            default=(),
+            metavar="RESOURCE",
         ),
         Option(
             "discrete",

@@ -17,7 +17,7 @@ def preview(store: Store, folder: Path, request: str) -> tuple[str, str | None]:
     from catc.api import deployment, diff_artifacts, read_grounding, read_plan, write_files
     from catrt.apply import apply_change, check
     from catrt.config import load_config
-    from catrt.decide import Limits, decide
+    from catrt.decide import Limits, RelaxPolicy, decide
     from catrt.events import Event
     from catrt.model import ModelState
     from catrt.runtime import MODEL_FOLDER
@@ -30,9 +30,11 @@ def preview(store: Store, folder: Path, request: str) -> tuple[str, str | None]:
     state, origins = apply_change(state, current.instance, sources, change)
     candidate = check(state, sources, str(folder / MODEL_FOLDER), origins)
     incumbent: dict[str, Any] | None = store.get("incumbent")
-    limits = {"compose": 120.0, "diagnose": 30.0, "relax": 30.0, **load_config(folder).limits}  # as the loop's
+    config = load_config(folder)
+    limits = {"compose": 120.0, "diagnose": 30.0, "relax": 30.0, **config.limits}  # as the loop's
     decision = decide(candidate.model, incumbent["plan"] if incumbent else None,
-                      Limits(limits["compose"], limits["diagnose"], limits["relax"]))  # fmt: skip
+                      Limits(limits["compose"], limits["diagnose"], limits["relax"], limits.get("decision")),
+                      policy=RelaxPolicy(dict(config.relax_weights), config.relax_fixed))  # fmt: skip
     if not decision.action.deploys or decision.plan is None:
         return str(decision.reason), None
     plan = read_plan(candidate.instance, decision.to_json()["plan"])
