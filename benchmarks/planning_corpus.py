@@ -18,7 +18,9 @@ lengths from ~5 to ~50; the optimal lengths argued by hand in each generator):
   fit; the relaxation cannot tell).
 
 For each task: ``catc import pddl`` (timed), ``catc solve --sequential --strategy search`` (forward
-A* with numeric h^max, exact; the SMT search where it does not apply), optionally the SMT search
+greedy search on a numeric h_add for a first plan, then A* with numeric h^max below its length:
+a shortest plan proven, or the greedy plan marked not proven shortest when the time runs out;
+exact; the SMT search where it does not apply), optionally the SMT search
 alone (``--smt``), ENHSP ``-planner opt-hrmax`` (A* with h^max: optimal, the like-for-like
 baseline) in its own process under the same timeout; both plans replayed by unified-planning's
 ``SequentialPlanValidator`` on the original PDDL. Prints a markdown table and the command.
@@ -170,6 +172,8 @@ class Row:
     catc_time: float | None = None
     catc_cpu: float | None = None
     catc_valid: bool | None = None
+    catc_shortest: bool | None = None  # proven shortest (A*), or the greedy plan when the time ran out
+    catc_first: float | None = None  # seconds until the first plan (the greedy search's)
     smt: str = "-"
     smt_len: int | None = None
     smt_time: float | None = None
@@ -209,7 +213,9 @@ def run(task: Task, work: Path, timeout: float, *, smt: bool, enhsp: bool, horiz
     r = solve(inst, horizon=horizon, sequential=True, strategy="search", timeout=timeout)
     row.catc_time, row.catc_cpu = time.perf_counter() - t0, time.process_time() - c0
     row.catc = r.status.value + (" (final)" if r.status is SolveStatus.UNSAT and r.final else "")
+    row.catc_first = r.timings.get("first_plan")
     if r.plan is not None:
+        row.catc_shortest = r.shortest
         steps = _pddl_steps(r.plan, report)
         row.catc_len, row.catc_valid = len(steps), corpus.up_validates(up_problem, steps)
     if smt:
@@ -247,8 +253,11 @@ def _v(x: bool | None) -> str:
 
 
 def markdown(rows: list[Row], command: str, smt: bool) -> str:
-    head = "| task | hand count | catc (search) | len | wall s | cpu s | valid | ENHSP opt-hrmax | len | wall s | cpu s | valid |"
-    rule = "|---|---|---|---|---|---|---|---|---|---|---|---|"
+    head = (
+        "| task | hand count | catc (search) | len | proven shortest | first plan s | wall s | cpu s | valid "
+        "| ENHSP opt-hrmax | len | wall s | cpu s | valid |"
+    )
+    rule = "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
     if smt:
         head += " catc SMT | len | s |"
         rule += "---|---|---|"
@@ -257,14 +266,44 @@ def markdown(rows: list[Row], command: str, smt: bool) -> str:
         t = r.task
         line = (
             f"| {t.name} | {t.optimal if t.optimal is not None else 'unsolvable'} | {r.catc} | {r.catc_len or '-'} | "
+            f"{_v(r.catc_shortest)} | {_t(r.catc_first)} | "
             f"{_t(r.catc_time)} | {_t(r.catc_cpu)} | {_v(r.catc_valid)} | {r.enhsp} | {r.enhsp_len or '-'} | "
             f"{_t(r.enhsp_time)} | {_t(r.enhsp_cpu)} | {_v(r.enhsp_valid)} |"
         )
         if smt:
             line += f" {r.smt} | {r.smt_len if r.smt_len is not None else '-'} | {_t(r.smt_time)} |"
         lines.append(line)
-    lines += ["", f"    {command}"]
+    lines += ["", *medians(rows), "", f"    {command}"]
     return "\n".join(lines)
+
+
+def medians(rows: list[Row], timeout: float | None = None) -> list[str]:
+    """Median wall seconds per plan length (the hand count, in bands of 10), solvable tasks:
+    a run without an answer counts as the time it was given (its wall time), so a median is
+    never flattered by leaving failures out."""
+    from statistics import median
+
+    bands: dict[str, list[Row]] = {}
+    for r in rows:
+        n = r.task.optimal
+        if n is None:
+            continue
+        lo = 10 * ((n - 1) // 10) + 1 if n > 0 else 0
+        bands.setdefault(f"{lo}–{lo + 9}", []).append(r)
+    out = [
+        "| plan length | tasks | catc plans | catc median wall s | ENHSP plans | ENHSP median wall s | catc / ENHSP |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for band, rs in sorted(bands.items(), key=lambda kv: int(kv[0].split("–")[0])):
+        c = [r.catc_time for r in rs if r.catc_time is not None]
+        e = [r.enhsp_time for r in rs if r.enhsp_time is not None]
+        mc, me = (median(c) if c else None), (median(e) if e else None)
+        ratio = "-" if mc is None or not me else f"{mc / me:.2f}"
+        out.append(
+            f"| {band} | {len(rs)} | {sum(r.catc_len is not None for r in rs)} | {_t(mc)} | "
+            f"{sum(r.enhsp_len is not None for r in rs)} | {_t(me)} | {ratio} |"
+        )
+    return out
 
 
 def main(argv: list[str] | None = None) -> int:

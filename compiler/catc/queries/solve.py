@@ -171,7 +171,7 @@ def solve(
                     if warm is None
                     else warm.search(inst, k, sequential, backend, timings)
                 )
-                result = search.run(range(k + 1) if strategy not in ("single", "greedy") else (k,), progress, phase)
+                result = search.run(range(k + 1) if strategy != "single" else (k,), progress, phase)
                 if result.status is SolveStatus.SAT and validate_answer:
                     _validated(inst, result, k, sequential, prune, timings)
         except limits.Stopped as stop:  # encoding or validating when the time ran out
@@ -585,7 +585,7 @@ QUERY = Query(
             "single: one check of the whole horizon; search: a forward search (sequential steps, "
             "ground morphisms: greedy on h_add, then A* proves it shortest or finds a shorter one; "
             "or a proof of none), else incremental; greedy: the forward greedy search alone (any "
-            "composition, not proven shortest), else single.",
+            "composition, not proven shortest), else incremental.",
             default="incremental",
             choices=STRATEGIES,
             show_default=True,
