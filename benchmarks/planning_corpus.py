@@ -177,6 +177,11 @@ class Row:
     smt: str = "-"
     smt_len: int | None = None
     smt_time: float | None = None
+    second: str = "-"  # the second planner: pyperplan A*/LM-cut (classical), TAMER (numeric)
+    second_name: str = ""
+    second_len: int | None = None
+    second_time: float | None = None
+    second_valid: bool | None = None
     enhsp: str = "-"
     enhsp_len: int | None = None
     enhsp_time: float | None = None
@@ -195,7 +200,59 @@ def _pddl_steps(plan, report) -> list[str]:
     return out
 
 
-def run(task: Task, work: Path, timeout: float, *, smt: bool, enhsp: bool, horizon: int) -> Row:
+def _second_child(engine: str, domain: str, problem: str) -> int:
+    """In a child process (so that the timeout can end it): ``engine`` on the PDDL; prints the
+    status and the plan's actions, one a line."""
+    import unified_planning.shortcuts as shortcuts
+    from unified_planning.io import PDDLReader
+
+    shortcuts.get_environment().credits_stream = None
+    problem_up = PDDLReader().parse_problem(domain, problem)
+    params = {"search": "astar", "heuristic": "lmcut"} if engine == "pyperplan" else {}
+    with shortcuts.OneshotPlanner(name=engine, params=params) as planner:
+        r = planner.solve(problem_up)
+    print(r.status.name)
+    if r.plan is not None:
+        for a in r.plan.actions:
+            args = " ".join(str(p) for p in a.actual_parameters)
+            print(f"({a.action.name}{' ' + args if args else ''})")
+    return 0
+
+
+def _second(row: Row, up_problem, d: Path, p: Path, timeout: float) -> None:
+    """The second planner: pyperplan (A* with LM-cut: optimal) on classical tasks, TAMER on
+    numeric ones, in its own process; its plan replayed by UP's validator."""
+    import subprocess
+
+    kind = up_problem.kind
+    numeric = bool(kind.has_numeric_fluents() or kind.has_int_fluents() or kind.has_real_fluents())
+    row.second_name = "tamer" if numeric else "pyperplan"
+    t0 = time.perf_counter()
+    try:
+        out = subprocess.run(
+            [sys.executable, __file__, "--child", row.second_name, str(d), str(p)],
+            capture_output=True,
+            text=True,
+            timeout=timeout,
+        )
+    except subprocess.TimeoutExpired:
+        row.second, row.second_time = "timeout", time.perf_counter() - t0
+        return
+    row.second_time = time.perf_counter() - t0
+    lines = out.stdout.splitlines()
+    if out.returncode != 0 or not lines:
+        row.second = "error"
+        return
+    status = lines[0]
+    row.second = {"SOLVED_SATISFICING": "sat", "SOLVED_OPTIMALLY": "sat (optimal)"}.get(
+        status, "unsat" if "UNSOLVABLE" in status else status.lower()
+    )
+    if row.second.startswith("sat"):
+        steps = lines[1:]
+        row.second_len, row.second_valid = len(steps), corpus.up_validates(up_problem, steps)
+
+
+def run(task: Task, work: Path, timeout: float, *, smt: bool, enhsp: bool, horizon: int, second: bool = False) -> Row:
     from unified_planning.io import PDDLReader
 
     from catc.frontend.up_import import up_to_instance
@@ -224,6 +281,8 @@ def run(task: Task, work: Path, timeout: float, *, smt: bool, enhsp: bool, horiz
         row.smt_time = time.perf_counter() - t0
         row.smt = s.status.value
         row.smt_len = None if s.plan is None else sum(len(x) for x in s.plan.steps)
+    if second:
+        _second(row, up_problem, d, p, timeout)
     if enhsp:
         from catc.targets.enhsp import run_enhsp
 
@@ -252,7 +311,7 @@ def _v(x: bool | None) -> str:
     return "-" if x is None else ("yes" if x else "NO")
 
 
-def markdown(rows: list[Row], command: str, smt: bool) -> str:
+def markdown(rows: list[Row], command: str, smt: bool, second: bool = False) -> str:
     head = (
         "| task | hand count | catc (search) | len | proven shortest | first plan s | wall s | cpu s | valid "
         "| ENHSP opt-hrmax | len | wall s | cpu s | valid |"
@@ -261,6 +320,9 @@ def markdown(rows: list[Row], command: str, smt: bool) -> str:
     if smt:
         head += " catc SMT | len | s |"
         rule += "---|---|---|"
+    if second:
+        head += " second planner | len | wall s | valid |"
+        rule += "---|---|---|---|"
     lines = [head, rule]
     for r in rows:
         t = r.task
@@ -272,6 +334,11 @@ def markdown(rows: list[Row], command: str, smt: bool) -> str:
         )
         if smt:
             line += f" {r.smt} | {r.smt_len if r.smt_len is not None else '-'} | {_t(r.smt_time)} |"
+        if second:
+            line += (
+                f" {r.second_name} {r.second} | {r.second_len if r.second_len is not None else '-'} | "
+                f"{_t(r.second_time)} | {_v(r.second_valid)} |"
+            )
         lines.append(line)
     lines += ["", *medians(rows), "", f"    {command}"]
     return "\n".join(lines)
@@ -313,7 +380,13 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--only", action="append", default=[])
     ap.add_argument("--smt", action="store_true", help="also the SMT search alone (slow past ~12 actions)")
     ap.add_argument("--no-enhsp", action="store_true")
+    ap.add_argument(
+        "--second", action="store_true", help="also pyperplan A*/LM-cut (classical) or TAMER (numeric), if installed"
+    )
+    ap.add_argument("--child", nargs=3, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
+    if args.child:
+        return _second_child(*args.child)
     import unified_planning.shortcuts as shortcuts
 
     shortcuts.get_environment().credits_stream = None
@@ -321,16 +394,27 @@ def main(argv: list[str] | None = None) -> int:
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for t in chosen:
-            row = run(t, Path(tmp), args.timeout, smt=args.smt, enhsp=not args.no_enhsp, horizon=args.horizon)
+            row = run(
+                t,
+                Path(tmp),
+                args.timeout,
+                smt=args.smt,
+                enhsp=not args.no_enhsp,
+                horizon=args.horizon,
+                second=args.second,
+            )
             print(
                 f"{t.name}: catc {row.catc} {row.catc_len} {_t(row.catc_time)}s (cpu {_t(row.catc_cpu)}); ENHSP "
                 f"{row.enhsp} {row.enhsp_len} {_t(row.enhsp_time)}s (cpu {_t(row.enhsp_cpu)})"
-                + (f"; SMT {row.smt} {row.smt_len} {_t(row.smt_time)}s" if args.smt else ""),
+                + (f"; SMT {row.smt} {row.smt_len} {_t(row.smt_time)}s" if args.smt else "")
+                + (f"; {row.second_name} {row.second} {row.second_len} {_t(row.second_time)}s" if args.second else ""),
                 file=sys.stderr,
                 flush=True,
             )
             rows.append(row)
-    print(markdown(rows, "python benchmarks/planning_corpus.py " + " ".join(argv or sys.argv[1:]), args.smt))
+    print(
+        markdown(rows, "python benchmarks/planning_corpus.py " + " ".join(argv or sys.argv[1:]), args.smt, args.second)
+    )
     return 0
 
 
