@@ -179,3 +179,27 @@ def test_counters_greedy_plan_is_valid_and_no_shorter_than_the_hand_count(tmp_pa
     via = solve(inst, horizon=100, sequential=True, strategy="greedy")
     assert via.status is SolveStatus.SAT and via.plan is not None
     assert len(via.plan.steps) >= 15
+
+
+def test_the_consumption_bound_runs_only_where_the_forward_search_does_not(monkeypatch):
+    """On a ground task the forward search settles the answer, so issue 24's least-consumption
+    bound (seconds on blocks-8, and no proof there) is not computed first; where the forward
+    search does not apply (parameters) it still is, before the SMT search."""
+    import catc.queries.solve as solve_mod
+
+    calls: list[str] = []
+
+    def counted(inst):
+        calls.append(inst.problem.name)
+        return None
+
+    monkeypatch.setattr(solve_mod, "consumption_proof", counted)
+    r = solve(_ferry(), horizon=20, sequential=True, strategy="search")
+    assert r.status is SolveStatus.SAT and calls == []
+    from catc.frontend.session import load_checked
+    from catgrammar.diagnostics import Diagnostics
+
+    inst = load_checked(EXAMPLES / "navigation" / "coarse.cat", None, Diagnostics())
+    assert inst is not None
+    solve(inst, horizon=6, sequential=True, strategy="search")
+    assert len(calls) == 1
