@@ -527,6 +527,10 @@ class _Task:
         return (a, b)
 
 
+#: The most states the greedy phase stores before it gives way to A* (with no deadline it
+#: would otherwise run as long as the horizon allows; A* also prunes proven dead ends).
+GREEDY_STATES = 200_000
+
 _FAR = 1 << 40  # "not reached" in h_add: larger than any sum of reached costs
 
 
@@ -1020,8 +1024,8 @@ def _greedy(task: Any, hadd: Callable[[Any], int], horizon: int, deadline: float
     while heap:
         _, _, s = heapq.heappop(heap)
         expanded += 1
-        if deadline is not None and expanded % 64 == 0 and time.monotonic() >= deadline:
-            return SearchResult(SearchStatus.STOPPED, expanded=expanded, reason="timeout")
+        if len(g_of) > GREEDY_STATES or (deadline is not None and expanded % 64 == 0 and time.monotonic() >= deadline):
+            return SearchResult(SearchStatus.STOPPED, expanded=expanded, reason="the greedy search's share")
         g2 = g_of[s] + 1
         for a_i, t in task.successors(s):
             if t in g_of:
