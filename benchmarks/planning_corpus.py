@@ -358,17 +358,26 @@ def medians(rows: list[Row], timeout: float | None = None) -> list[str]:
         lo = 10 * ((n - 1) // 10) + 1 if n > 0 else 0
         bands.setdefault(f"{lo}–{lo + 9}", []).append(r)
     out = [
-        "| plan length | tasks | catc plans | catc median wall s | ENHSP plans | ENHSP median wall s | catc / ENHSP |",
-        "|---|---|---|---|---|---|---|",
+        "| plan length | tasks | catc plans (proven shortest) | catc median wall s | catc median cpu s "
+        "| ENHSP plans | ENHSP median wall s | ENHSP median cpu s | catc / ENHSP wall | catc / ENHSP cpu |",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
+
+    def med(xs: list[float | None]) -> float | None:
+        ys = [x for x in xs if x is not None]
+        return median(ys) if ys else None
+
+    def ratio(a: float | None, b: float | None) -> str:
+        return "-" if a is None or not b else f"{a / b:.2f}"
+
     for band, rs in sorted(bands.items(), key=lambda kv: int(kv[0].split("–")[0])):
-        c = [r.catc_time for r in rs if r.catc_time is not None]
-        e = [r.enhsp_time for r in rs if r.enhsp_time is not None]
-        mc, me = (median(c) if c else None), (median(e) if e else None)
-        ratio = "-" if mc is None or not me else f"{mc / me:.2f}"
+        cw, cc = med([r.catc_time for r in rs]), med([r.catc_cpu for r in rs])
+        ew, ec = med([r.enhsp_time for r in rs]), med([r.enhsp_cpu for r in rs])
+        plans = sum(r.catc_len is not None for r in rs)
+        proven = sum(bool(r.catc_shortest) for r in rs)
         out.append(
-            f"| {band} | {len(rs)} | {sum(r.catc_len is not None for r in rs)} | {_t(mc)} | "
-            f"{sum(r.enhsp_len is not None for r in rs)} | {_t(me)} | {ratio} |"
+            f"| {band} | {len(rs)} | {plans} ({proven}) | {_t(cw)} | {_t(cc)} | "
+            f"{sum(r.enhsp_len is not None for r in rs)} | {_t(ew)} | {_t(ec)} | {ratio(cw, ew)} | {ratio(cc, ec)} |"
         )
     return out
 
