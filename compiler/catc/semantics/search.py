@@ -1,4 +1,10 @@
-"""A forward state-space search for shortest sequential compositions: A* with a numeric h^max.
+"""A forward state-space search for shortest sequential compositions: greedy best-first on a
+numeric h_add for a first composition, then A* with a numeric h^max to prove it shortest.
+
+The greedy phase (:func:`_greedy`, h_add over the conditions cut into atoms by :class:`_Atoms`,
+or over literals on bitmasks) is inadmissible and claims nothing about length; A* below its
+length (:func:`_astar`) either finds a shorter composition or proves that there is none. The
+rest of this docstring is about A*.
 
 For ground instances (morphisms without parameters, as :mod:`catc.frontend.up_import` makes
 them) the shortest sequential composition is found by A* over the concrete states (exact
@@ -12,11 +18,13 @@ distance to the goal, and a layer that no longer changes without the goal proves
 
 What the search answers, all of it a proof (the validator still replays every composition):
 
-* a composition of L steps — the shortest (A* with an admissible heuristic, unit steps);
+* a composition of L steps — the shortest (A* with an admissible heuristic, unit steps),
+  unless ``shortest`` is False (the greedy composition, A* stopped by the time);
 * none within the horizon k — every state within k steps was expanded or pruned by the
   heuristic (whose bound is sound);
 * none of any length (``final``) — additionally no state was cut by the horizon: the
-  reachable state space was exhausted, dead ends proven by the relaxation.
+  reachable state space was exhausted (by A*, dead ends proven by the relaxation; or by the
+  greedy phase, which prunes nothing).
 
 Instances with what the search does not model (parameters, sets, holes, use limits, an
 effect that assigns and increases one resource, a resource without an initial value) are
