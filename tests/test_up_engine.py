@@ -600,3 +600,27 @@ def test_planning_prints_no_credits_banner(catc_engine):
     finally:
         env.credits_stream = saved
     assert stream.getvalue() == ""
+
+
+def test_a_plan_not_proven_shortest_is_never_optimal_for_plan_length(catc_engine, monkeypatch):
+    """With a plan-length metric the engine answers SOLVED_OPTIMALLY only for a plan proven
+    shortest. The forward search is made to stop before A* settles anything (its greedy plan
+    alone, as when the time runs out): the same plan is then SOLVED_SATISFICING, and the log
+    says it is not proven shortest."""
+    from unified_planning.model.metrics import MinimizeSequentialPlanLength
+
+    import catc.semantics.search as search_mod
+
+    real = search_mod.search
+    monkeypatch.setattr(
+        search_mod, "search", lambda inst, k, **kw: real(inst, k, deadline=kw.get("deadline"), prove=False)
+    )
+    pr = _steps_problem()
+    pr.add_quality_metric(MinimizeSequentialPlanLength())
+    r = _solve(pr)
+    assert r.status is Status.SOLVED_SATISFICING
+    assert _valid(pr, r.plan).status is ValidationResultStatus.VALID
+    assert "not proven shortest" in _log(r)
+    monkeypatch.setattr(search_mod, "search", real)
+    r = _solve(pr)  # proven: 4 actions, the breadth-first count
+    assert r.status is Status.SOLVED_OPTIMALLY and len(r.plan.actions) == 4 == _bfs_length(pr)
