@@ -18,7 +18,9 @@ lengths from ~5 to ~50; the optimal lengths argued by hand in each generator):
   fit; the relaxation cannot tell).
 
 For each task: ``catc import pddl`` (timed), ``catc solve --sequential --strategy search`` (forward
-A* with numeric h^max, exact; the SMT search where it does not apply), optionally the SMT search
+greedy search on a numeric h_add for a first plan, then A* with numeric h^max below its length:
+a shortest plan proven, or the greedy plan marked not proven shortest when the time runs out;
+exact; the SMT search where it does not apply), optionally the SMT search
 alone (``--smt``), ENHSP ``-planner opt-hrmax`` (A* with h^max: optimal, the like-for-like
 baseline) in its own process under the same timeout; both plans replayed by unified-planning's
 ``SequentialPlanValidator`` on the original PDDL. Prints a markdown table and the command.
@@ -170,9 +172,16 @@ class Row:
     catc_time: float | None = None
     catc_cpu: float | None = None
     catc_valid: bool | None = None
+    catc_shortest: bool | None = None  # proven shortest (A*), or the greedy plan when the time ran out
+    catc_first: float | None = None  # seconds until the first plan (the greedy search's)
     smt: str = "-"
     smt_len: int | None = None
     smt_time: float | None = None
+    second: str = "-"  # the second planner: pyperplan A*/LM-cut (classical), TAMER (numeric)
+    second_name: str = ""
+    second_len: int | None = None
+    second_time: float | None = None
+    second_valid: bool | None = None
     enhsp: str = "-"
     enhsp_len: int | None = None
     enhsp_time: float | None = None
@@ -191,7 +200,59 @@ def _pddl_steps(plan, report) -> list[str]:
     return out
 
 
-def run(task: Task, work: Path, timeout: float, *, smt: bool, enhsp: bool, horizon: int) -> Row:
+def _second_child(engine: str, domain: str, problem: str) -> int:
+    """In a child process (so that the timeout can end it): ``engine`` on the PDDL; prints the
+    status and the plan's actions, one a line."""
+    import unified_planning.shortcuts as shortcuts
+    from unified_planning.io import PDDLReader
+
+    shortcuts.get_environment().credits_stream = None
+    problem_up = PDDLReader().parse_problem(domain, problem)
+    params = {"search": "astar", "heuristic": "lmcut"} if engine == "pyperplan" else {}
+    with shortcuts.OneshotPlanner(name=engine, params=params) as planner:
+        r = planner.solve(problem_up)
+    print(r.status.name)
+    if r.plan is not None:
+        for a in r.plan.actions:
+            args = " ".join(str(p) for p in a.actual_parameters)
+            print(f"({a.action.name}{' ' + args if args else ''})")
+    return 0
+
+
+def _second(row: Row, up_problem, d: Path, p: Path, timeout: float) -> None:
+    """The second planner: pyperplan (A* with LM-cut: optimal) on classical tasks, TAMER on
+    numeric ones, in its own process; its plan replayed by UP's validator."""
+    import subprocess
+
+    kind = up_problem.kind
+    numeric = bool(kind.has_numeric_fluents() or kind.has_int_fluents() or kind.has_real_fluents())
+    row.second_name = "tamer" if numeric else "pyperplan"
+    t0 = time.perf_counter()
+    try:
+        out = subprocess.run(
+            [sys.executable, __file__, "--child", row.second_name, str(d), str(p)],
+            capture_output=True,
+            text=True,
+            timeout=timeout,
+        )
+    except subprocess.TimeoutExpired:
+        row.second, row.second_time = "timeout", time.perf_counter() - t0
+        return
+    row.second_time = time.perf_counter() - t0
+    lines = out.stdout.splitlines()
+    if out.returncode != 0 or not lines:
+        row.second = "error"
+        return
+    status = lines[0]
+    row.second = {"SOLVED_SATISFICING": "sat", "SOLVED_OPTIMALLY": "sat (optimal)"}.get(
+        status, "unsat" if "UNSOLVABLE" in status else status.lower()
+    )
+    if row.second.startswith("sat"):
+        steps = lines[1:]
+        row.second_len, row.second_valid = len(steps), corpus.up_validates(up_problem, steps)
+
+
+def run(task: Task, work: Path, timeout: float, *, smt: bool, enhsp: bool, horizon: int, second: bool = False) -> Row:
     from unified_planning.io import PDDLReader
 
     from catc.frontend.up_import import up_to_instance
@@ -209,7 +270,9 @@ def run(task: Task, work: Path, timeout: float, *, smt: bool, enhsp: bool, horiz
     r = solve(inst, horizon=horizon, sequential=True, strategy="search", timeout=timeout)
     row.catc_time, row.catc_cpu = time.perf_counter() - t0, time.process_time() - c0
     row.catc = r.status.value + (" (final)" if r.status is SolveStatus.UNSAT and r.final else "")
+    row.catc_first = r.timings.get("first_plan")
     if r.plan is not None:
+        row.catc_shortest = r.shortest
         steps = _pddl_steps(r.plan, report)
         row.catc_len, row.catc_valid = len(steps), corpus.up_validates(up_problem, steps)
     if smt:
@@ -218,6 +281,8 @@ def run(task: Task, work: Path, timeout: float, *, smt: bool, enhsp: bool, horiz
         row.smt_time = time.perf_counter() - t0
         row.smt = s.status.value
         row.smt_len = None if s.plan is None else sum(len(x) for x in s.plan.steps)
+    if second:
+        _second(row, up_problem, d, p, timeout)
     if enhsp:
         from catc.targets.enhsp import run_enhsp
 
@@ -246,25 +311,75 @@ def _v(x: bool | None) -> str:
     return "-" if x is None else ("yes" if x else "NO")
 
 
-def markdown(rows: list[Row], command: str, smt: bool) -> str:
-    head = "| task | hand count | catc (search) | len | wall s | cpu s | valid | ENHSP opt-hrmax | len | wall s | cpu s | valid |"
-    rule = "|---|---|---|---|---|---|---|---|---|---|---|---|"
+def markdown(rows: list[Row], command: str, smt: bool, second: bool = False) -> str:
+    head = (
+        "| task | hand count | catc (search) | len | proven shortest | first plan s | wall s | cpu s | valid "
+        "| ENHSP opt-hrmax | len | wall s | cpu s | valid |"
+    )
+    rule = "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
     if smt:
         head += " catc SMT | len | s |"
         rule += "---|---|---|"
+    if second:
+        head += " second planner | len | wall s | valid |"
+        rule += "---|---|---|---|"
     lines = [head, rule]
     for r in rows:
         t = r.task
         line = (
             f"| {t.name} | {t.optimal if t.optimal is not None else 'unsolvable'} | {r.catc} | {r.catc_len or '-'} | "
+            f"{_v(r.catc_shortest)} | {_t(r.catc_first)} | "
             f"{_t(r.catc_time)} | {_t(r.catc_cpu)} | {_v(r.catc_valid)} | {r.enhsp} | {r.enhsp_len or '-'} | "
             f"{_t(r.enhsp_time)} | {_t(r.enhsp_cpu)} | {_v(r.enhsp_valid)} |"
         )
         if smt:
             line += f" {r.smt} | {r.smt_len if r.smt_len is not None else '-'} | {_t(r.smt_time)} |"
+        if second:
+            line += (
+                f" {r.second_name} {r.second} | {r.second_len if r.second_len is not None else '-'} | "
+                f"{_t(r.second_time)} | {_v(r.second_valid)} |"
+            )
         lines.append(line)
-    lines += ["", f"    {command}"]
+    lines += ["", *medians(rows), "", f"    {command}"]
     return "\n".join(lines)
+
+
+def medians(rows: list[Row], timeout: float | None = None) -> list[str]:
+    """Median wall seconds per plan length (the hand count, in bands of 10), solvable tasks:
+    a run without an answer counts as the time it was given (its wall time), so a median is
+    never flattered by leaving failures out."""
+    from statistics import median
+
+    bands: dict[str, list[Row]] = {}
+    for r in rows:
+        n = r.task.optimal
+        if n is None:
+            continue
+        lo = 10 * ((n - 1) // 10) + 1 if n > 0 else 0
+        bands.setdefault(f"{lo}–{lo + 9}", []).append(r)
+    out = [
+        "| plan length | tasks | catc plans (proven shortest) | catc median wall s | catc median cpu s "
+        "| ENHSP plans | ENHSP median wall s | ENHSP median cpu s | catc / ENHSP wall | catc / ENHSP cpu |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+
+    def med(xs: list[float | None]) -> float | None:
+        ys = [x for x in xs if x is not None]
+        return median(ys) if ys else None
+
+    def ratio(a: float | None, b: float | None) -> str:
+        return "-" if a is None or not b else f"{a / b:.2f}"
+
+    for band, rs in sorted(bands.items(), key=lambda kv: int(kv[0].split("–")[0])):
+        cw, cc = med([r.catc_time for r in rs]), med([r.catc_cpu for r in rs])
+        ew, ec = med([r.enhsp_time for r in rs]), med([r.enhsp_cpu for r in rs])
+        plans = sum(r.catc_len is not None for r in rs)
+        proven = sum(bool(r.catc_shortest) for r in rs)
+        out.append(
+            f"| {band} | {len(rs)} | {plans} ({proven}) | {_t(cw)} | {_t(cc)} | "
+            f"{sum(r.enhsp_len is not None for r in rs)} | {_t(ew)} | {_t(ec)} | {ratio(cw, ew)} | {ratio(cc, ec)} |"
+        )
+    return out
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -274,7 +389,13 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--only", action="append", default=[])
     ap.add_argument("--smt", action="store_true", help="also the SMT search alone (slow past ~12 actions)")
     ap.add_argument("--no-enhsp", action="store_true")
+    ap.add_argument(
+        "--second", action="store_true", help="also pyperplan A*/LM-cut (classical) or TAMER (numeric), if installed"
+    )
+    ap.add_argument("--child", nargs=3, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
+    if args.child:
+        return _second_child(*args.child)
     import unified_planning.shortcuts as shortcuts
 
     shortcuts.get_environment().credits_stream = None
@@ -282,16 +403,27 @@ def main(argv: list[str] | None = None) -> int:
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for t in chosen:
-            row = run(t, Path(tmp), args.timeout, smt=args.smt, enhsp=not args.no_enhsp, horizon=args.horizon)
+            row = run(
+                t,
+                Path(tmp),
+                args.timeout,
+                smt=args.smt,
+                enhsp=not args.no_enhsp,
+                horizon=args.horizon,
+                second=args.second,
+            )
             print(
                 f"{t.name}: catc {row.catc} {row.catc_len} {_t(row.catc_time)}s (cpu {_t(row.catc_cpu)}); ENHSP "
                 f"{row.enhsp} {row.enhsp_len} {_t(row.enhsp_time)}s (cpu {_t(row.enhsp_cpu)})"
-                + (f"; SMT {row.smt} {row.smt_len} {_t(row.smt_time)}s" if args.smt else ""),
+                + (f"; SMT {row.smt} {row.smt_len} {_t(row.smt_time)}s" if args.smt else "")
+                + (f"; {row.second_name} {row.second} {row.second_len} {_t(row.second_time)}s" if args.second else ""),
                 file=sys.stderr,
                 flush=True,
             )
             rows.append(row)
-    print(markdown(rows, "python benchmarks/planning_corpus.py " + " ".join(argv or sys.argv[1:]), args.smt))
+    print(
+        markdown(rows, "python benchmarks/planning_corpus.py " + " ".join(argv or sys.argv[1:]), args.smt, args.second)
+    )
     return 0
 
 

@@ -80,9 +80,12 @@ def _parity() -> Problem:
 def test_unsolvable_proven_by_exhausting_the_reachable_states():
     inst, _ = up_to_instance(_parity())
     assert refute(inst) is None  # not the relaxation's proof
-    r = search(inst, 200)
+    r = search(inst, 200, greedy=False)  # A*: x = 0, 2, 4, 6 expanded, x ≥ 8 dead ends
     assert r.status is SearchStatus.NONE and r.final
     assert "(4)" in r.reason
+    r = search(inst, 200)  # the greedy search prunes nothing: x = 0, 2, …, 20, all 11 states
+    assert r.status is SearchStatus.NONE and r.final
+    assert "(11)" in r.reason
     via = solve(inst, horizon=200, sequential=True, strategy="search")
     assert via.status is SolveStatus.UNSAT and via.final
 
@@ -132,3 +135,82 @@ def test_an_unbounded_tank_that_only_grows_past_the_goal_is_proven_unsolvable():
     assert refute(inst) is None
     r = search(inst, 200)
     assert r.status is SearchStatus.NONE and r.final
+
+
+def _corpus_script():
+    import importlib.util
+    import sys
+
+    spec = importlib.util.spec_from_file_location(
+        "planning_corpus", EXAMPLES.parent / "benchmarks" / "planning_corpus.py"
+    )
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules.setdefault("planning_corpus", mod)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_the_greedy_plan_is_proven_shortest_by_a_star_or_replaced(tmp_path):
+    """gripper with 4 balls: 11 actions at best (pick, pick, move, drop, drop, move back per
+    pair, no last move back). The greedy search's plan, then A* below its length: the answer
+    is 11 long and proven shortest, and A* alone agrees."""
+    corpus_mod = _corpus_script()
+    (tmp_path / "d.pddl").write_text(corpus_mod.GRIPPER)
+    (tmp_path / "p.pddl").write_text(corpus_mod.gripper(4))
+    inst, _ = up_to_instance(_read(tmp_path / "d.pddl", tmp_path / "p.pddl"))
+    r = search(inst, 60)
+    assert r.status is SearchStatus.PLAN and r.length == 11 and r.shortest
+    assert search(inst, 60, greedy=False).length == 11
+    greedy = search(inst, 60, prove=False)  # the greedy plan alone: no claim that it is shortest
+    assert greedy.status is SearchStatus.PLAN and not greedy.shortest and greedy.length is not None
+    assert greedy.length >= 11
+    via = solve(inst, horizon=60, sequential=True, strategy="greedy")  # replayed by the validator
+    assert via.status is SolveStatus.SAT and not via.shortest
+
+
+def test_counters_greedy_plan_is_valid_and_no_shorter_than_the_hand_count(tmp_path):
+    """counters-6 (15 increments at best, c_i ≥ i): the greedy plan, numeric h_add, validated
+    inside solve; it can be no shorter than 15."""
+    wheel = corpus.wheel_dir()
+    assert wheel is not None
+    (tmp_path / "p.pddl").write_text(corpus.counters_problem(6))
+    inst, _ = up_to_instance(_read(wheel / "counters" / "domain.pddl", tmp_path / "p.pddl"))
+    via = solve(inst, horizon=100, sequential=True, strategy="greedy")
+    assert via.status is SolveStatus.SAT and via.plan is not None
+    assert len(via.plan.steps) >= 15
+
+
+def test_the_consumption_bound_runs_only_where_the_forward_search_does_not(monkeypatch):
+    """On a ground task the forward search settles the answer, so issue 24's least-consumption
+    bound (seconds on blocks-8, and no proof there) is not computed first; where the forward
+    search does not apply (parameters) it still is, before the SMT search."""
+    import catc.queries.solve as solve_mod
+
+    calls: list[str] = []
+
+    def counted(inst):
+        calls.append(inst.problem.name)
+        return None
+
+    monkeypatch.setattr(solve_mod, "consumption_proof", counted)
+    r = solve(_ferry(), horizon=20, sequential=True, strategy="search")
+    assert r.status is SolveStatus.SAT and calls == []
+    from catc.frontend.session import load_checked
+    from catgrammar.diagnostics import Diagnostics
+
+    inst = load_checked(EXAMPLES / "navigation" / "coarse.cat", None, Diagnostics())
+    assert inst is not None
+    solve(inst, horizon=6, sequential=True, strategy="search")
+    assert len(calls) == 1
+
+
+def test_a_greedy_search_past_its_share_gives_way_to_a_star(monkeypatch):
+    """With room for one state only, the greedy phase stops at once and A* alone answers: the
+    parity task is still proven unsolvable, by A*'s dead ends (x = 0, 2, 4, 6 expanded)."""
+    import catc.semantics.search as search_mod
+
+    monkeypatch.setattr(search_mod, "GREEDY_STATES", 0)
+    inst, _ = up_to_instance(_parity())
+    r = search(inst, 200)
+    assert r.status is SearchStatus.NONE and r.final and "(4)" in r.reason

@@ -284,6 +284,26 @@ def test_unsolvable_proven_where_the_state_space_is_infinite_but_the_dead_ends_a
     assert "every reachable state" in _log(r)
 
 
+def test_the_default_horizon_is_the_state_count_of_a_finite_problem(catc_engine):
+    """x ∈ [0, 20] moves by ±2 from 0 and the goal is x = 7: 21 values, so some shortest plan
+    (if any) has at most 20 actions, and the engine searches exactly that far by default (not
+    200): "no plan within 20 actions" is then a proof for every length."""
+    x = Fluent("x", IntType(0, 20))
+    pr = Problem("bounded-parity")
+    pr.add_fluent(x, default_initial_value=0)
+    for name, d in (("up2", 2), ("down2", -2)):
+        a = InstantaneousAction(name)
+        a.add_effect(x, x + d)
+        pr.add_action(a)
+    pr.add_goal(Equals(x, 7))
+    r = _solve(pr)
+    assert r.status is Status.UNSOLVABLE_PROVEN
+    log = _log(r)
+    assert "no plan within 20 actions" in log and "at most 21 states" in log
+    r = _solve(pr, max_horizon=30)  # given: searched as given
+    assert r.status is Status.UNSOLVABLE_PROVEN and "no plan within 30 actions" in _log(r)
+
+
 def test_time_out_before_any_answer(catc_engine):
     with OneshotPlanner(name="catc") as planner:
         r = planner.solve(_parity(), timeout=0)
@@ -598,3 +618,27 @@ def test_an_unsolvable_answer_carries_a_certificate_both_solvers_check(catc_engi
     assert doc["method"] == "invariant"
     inst, _ = up_to_instance(problem)
     assert certify(inst, doc).status is CertifyStatus.CERTIFIED
+
+
+def test_a_plan_not_proven_shortest_is_never_optimal_for_plan_length(catc_engine, monkeypatch):
+    """With a plan-length metric the engine answers SOLVED_OPTIMALLY only for a plan proven
+    shortest. The forward search is made to stop before A* settles anything (its greedy plan
+    alone, as when the time runs out): the same plan is then SOLVED_SATISFICING, and the log
+    says it is not proven shortest."""
+    from unified_planning.model.metrics import MinimizeSequentialPlanLength
+
+    import catc.semantics.search as search_mod
+
+    real = search_mod.search
+    monkeypatch.setattr(
+        search_mod, "search", lambda inst, k, **kw: real(inst, k, deadline=kw.get("deadline"), prove=False)
+    )
+    pr = _steps_problem()
+    pr.add_quality_metric(MinimizeSequentialPlanLength())
+    r = _solve(pr)
+    assert r.status is Status.SOLVED_SATISFICING
+    assert _valid(pr, r.plan).status is ValidationResultStatus.VALID
+    assert "not proven shortest" in _log(r)
+    monkeypatch.setattr(search_mod, "search", real)
+    r = _solve(pr)  # proven: 4 actions, the breadth-first count
+    assert r.status is Status.SOLVED_OPTIMALLY and len(r.plan.actions) == 4 == _bfs_length(pr)

@@ -7,8 +7,9 @@ strictly increasing, IPC numeric style; the shortest plan has n(n-1)/2 actions) 
 
 1. ``catc import pddl`` (:func:`catc.interfaces.import_cli.import_pddl`) — imported, or refused
    with the reasons of its import report;
-2. ENHSP (``sat-hadd``) on the original PDDL, then catc ``solve --sequential`` on the imported
-   ``.cat`` (the shortest plan) with ENHSP's plan length as the horizon (:data:`CAP` when
+2. ENHSP (``sat-hadd``) on the original PDDL, then catc ``solve --sequential --strategy search``
+   (the UP engine's route: the forward search where it applies, greedy then A* for the shortest
+   plan; the SMT search elsewhere) on the imported ``.cat`` with ENHSP's plan length as the horizon (:data:`CAP` when
    ENHSP found none: then catc's UNSAT means "none within CAP steps" unless its relaxed
    reachability proves more);
 3. where the PDDL has a metric: ENHSP ``opt-blind`` for the optimal cost, then catc
@@ -19,7 +20,8 @@ strictly increasing, IPC numeric style; the shortest plan has n(n-1)/2 actions) 
 5. the round trip: ``catc export pddl`` of the imported instance, solved again by ENHSP.
 
 Agreement: both SAT or both UNSAT; where both optimise, the same cost; catc's plan (the
-shortest, sequential) no longer than ENHSP's.
+shortest, sequential) no longer than ENHSP's — unless the time ran out before A* proved the
+greedy plan shortest.
 """
 
 from __future__ import annotations
@@ -68,6 +70,7 @@ class Row:
     catc: str = "-"
     catc_cost: Fraction | None = None
     catc_len: int | None = None
+    catc_shortest: bool = True  # False: the forward search's greedy plan, not proven shortest
     catc_time: float | None = None
     catc_valid: bool | None = None
     roundtrip: str = "-"
@@ -101,7 +104,8 @@ class Row:
             both_costs = None not in (self.enhsp_cost, self.catc_cost)
             if self.metric is not None and both_costs and self.catc_cost != self.enhsp_cost:
                 return False
-            if self.metric is None and self.catc == "sat" and (self.catc_len or 0) > (self.enhsp_len or 0):
+            longer = (self.catc_len or 0) > (self.enhsp_len or 0)
+            if self.metric is None and self.catc == "sat" and self.catc_shortest and longer:
                 return False
         if self.roundtrip not in ("sat", "unsat"):
             return True
@@ -323,7 +327,9 @@ def _run_catc(row: Row, res: Any, up_problem: Any, horizon: int, timeout: float,
         if plan is not None and o.values:
             row.catc_cost = o.values[0].value
     else:
-        s = solve(res.instance, horizon=horizon, sequential=True, timeout=timeout)
+        # the engine's route: forward search (greedy, then A* for the proof), SMT where it cannot
+        s = solve(res.instance, horizon=horizon, sequential=True, timeout=timeout, strategy="search")
+        row.catc_shortest = s.shortest
         row.catc = {SolveStatus.SAT: "sat", SolveStatus.UNSAT: "unsat"}.get(s.status, s.status.value)
         plan = s.plan if s.status is SolveStatus.SAT else None
     row.catc_time = (row.catc_time or 0) + time.perf_counter() - start

@@ -93,13 +93,15 @@ class CatcEngine(Engine, OneshotPlannerMixin, AnytimePlannerMixin):
     """catc behind UP's ``OneshotPlanner`` / ``AnytimePlanner``.
 
     Parameters (``OneshotPlanner(name="catc", params={...})``): ``max_horizon`` (the most
-    actions searched, default :data:`DEFAULT_MAX_HORIZON`), ``opt_horizon`` (the most actions
+    actions searched; by default N − 1 for a finite state space of N ≤ :data:`DEFAULT_MAX_HORIZON`
+    states — a shortest plan visits no state twice, so nothing is lost and "none within it" is a
+    proof — else :data:`DEFAULT_MAX_HORIZON`), ``opt_horizon`` (the most actions
     optimised over when the metric gives no bound, default :data:`DEFAULT_OPT_HORIZON`), ``optimize`` (default True: with a
     metric, optimise it; False: the shortest plan only), ``diagnose`` (default True)."""
 
     def __init__(
         self,
-        max_horizon: int = DEFAULT_MAX_HORIZON,
+        max_horizon: int | None = None,
         opt_horizon: int = DEFAULT_OPT_HORIZON,
         optimize: bool = True,
         diagnose: bool = True,
@@ -107,7 +109,9 @@ class CatcEngine(Engine, OneshotPlannerMixin, AnytimePlannerMixin):
         Engine.__init__(self)
         OneshotPlannerMixin.__init__(self)
         AnytimePlannerMixin.__init__(self)
-        self.max_horizon = int(max_horizon)
+        #: None: from the problem's state count (above); given: that many actions
+        self.horizon_given = None if max_horizon is None else int(max_horizon)
+        self.max_horizon = DEFAULT_MAX_HORIZON if max_horizon is None else int(max_horizon)
         self.opt_horizon = int(opt_horizon)
         most = limits.current().horizon
         if not (0 <= self.max_horizon <= most and 0 <= self.opt_horizon <= most):
@@ -227,25 +231,41 @@ class _Run:
             self.say("catc: the time ran out after grounding the problem")
             yield self.result(Status.TIMEOUT)
             return
+        optimising = bool(self.problem.quality_metrics) and self.engine.optimize
         first = solve(
             self.inst,
-            horizon=self.engine.max_horizon,
+            horizon=self._horizon(),
             sequential=True,
             timeout=self.remaining(),
             presolve=True,
-            strategy="search",  # forward A* (shortest plan, or every reachable state seen); SMT where it cannot
+            # forward search: greedy on h_add, then A* proves the plan shortest (or finds a shorter
+            # one) while there is time; or a proof that every reachable state was seen; SMT where
+            # it cannot
+            strategy="search",
         )
         if first.status is not SolveStatus.SAT:
             yield self._no_plan(first)
             return
         assert first.plan is not None
-        if self.problem.quality_metrics and self.engine.optimize:
+        if optimising:
             if self.anytime:
                 yield self.result(Status.INTERMEDIATE, first.plan)
-            yield self._optimised(first.plan)
+            yield self._optimised(first.plan, first.shortest)
         else:
-            self.say(f"catc: a shortest plan ({_length(first.plan)} actions, sequential steps)")
+            what = "a shortest plan" if first.shortest else "a plan, not proven shortest (the time ran out),"
+            self.say(f"catc: {what} ({_length(first.plan)} actions, sequential steps)")
             yield self.result(Status.SOLVED_SATISFICING, first.plan)
+
+    def _horizon(self) -> int:
+        """``max_horizon`` when given; else N − 1 for a finite state space of N ≤
+        ``DEFAULT_MAX_HORIZON`` states (a shortest plan visits no state twice), else the default."""
+        if self.engine.horizon_given is not None:
+            return self.engine.horizon_given
+        states = _finite_states(self.inst, DEFAULT_MAX_HORIZON + 1)
+        if states is not None:
+            self.say(f"catc: at most {states} states: plans of at most {states - 1} actions searched", LogLevel.DEBUG)
+            return max(states - 1, 0)
+        return DEFAULT_MAX_HORIZON
 
     # ------------------------------------------------------------ no plan
 
@@ -310,9 +330,12 @@ class _Run:
 
     # ------------------------------------------------------------ a metric
 
-    def _optimised(self, first: Plan) -> Any:
+    def _optimised(self, first: Plan, shortest: bool = True) -> Any:
         kind = self.report.optimal_metric
         horizon, bound_proves = self._opt_horizon(first, kind)
+        if kind == "length" and not shortest:  # the greedy plan; A* ran out of time
+            self.say(f"catc: a plan of {_length(first)} actions, not proven shortest (the time ran out)")
+            return self.result(Status.SOLVED_SATISFICING, first, _metric(_length(first)))
         if kind == "length":
             self.say(f"catc: a shortest plan ({_length(first)} actions): optimal for plan length")
             return self.result(Status.SOLVED_OPTIMALLY, first, _metric(_length(first)))

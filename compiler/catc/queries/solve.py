@@ -77,6 +77,7 @@ class SolveResult(Result):
         "strategy",
         "backend",
         "refutation",
+        "shortest",
     )
     status: SolveStatus
 
@@ -109,12 +110,15 @@ class SolveResult(Result):
         self.strategy = strategy
         self.backend = backend
         self.refutation = refutation
+        #: False when the plan is the forward greedy search's, not proven shortest (``greedy``,
+        #: or ``search`` when the time ran out before A* settled it)
+        self.shortest = True
 
     def __repr__(self) -> str:
         return f"SolveResult({self.status.name}, horizon={self.horizon}, plan={self.plan!r})"
 
 
-STRATEGIES = ("incremental", "single", "search")
+STRATEGIES = ("incremental", "single", "search", "greedy")
 
 
 def solve(
@@ -150,16 +154,22 @@ def solve(
         k = horizon_of(inst, horizon)
         timings = {"start": 0.0, "encode": 0.0, "solve": 0.0, "validate": 0.0}
         try:
-            proof = _presolve(inst, timings) if presolve else None
+            forward = strategy in ("search", "greedy")
+            # the forward search ends by the solve's deadline less a margin to replay the plan
+            ends = None if timeout is None else time.monotonic() + 0.95 * timeout
+            proof = _presolve(inst, timings, consumption=not forward) if presolve else None
             searched = None
-            if proof is None and strategy == "search":
+            if proof is None and forward:
                 t0 = time.perf_counter()
-                searched = _forward(inst, k, sequential, timeout)
+                searched = _forward(inst, k, sequential, ends, prove=strategy == "search")
                 timings["solve"] = time.perf_counter() - t0
+                if searched is None and presolve:  # the SMT search runs: issue 24's bound first
+                    proof = _presolve(inst, timings, refuted=True)
             if proof is not None:  # no composition of any length: nothing to encode
                 result = SolveResult(SolveStatus.UNSAT, k, final=True, length_bound=use_bound(inst), refutation=proof)
             elif searched is not None:  # the forward search settled it
                 result = searched
+                timings.update(searched.timings)  # first_plan: when the greedy search found one
                 if result.status is SolveStatus.SAT and validate_answer:
                     _validated(inst, result, k, sequential, prune, timings)
             else:
@@ -179,18 +189,28 @@ def solve(
     return result
 
 
-def _forward(inst: ir.Instance, k: int, sequential: bool, timeout: float | None) -> SolveResult | None:
+def _forward(
+    inst: ir.Instance, k: int, sequential: bool, deadline: float | None, *, prove: bool = True
+) -> SolveResult | None:
     """The forward search's answer (:mod:`catc.semantics.search`), or None where it does not
-    apply (parallel steps, or what it does not model): then the SMT search runs."""
+    apply (parallel steps, or what it does not model): then the SMT search runs. ``prove``:
+    A* proves the greedy search's composition shortest (or finds a shorter one); ``deadline``:
+    a ``time.monotonic()`` instant."""
     from catc.semantics.search import SearchStatus, search
 
     if not sequential:
         return None
-    r = search(inst, k, deadline=None if timeout is None else time.monotonic() + timeout)
+    r = search(inst, k, deadline=deadline, prove=prove)
     if r.status is SearchStatus.UNSUPPORTED:
         return None
     if r.status is SearchStatus.PLAN:
-        return SolveResult(SolveStatus.SAT, k, r.plan, length_bound=use_bound(inst))
+        out = SolveResult(SolveStatus.SAT, k, r.plan, length_bound=use_bound(inst))
+        out.shortest = r.shortest
+        if not r.shortest:
+            out.reason = r.reason
+        if r.first_plan is not None:
+            out.timings["first_plan"] = r.first_plan
+        return out
     if r.status is SearchStatus.STOPPED:
         return SolveResult(
             SolveStatus.UNKNOWN, k, reason=limits.stop_reason() or "timeout", length_bound=use_bound(inst)
@@ -199,10 +219,17 @@ def _forward(inst: ir.Instance, k: int, sequential: bool, timeout: float | None)
     return SolveResult(SolveStatus.UNSAT, k, final=r.final, length_bound=use_bound(inst), reason=why)
 
 
-def _presolve(inst: ir.Instance, timings: dict[str, float]) -> Refutation | None:
+def _presolve(
+    inst: ir.Instance, timings: dict[str, float], *, consumption: bool = True, refuted: bool = False
+) -> Refutation | None:
+    """Relaxed reachability (unless ``refuted``: already tried), then the least-consumption
+    bound (``consumption``; not before the forward search, which proves more on ground tasks
+    and for which that bound costs seconds: blocks-8, 4 CPU s)."""
     t0 = time.perf_counter()
-    proof = refute(inst) or consumption_proof(inst)  # the second: issue 24's catalogs
-    timings["presolve"] = time.perf_counter() - t0
+    proof = None if refuted else refute(inst)
+    if proof is None and (consumption or refuted):
+        proof = consumption_proof(inst)  # issue 24's catalogs
+    timings["presolve"] = timings.get("presolve", 0.0) + time.perf_counter() - t0
     return proof
 
 
@@ -474,6 +501,8 @@ def solve_json(inst: ir.Instance, result: SolveResult) -> dict:
     }
     if result.backend != DEFAULT_BACKEND:
         doc["backend"] = result.backend
+    if not result.shortest:  # only then: the forward greedy search's plan, not proven shortest
+        doc["shortest"] = False
     if plan is not None:
         doc["steps"] = steps_json(inst, plan)
         doc["fresh"] = dict(plan.fresh)
@@ -536,6 +565,8 @@ def render(console: Console, inst: ir.Instance, result: SolveResult, options: Ma
     if result.plan is not None and result.status is SolveStatus.SAT:
         n = len(result.plan)
         console.print(f"{status}  composition of {n} step{'s' if n != 1 else ''} for {where}")
+        if not result.shortest:
+            console.print(f"[yellow]not proven shortest[/]: {result.reason}")
         print_composition(console, inst, result.plan, result.states)
     elif result.status is SolveStatus.UNSAT:
         console.print(f"{status}  {unsat_sentence(inst, result)} ({where})")
@@ -566,8 +597,10 @@ QUERY = Query(
             ("--strategy",),
             Kind.CHOICE,
             "incremental: deepen the horizon one step at a time (shortest composition); "
-            "single: one check of the whole horizon; search: a forward A* search (sequential steps, "
-            "ground morphisms; shortest composition or proof of none), else incremental.",
+            "single: one check of the whole horizon; search: a forward search (sequential steps, "
+            "ground morphisms: greedy on h_add, then A* proves it shortest or finds a shorter one; "
+            "or a proof of none), else incremental; greedy: the forward greedy search alone (any "
+            "composition, not proven shortest), else incremental.",
             default="incremental",
             choices=STRATEGIES,
             show_default=True,

@@ -1,4 +1,10 @@
-"""A forward state-space search for shortest sequential compositions: A* with a numeric h^max.
+"""A forward state-space search for shortest sequential compositions: greedy best-first on a
+numeric h_add for a first composition, then A* with a numeric h^max to prove it shortest.
+
+The greedy phase (:func:`_greedy`, h_add over the conditions cut into atoms by :class:`_Atoms`,
+or over literals on bitmasks) is inadmissible and claims nothing about length; A* below its
+length (:func:`_astar`) either finds a shorter composition or proves that there is none. The
+rest of this docstring is about A*.
 
 For ground instances (morphisms without parameters, as :mod:`catc.frontend.up_import` makes
 them) the shortest sequential composition is found by A* over the concrete states (exact
@@ -12,11 +18,13 @@ distance to the goal, and a layer that no longer changes without the goal proves
 
 What the search answers, all of it a proof (the validator still replays every composition):
 
-* a composition of L steps — the shortest (A* with an admissible heuristic, unit steps);
+* a composition of L steps — the shortest (A* with an admissible heuristic, unit steps),
+  unless ``shortest`` is False (the greedy composition, A* stopped by the time);
 * none within the horizon k — every state within k steps was expanded or pruned by the
   heuristic (whose bound is sound);
 * none of any length (``final``) — additionally no state was cut by the horizon: the
-  reachable state space was exhausted, dead ends proven by the relaxation.
+  reachable state space was exhausted (by A*, dead ends proven by the relaxation; or by the
+  greedy phase, which prunes nothing).
 
 Instances with what the search does not model (parameters, sets, holes, use limits, an
 effect that assigns and increases one resource, a resource without an initial value) are
@@ -50,7 +58,7 @@ class SearchStatus(str, Enum):
 
 
 class SearchResult:
-    __slots__ = ("status", "plan", "final", "expanded", "reason", "length")
+    __slots__ = ("status", "plan", "final", "expanded", "reason", "length", "shortest", "first_plan")
 
     def __init__(
         self,
@@ -60,9 +68,15 @@ class SearchResult:
         final: bool = False,
         expanded: int = 0,
         reason: str = "",
+        shortest: bool = True,
+        first_plan: float | None = None,
     ) -> None:
         self.status, self.plan, self.final, self.expanded, self.reason = status, plan, final, expanded, reason
         self.length = None if plan is None else len(plan.steps)
+        #: a plan is a shortest one (proven by A*); False: the greedy search's plan, no proof
+        self.shortest = shortest
+        #: seconds until the first plan was found (the greedy search's), None when none was
+        self.first_plan = first_plan
 
 
 class _Unsupported(Exception):
@@ -521,6 +535,282 @@ class _Task:
         return (a, b)
 
 
+#: The most states the greedy phase stores before it gives way to A* (with no deadline it
+#: would otherwise run as long as the horizon allows; A* also prunes proven dead ends).
+GREEDY_STATES = 200_000
+
+_FAR = 1 << 40  # "not reached" in h_add: larger than any sum of reached costs
+
+
+def _linear(e: ir.Expr, index: dict[str, int]) -> tuple[dict[int, Fraction], Fraction] | None:
+    """``e`` as Σ w·x + k over numeric resources, or None when it is not linear."""
+    if isinstance(e, ir.Const) and isinstance(e.value, Fraction):
+        return {}, e.value
+    if isinstance(e, ir.ResourceRef) and e.name in index:
+        return {index[e.name]: Fraction(1)}, Fraction(0)
+    if isinstance(e, ir.Arith) and e.op in (ArithOp.ADD, ArithOp.SUB, ArithOp.MUL):
+        parts = [_linear(a, index) for a in e.args]
+        if any(x is None for x in parts):
+            return None
+        if e.op is ArithOp.MUL:
+            w: dict[int, Fraction] = {}
+            k = Fraction(1)
+            for x in parts:
+                assert x is not None
+                if x[0] and w:
+                    return None  # a product of two resources
+                if x[0]:
+                    w = {i: c * k for i, c in x[0].items()}
+                    k = k * x[1]
+                else:
+                    w = {i: c * x[1] for i, c in w.items()}
+                    k = k * x[1]
+            return w, k
+        first = parts[0]
+        assert first is not None
+        w, k = dict(first[0]), first[1]
+        if e.op is ArithOp.SUB and len(parts) == 1:
+            return {i: -c for i, c in w.items()}, -k
+        sign = 1 if e.op is ArithOp.ADD else -1
+        for x in parts[1:]:
+            assert x is not None
+            for i, c in x[0].items():
+                w[i] = w.get(i, Fraction(0)) + sign * c
+            k += sign * x[1]
+        return w, k
+    return None
+
+
+class _Atoms:
+    """The conditions of a numeric task cut into atoms for h_add: a literal (a resource holds
+    a value), a linear condition Σ w·x + k ≥ 0 (> 0 when strict), or anything else (tested
+    on the state; made true, in the relaxation, by any morphism that writes what it reads)."""
+
+    def __init__(self, task: _Task, inst: ir.Instance) -> None:
+        self.task = task
+        self.facts: dict[tuple[int, Any], int] = {}
+        self.linear: list[tuple[list[tuple[int, Fraction]], Fraction, bool]] = []
+        self.tests: list[tuple[int, Fn]] = []  # (atom, holds in a state)
+        self.kind: list[tuple[str, int]] = []  # atom → ("fact", fact) | ("linear", j) | ("other", reads)
+        self.reads: list[frozenset[int]] = []
+        d = inst.domain
+        self.pre = [self.of([lit.expr for lit in m.pre]) for m in d.morphisms.values()]
+        self.goal = self.of([lit.expr for lit in inst.problem.goal])
+        n = len(self.kind)
+        # achievers: morphism → atoms it makes true (facts, others); linear atoms by rate
+        self.adds: list[list[int]] = [[] for _ in task.actions]
+        self.rates: list[list[tuple[int, int, Fraction]]] = [[] for _ in task.actions]  # (atom, linear j, rate)
+        self.varying: list[int] = []  # morphisms whose change of a number depends on the state
+        by_fact = {f: a for f, a in self.facts.items()}
+        for a_i, m in enumerate(d.morphisms.values()):
+            writes: set[int] = set()
+            deltas: dict[int, Fraction] = {}
+            state_dependent = False
+            for e in m.effects:
+                i = task.index[e.resource]
+                writes.add(i)
+                if task.kinds[i] == "number":
+                    if e.kind is not EffectKind.ASSIGN and isinstance(e.value, ir.Const):
+                        c = Fraction(e.value.value)
+                        deltas[i] = deltas.get(i, Fraction(0)) + (c if e.kind is EffectKind.INCREASE else -c)
+                    else:
+                        state_dependent = True
+                elif e.kind is EffectKind.ASSIGN:
+                    value = e.value.value if isinstance(e.value, ir.Const) else _constant(e.value)
+                    atom = by_fact.get((i, value)) if value is not None else None
+                    if atom is not None:
+                        self.adds[a_i].append(atom)
+            for atom in range(n):
+                what, j = self.kind[atom]
+                other = what == "other" and bool(self.reads[atom] & writes)
+                if other or (what == "fact" and value_unknown(m, task, atom, self)):
+                    self.adds[a_i].append(atom)
+            if state_dependent:
+                self.varying.append(a_i)
+            else:
+                for atom in range(n):
+                    what, j = self.kind[atom]
+                    if what == "linear":
+                        w = self.linear[j][0]
+                        rate = sum((c * deltas.get(i, 0) for i, c in w), Fraction(0))
+                        if rate > 0:
+                            self.rates[a_i].append((atom, j, rate))
+        self.writes_numbers = {
+            a_i: {task.index[e.resource] for e in m.effects if task.kinds[task.index[e.resource]] == "number"}
+            for a_i, m in enumerate(d.morphisms.values())
+        }
+
+    def of(self, exprs: list[ir.Expr]) -> list[int]:
+        out: list[int] = []
+        todo = list(reversed(exprs))
+        while todo:
+            e = todo.pop()
+            if isinstance(e, ir.BoolOp) and e.op is BoolOpKind.AND:
+                todo.extend(reversed(e.args))
+                continue
+            out.extend(self._atom(e))
+        return out
+
+    def _new(self, kind: tuple[str, int], reads: frozenset[int]) -> int:
+        self.kind.append(kind)
+        self.reads.append(reads)
+        return len(self.kind) - 1
+
+    def _atom(self, e: ir.Expr) -> list[int]:
+        task = self.task
+        fact: tuple[int, Any] | None = None
+        if isinstance(e, ir.ResourceRef) and task.kinds[task.index[e.name]] == "bool":
+            fact = (task.index[e.name], True)
+        elif (
+            isinstance(e, ir.BoolOp)
+            and e.op is BoolOpKind.NOT
+            and isinstance(e.args[0], ir.ResourceRef)
+            and task.kinds[task.index[e.args[0].name]] == "bool"
+        ):
+            fact = (task.index[e.args[0].name], False)
+        elif isinstance(e, ir.Compare) and e.op is CmpOp.EQ and _kind(e.left.sort) == "symbol":
+            ref, c = (e.left, e.right) if isinstance(e.left, ir.ResourceRef) else (e.right, e.left)
+            if isinstance(ref, ir.ResourceRef) and isinstance(c, ir.Const):
+                fact = (task.index[ref.name], c.value)
+        if fact is not None:
+            if fact not in self.facts:
+                self.facts[fact] = self._new(("fact", len(self.facts)), frozenset({fact[0]}))
+                i, v = fact
+                self.tests.append((self.facts[fact], _holds(i, v)))
+            return [self.facts[fact]]
+        if isinstance(e, ir.Compare) and _kind(e.left.sort) == "number":
+            left, right = _linear(e.left, task.index), _linear(e.right, task.index)
+            if left is not None and right is not None:
+                forms = []
+                diff = _minus(right, left)  # right − left
+                if e.op in (CmpOp.LE, CmpOp.LT):
+                    forms.append((diff, e.op is CmpOp.LT))
+                elif e.op in (CmpOp.GE, CmpOp.GT):
+                    forms.append((_minus(left, right), e.op is CmpOp.GT))
+                else:
+                    forms += [(diff, False), (_minus(left, right), False)]
+                out = []
+                for (w, k), strict in forms:
+                    terms = [(i, c) for i, c in w.items() if c != 0]
+                    self.linear.append((terms, k, strict))
+                    out.append(self._new(("linear", len(self.linear) - 1), frozenset(i for i, _ in terms)))
+                return out
+        atom = self._new(("other", 0), frozenset(task.index[n] for n in _reads(e)))
+        self.tests.append((atom, _concrete(e, task.index)))
+        return [atom]
+
+    def hadd(self, s: State) -> int:
+        cost: list[Any] = [_FAR] * len(self.kind)
+        values = []
+        for terms, k, _strict in self.linear:
+            v: Any = k
+            for i, w in terms:
+                v += w * s[i]
+            values.append(v)
+        for atom, (what, j) in enumerate(self.kind):
+            if what == "linear":
+                v = values[j]
+                if v > 0 or (v == 0 and not self.linear[j][2]):
+                    cost[atom] = 0
+        for atom, test in self.tests:
+            try:
+                if test(s):
+                    cost[atom] = 0
+            except ArithmeticError:
+                pass
+        rates = self.rates
+        if self.varying:  # the change of a number in this state
+            rates = list(rates)
+            for a_i in self.varying:
+                rates[a_i] = self._rates_at(a_i, s)
+        changed = True
+        while changed:
+            changed = False
+            for a_i, pre in enumerate(self.pre):
+                c = 1
+                for q in pre:
+                    c += cost[q]
+                if c >= _FAR:
+                    continue
+                for q in self.adds[a_i]:
+                    if c < cost[q]:
+                        cost[q] = c
+                        changed = True
+                for q, j, rate in rates[a_i]:
+                    if cost[q] == 0:
+                        continue
+                    need = -values[j]
+                    reps = need // rate + 1 if self.linear[j][2] else -(-need // rate)
+                    r = c - 1 + max(int(reps), 1)
+                    if r < cost[q]:
+                        cost[q] = r
+                        changed = True
+        return int(min(sum(cost[q] for q in self.goal), _FAR))
+
+    def _rates_at(self, a_i: int, s: State) -> list[tuple[int, int, Fraction]]:
+        a = self.task.actions[a_i]
+        deltas: dict[int, Any] = {}
+        try:
+            for i, mode, terms in a.effects:
+                if self.task.kinds[i] != "number":
+                    continue
+                if mode == "assign":
+                    deltas[i] = terms[0][1](s) - s[i]
+                else:
+                    deltas[i] = sum((sign * f(s) for sign, f in terms), 0)
+        except ArithmeticError:
+            return []
+        out = []
+        for atom, (what, j) in enumerate(self.kind):
+            if what == "linear":
+                rate = sum((c * deltas.get(i, 0) for i, c in self.linear[j][0]), Fraction(0))
+                if rate > 0:
+                    out.append((atom, j, rate))
+        return out
+
+
+def _holds(i: int, v: Any) -> Fn:
+    return lambda s: s[i] == v
+
+
+def value_unknown(m: ir.Morphism, task: _Task, atom: int, atoms: _Atoms) -> bool:
+    """``m`` writes the fact's resource with a value that is not a constant (any value then)."""
+    (i,) = atoms.reads[atom]
+    name = task.names[i]
+    return any(
+        e.resource == name
+        and e.kind is EffectKind.ASSIGN
+        and not isinstance(e.value, ir.Const)
+        and _constant(e.value) is None
+        for e in m.effects
+    )
+
+
+def _minus(
+    a: tuple[dict[int, Fraction], Fraction], b: tuple[dict[int, Fraction], Fraction]
+) -> tuple[dict[int, Fraction], Fraction]:
+    w = dict(a[0])
+    for i, c in b[0].items():
+        w[i] = w.get(i, Fraction(0)) - c
+    return w, a[1] - b[1]
+
+
+def _reads(e: ir.Expr) -> set[str]:
+    out: set[str] = set()
+    todo = [e]
+    while todo:
+        x = todo.pop()
+        if isinstance(x, ir.ResourceRef):
+            out.add(x.name)
+        elif isinstance(x, (ir.Arith, ir.BoolOp)):
+            todo.extend(x.args)
+        elif isinstance(x, ir.Compare):
+            todo += [x.left, x.right]
+        elif isinstance(x, ir.Ite):
+            todo += [x.cond, x.then, x.orelse]
+    return out
+
+
 def _constant(e: ir.Expr) -> bool | None:
     """The Boolean constant ``e`` folds to (UP's add-after-delete gives ``true ∨ …``), else None."""
     from catc.ir.fold import FoldError, fold_constant
@@ -620,10 +910,61 @@ class _Strips:
             t, f, todo = nt, nf, rest
         return cap
 
+    def hadd(self, s: int) -> int:
+        """h_add (inadmissible, for the greedy search): each literal's cost the cheapest
+        morphism that makes it true plus the sum of that morphism's precondition costs;
+        the goal's, the sum of its literals'. A literal no morphism reaches costs ``_FAR``."""
+        n = len(self.bit)
+        cost = [_FAR] * (2 * n)  # literal i: resource i true; n + i: false
+        for i in range(n):
+            cost[i if s >> i & 1 else n + i] = 0
+        acts = self._hadd_acts()
+        changed = True
+        while changed:
+            changed = False
+            for pre, eff in acts:
+                c = 1
+                for q in pre:
+                    c += cost[q]
+                if c >= _FAR:
+                    continue
+                for q in eff:
+                    if c < cost[q]:
+                        cost[q] = c
+                        changed = True
+        return min(sum(cost[q] for q in self._goal_lits), _FAR)
 
-def search(inst: ir.Instance, horizon: int, *, deadline: float | None = None) -> SearchResult:
-    """A* for the shortest sequential composition of at most ``horizon`` steps (above);
-    ``deadline`` is a ``time.monotonic()`` instant."""
+    def _hadd_acts(self) -> list[tuple[list[int], list[int]]]:
+        acts = getattr(self, "_acts", None)
+        if acts is None:
+            n = len(self.bit)
+
+            def lits(pos: int, neg: int) -> list[int]:
+                return [i for i in range(n) if pos >> i & 1] + [n + i for i in range(n) if neg >> i & 1]
+
+            acts = [(lits(pp, pn), lits(add, dele)) for pp, pn, add, dele in self.masks]
+            self._acts = acts
+            self._goal_lits = lits(*self.goal)
+        return acts
+
+
+def search(
+    inst: ir.Instance,
+    horizon: int,
+    *,
+    deadline: float | None = None,
+    greedy: bool = True,
+    prove: bool = True,
+) -> SearchResult:
+    """A composition of at most ``horizon`` steps, or a proof that there is none; ``deadline``
+    is a ``time.monotonic()`` instant.
+
+    With ``greedy`` a greedy best-first search guided by h_add finds a composition first
+    (fast, not necessarily shortest; given at most half the time left); with ``prove`` A*
+    then looks for a shorter one, and when it finds none the greedy one is proven shortest.
+    When the time runs out first the greedy composition is the answer, ``shortest`` False.
+    Without ``greedy``, A* alone (the shortest composition); without ``prove``, the greedy
+    search alone (A* only when it found nothing)."""
     task: Any
     try:
         task = _Strips(inst)
@@ -632,6 +973,88 @@ def search(inst: ir.Instance, horizon: int, *, deadline: float | None = None) ->
             task = _Task(inst)
         except _Unsupported as why:
             return SearchResult(SearchStatus.UNSUPPORTED, reason=str(why))
+    t0 = time.monotonic()
+    h0 = task.h(task.init, horizon + 1)
+    if h0 is None:
+        return SearchResult(SearchStatus.NONE, final=True, reason="a dead end from the initial state")
+    if h0 > horizon:
+        return SearchResult(SearchStatus.NONE, reason=f"no composition within {horizon} steps (h^max)")
+    if not greedy:
+        return _astar(task, horizon, deadline)
+    hadd = task.hadd if isinstance(task, _Strips) else _Atoms(task, inst).hadd
+    share = None if deadline is None else time.monotonic() + (deadline - time.monotonic()) / (2 if prove else 1)
+    found = _greedy(task, hadd, horizon, share)
+    if found.status is SearchStatus.NONE and found.final:
+        return found  # every reachable state seen, none cut by the horizon
+    if found.status is not SearchStatus.PLAN:
+        r = _astar(task, horizon, deadline)
+        r.expanded += found.expanded
+        if r.status is SearchStatus.PLAN:
+            r.first_plan = time.monotonic() - t0
+        return r
+    assert found.plan is not None
+    found.first_plan = time.monotonic() - t0
+    length = len(found.plan.steps)
+    if length == 0:
+        return found
+    if not prove:
+        found.shortest = False
+        found.reason = "the greedy search's composition (no proof that it is shortest was sought)"
+        return found
+    better = _astar(task, length - 1, deadline)  # a shorter one, or a proof that there is none
+    better.expanded += found.expanded
+    if better.status is SearchStatus.PLAN:
+        better.first_plan = found.first_plan
+        return better
+    if better.status is SearchStatus.NONE:
+        found.reason = f"no composition within {length - 1} steps (A*)"
+        return found
+    found.shortest = False
+    found.reason = (
+        f"not proven shortest: A* found no shorter composition before the time ran out ({better.expanded} states)"
+    )
+    return found
+
+
+def _greedy(task: Any, hadd: Callable[[Any], int], horizon: int, deadline: float | None) -> SearchResult:
+    """Greedy best-first search on h_add (ties: the state generated first), every state once;
+    the goal tested when a state is generated. Exhausting the states without cutting any at
+    the horizon proves that there is no composition."""
+    start = task.init
+    if task.is_goal(start):
+        return SearchResult(SearchStatus.PLAN, Plan([]))
+    g_of: dict[Any, int] = {start: 0}
+    parent: dict[Any, tuple[Any, int] | None] = {start: None}
+    tie = itertools.count()
+    heap: list[tuple[int, int, Any]] = [(hadd(start), next(tie), start)]
+    expanded = 0
+    cut = False
+    while heap:
+        _, _, s = heapq.heappop(heap)
+        expanded += 1
+        if len(g_of) > GREEDY_STATES or (deadline is not None and expanded % 64 == 0 and time.monotonic() >= deadline):
+            return SearchResult(SearchStatus.STOPPED, expanded=expanded, reason="the greedy search's share")
+        g2 = g_of[s] + 1
+        for a_i, t in task.successors(s):
+            if t in g_of:
+                continue
+            if g2 > horizon:
+                cut = True
+                continue
+            g_of[t] = g2
+            parent[t] = (s, a_i)
+            if task.is_goal(t):
+                return SearchResult(SearchStatus.PLAN, _plan(task, parent, t), expanded=expanded)
+            heapq.heappush(heap, (hadd(t), next(tie), t))
+    if cut:
+        return SearchResult(SearchStatus.NONE, expanded=expanded, reason=f"no composition within {horizon} steps")
+    return SearchResult(
+        SearchStatus.NONE, final=True, expanded=expanded, reason=f"every reachable state ({len(g_of)}) was expanded"
+    )
+
+
+def _astar(task: Any, horizon: int, deadline: float | None) -> SearchResult:
+    """A* for the shortest composition of at most ``horizon`` steps (module docstring)."""
     start = task.init
     cap = horizon + 1
     h0 = task.h(start, cap)
