@@ -379,19 +379,34 @@ class LeastCost:
         seen: list[list[str]] = []
         for amounts in weights:
             _, giver, order = self.run(enforced, amounts, never)
-            plan = self.support(enforced, giver, order, goal)
-            if plan not in seen:
-                seen.append(plan)
-                yield plan
-            if first is not None:
-                before = [b for label, atoms in self.needs[first] if label in enforced for b in atoms]
-                head = self.support(enforced, giver, order, before)
-                _, giver2, order2 = self.run(enforced, amounts, never, held=set(self.gives[first]))
-                tail = [m for m in self.support(enforced, giver2, order2, goal) if m not in head and m != prefer]
-                plan = [m for m in head if m != prefer] + [self.names[first]] + tail
+            for through in ([first] if first is not None else []) + [None]:
+                # through the member's morphism first: leaving the member out is what lets it fire
+                if through is None:
+                    plan = self.support(enforced, giver, order, goal)
+                else:
+                    plan = self._through(enforced, amounts, never, giver, order, through, goal)
                 if plan not in seen:
                     seen.append(plan)
                     yield plan
+
+    def _through(
+        self,
+        enforced: Collection[str],
+        amounts: dict[int, int],
+        never: Collection[int],
+        giver: list[int],
+        order: list[int],
+        first: int,
+        goal: list[int],
+    ) -> list[str]:
+        """The support of ``first``'s facts, ``first``, then the goal's support with what
+        ``first`` gives held."""
+        before = [b for label, atoms in self.needs[first] if label in enforced for b in atoms]
+        head = self.support(enforced, giver, order, before)
+        _, giver2, order2 = self.run(enforced, amounts, never, held=set(self.gives[first]))
+        name = self.names[first]
+        tail = [m for m in self.support(enforced, giver2, order2, goal) if m not in head and m != name]
+        return [m for m in head if m != name] + [name] + tail
 
 
 def _consumers(
