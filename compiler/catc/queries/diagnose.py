@@ -72,6 +72,8 @@ class Diagnosis(Result):
     complete: bool = True  # --all: the search ended (not cut by count or time)
     timings: dict[str, float] = field(default_factory=dict)
     reason: str | None = None  # why it stopped early: "max", "timeout", "interrupted" (or unknown)
+    #: unknown: the best core so far — unsat (a least-consumption refutation), not shown irreducible
+    best: list[str] | None = None
 
 
 class _Tests:
@@ -203,8 +205,9 @@ def diagnose(
         components = (tuple(relative_to) or None) if relative_to is not None else (inst.problem.deployed or None)
         result = Diagnosis(DiagnoseStatus.UNKNOWN, relative_to=components, horizon=k)
         say = progress or (lambda message: None)
+        start_core = None
         try:
-            quick, start_core = None, None
+            quick = None
             if presolve and components is None and not all_cores:  # the whole catalog (issue 24)
                 quick, start_core = _quick(inst, k, result, say)
                 if result.cores:
@@ -218,6 +221,8 @@ def diagnose(
             result.checks, result.relaxed, result.witnessed = model.checks, tests.relaxed, tests.witnessed
         except limits.Stopped as stop:  # encoding when the time ran out
             result.complete, result.reason = False, stop.reason
+        if result.status is DiagnoseStatus.UNKNOWN and start_core is not None:
+            result.best = start_core
     result.timings["total"] = time.perf_counter() - start
     return result
 
@@ -237,13 +242,14 @@ def _quick(inst: ir.Instance, k: int, result: Diagnosis, say: Progress) -> tuple
     position = {label: i for i, label in enumerate(dict.fromkeys(first))}
     labels.sort(key=lambda label: position.get(label, len(position)))
     quick = QuickCores(inst, k, extended)
+    result.total = len(labels)
     say(f"checking {len(labels)} requirements together (least-consumption bound)")
     core = quick.core(labels)
     if core is None:
         return quick, None
     say(f"showing each of the {len(core)} requirements of a core needed")
     if quick.irreducible(core):
-        result.total, result.cores, result.status = len(labels), [core], DiagnoseStatus.UNSAT
+        result.cores, result.status = [core], DiagnoseStatus.UNSAT
         result.relaxed, result.witnessed = quick.bound.tests, quick.witnessed
         result.timings["encode"] = 0.0
     return quick, core
@@ -325,6 +331,8 @@ def diagnosis_json(inst: ir.Instance, diag: Diagnosis) -> dict:
     }
     if diag.reason is not None:  # why the search stopped early
         doc["reason"] = diag.reason
+    if diag.best is not None:  # unknown: the best core so far (unsat, not shown irreducible)
+        doc["best_core"] = [label_json(index[label]) for label in diag.best]
     return doc
 
 
@@ -345,7 +353,17 @@ def _render_answer(console: Console, inst: ir.Instance, diag: Diagnosis) -> None
         return
     if diag.status is not DiagnoseStatus.UNSAT:
         why = "interrupted" if diag.reason == "interrupted" else "the solver gave up"
-        console.print(f"[bold yellow]UNKNOWN[/]  {why} before finding a core")
+        if diag.best is None:
+            console.print(f"[bold yellow]UNKNOWN[/]  {why} before finding a core")
+            return
+        console.print(
+            f"[bold yellow]UNKNOWN[/]  {why} before showing a core irreducible; the best so far, "
+            f"{len(diag.best)} of {diag.total} labelled constraints, conflict (a least-consumption bound):"
+        )
+        index = label_index(inst, diag.horizon or None)
+        for i, label in enumerate(diag.best, 1):
+            console.print(f"  {i}. {escape(describe(index[label]))}")
+            console.print(f"     {escape(where(index[label]))}")
         return
     index, excerpt = label_index(inst, diag.horizon or None), excerpts()
     rel = ""
