@@ -142,3 +142,26 @@ def test_labels_in_the_fast_path_are_the_models() -> None:
     if model.extended == model.k:
         labels.discard("horizon")
     assert labels == set(model.labels)
+
+
+def test_unknown_keeps_the_best_core_so_far(monkeypatch: pytest.MonkeyPatch) -> None:
+    """When the members cannot all be shown needed and the time runs out in the encoding,
+    diagnose answers unknown with the bound's core — still unsat on a fresh model."""
+    import catc.queries.diagnose as diagnose_module
+    from catc.queries.cores import QuickCores
+    from catc.queries.diagnose import diagnosis_json
+    from catgrammar import limits
+
+    def stopped(*args, **kwargs):
+        raise limits.TimeLimitReached("encoding")
+
+    monkeypatch.setattr(QuickCores, "irreducible", lambda self, core: False)
+    monkeypatch.setattr(diagnose_module, "LabelledModel", stopped)
+    cat = gen.build(12, 4)
+    inst, expect = _instance(cat, "budget")
+    diag = diagnose(inst, timeout=60)
+    assert diag.status is DiagnoseStatus.UNKNOWN and diag.reason == "timeout" and not diag.cores
+    assert diag.best is not None and set(expect["core_contains"]) <= set(diag.best)
+    assert [x["label"] for x in diagnosis_json(inst, diag)["best_core"]] == diag.best
+    monkeypatch.undo()
+    assert LabelledModel(inst, inst.problem.horizon).check(diag.best)[0] is Check.UNSAT
