@@ -12,15 +12,19 @@ abstraction was too weak.
 
 from __future__ import annotations
 
-from collections.abc import Collection, Sequence
+import heapq
+import math
+from collections.abc import Callable, Collection, Iterable, Sequence
+from fractions import Fraction
 from typing import Protocol
 
 from catc import ir
+from catc.ir.labels import label_index
 from catc.semantics.plan import Activation, Plan
 from catc.semantics.validate import validate
 from catc.semantics.witness import BIG, _candidate, _restricted
 from catc.smt.backend import Check
-from catc.smt.consumption import Consumption
+from catc.smt.consumption import Atom, Consumption, _atoms, _givers, _holds, room
 from catgrammar import limits
 from catgrammar.record import replace
 
@@ -148,3 +152,408 @@ def _gives(inst: ir.Instance, eff: ir.Effect) -> bool:
         and isinstance(eff.value, ir.Const)
         and eff.value.value is True
     )
+
+
+# ====================================================================== the h_max bound over label subsets
+
+
+class LeastCost:
+    """The h_max least-consumption bound of :func:`catc.smt.consumption.least_consumption`
+    over subsets of labels, in pure Python (no solver): with exactly the labels ``E``
+    enforced, a numeric resource that only decreases, whose initial value (``init/r``) and
+    bounds (``bounds/r``) are enforced and whose θ consumers keep their lower bounds
+    (``bound/m/p``), loses at least the h_max cost of the goal's facts — each fact costing
+    0 when it holds initially (or its initial value is dropped: then it is free), else the
+    least over its givers of the giver's enforced decreases (``eff/m/i``; a dropped one may
+    not happen) plus the greatest cost of the facts its enforced preconditions (``pre/m/i``)
+    need.  ``E`` is refuted when that cost exceeds what the resource can lose, or when the
+    goal's enforced facts (``goal/i``) cannot be reached at all without the morphisms that
+    alone take more of a resource than there is.  Deletes, negative and numeric conditions
+    are forgotten, so a refutation holds for every composition of any length (sound); it
+    is monotone in ``E``.  Costs are settled in increasing order (Knuth's generalisation of
+    Dijkstra's algorithm), so one test takes milliseconds at 400 components."""
+
+    def __init__(self, inst: ir.Instance) -> None:
+        self.inst = inst
+        given, anything = _givers(inst)
+        index: dict[Atom, int] = {}
+
+        def atom(a: Atom) -> int:
+            return index.setdefault(a, len(index))
+
+        self.names = list(inst.morphisms)
+        self.needs: list[list[tuple[str, list[int]]]] = []
+        for m in inst.morphisms.values():
+            self.needs.append([(lit.label, [atom(a) for a in _atoms(lit.expr)]) for lit in m.pre if _atoms(lit.expr)])
+        self.goal = [(lit.label, [atom(a) for a in _atoms(lit.expr)]) for lit in inst.problem.goal]
+        for a in given:
+            atom(a)
+        self.atoms = list(index)
+        position = {name: i for i, name in enumerate(self.names)}
+        self.gives: list[list[int]] = [[] for _ in self.names]
+        for a, i in index.items():
+            for name, _ in given.get(a, []) + (anything.get(a[0], []) if a[1] is not None else []):
+                self.gives[position[name]].append(i)
+        # an atom's initial value: (label, holds as written); None: no initial value (holds)
+        self.start: list[tuple[str, bool] | None] = []
+        for a in self.atoms:
+            init = inst.problem.init.get(a[0])
+            self.start.append(None if init is None else (init.label, _holds(init, a)))
+        # resources that only decrease: (name, room, init label, bounds label, consumers), the
+        # amounts scaled to integers per resource (one common denominator: exact, and fast)
+        self.resources: list[tuple[str, int, str, str, list[tuple[int, int, str, str | None]]]] = []
+        self.scale: dict[str, int] = {}
+        for name, res in inst.resources.items():
+            consumers = _consumers(inst, name, res, position)
+            if consumers:
+                space = room(inst, name)
+                scale = math.lcm(space.denominator, *(amount.denominator for _, amount, _, _ in consumers))
+                scaled = [(m, int(amount * scale), label, bound) for m, amount, label, bound in consumers]
+                init = inst.problem.init[name]
+                self.resources.append((name, math.floor(space * scale), init.label, res.bounds_label, scaled))
+                self.scale[name] = scale
+        #: the resources a test looks at (None: all); :meth:`focus` narrows it
+        self.deciding: set[str] | None = None
+        # the morphisms that may support the goal (a giver of a fact the goal needs, or one
+        # of its givers needs, ...): the others change no cost, and no test looks at them
+        offers: dict[int, list[int]] = {}
+        for mi, atoms in enumerate(self.gives):
+            for ai in atoms:
+                offers.setdefault(ai, []).append(mi)
+        wanted = {ai for _, atoms in self.goal for ai in atoms}
+        todo, self.useful = list(wanted), set[int]()
+        while todo:
+            for mi in offers.get(todo.pop(), []):
+                if mi not in self.useful:
+                    self.useful.add(mi)
+                    fresh = {ai for _, atoms in self.needs[mi] for ai in atoms} - wanted
+                    wanted |= fresh
+                    todo += fresh
+        self.wanted = wanted
+        self.relevant = set(self._relevant())
+        self.tests = 0
+
+    def _relevant(self) -> Iterable[str]:
+        """The labels a test reads (every other label can be left out of a core)."""
+        for m in self.useful:
+            yield from (label for label, _ in self.needs[m])
+        yield from (label for label, _ in self.goal)
+        yield from (s[0] for s in self.start if s is not None and not s[1])
+        for _, _, init, bounds, consumers in self.resources:
+            yield from (init, bounds)
+            for m, _, label, bound in consumers:
+                if m in self.useful:
+                    yield label
+                if bound is not None:
+                    yield bound
+
+    def claims(self, enforced: Collection[str]) -> list[tuple[str, int, dict[int, int]]]:
+        """The resources the bound speaks of with ``enforced``: (name, room, amount per
+        morphism), scaled to integers."""
+        out = []
+        for name, space, init, bounds, consumers in self.resources:
+            if init not in enforced or bounds not in enforced:
+                continue
+            if any(bound is not None and bound not in enforced for _, _, _, bound in consumers):
+                continue  # a θ without its lower bound may give the resource back
+            amounts: dict[int, int] = {}
+            for m, amount, label, _ in consumers:
+                if label in enforced and amount:
+                    amounts[m] = amounts.get(m, 0) + amount
+            out.append((name, space, amounts))
+        return out
+
+    def refuted(self, labels: Iterable[str]) -> bool:
+        """Whether the bound shows that no composition satisfies exactly ``labels``."""
+        limits.check_time("diagnosing")
+        self.tests += 1
+        enforced = set(labels)
+        claims = self.claims(enforced)
+        never = {m for _, space, amounts in claims for m, a in amounts.items() if a > space}
+        deciding = [c for c in claims if self.deciding is None or c[0] in self.deciding]
+        for _, space, amounts in deciding or [("", 0, {})]:
+            cost = self.run(enforced, amounts, never)[0]
+            if cost is None or (deciding and cost > space):
+                return True
+        return False
+
+    def focus(self, labels: Collection[str]) -> None:
+        """Look only at the resources the bound refutes ``labels`` by (the cost is monotone
+        in the labels: another resource refutes no subset) — reachability is always looked at."""
+        enforced = set(labels)
+        claims = self.claims(enforced)
+        never = {m for _, space, amounts in claims for m, a in amounts.items() if a > space}
+        deciding = set()
+        for name, space, amounts in claims:
+            cost = self.run(enforced, amounts, never)[0]
+            if cost is not None and cost > space:
+                deciding.add(name)
+        self.deciding = deciding
+
+    def run(
+        self,
+        enforced: Collection[str],
+        amounts: dict[int, int],
+        never: Collection[int] = (),
+        held: Collection[int] = (),
+    ) -> tuple[int | None, list[int], list[int]]:
+        """The goal's cost (None: unreachable), the giver of each settled atom (-1: initially;
+        -2 unsettled) and the morphisms in the order they fire; ``held``: atoms given at no cost."""
+        zero = 0
+        goal = {a for label, atoms in self.goal if label in enforced for a in atoms}
+        giver = [-2] * len(self.atoms)
+        waiting: list[list[int]] = [[] for _ in self.atoms]
+        remaining = [0] * len(self.names)
+        heap: list[tuple[int, int, int]] = []
+        for a, s in enumerate(self.start):
+            if s is None or s[1] or s[0] not in enforced or a in held:
+                heap.append((zero, a, -1))
+        order: list[int] = []
+
+        wanted = self.wanted
+
+        def fire(m: int, base: int) -> None:
+            order.append(m)
+            value = base + amounts.get(m, zero)
+            for a in self.gives[m]:
+                if giver[a] == -2 and a in wanted:
+                    heapq.heappush(heap, (value, a, m))
+
+        useful = [m for m in self.useful if m not in never]
+        for m in useful:
+            pending = {a for label, atoms in self.needs[m] if label in enforced for a in atoms}
+            remaining[m] = len(pending)
+            for a in pending:
+                waiting[a].append(m)
+        heapq.heapify(heap)
+        for m in useful:
+            if remaining[m] == 0:
+                fire(m, zero)
+        cost = zero
+        left = len(goal)
+        while heap and left:
+            c, a, by = heapq.heappop(heap)
+            if giver[a] != -2:
+                continue
+            giver[a] = by
+            cost = c
+            if a in goal:
+                left -= 1
+            for m in waiting[a]:
+                remaining[m] -= 1
+                if remaining[m] == 0:
+                    fire(m, c)
+        return (None if left else cost), giver, order
+
+    def support(self, enforced: Collection[str], giver: list[int], order: list[int], roots: Iterable[int]) -> list[str]:
+        """The morphisms supporting ``roots`` (atoms) through ``giver``, in firing order."""
+        rank = {m: i for i, m in enumerate(order)}
+        chosen: set[int] = set()
+        todo = list(roots)
+        while todo:
+            a = todo.pop()
+            m = giver[a]
+            if m < 0 or m in chosen:
+                continue
+            chosen.add(m)
+            todo += [b for label, atoms in self.needs[m] if label in enforced for b in atoms]
+        return [self.names[m] for m in sorted(chosen, key=lambda m: rank.get(m, 0))]
+
+    def candidates(self, enforced: Collection[str], prefer: str | None = None) -> Iterable[list[str]]:
+        """Compositions worth replaying for ``enforced``: the cheapest support of the goal for
+        each resource (and for none), and the same through ``prefer``'s morphism first."""
+        claims = self.claims(enforced)
+        never = {m for _, space, amounts in claims for m, a in amounts.items() if a > space}
+        goal = [a for label, atoms in self.goal if label in enforced for a in atoms]
+        weights = [amounts for _, _, amounts in claims]
+        for _, _, init, bounds, consumers in self.resources:
+            if init in enforced and bounds in enforced:
+                amounts: dict[int, int] = {}
+                for m, amount, label, _ in consumers:
+                    if label in enforced:
+                        amounts[m] = amounts.get(m, 0) + amount
+                if amounts not in weights:
+                    weights.append(amounts)
+        weights.append({})
+        first = self.names.index(prefer) if prefer is not None and prefer in self.inst.morphisms else None
+        seen: list[list[str]] = []
+        for amounts in weights:
+            _, giver, order = self.run(enforced, amounts, never)
+            for through in ([first] if first is not None else []) + [None]:
+                # through the member's morphism first: leaving the member out is what lets it fire
+                if through is None:
+                    plan = self.support(enforced, giver, order, goal)
+                else:
+                    plan = self._through(enforced, amounts, never, giver, order, through, goal)
+                if plan not in seen:
+                    seen.append(plan)
+                    yield plan
+
+    def _through(
+        self,
+        enforced: Collection[str],
+        amounts: dict[int, int],
+        never: Collection[int],
+        giver: list[int],
+        order: list[int],
+        first: int,
+        goal: list[int],
+    ) -> list[str]:
+        """The support of ``first``'s facts, ``first``, then the goal's support with what
+        ``first`` gives held."""
+        before = [b for label, atoms in self.needs[first] if label in enforced for b in atoms]
+        head = self.support(enforced, giver, order, before)
+        _, giver2, order2 = self.run(enforced, amounts, never, held=set(self.gives[first]))
+        name = self.names[first]
+        tail = [m for m in self.support(enforced, giver2, order2, goal) if m not in head and m != name]
+        return [m for m in head if m != name] + [name] + tail
+
+
+def _consumers(
+    inst: ir.Instance, name: str, res: ir.Resource, position: dict[str, int]
+) -> list[tuple[int, Fraction, str, str | None]]:
+    """The decreases of a numeric resource with a lower bound and a constant initial value:
+    (morphism, least amount, effect label, θ bound label or None); [] when some effect on it
+    may raise it (then the bound says nothing of it)."""
+    init = inst.problem.init.get(name)
+    if not res.sort.is_numeric or res.lower is None or init is None or not isinstance(init.value, ir.Const):
+        return []
+    out: list[tuple[int, Fraction, str, str | None]] = []
+    for m in inst.morphisms.values():
+        for eff in m.effects:
+            if eff.resource != name:
+                continue
+            v = eff.value
+            if eff.kind is not ir.EffectKind.DECREASE:
+                return []
+            if isinstance(v, ir.Const) and isinstance(v.value, Fraction | int) and v.value >= 0:
+                out.append((position[m.name], Fraction(v.value), eff.label, None))
+            elif isinstance(v, ir.ParamRef):
+                p = next((p for p in m.params if p.name == v.name), None)
+                if p is None or p.lower is None or p.lower < 0:
+                    return []
+                out.append((position[m.name], Fraction(p.lower), eff.label, m.bound_label(p.name)))
+            else:
+                return []
+    return out if any(amount for _, amount, _, _ in out) else []
+
+
+class QuickCores:
+    """diagnose's first try without any solver or encoding (issue 24): QuickXplain over
+    :class:`LeastCost` finds a core it refutes, and each member is shown needed by a
+    composition the independent validator accepts on the instance enforcing exactly the
+    other members (built from the bound's cheapest supports)."""
+
+    def __init__(self, inst: ir.Instance, horizon: int, extended: int) -> None:
+        self.inst = inst
+        self.bound = LeastCost(inst)
+        self.horizon, self.extended = horizon, extended
+        self.witnessed = 0
+
+    def core(self, labels: Sequence[str]) -> list[str] | None:
+        """A core of ``labels`` irreducible for the bound, or None (it does not refute them)."""
+        relevant = [label for label in labels if label in self.bound.relevant]
+        self.bound.focus(relevant)
+        if not self.bound.refuted(relevant):
+            return None
+        from catc.queries.diagnose import quickxplain
+
+        return quickxplain(relevant, self.bound.refuted)
+
+    def feasible(self, labels: Sequence[str], prefer: str | None = None) -> bool:
+        """Whether a composition built from the bound's supports satisfies exactly ``labels``
+        (the validator says so); False: not shown."""
+        limits.check_time("diagnosing")
+        enforced = frozenset(labels)
+        steps = self.horizon if ir.Label.horizon() in enforced else self.extended
+        inst = self.inst
+        for order in self.bound.candidates(enforced, prefer):
+            if len(order) > steps:
+                continue
+            plan = _candidate(inst, enforced, order, order)
+            if plan is None:
+                continue
+            # only the plan's morphisms: the others never fire (the replay is then quick)
+            used = set(order)
+            sub = ir.Instance(
+                replace(inst.domain, morphisms=ir.frozen({m: x for m, x in inst.morphisms.items() if m in used})),
+                inst.problem,
+                inst.view,
+            )
+            for candidate in (plan, _unbounded(inst, plan, enforced)):
+                for big in (False, True):
+                    if validate(_freed(_restricted(sub, enforced, big), enforced), candidate, horizon=steps).ok:
+                        self.witnessed += 1
+                        return True
+        return False
+
+    def irreducible(self, core: Sequence[str]) -> bool:
+        """Whether every member of ``core`` is shown needed (the rest witnessed feasible)."""
+        return all(self.feasible([*core[:i], *core[i + 1 :]], owner(self.inst, label)) for i, label in enumerate(core))
+
+
+def owner(inst: ir.Instance, label: str) -> str | None:
+    """The morphism a ``pre/``, ``eff/``, ``bound/`` or ``uses/`` label belongs to."""
+    kind, _, rest = label.partition("/")
+    if kind in ("pre", "eff", "bound"):
+        rest = rest.rpartition("/")[0]
+    elif kind != "uses":
+        return None
+    return rest if rest in inst.morphisms else None
+
+
+def restoration(
+    inst: ir.Instance,
+    horizon: int,
+    sequential: bool,
+    weights: dict[str, Fraction],
+    integral: Collection[str],
+    relaxed: Callable[[dict[str, Fraction]], ir.Instance],
+) -> tuple[Fraction, dict[str, Fraction], Plan] | None:
+    """relax at the least-consumption bound without a search (issue 24).  A restoration
+    either uses a morphism that alone takes more of some resource than there is — then it
+    raises that resource's initial value by at least the excess — or it uses none of them,
+    and then every numeric resource the h_max bound shows short (the goal's least
+    consumption without them above what the resource can lose) has its initial value raised
+    by at least the shortfall, at ``weights[init/r]`` per unit: no other eligible requirement
+    (a comparison, a lowered value) makes a consumption smaller.  When the shortfalls cost
+    no more than every excess, raising each short resource by exactly its shortfall is
+    least as soon as some composition then exists.  The
+    composition is the bound's cheapest support of the goal on the raised instance
+    (``relaxed``: the instance with the raises applied); it counts only when the independent
+    validator accepts it.  (cost, raise per label, composition), or None."""
+    every = set(label_index(inst))
+    bound = LeastCost(inst)
+    claims = bound.claims(every)
+    init = {name: inst.problem.init[name].label for name, _, _ in claims}
+    # the morphisms that alone take more of some resource than there is: a restoration that
+    # uses one raises each such resource by at least its excess
+    excess: dict[int, Fraction] = {}
+    for name, space, amounts in claims:
+        for m, a in amounts.items():
+            if a > space:
+                w = weights.get(init[name])
+                gap = Fraction(a - space, bound.scale[name])
+                excess[m] = excess.get(m, Fraction(0)) + (w * gap if w is not None else Fraction(10**30))
+    short: dict[str, Fraction] = {}
+    for name, space, amounts in claims:  # a restoration that uses none of them
+        cost = bound.run(every, amounts, set(excess))[0]
+        if cost is None:
+            return None
+        if cost > space:
+            label, gap = init[name], Fraction(cost - space, bound.scale[name])
+            if label not in weights or (label in integral and gap.denominator != 1):
+                return None
+            short[label] = gap
+    total = sum((weights[label] * gap for label, gap in short.items()), Fraction(0))
+    if not short or any(e < total for e in excess.values()):
+        return None  # not the least, or nothing to restore
+    raised = relaxed(short)
+    for order in LeastCost(raised).candidates(every):
+        limits.check_time("relaxing")
+        if not order or len(order) > horizon:
+            continue
+        plan = _candidate(raised, every, order, order)
+        if plan is not None and validate(raised, plan, horizon=horizon, sequential=sequential).ok:
+            return total, short, plan
+    return None

@@ -44,12 +44,13 @@ from catc.queries.base import (
     presolve_option,
     timeout_option,
 )
-from catc.queries.cores import AbstractCores
+from catc.queries.cores import AbstractCores, QuickCores
 from catc.semantics.horizon import horizon_of
 from catc.semantics.relaxed import RelaxedAnalysis
 from catc.semantics.witness import witnessed
 from catc.smt.backend import DEFAULT_BACKEND, Check
-from catc.smt.labelled import LabelledModel
+from catc.smt.encoder import Encoder
+from catc.smt.labelled import HORIZON, LabelledModel, _extended_horizon
 from catgrammar import limits
 
 
@@ -73,13 +74,16 @@ class Diagnosis(Result):
     complete: bool = True  # --all: the search ended (not cut by count or time)
     timings: dict[str, float] = field(default_factory=dict)
     reason: str | None = None  # why it stopped early: "max", "timeout", "interrupted" (or unknown)
+    #: unknown: the best core so far — unsat (a least-consumption refutation), not shown irreducible
+    best: list[str] | None = None
 
 
 class _Tests:
     """Infeasibility tests of label subsets: the relaxation first (when on), then the solver."""
 
-    def __init__(self, model: LabelledModel, presolve: bool) -> None:
+    def __init__(self, model: LabelledModel, presolve: bool, quick: QuickCores | None = None) -> None:
         self.model = model
+        self.quick = quick  # the h_max bound's tests, when there is no composition (issue 24)
         self.presolve = presolve
         self.components = model.components
         self.relaxed = 0  # subsets the relaxed analysis refuted
@@ -108,6 +112,11 @@ class _Tests:
     def check(self, labels: list[str]) -> tuple[Check, list[str]]:
         if self.refuted(labels):
             return Check.UNSAT, labels
+        if self.quick is not None and self.quick.bound.refuted(labels):
+            return Check.UNSAT, labels
+        if self.quick is not None and self.quick.feasible(labels):
+            self.witnessed += 1
+            return Check.SAT, []
         if self.presolve and (found := self.abstract.core(labels)) is not None:
             return Check.UNSAT, found
         if self.presolve and self.abstract.witnessed(labels, self.model.k, self.model.extended):
@@ -197,17 +206,55 @@ def diagnose(
         k = horizon_of(inst, horizon)
         components = (tuple(relative_to) or None) if relative_to is not None else (inst.problem.deployed or None)
         result = Diagnosis(DiagnoseStatus.UNKNOWN, relative_to=components, horizon=k)
+        say = progress or (lambda message: None)
+        start_core = None
         try:
+            quick = None
+            if presolve and components is None and not all_cores:  # the whole catalog (issue 24)
+                quick, start_core = _quick(inst, k, result, say)
+                if result.cores:
+                    result.timings["total"] = time.perf_counter() - start
+                    return result
             model = LabelledModel(inst, k, sequential=sequential, components=components, backend=backend)
             result.total = len(model.labels)
             result.timings["encode"] = time.perf_counter() - start
-            tests = _Tests(model, presolve)
-            _cores(tests, result, max_cores if all_cores else 1, all_cores, progress or (lambda message: None))
+            tests = _Tests(model, presolve, quick)
+            _cores(tests, result, max_cores if all_cores else 1, all_cores, say, start_core)
             result.checks, result.relaxed, result.witnessed = model.checks, tests.relaxed, tests.witnessed
         except limits.Stopped as stop:  # encoding when the time ran out
             result.complete, result.reason = False, stop.reason
+        if result.status is DiagnoseStatus.UNKNOWN and start_core is not None:
+            result.best = start_core
     result.timings["total"] = time.perf_counter() - start
     return result
+
+
+def _quick(inst: ir.Instance, k: int, result: Diagnosis, say: Progress) -> tuple[QuickCores, list[str] | None]:
+    """diagnose of the whole catalog without encoding it (issue 24): a core the h_max
+    least-consumption bound refutes, shrunk by QuickXplain over the bound, each member shown
+    needed by a composition the validator accepts (:class:`~catc.queries.cores.QuickCores`).
+    Done, it is ``result``'s core; else the core to start the shrink from (None: the bound
+    does not refute the problem)."""
+    extended = _extended_horizon(inst, k)
+    labels = [label for label in label_index(inst, k) if label != HORIZON or extended > k]
+    # in the labelled model's order (its first step's), so that cores come out as they would there
+    enc = Encoder(inst, 1, track=True)
+    enc.unroll(1)
+    first = [label for label, _ in enc.script.asserts if label is not None] + list(enc.indicators)
+    position = {label: i for i, label in enumerate(dict.fromkeys(first))}
+    labels.sort(key=lambda label: position.get(label, len(position)))
+    quick = QuickCores(inst, k, extended)
+    result.total = len(labels)
+    say(f"checking {len(labels)} requirements together (least-consumption bound)")
+    core = quick.core(labels)
+    if core is None:
+        return quick, None
+    say(f"showing each of the {len(core)} requirements of a core needed")
+    if quick.irreducible(core):
+        result.cores, result.status = [core], DiagnoseStatus.UNSAT
+        result.relaxed, result.witnessed = quick.bound.tests, quick.witnessed
+        result.timings["encode"] = 0.0
+    return quick, core
 
 
 def _why_unknown(model: LabelledModel) -> str:
@@ -223,12 +270,18 @@ def _why_unknown(model: LabelledModel) -> str:
     return solver or "unknown"
 
 
-def _cores(tests: _Tests, result: Diagnosis, wanted: int, all_cores: bool, say: Progress) -> None:
+def _cores(
+    tests: _Tests, result: Diagnosis, wanted: int, all_cores: bool, say: Progress, start: list[str] | None = None
+) -> None:
     """Irreducible cores, up to ``wanted``: a hitting-set tree, where every further core must
-    avoid one member of each core found."""
+    avoid one member of each core found.  ``start``: a core of every label, known already."""
     labels = tests.model.labels
     say(f"checking {len(labels)} requirements together")
-    r, core = tests.core(labels)
+    known = set(tests.model.labels)
+    if start is not None and known.issuperset(start):
+        r, core = Check.UNSAT, start
+    else:
+        r, core = tests.core(labels)
     if r is not Check.UNSAT:
         result.status = DiagnoseStatus.SAT if r is Check.SAT else DiagnoseStatus.UNKNOWN
         result.reason = None if r is Check.SAT else _why_unknown(tests.model)
@@ -280,6 +333,8 @@ def diagnosis_json(inst: ir.Instance, diag: Diagnosis) -> dict:
     }
     if diag.reason is not None:  # why the search stopped early
         doc["reason"] = diag.reason
+    if diag.best is not None:  # unknown: the best core so far (unsat, not shown irreducible)
+        doc["best_core"] = [label_json(index[label]) for label in diag.best]
     return doc
 
 
@@ -300,7 +355,17 @@ def _render_answer(console: Console, inst: ir.Instance, diag: Diagnosis) -> None
         return
     if diag.status is not DiagnoseStatus.UNSAT:
         why = "interrupted" if diag.reason == "interrupted" else "the solver gave up"
-        console.print(f"[bold yellow]UNKNOWN[/]  {why} before finding a core")
+        if diag.best is None:
+            console.print(f"[bold yellow]UNKNOWN[/]  {why} before finding a core")
+            return
+        console.print(
+            f"[bold yellow]UNKNOWN[/]  {why} before showing a core irreducible; the best so far, "
+            f"{len(diag.best)} of {diag.total} labelled constraints, conflict (a least-consumption bound):"
+        )
+        index = label_index(inst, diag.horizon or None)
+        for i, label in enumerate(diag.best, 1):
+            console.print(f"  {i}. {escape(describe(index[label]))}")
+            console.print(f"     {escape(where(index[label]))}")
         return
     index, excerpt = label_index(inst, diag.horizon or None), excerpts()
     rel = ""

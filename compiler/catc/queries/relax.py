@@ -34,6 +34,7 @@ from catc.queries.base import (
     json_option,
     timeout_option,
 )
+from catc.queries.cores import restoration
 from catc.semantics.compositions import canonical_fresh, checked
 from catc.semantics.horizon import horizon_of
 from catc.semantics.plan import Plan, value_to_json
@@ -224,10 +225,15 @@ def _relax(
         say("looking for the fewest requirements to drop")
         return _finish(_relax_discrete(inst, k, sequential, components, result, start), start)
     result.eligible = eligible_requirements(inst, only, weights)
-    search = _SlackSearch(inst, k, sequential, components, result.eligible, counting)
-    result.timings["encode"] = time.perf_counter() - start
-    say("looking for a restoration")
-    best, result.proven, exhausted = search.run(deadline, say)
+    best = _at_bound(inst, k, sequential, result.eligible) if components is None and counting else None
+    if best is not None:  # least: it meets the least-consumption bound (issue 24)
+        say(f"restoration of weighted total {best.cost}: least, it meets the least-consumption bound")
+        result.proven, exhausted = True, False
+    else:
+        search = _SlackSearch(inst, k, sequential, components, result.eligible, counting)
+        result.timings["encode"] = time.perf_counter() - start
+        say("looking for a restoration")
+        best, result.proven, exhausted = search.run(deadline, say)
     result.reason = None if result.proven or exhausted else limits.stop_reason()
     if best is None:
         result.status = RelaxStatus.UNSAT if exhausted else RelaxStatus.UNKNOWN
@@ -252,6 +258,19 @@ def _relax(
 
 
 _ZERO, _ONE = int_literal(0), int_literal(1)
+
+
+def _at_bound(inst: ir.Instance, k: int, sequential: bool, reqs: list[Requirement]) -> _Found | None:
+    """A restoration of the whole catalog built at the h_max least-consumption bound and
+    accepted by the validator (:func:`catc.queries.cores.restoration`): least, no search."""
+    weights = {r.label: r.weight for r in reqs if r.kind == "initial value"}
+    integral = {r.label for r in reqs if r.integral}
+    found = restoration(inst, k, sequential, weights, integral, lambda deltas: relaxed_instance(inst, deltas))
+    if found is None:
+        return None
+    cost, raised, plan = found
+    values = {r.label: raised.get(r.label, Fraction(0)) for r in reqs}
+    return _Found(cost, cost, True, values, plan)
 
 
 class _SlackSearch:

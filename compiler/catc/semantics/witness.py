@@ -118,8 +118,11 @@ def _restricted(inst: ir.Instance, enforced: Collection[str], big: bool) -> ir.I
             params=params,
             uses=m.uses if m.uses_label in enforced else None,
         )
-    resources = {
-        r.name: r if r.bounds_label in enforced else replace(r, lower=None, upper=None) for r in inst.resources.values()
+    resources = {  # an unbounded resource as it is (no label to make)
+        r.name: r
+        if (r.lower is None and r.upper is None) or r.bounds_label in enforced
+        else replace(r, lower=None, upper=None)
+        for r in inst.resources.values()
     }
     init: dict[str, ir.InitValue] = {}
     for name, given in inst.problem.init.items():

@@ -335,14 +335,19 @@ def least_slack(
     Sound because the abstraction forgets every precondition and goal comparison (relaxing
     them is free here) and lowering an initial value never helps a consumption sum."""
     weights = {label: w for label, _, w in reqs}
-    quick = Fraction(0)  # each resource short of its least consumption needs its own raise
+    quick: Fraction | None = Fraction(0)  # each resource short of its least consumption needs its own raise
     for name, least in least_consumption(inst).items():
         short = least - room(inst, name)
-        if short > 0 and components is None:
+        if short > 0 and components is None and quick is not None:
             label = inst.problem.init[name].label
-            if label not in weights:
-                return False  # cannot be raised: no relaxation of reqs restores it
-            quick += weights[label] * short
+            quick = None if label not in weights else quick + weights[label] * short
+    # least_consumption leaves out the morphisms that alone take more than there is: a
+    # restoration may instead raise what one of them needs (issue 24: a bound, not the least)
+    escape = _cheapest_overdraw(inst, weights) if components is None else None
+    if escape is not None:
+        quick = escape if quick is None else min(quick, escape)
+    if quick is None:
+        return False  # cannot be raised: no relaxation of reqs restores it
     slack = {label: Symbol(f"slack:{label}", SmtSort.REAL) for label, kind, _ in reqs if kind == "initial value"}
     a = Consumption(inst, components, slack=slack, optimize=True)
     opt = a.backend
@@ -361,6 +366,23 @@ def least_slack(
     if exact is None:
         return quick if quick > 0 else None
     return max(exact, quick)
+
+
+def _cheapest_overdraw(inst: ir.Instance, weights: dict[str, Fraction]) -> Fraction | None:
+    """The least weighted raise of initial values that lets some morphism that alone takes
+    more of a resource than there is fire once (None: no such morphism can be let fire)."""
+    excess: dict[str, Fraction | None] = {}
+    for name, res in inst.resources.items():
+        init = inst.problem.init.get(name)
+        if not res.sort.is_numeric or res.lower is None or init is None or not isinstance(init.value, ir.Const):
+            continue
+        for m, amount in (_amounts(inst, name) or {}).items():
+            gap = amount - room(inst, name)
+            if gap > 0 and excess.get(m, Fraction(0)) is not None:
+                w = weights.get(init.label)
+                excess[m] = None if w is None else excess.get(m, Fraction(0)) + w * gap  # type: ignore[operator]
+    costs = [c for c in excess.values() if c is not None]
+    return min(costs) if costs else None
 
 
 def consumption_bound(

@@ -1,0 +1,133 @@
+"""Issue 24, diagnose and relax: the UNSAT solve, diagnose and relax on
+benchmarks/catalog_gen.py's global-infeasibility variants, for two source trees side by side
+in one run (each cell one ``catc`` process; the trees alternate per point, so both see the
+same load).
+
+    python benchmarks/catalog_explain.py --tree main=/work/main --tree branch=. \\
+        [--variants budget,power,ram,missing] [--sizes 25,100,400] [--depths 6,12,24] \\
+        [--timeout 60] [--timeout-of main=20] [--seed 24]
+
+A cell is the wall time in seconds, ``unknown`` (exit 3), ``timeout`` (killed 15 s past the
+limit) or ``WRONG`` (a core without the constructed members, a relaxation other than the
+constructed least, or not proven; the script then exits 1).  ``×`` is diagnose over the
+UNSAT solve of the same tree.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+import catalog_gen as gen  # noqa: E402
+from catalog_scale import _doc  # noqa: E402
+
+
+def _run(tree: Path, args: list[str], timeout: float, cwd: Path) -> tuple[float | str, int, str]:
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(str(tree / p) for p in ("compiler", "runtime", "."))
+    start = time.perf_counter()
+    try:
+        p = subprocess.run(
+            [sys.executable, "-m", "catc", *args],
+            cwd=cwd,
+            capture_output=True,
+            text=True,
+            timeout=timeout + 15,
+            env=env,
+        )
+    except subprocess.TimeoutExpired:
+        return "timeout", 3, ""
+    return time.perf_counter() - start, p.returncode, p.stdout
+
+
+def measure(tree: Path, variant: str, expect: dict, timeout: float, tmp: Path) -> dict[str, object]:
+    dom = "missing-domain.cat" if variant == "missing" else "domain.cat"
+    t = ["--timeout", str(timeout)]
+    row: dict[str, object] = {}
+
+    def cell(name: str, args: list[str], ok) -> None:
+        wall, rc, out = _run(tree, args, timeout, tmp)
+        if wall == "timeout" or rc == 3:
+            row[name] = "timeout" if wall == "timeout" else "unknown"
+            return
+        row[name] = wall if ok(_doc(out)) else "WRONG"
+
+    def unsat_ok(j: dict) -> bool:
+        return j.get("status") == "unsat" and j.get("unsat", {}).get("final") is True
+
+    def core_ok(j: dict) -> bool:
+        cores = j.get("cores") or []
+        labels = {x.get("label") for x in cores[0]} if cores else set()
+        return j.get("status") == "unsat" and set(expect["core_contains"]) <= labels
+
+    def relax_ok(j: dict) -> bool:
+        if expect["relax"] is None:
+            return j.get("status") == "unsat"
+        got = {r["label"]: str(r["delta"]) for r in j.get("relaxations", [])}
+        want = {k: str(v) for k, v in expect["relax"].items()}
+        return j.get("status") == "relaxed" and j.get("proven") is True and got == want
+
+    cell("UNSAT solve", ["solve", dom, f"{variant}.cat", "--json", *t], unsat_ok)
+    cell("diagnose", ["diagnose", dom, f"{variant}.cat", "--json", *t], core_ok)
+    cell("relax", ["relax", dom, f"{variant}.cat", "--json", *t], relax_ok)
+    u, dg = row.get("UNSAT solve"), row.get("diagnose")
+    row["×"] = dg / u if isinstance(u, float) and isinstance(dg, float) else "—"
+    return row
+
+
+def _cell(v: object) -> str:
+    return f"{v:.1f}" if isinstance(v, float) else str(v)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--tree", action="append", required=True, help="NAME=PATH of a source tree (repeat)")
+    ap.add_argument("--variants", default="budget,power,ram,missing")
+    ap.add_argument("--sizes", default="25,100,400")
+    ap.add_argument("--depths", default="6,12,24")
+    ap.add_argument("--timeout", type=float, default=60.0)
+    ap.add_argument("--timeout-of", action="append", default=[], help="NAME=SECONDS: another limit for one tree")
+    ap.add_argument("--seed", type=int, default=24)
+    args = ap.parse_args(argv)
+    shown = sys.argv[1:] if argv is None else argv
+    trees = [(name, Path(path).resolve()) for name, _, path in (t.partition("=") for t in args.tree)]
+    limit = {name: float(s) for name, _, s in (t.partition("=") for t in args.timeout_of)}
+    queries = ["UNSAT solve", "diagnose", "relax", "×"]
+    rows = []
+    for variant in args.variants.split(","):
+        for d in (int(x) for x in args.depths.split(",")):
+            for n in (int(x) for x in args.sizes.split(",")):
+                if n < d:
+                    continue
+                cat = gen.build(n, d, args.seed)
+                with tempfile.TemporaryDirectory() as tmp:
+                    expect = gen.write(cat, Path(tmp))[variant]
+                    for name, tree in trees:
+                        row = measure(tree, variant, expect, limit.get(name, args.timeout), Path(tmp))
+                        row["load"] = os.getloadavg()[0]
+                        rows.append((variant, n, d, name, row))
+                        cells = ", ".join(f"{k} {_cell(v)}" for k, v in row.items())
+                        print(f"  {variant} n={n} d={d} {name}: {cells}", file=sys.stderr, flush=True)
+    print(f"`python benchmarks/catalog_explain.py {' '.join(shown)}` — seconds per process\n")
+    print("| variant | n | d | tree | " + " | ".join(queries) + " | load (1 min) |")
+    print("|---|---:|---:|---|" + "---:|" * len(queries) + "---:|")
+    for variant, n, d, name, row in rows:
+        cells = " | ".join(_cell(row.get(q, "")) for q in queries)
+        print(f"| {variant} | {n} | {d} | {name} | {cells} | {row['load']:.1f} |")
+    wrong = [(v, n, d, name, q) for v, n, d, name, row in rows for q, x in row.items() if x == "WRONG"]
+    if wrong:
+        print(f"\nWRONG answers: {wrong}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
