@@ -618,7 +618,9 @@ def _render_answer(console: Console, inst: ir.Instance, result: RelaxResult) -> 
             info = index[label]
             console.print(f"  - {escape(describe(info))}   {escape(where(info))}")
         return
-    console.print(f"[bold yellow]RELAXED[/]  {_headline(result)} over {len(result.eligible)} eligible requirements:")
+    console.print(
+        f"[bold yellow]RELAXED[/]  {_headline(result)} over {len(result.eligible)} eligible requirement{'' if len(result.eligible) == 1 else 's'}:"
+    )
     for rel in result.relaxations:
         info = index[rel.label]
         console.print(f"  {relaxation_text(inst, rel, info)}   {escape(where(info))}")
