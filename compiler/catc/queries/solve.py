@@ -42,8 +42,10 @@ from catc.semantics.compositions import canonical_fresh, checked, prune_plan
 from catc.semantics.horizon import horizon_of, use_bound
 from catc.semantics.plan import Plan
 from catc.semantics.relaxed import Refutation, refute
+from catc.semantics.validate import validate
+from catc.semantics.witness import _candidate
 from catc.smt.backend import DEFAULT_BACKEND, Check, open_backend
-from catc.smt.consumption import consumption_proof
+from catc.smt.consumption import bound_refutation, cheapest_support, consumption_proof, least_length
 from catc.smt.encoder import Encoder
 from catc.smt.readback import read_plan
 from catc.smt.script import SmtSort, Symbol, and_text
@@ -148,14 +150,23 @@ def solve(
         k = horizon_of(inst, horizon)
         timings = {"start": 0.0, "encode": 0.0, "solve": 0.0, "validate": 0.0}
         try:
-            proof = _presolve(inst, timings) if presolve else None
+            found: list[SolveResult] = []  # the consumption abstraction's shortest composition
+            proof = (
+                _presolve(inst, k, sequential, timings, found if strategy == "incremental" else None)
+                if presolve
+                else None
+            )
             searched = None
-            if proof is None and strategy == "search":
+            if proof is None and not found and strategy == "search":
                 t0 = time.perf_counter()
                 searched = _forward(inst, k, sequential, timeout)
                 timings["solve"] = time.perf_counter() - t0
             if proof is not None:  # no composition of any length: nothing to encode
                 result = SolveResult(SolveStatus.UNSAT, k, final=True, length_bound=use_bound(inst), refutation=proof)
+            elif found:  # the abstraction's composition, of the least length any can have
+                result = found[0]
+                if validate_answer:
+                    _validated(inst, result, k, sequential, prune, timings)
             elif searched is not None:  # the forward search settled it
                 result = searched
                 if result.status is SolveStatus.SAT and validate_answer:
@@ -197,11 +208,42 @@ def _forward(inst: ir.Instance, k: int, sequential: bool, timeout: float | None)
     return SolveResult(SolveStatus.UNSAT, k, final=r.final, length_bound=use_bound(inst), reason=why)
 
 
-def _presolve(inst: ir.Instance, timings: dict[str, float]) -> Refutation | None:
+def _presolve(
+    inst: ir.Instance, k: int, sequential: bool, timings: dict[str, float], found: list[SolveResult] | None
+) -> Refutation | None:
+    """A proof that no composition of any length exists, by relaxed reachability or the
+    consumption abstraction (issue 24's catalogs).  With ``found`` (a list), the
+    abstraction's shortest composition (:func:`_abstract`) is tried between its solver-free
+    bound and its solver check, and appended when found: then nothing else is needed."""
     t0 = time.perf_counter()
-    proof = refute(inst) or consumption_proof(inst)  # the second: issue 24's catalogs
+    proof = refute(inst) or bound_refutation(inst)
+    if proof is None and found is not None:
+        shortest = _abstract(inst, k, sequential)
+        if shortest is not None:
+            found.append(shortest)
+    if proof is None and not found:
+        proof = consumption_proof(inst)
     timings["presolve"] = time.perf_counter() - t0
     return proof
+
+
+def _abstract(inst: ir.Instance, k: int, sequential: bool) -> SolveResult | None:
+    """A shortest composition without the step encoding (issue 24), or None: the morphisms
+    of :func:`cheapest_support`, one per step in an order they can fire, each θ at its lower
+    bound.  It counts only when the independent validator accepts it within the horizon and
+    its length equals :func:`least_length`, a lower bound on every composition's length —
+    then no shorter one exists, which is what the deepening would prove horizon by horizon."""
+    lower = least_length(inst)
+    if lower == 0 or lower > k:
+        return None
+    order = cheapest_support(inst)
+    if order is None or len(order) != lower:
+        return None
+    bounds = frozenset(m.bound_label(p.name) for m in inst.morphisms.values() for p in m.params)
+    plan = _candidate(inst, bounds, order, order)  # every θ at its lower bound (else its upper, else 0)
+    if plan is None or not validate(inst, plan, horizon=k, sequential=sequential).ok:
+        return None
+    return SolveResult(SolveStatus.SAT, k, plan, length_bound=use_bound(inst))
 
 
 def _validated(

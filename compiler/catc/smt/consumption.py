@@ -225,7 +225,7 @@ class Consumption:
             return f"(=> {and_text(guards)} (<= (+ 0.0 {' '.join(terms)}) {room}))"
 
         out = [constraint(None)]
-        if any(bound is not None for _, _, _, bound in consumers):
+        if any(bound is not None and on(bound) != "true" for _, _, _, bound in consumers):  # a droppable θ bound
             out += [constraint(m) for m in dict.fromkeys(m for m, _, _, _ in consumers)]
         return out
 
@@ -380,10 +380,9 @@ def stronger_bound(lower: Fraction | bool | None, mine: Fraction | bool | None) 
     return mine if not isinstance(lower, Fraction) or mine > lower else lower
 
 
-def consumption_proof(inst: ir.Instance) -> Any:
-    """A :class:`~catc.semantics.relaxed.Refutation` when the abstraction shows that no
-    composition of any length exists (None otherwise), naming an initial value of its core
-    when there is one (the budget, power, RAM... that cannot cover any composition)."""
+def bound_refutation(inst: ir.Instance) -> Any:
+    """A :class:`~catc.semantics.relaxed.Refutation` when some resource's initial room is
+    below :func:`least_consumption` (no solver), else None."""
     from catc.semantics.relaxed import Refutation
 
     for name, least in least_consumption(inst).items():
@@ -393,6 +392,18 @@ def consumption_proof(inst: ir.Instance) -> Any:
                 f"({least} over the cheapest alternative per needed capability; a consumption bound)",
                 inst.problem.init[name].label,
             )
+    return None
+
+
+def consumption_proof(inst: ir.Instance) -> Any:
+    """A :class:`~catc.semantics.relaxed.Refutation` when the abstraction shows that no
+    composition of any length exists (None otherwise), naming an initial value of its core
+    when there is one (the budget, power, RAM... that cannot cover any composition)."""
+    from catc.semantics.relaxed import Refutation
+
+    proof = bound_refutation(inst)
+    if proof is not None:
+        return proof
     a = Consumption(inst)
     if not a.labels:
         return None
@@ -413,10 +424,13 @@ def least_length(inst: ir.Instance) -> int:
     """A lower bound on the number of steps of any composition reaching the goal: the h_max
     level of the goal's facts (each fact's level is 0 when it holds initially, else one more
     than the least, over its givers, of the greatest level among the giver's facts), with
-    deletes, numeric conditions and θ-dependent facts forgotten.  0 when it cannot tell."""
+    deletes, numeric conditions and θ-dependent facts forgotten.  A morphism that alone takes
+    more of a bounded, only-decreasing resource than there is never fires and gives nothing
+    (:func:`overdrawing`).  0 when it cannot tell."""
     given, any_element = _givers(inst)
-    givers = {a: [m for m, _ in ms] for a, ms in given.items()}
-    anything = {r: [m for m, _ in ms] for r, ms in any_element.items()}
+    never = overdrawing(inst)
+    givers = {a: [m for m, _ in ms if m not in never] for a, ms in given.items()}
+    anything = {r: [m for m, _ in ms if m not in never] for r, ms in any_element.items()}
     needs = {m.name: [a for lit in m.pre for a in _atoms(lit.expr)] for m in inst.morphisms.values()}
 
     def initially(atom: Atom) -> bool:
@@ -488,36 +502,12 @@ def least_consumption(inst: ir.Instance) -> dict[str, Fraction]:
     given, any_element = _givers(inst)
     needs = {m.name: [a for lit in m.pre for a in _atoms(lit.expr)] for m in inst.morphisms.values()}
     goal = [a for lit in inst.problem.goal for a in _atoms(lit.expr)]
-    decreasing = {}
-    for name, res in inst.resources.items():
-        init = inst.problem.init.get(name)
-        if not res.sort.is_numeric or res.lower is None or init is None or not isinstance(init.value, ir.Const):
-            continue
-        amounts = _amounts(inst, name)
-        if amounts:
-            decreasing[name] = amounts
-    # a morphism that alone takes more of a resource than there is never fires
-    never = {m for name, amounts in decreasing.items() for m, a in amounts.items() if a > room(inst, name)}
+    decreasing = _decreasing(inst)
+    never = overdrawing(inst, decreasing)
     atoms = set(given) | {a for ns in needs.values() for a in ns} | set(goal)
 
     def goal_cost(amounts: dict[str, Fraction], excluded: set[str]) -> Fraction | None:
-        cost: dict[Atom, Fraction] = {}
-        for a in atoms:
-            start = inst.problem.init.get(a[0])
-            if start is None or _holds(start, a):
-                cost[a] = Fraction(0)
-        changed = True
-        while changed:  # costs only go down; each round settles one more giver at least
-            changed = False
-            for a in atoms:
-                offers = [m for m, _ in given.get(a, []) + (any_element.get(a[0], []) if a[1] is not None else [])]
-                for m in offers:
-                    if m in excluded or any(b not in cost for b in needs[m]):
-                        continue
-                    c = amounts.get(m, Fraction(0)) + max((cost[b] for b in needs[m]), default=Fraction(0))
-                    if c < cost.get(a, c + 1):
-                        cost[a] = c
-                        changed = True
+        cost = _atom_costs(inst, given, any_element, needs, atoms, amounts, excluded)
         return max((cost[a] for a in goal), default=Fraction(0)) if all(a in cost for a in goal) else None
 
     out: dict[str, Fraction] = {}
@@ -528,6 +518,186 @@ def least_consumption(inst: ir.Instance) -> dict[str, Fraction]:
         if least is not None:
             out[name] = least
     return out
+
+
+def _atom_costs(
+    inst: ir.Instance,
+    given: dict[Atom, list[tuple[str, str | None]]],
+    any_element: dict[str, list[tuple[str, str | None]]],
+    needs: dict[str, list[Atom]],
+    atoms: Collection[Atom],
+    amounts: dict[str, Fraction],
+    excluded: Collection[str],
+) -> dict[Atom, Fraction]:
+    """The h_max cost of each reachable fact (:func:`least_consumption`) with the morphisms
+    in ``excluded`` left out; an unreachable fact has none."""
+    cost: dict[Atom, Fraction] = {}
+    for a in atoms:
+        start = inst.problem.init.get(a[0])
+        if start is None or _holds(start, a):
+            cost[a] = Fraction(0)
+    changed = True
+    while changed:  # costs only go down; each round settles one more giver at least
+        changed = False
+        for a in atoms:
+            offers = [m for m, _ in given.get(a, []) + (any_element.get(a[0], []) if a[1] is not None else [])]
+            for m in offers:
+                if m in excluded or any(b not in cost for b in needs[m]):
+                    continue
+                c = amounts.get(m, Fraction(0)) + max((cost[b] for b in needs[m]), default=Fraction(0))
+                if c < cost.get(a, c + 1):
+                    cost[a] = c
+                    changed = True
+    return cost
+
+
+class _GiveUp(Exception):
+    pass
+
+
+def cheapest_support(inst: ir.Instance, expansions: int = 20_000) -> list[str] | None:
+    """A set of morphisms that supports the goal in the consumption abstraction — each fact
+    a used morphism or the goal needs holds initially or is given by a used morphism that
+    fires before — and whose total consumption of every bounded, only-decreasing resource
+    fits its room, in an order they can fire (each fact given before it is needed); None
+    when none was found within ``expansions`` tries (no claim: the solver decides).
+
+    A depth-first search without a solver, deterministic: the open fact needed last is
+    given by one of its givers, the cheapest first (least sum of amount / room), and a
+    branch is cut when what it has spent plus the h_max cost (:func:`least_consumption`)
+    of an open fact exceeds a resource's room.  On a chain of alternatives this bound is
+    exact, and the search hardly backtracks.  Deletes, negative and numeric conditions are
+    forgotten: the caller replays the result with the validator."""
+    given, any_element = _givers(inst)
+    decreasing = _decreasing(inst)
+    never = overdrawing(inst, decreasing) | {m.name for m in inst.morphisms.values() if m.uses == 0}
+    needs = {m.name: [a for lit in m.pre for a in _atoms(lit.expr)] for m in inst.morphisms.values()}
+    goal = list(dict.fromkeys(a for lit in inst.problem.goal for a in _atoms(lit.expr)))
+    atoms = set(given) | {a for ns in needs.values() for a in ns} | set(goal)
+    rooms = {r: room(inst, r) for r in decreasing}
+    costs = {r: _atom_costs(inst, given, any_element, needs, atoms, decreasing[r], never) for r in decreasing}
+
+    def initially(a: Atom) -> bool:
+        init = inst.problem.init.get(a[0])
+        return init is None or _holds(init, a)
+
+    def weight(m: str) -> Fraction:
+        return sum(
+            (amounts.get(m, Fraction(0)) / rooms[r] for r, amounts in decreasing.items() if rooms[r] > 0),
+            Fraction(0),
+        )
+
+    offers: dict[Atom, list[str]] = {}
+    for a in atoms:
+        ms = [m for m, _ in given.get(a, []) + (any_element.get(a[0], []) if a[1] is not None else [])]
+        offers[a] = sorted(dict.fromkeys(m for m in ms if m not in never), key=weight)  # stable: declaration order
+    spent = dict.fromkeys(decreasing, Fraction(0))
+    chosen: list[str] = []
+    gives: dict[Atom, int] = {}  # fact → how many chosen morphisms give it
+    wild: dict[str, int] = {}  # set resource → how many chosen morphisms add any element
+    left = [expansions]
+
+    def given_now(a: Atom) -> bool:
+        return initially(a) or gives.get(a, 0) > 0 or (a[1] is not None and wild.get(a[0], 0) > 0)
+
+    gives_of: dict[str, list[Atom]] = {}
+    for a, givers in given.items():
+        for x, _ in givers:
+            gives_of.setdefault(x, []).append(a)
+    adds_of: dict[str, list[str]] = {}
+    for r, adders in any_element.items():
+        for x, _ in adders:
+            adds_of.setdefault(x, []).append(r)
+
+    def mark(m: str, step: int) -> None:
+        for a in gives_of.get(m, []):
+            gives[a] = gives.get(a, 0) + step
+        for r in adds_of.get(m, []):
+            wild[r] = wild.get(r, 0) + step
+
+    def dfs(open_: list[Atom], depth: int) -> bool:
+        open_ = [a for a in open_ if not given_now(a)]
+        if not open_:
+            return True
+        for r in decreasing:
+            worst = Fraction(0)
+            for a in open_:
+                c = costs[r].get(a)
+                if c is None:
+                    return False
+                worst = max(worst, c)
+            if spent[r] + worst > rooms[r]:
+                return False
+        if depth > 400:
+            raise _GiveUp
+        a = open_[-1]
+        for m in offers.get(a, []):
+            if m in chosen:
+                continue
+            left[0] -= 1
+            if left[0] < 0:
+                raise _GiveUp
+            if any(spent[r] + amounts.get(m, Fraction(0)) > rooms[r] for r, amounts in decreasing.items()):
+                continue
+            for r, amounts in decreasing.items():
+                spent[r] += amounts.get(m, Fraction(0))
+            chosen.append(m)
+            mark(m, 1)
+            if dfs(open_[:-1] + list(dict.fromkeys(needs[m])), depth + 1):
+                return True
+            mark(m, -1)
+            chosen.pop()
+            for r, amounts in decreasing.items():
+                spent[r] -= amounts.get(m, Fraction(0))
+        return False
+
+    try:
+        if not dfs(list(reversed(goal)), 0):
+            return None
+    except _GiveUp:
+        return None
+    # an order they can fire in: relaxed firing from the initial state among the chosen
+    order: list[str] = []
+    have: set[Atom] = set()
+    anyset: set[str] = set()
+    pending = list(reversed(chosen))  # the deepest first (a chain then comes out bottom-up)
+    while pending:
+        ready = next(
+            (
+                m
+                for m in pending
+                if all(initially(a) or a in have or (a[1] is not None and a[0] in anyset) for a in needs[m])
+            ),
+            None,
+        )
+        if ready is None:
+            return None  # cyclic support
+        pending.remove(ready)
+        order.append(ready)
+        have.update(gives_of.get(ready, []))
+        anyset.update(adds_of.get(ready, []))
+    return order
+
+
+def _decreasing(inst: ir.Instance) -> dict[str, dict[str, Fraction]]:
+    """Per bounded numeric resource with a constant initial value that only decreases: the
+    least amount each morphism takes from it per firing (:func:`_amounts`)."""
+    out = {}
+    for name, res in inst.resources.items():
+        init = inst.problem.init.get(name)
+        if not res.sort.is_numeric or res.lower is None or init is None or not isinstance(init.value, ir.Const):
+            continue
+        amounts = _amounts(inst, name)
+        if amounts:
+            out[name] = amounts
+    return out
+
+
+def overdrawing(inst: ir.Instance, decreasing: dict[str, dict[str, Fraction]] | None = None) -> set[str]:
+    """The morphisms that alone take more of some bounded, only-decreasing resource than it
+    has room for: they never fire (the bound holds in every state)."""
+    decreasing = _decreasing(inst) if decreasing is None else decreasing
+    return {m for name, amounts in decreasing.items() for m, a in amounts.items() if a > room(inst, name)}
 
 
 def room(inst: ir.Instance, name: str) -> Fraction:
