@@ -47,6 +47,7 @@ from catc.semantics.witness import _candidate
 from catc.smt.backend import DEFAULT_BACKEND, Check, open_backend
 from catc.smt.consumption import bound_refutation, cheapest_support, consumption_proof, least_length
 from catc.smt.encoder import Encoder
+from catc.smt.finite import FiniteSorts
 from catc.smt.readback import read_plan
 from catc.smt.script import SmtSort, Symbol, and_text
 from catc.smt.terms import implies, not_, to_text
@@ -236,6 +237,7 @@ def _abstract(inst: ir.Instance, k: int, sequential: bool) -> SolveResult | None
     lower = least_length(inst)
     if lower == 0 or lower > k:
         return None
+    FiniteSorts(inst, k)  # the universe limit holds as for an encoding (E1106)
     order = cheapest_support(inst)
     if order is None or len(order) != lower:
         return None
