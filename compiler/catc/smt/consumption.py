@@ -700,8 +700,88 @@ def overdrawing(inst: ir.Instance, decreasing: dict[str, dict[str, Fraction]] | 
     return {m for name, amounts in decreasing.items() for m, a in amounts.items() if a > room(inst, name)}
 
 
+def init_value(inst: ir.Instance, name: str) -> Fraction:
+    """The constant initial value of numeric resource ``name``."""
+    init = inst.problem.init[name]
+    assert isinstance(init.value, ir.Const)
+    return Fraction(init.value.value)
+
+
 def room(inst: ir.Instance, name: str) -> Fraction:
     """How much resource ``name`` can lose: its initial value minus its lower bound."""
     init, res = inst.problem.init[name], inst.resources[name]
     assert isinstance(init.value, ir.Const) and res.lower is not None
     return Fraction(init.value.value) - res.lower
+
+
+class FixedSet:
+    """The consumption abstraction of one instance for a *given* set of components, every
+    label enforced, without a solver: a set passes (:meth:`order`) when its components can
+    fire in some order, each once, with every positive fact they and the goal need holding
+    initially or given by one fired before, and their least amounts summing within every
+    bounded, only-decreasing resource's room.  The component set of every composition
+    passes, so a set that does not pass is the component set of no composition."""
+
+    def __init__(self, inst: ir.Instance) -> None:
+        self.inst = inst
+        given, any_element = _givers(inst)
+        self.decreasing = _decreasing(inst)
+        self.rooms = {r: room(inst, r) for r in self.decreasing}
+        self.needs = {m.name: [a for lit in m.pre for a in _atoms(lit.expr)] for m in inst.morphisms.values()}
+        self.goal = [a for lit in inst.problem.goal for a in _atoms(lit.expr)]
+        self.unusable = {m.name for m in inst.morphisms.values() if m.uses == 0}
+        #: per morphism, its non-zero least amounts: (resource, amount)
+        self.amounts: dict[str, list[tuple[str, Fraction]]] = {}
+        for r, per in self.decreasing.items():
+            for m, amount in per.items():
+                if amount:
+                    self.amounts.setdefault(m, []).append((r, amount))
+        self.gives_of: dict[str, list[Atom]] = {}
+        for a, givers in given.items():
+            for x, _ in givers:
+                self.gives_of.setdefault(x, []).append(a)
+        self.adds_of: dict[str, list[str]] = {}
+        for r, adders in any_element.items():
+            for x, _ in adders:
+                self.adds_of.setdefault(x, []).append(r)
+
+    def spent(self, components: Collection[str]) -> dict[str, Fraction]:
+        """The least each only-decreasing resource loses when each component fires once."""
+        return self.plus(dict.fromkeys(self.decreasing, Fraction(0)), components)
+
+    def plus(self, spent: dict[str, Fraction], components: Iterable[str], sign: int = 1) -> dict[str, Fraction]:
+        """``spent`` with the least amounts of ``components`` added (``sign`` -1: taken off)."""
+        out = dict(spent)
+        for m in components:
+            for r, amount in self.amounts.get(m, ()):
+                out[r] += amount if sign > 0 else -amount
+        return out
+
+    def fits(self, components: Collection[str], spent: dict[str, Fraction] | None = None) -> bool:
+        spent = self.spent(components) if spent is None else spent
+        return all(v <= self.rooms[r] for r, v in spent.items())
+
+    def order(self, components: Collection[str], spent: dict[str, Fraction] | None = None) -> list[str] | None:
+        """An order the set can fire in (None: it does not pass; see the class); ``spent``:
+        :meth:`spent` of the set when the caller has it."""
+        if any(m in self.unusable for m in components) or not self.fits(components, spent):
+            return None
+        inst = self.inst
+
+        def holds(a: Atom) -> bool:
+            init = inst.problem.init.get(a[0])
+            return init is None or _holds(init, a) or a in have or (a[1] is not None and a[0] in anyset)
+
+        have: set[Atom] = set()
+        anyset: set[str] = set()
+        pending = [m for m in inst.morphisms if m in components]  # declaration order
+        out: list[str] = []
+        while pending:
+            ready = next((m for m in pending if all(holds(a) for a in self.needs[m])), None)
+            if ready is None:
+                return None
+            pending.remove(ready)
+            out.append(ready)
+            have.update(self.gives_of.get(ready, []))
+            anyset.update(self.adds_of.get(ready, []))
+        return out if all(holds(a) for a in self.goal) else None
