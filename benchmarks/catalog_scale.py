@@ -147,6 +147,7 @@ def plot(rows: list[tuple[int, int, str, dict]], queries: list[str], out: Path, 
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import matplotlib.ticker
 
     cols = min(4, len(queries))
     nrows = math.ceil(len(queries) / cols)
@@ -166,6 +167,9 @@ def plot(rows: list[tuple[int, int, str, dict]], queries: list[str], out: Path, 
                     ax.plot(x, v if ok else timeout, "o", color=line.get_color(), fillstyle="full" if ok else "none")
         ax.set_xscale("log")
         ax.set_yscale("log")
+        sizes = sorted({n for n, _, _, _ in rows})
+        ax.set_xticks(sizes, [str(n) for n in sizes])
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.set_title(q)
         ax.set_xlabel("components n")
         ax.set_ylabel("seconds (process)")
