@@ -581,16 +581,7 @@ def cheapest_support(inst: ir.Instance, expansions: int = 20_000) -> list[str] |
         init = inst.problem.init.get(a[0])
         return init is None or _holds(init, a)
 
-    def weight(m: str) -> Fraction:
-        return sum(
-            (amounts.get(m, Fraction(0)) / rooms[r] for r, amounts in decreasing.items() if rooms[r] > 0),
-            Fraction(0),
-        )
-
-    offers: dict[Atom, list[str]] = {}
-    for a in atoms:
-        ms = [m for m, _ in given.get(a, []) + (any_element.get(a[0], []) if a[1] is not None else [])]
-        offers[a] = sorted(dict.fromkeys(m for m in ms if m not in never), key=weight)  # stable: declaration order
+    offers = _offers(given, any_element, atoms, never, decreasing, rooms)
     spent = dict.fromkeys(decreasing, Fraction(0))
     chosen: list[str] = []
     gives: dict[Atom, int] = {}  # fact → how many chosen morphisms give it
@@ -600,14 +591,7 @@ def cheapest_support(inst: ir.Instance, expansions: int = 20_000) -> list[str] |
     def given_now(a: Atom) -> bool:
         return initially(a) or gives.get(a, 0) > 0 or (a[1] is not None and wild.get(a[0], 0) > 0)
 
-    gives_of: dict[str, list[Atom]] = {}
-    for a, givers in given.items():
-        for x, _ in givers:
-            gives_of.setdefault(x, []).append(a)
-    adds_of: dict[str, list[str]] = {}
-    for r, adders in any_element.items():
-        for x, _ in adders:
-            adds_of.setdefault(x, []).append(r)
+    gives_of, adds_of = _gifts(given, any_element)
 
     def mark(m: str, step: int) -> None:
         for a in gives_of.get(m, []):
@@ -619,15 +603,8 @@ def cheapest_support(inst: ir.Instance, expansions: int = 20_000) -> list[str] |
         open_ = [a for a in open_ if not given_now(a)]
         if not open_:
             return True
-        for r in decreasing:
-            worst = Fraction(0)
-            for a in open_:
-                c = costs[r].get(a)
-                if c is None:
-                    return False
-                worst = max(worst, c)
-            if spent[r] + worst > rooms[r]:
-                return False
+        if not _may_fit(costs, spent, rooms, open_):
+            return False
         if depth > 400:
             raise _GiveUp
         a = open_[-1]
@@ -656,11 +633,81 @@ def cheapest_support(inst: ir.Instance, expansions: int = 20_000) -> list[str] |
             return None
     except _GiveUp:
         return None
-    # an order they can fire in: relaxed firing from the initial state among the chosen
+    return _firing_order(list(reversed(chosen)), needs, initially, gives_of, adds_of)  # the deepest first
+
+
+def _offers(
+    given: dict[Atom, list[tuple[str, str | None]]],
+    any_element: dict[str, list[tuple[str, str | None]]],
+    atoms: Collection[Atom],
+    never: Collection[str],
+    decreasing: dict[str, dict[str, Fraction]],
+    rooms: dict[str, Fraction],
+) -> dict[Atom, list[str]]:
+    """Per fact, its givers but ``never``, the cheapest first (least Σ amount / room; ties
+    in declaration order)."""
+
+    def weight(m: str) -> Fraction:
+        return sum(
+            (amounts.get(m, Fraction(0)) / rooms[r] for r, amounts in decreasing.items() if rooms[r] > 0),
+            Fraction(0),
+        )
+
+    offers: dict[Atom, list[str]] = {}
+    for a in atoms:
+        ms = [m for m, _ in given.get(a, []) + (any_element.get(a[0], []) if a[1] is not None else [])]
+        offers[a] = sorted(dict.fromkeys(m for m in ms if m not in never), key=weight)
+    return offers
+
+
+def _may_fit(
+    costs: dict[str, dict[Atom, Fraction]],
+    spent: dict[str, Fraction],
+    rooms: dict[str, Fraction],
+    open_: list[Atom],
+) -> bool:
+    """Whether what is spent plus each open fact's h_max cost stays within every room (an
+    unreachable fact: no)."""
+    for r, cost in costs.items():
+        worst = Fraction(0)
+        for a in open_:
+            c = cost.get(a)
+            if c is None:
+                return False
+            worst = max(worst, c)
+        if spent[r] + worst > rooms[r]:
+            return False
+    return True
+
+
+def _gifts(
+    given: dict[Atom, list[tuple[str, str | None]]], any_element: dict[str, list[tuple[str, str | None]]]
+) -> tuple[dict[str, list[Atom]], dict[str, list[str]]]:
+    """Per morphism, the facts it gives, and the set resources it adds any element to."""
+    gives_of: dict[str, list[Atom]] = {}
+    for a, givers in given.items():
+        for x, _ in givers:
+            gives_of.setdefault(x, []).append(a)
+    adds_of: dict[str, list[str]] = {}
+    for r, adders in any_element.items():
+        for x, _ in adders:
+            adds_of.setdefault(x, []).append(r)
+    return gives_of, adds_of
+
+
+def _firing_order(
+    pending: list[str],
+    needs: dict[str, list[Atom]],
+    initially: Callable[[Atom], bool],
+    gives_of: dict[str, list[Atom]],
+    adds_of: dict[str, list[str]],
+) -> list[str] | None:
+    """An order the ``pending`` morphisms can fire in by relaxed firing from the initial
+    state, the first ready one of ``pending`` each time (None: a cyclic support)."""
     order: list[str] = []
     have: set[Atom] = set()
     anyset: set[str] = set()
-    pending = list(reversed(chosen))  # the deepest first (a chain then comes out bottom-up)
+    pending = list(pending)
     while pending:
         ready = next(
             (
@@ -671,7 +718,7 @@ def cheapest_support(inst: ir.Instance, expansions: int = 20_000) -> list[str] |
             None,
         )
         if ready is None:
-            return None  # cyclic support
+            return None
         pending.remove(ready)
         order.append(ready)
         have.update(gives_of.get(ready, []))
@@ -736,14 +783,7 @@ class FixedSet:
             for m, amount in per.items():
                 if amount:
                     self.amounts.setdefault(m, []).append((r, amount))
-        self.gives_of: dict[str, list[Atom]] = {}
-        for a, givers in given.items():
-            for x, _ in givers:
-                self.gives_of.setdefault(x, []).append(a)
-        self.adds_of: dict[str, list[str]] = {}
-        for r, adders in any_element.items():
-            for x, _ in adders:
-                self.adds_of.setdefault(x, []).append(r)
+        self.gives_of, self.adds_of = _gifts(given, any_element)
 
     def spent(self, components: Collection[str]) -> dict[str, Fraction]:
         """The least each only-decreasing resource loses when each component fires once."""
