@@ -4,11 +4,16 @@ with the fitted exponent per query, and the answers checked against the construc
 
     python benchmarks/catalog_scale.py [--sizes 25,50,100,200,400] [--depths 3,6,12,24]
                                        [--variant budget] [--timeout 60] [--seed 24]
-                                       [--no-enhsp] [--quick]
+                                       [--no-enhsp] [--quick] [--queries Q1,Q2]
+                                       [--trees main=/work/main,branch=.] [--plot FILE]
 
 Each cell is the wall time of one ``catc`` process (start-up included), or ``timeout`` /
 ``unknown`` (exit 3) / ``WRONG`` (an answer that differs from the constructed one: the
 script exits 1).  ``UNSAT solve`` must be final (no composition of any length).
+``--trees NAME=DIR,...`` runs every cell once per source tree (``DIR/compiler``,
+``DIR/runtime`` and ``DIR`` on ``PYTHONPATH``), one after the other, so that trees are
+compared side by side under the same load; ``--plot FILE`` draws time against n on
+log-log axes, one panel per query (needs the ``plots`` extra: matplotlib).
 """
 
 from __future__ import annotations
@@ -39,10 +44,17 @@ QUERIES = (
 )
 
 
-def _run(args: list[str], timeout: float, cwd: Path) -> tuple[float | str, int, str]:
+def _env(tree: Path | None) -> dict[str, str]:
+    env = dict(os.environ)
+    if tree is not None:
+        env["PYTHONPATH"] = os.pathsep.join(str(tree / x) for x in ("compiler", "runtime", ""))
+    return env
+
+
+def _run(args: list[str], timeout: float, cwd: Path, tree: Path | None = None) -> tuple[float | str, int, str]:
     start = time.perf_counter()
     try:
-        p = subprocess.run(args, cwd=cwd, capture_output=True, text=True, timeout=timeout + 15, env=os.environ)
+        p = subprocess.run(args, cwd=cwd, capture_output=True, text=True, timeout=timeout + 15, env=_env(tree))
     except subprocess.TimeoutExpired:
         return "timeout", 3, ""
     wall = time.perf_counter() - start
@@ -56,7 +68,17 @@ def _doc(out: str) -> dict:
         return {}
 
 
-def measure(n: int, d: int, variant: str, timeout: float, seed: int, enhsp: bool, tmp: Path) -> dict[str, object]:
+def measure(
+    n: int,
+    d: int,
+    variant: str,
+    timeout: float,
+    seed: int,
+    enhsp: bool,
+    tmp: Path,
+    tree: Path | None = None,
+    queries: tuple[str, ...] = QUERIES,
+) -> dict[str, object]:
     cat = gen.build(n, d, seed)
     expect = gen.write(cat, tmp)[variant]
     rec = gen.write(cat, tmp)["recompose"]
@@ -66,7 +88,9 @@ def measure(n: int, d: int, variant: str, timeout: float, seed: int, enhsp: bool
     row: dict[str, object] = {"components": cat.components}
 
     def cell(name: str, args: list[str], ok) -> None:
-        wall, rc, out = _run(catc + args, timeout, tmp)
+        if name not in queries:
+            return
+        wall, rc, out = _run(catc + args, timeout, tmp, tree)
         if wall == "timeout" or rc == 3:
             row[name] = "timeout" if wall == "timeout" else "unknown"
             return
@@ -116,6 +140,47 @@ def fit_exponent(points: list[tuple[float, float]]) -> float | None:
     return None if sxx == 0 else sum((x - mx) * (y - my) for x, y in pts) / sxx
 
 
+def plot(rows: list[tuple[int, int, str, dict]], queries: list[str], out: Path, timeout: float) -> None:
+    """Time against n on log-log axes, one panel per query, a line per (tree, d); a cell
+    without an answer is drawn at the time limit with an open marker."""
+    import matplotlib  # the plots extra: imported only here
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import matplotlib.ticker
+
+    cols = min(4, len(queries))
+    nrows = math.ceil(len(queries) / cols)
+    fig, axes = plt.subplots(nrows, cols, figsize=(4 * cols, 3.4 * nrows), squeeze=False)
+    for ax, q in zip([a for r in axes for a in r], queries, strict=False):
+        for d in sorted({d for _, d, _, _ in rows}):
+            for tree in dict.fromkeys(t for _, _, t, _ in rows):
+                pts = [(n, row.get(q)) for n, dd, t, row in rows if dd == d and t == tree and q in row]
+                if not pts:
+                    continue
+                label = f"{tree} d={d}".strip()
+                xs = [n for n, _ in pts]
+                ys = [v if isinstance(v, float) else timeout for _, v in pts]
+                (line,) = ax.plot(xs, ys, label=label, linestyle="--" if tree == "main" else "-")
+                for x, (_, v) in zip(xs, pts, strict=True):
+                    ok = isinstance(v, float)
+                    ax.plot(x, v if ok else timeout, "o", color=line.get_color(), fillstyle="full" if ok else "none")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        sizes = sorted({n for n, _, _, _ in rows})
+        ax.set_xticks(sizes, [str(n) for n in sizes])
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        ax.set_title(q)
+        ax.set_xlabel("components n")
+        ax.set_ylabel("seconds (process)")
+        ax.axhline(timeout, color="grey", linewidth=0.5)
+        ax.legend(fontsize=6)
+    for ax in [a for r in axes for a in r][len(queries) :]:
+        ax.set_visible(False)
+    fig.tight_layout()
+    fig.savefig(out)
+
+
 def _cell(v: object) -> str:
     return f"{v:.1f}" if isinstance(v, float) else str(v)
 
@@ -129,41 +194,60 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seed", type=int, default=24)
     ap.add_argument("--no-enhsp", action="store_true")
     ap.add_argument("--quick", action="store_true", help="n = 12, 25 and d = 4 only (a smoke test)")
+    ap.add_argument("--queries", default=",".join(QUERIES), help="the columns to run (comma-separated)")
+    ap.add_argument("--trees", default="", help="NAME=DIR,... source trees to compare (default: this one)")
+    ap.add_argument("--plot", type=Path, help="write a log-log plot of time against n here (matplotlib)")
     args = ap.parse_args(argv)
     shown = sys.argv[1:] if argv is None else argv
     sizes = [12, 25] if args.quick else [int(x) for x in args.sizes.split(",")]
     depths = [4] if args.quick else [int(x) for x in args.depths.split(",")]
-    queries = [q for q in QUERIES if not (args.no_enhsp and q.startswith("ENHSP"))]
-    rows: list[tuple[int, int, dict]] = []
+    wanted = [q.strip() for q in args.queries.split(",")]
+    queries = [q for q in QUERIES if q in wanted and not (args.no_enhsp and q.startswith("ENHSP"))]
+    trees: list[tuple[str, Path | None]] = [
+        (name, Path(path).resolve()) for name, _, path in (t.partition("=") for t in args.trees.split(",") if t)
+    ] or [("", None)]
+    rows: list[tuple[int, int, str, dict]] = []
     for d in depths:
         for n in sizes:
             if n < d or d < 3:
                 continue
-            with tempfile.TemporaryDirectory() as tmp:
-                row = measure(n, d, args.variant, args.timeout, args.seed, not args.no_enhsp, Path(tmp))
-            load = os.getloadavg()[0]
-            row["load"] = load
-            rows.append((n, d, row))
-            print(
-                f"  n={n} d={d}: " + ", ".join(f"{k} {_cell(v)}" for k, v in row.items()), file=sys.stderr, flush=True
-            )
+            for i, (name, tree) in enumerate(trees):
+                mine = tuple(q for q in queries if i == 0 or not q.startswith("ENHSP"))  # ENHSP once
+                with tempfile.TemporaryDirectory() as tmp:
+                    row = measure(n, d, args.variant, args.timeout, args.seed, bool(mine), Path(tmp), tree, mine)
+                row["load"] = os.getloadavg()[0]
+                rows.append((n, d, name, row))
+                print(
+                    f"  n={n} d={d} {name}: " + ", ".join(f"{k} {_cell(v)}" for k, v in row.items()),
+                    file=sys.stderr,
+                    flush=True,
+                )
     print(f"`python benchmarks/catalog_scale.py {' '.join(shown)}` — seconds per process, variant {args.variant}\n")
-    print("| n | d | components | " + " | ".join(queries) + " | load (1 min) |")
-    print("|---:|---:|---:|" + "---:|" * len(queries) + "---:|")
-    for n, d, row in rows:
+    print("| n | d | tree | components | " + " | ".join(queries) + " | load (1 min) |")
+    print("|---:|---:|---|---:|" + "---:|" * len(queries) + "---:|")
+    for n, d, name, row in rows:
         cells = " | ".join(_cell(row.get(q, "")) for q in queries)
-        print(f"| {n} | {d} | {row['components']} | {cells} | {row['load']:.1f} |")
+        print(f"| {n} | {d} | {name} | {row['components']} | {cells} | {row['load']:.1f} |")
     print("\nFitted exponent k of time ∝ n^k per depth (least squares on log-log; timeouts left out):\n")
-    print("| d | " + " | ".join(queries) + " |")
-    print("|---:|" + "---:|" * len(queries))
-    for d in sorted({d for _, d, _ in rows}):
-        cells = []
-        for q in queries:
-            pts = [(float(n), v) for n, dd, row in rows if dd == d for v in [row.get(q)] if isinstance(v, float)]
-            k = fit_exponent(pts)
-            cells.append("—" if k is None else f"{k:.2f}")
-        print(f"| {d} | " + " | ".join(cells) + " |")
-    wrong = [(n, d, q) for n, d, row in rows for q, v in row.items() if v == "WRONG"]
+    print("| d | tree | " + " | ".join(queries) + " |")
+    print("|---:|---|" + "---:|" * len(queries))
+    for d in sorted({d for _, d, _, _ in rows}):
+        for name, _ in trees:
+            cells = []
+            for q in queries:
+                pts = [
+                    (float(n), v)
+                    for n, dd, t, row in rows
+                    if dd == d and t == name
+                    for v in [row.get(q)]
+                    if isinstance(v, float)
+                ]
+                k = fit_exponent(pts)
+                cells.append("—" if k is None else f"{k:.2f}")
+            print(f"| {d} | {name} | " + " | ".join(cells) + " |")
+    if args.plot is not None:
+        plot(rows, queries, args.plot, args.timeout)
+    wrong = [(n, d, t, q) for n, d, t, row in rows for q, v in row.items() if v == "WRONG"]
     if wrong:
         print(f"\nWRONG answers: {wrong}", file=sys.stderr)
         return 1

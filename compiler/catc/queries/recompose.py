@@ -8,9 +8,11 @@ in either priority (eq. reconfigure): *stability* first (least churn, then the m
 
 from __future__ import annotations
 
+import time
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
+from itertools import combinations
 from typing import Any
 
 from catc import ir
@@ -30,6 +32,12 @@ from catc.queries.base import (
     timeout_option,
 )
 from catc.queries.optimize import DEFAULT_TACTICS, OptResult, OptStatus, Tactics, objectives_of, optimize
+from catc.queries.optimum import _finish, _not_worse, _scores
+from catc.semantics.horizon import horizon_of
+from catc.semantics.plan import Plan
+from catc.semantics.validate import validate
+from catc.semantics.witness import _candidate
+from catc.smt.consumption import FixedSet, init_value
 
 
 @dataclass
@@ -83,9 +91,16 @@ def recompose(
     mission = [o for o in mission if not isinstance(o.term, ir.TotalChurn)]
     churn = ir.Objective(ir.Sense.MINIMIZE, ir.TotalChurn())
     order = [churn] + mission if priority == "stability" else mission + [churn]
-    result = optimize(
-        inst, order, horizon=horizon, sequential=sequential, timeout=timeout, progress=progress, tactics=tactics
-    )
+    result = None
+    if priority == "stability" or not mission:
+        t0 = time.perf_counter()
+        result = _least_churn_by_sets(inst, order, horizon_of(inst, horizon), sequential)
+        if result is not None:
+            result.timings["total"] = time.perf_counter() - t0
+    if result is None:
+        result = optimize(
+            inst, order, horizon=horizon, sequential=sequential, timeout=timeout, progress=progress, tactics=tactics
+        )
     rec = Recomposition(result, inst.problem.deployed, priority)
     if result.plan is not None:
         used = result.plan.components
@@ -98,6 +113,86 @@ def recompose(
         ]
         rec.churn = sum((i.weight for i in rec.items), Fraction(0))
     return rec
+
+
+#: The most component sets :func:`_least_churn_by_sets` looks at before leaving it to the solver.
+MAX_SETS = 20_000
+#: The most components it adds or removes.
+MAX_CHANGES = 3
+
+
+def _least_churn_by_sets(
+    inst: ir.Instance, objectives: list[ir.Objective], k: int, sequential: bool
+) -> OptResult | None:
+    """The least-churn recomposition without the solver (issue 24), or None (no claim).
+
+    With every churn weight equal to ``w``, a composition of churn ``w·s`` uses the deployed
+    set with ``s`` components added or removed.  The sets of ``s = 0, 1, …`` changes are
+    enumerated until some pass the consumption abstraction for fixed sets
+    (:class:`~catc.smt.consumption.FixedSet`); the component set of every composition
+    passes, so none of fewer changes exists.  Each passing set's components, one per step in
+    an order they can fire, θ at their lower bounds, must be accepted by the validator (else
+    None), and the best of them by the mission objectives — each the maximum of a bounded
+    resource that only decreases — must be at least as good as the abstraction's optimistic
+    value (the initial value minus the set's least consumption) of every passing set: then
+    no composition of the same churn does better.  No soft constraints."""
+    churn, *mission = objectives
+    if not isinstance(churn.term, ir.TotalChurn) or inst.problem.softs:
+        return None
+    weights = {m.churn for m in inst.morphisms.values()}
+    if len(weights) != 1 or next(iter(weights)) <= 0:
+        return None
+    fixed = FixedSet(inst)
+    names: list[str] = []  # the resources the mission maximises
+    for o in mission:
+        term = o.term
+        if not (o.sense is ir.Sense.MAXIMIZE and isinstance(term, ir.ResourceRef) and term.name in fixed.decreasing):
+            return None
+        names.append(term.name)
+    deployed = [m for m in inst.morphisms if m in set(inst.problem.deployed)]
+    others = [m for m in inst.morphisms if m not in set(deployed)]
+    seen = 0
+    passing: list[list[str]] = []
+    everything = fixed.spent(deployed)
+    for size in range(MAX_CHANGES + 1):
+        for removed in range(size + 1):
+            for out in combinations(deployed, removed):
+                base = [m for m in deployed if m not in out]
+                spent = fixed.plus(everything, out, -1)
+                if size > removed and not fixed.fits(base, spent):
+                    continue  # additions only take more of every only-decreasing resource
+                for added in combinations(others, size - removed):
+                    seen += 1
+                    if seen > MAX_SETS:
+                        return None
+                    order = fixed.order({*base, *added}, fixed.plus(spent, added))
+                    if order is not None:
+                        passing.append(order)
+        if passing:
+            break
+    else:
+        return None
+    best: tuple[list, Plan] | None = None
+    bounds = frozenset(m.bound_label(p.name) for m in inst.morphisms.values() for p in m.params)
+    for order in passing:
+        plan = _candidate(inst, bounds, order, order)
+        if plan is None or len(plan.steps) > k:
+            return None
+        report = validate(inst, plan, horizon=k, sequential=sequential)
+        if not report.ok:
+            return None
+        values = _scores(inst, plan, mission, [], k, sequential, report)
+        if best is None or (values != best[0] and _not_worse(values, best[0], mission)):
+            best = (values, plan)
+    assert best is not None
+    for order in passing:  # the optimistic value of every passing set: its final values at best
+        spent = fixed.spent(order)
+        optimistic = [init_value(inst, r) - spent[r] for r in names]
+        if not _not_worse(best[0], optimistic, mission):
+            return None
+    result = OptResult(OptStatus.OPT, k)
+    _finish(inst, result, best[1], objectives, [], [("exact", None)] * len(objectives), k, sequential, True)
+    return result
 
 
 # ====================================================================== output

@@ -44,9 +44,12 @@ from catc.semantics.compositions import canonical_fresh, checked, prune_plan
 from catc.semantics.horizon import horizon_of, use_bound
 from catc.semantics.plan import Plan
 from catc.semantics.relaxed import Refutation, refute
+from catc.semantics.validate import validate
+from catc.semantics.witness import _candidate
 from catc.smt.backend import DEFAULT_BACKEND, Check, open_backend
-from catc.smt.consumption import consumption_proof
+from catc.smt.consumption import bound_refutation, cheapest_support, consumption_proof, least_length
 from catc.smt.encoder import Encoder
+from catc.smt.finite import FiniteSorts
 from catc.smt.readback import read_plan
 from catc.smt.script import SmtSort, Symbol, and_text
 from catc.smt.terms import implies, not_, to_text
@@ -157,16 +160,27 @@ def solve(
             forward = strategy in ("search", "greedy")
             # the forward search ends by the solve's deadline less a margin to replay the plan
             ends = None if timeout is None else time.monotonic() + 0.95 * timeout
-            proof = _presolve(inst, timings, consumption=not forward) if presolve else None
+            found: list[SolveResult] = []  # the consumption abstraction's shortest composition
+            proof = (
+                _presolve(
+                    inst, k, sequential, timings, found if strategy == "incremental" else None, consumption=not forward
+                )
+                if presolve
+                else None
+            )
             searched = None
-            if proof is None and forward:
+            if proof is None and not found and forward:
                 t0 = time.perf_counter()
                 searched = _forward(inst, k, sequential, ends, prove=strategy == "search")
                 timings["solve"] = time.perf_counter() - t0
                 if searched is None and presolve:  # the SMT search runs: issue 24's bound first
-                    proof = _presolve(inst, timings, refuted=True)
+                    proof = _presolve(inst, k, sequential, timings, None, refuted=True)
             if proof is not None:  # no composition of any length: nothing to encode
                 result = SolveResult(SolveStatus.UNSAT, k, final=True, length_bound=use_bound(inst), refutation=proof)
+            elif found:  # the abstraction's composition, of the least length any can have
+                result = found[0]
+                if validate_answer:
+                    _validated(inst, result, k, sequential, prune, timings)
             elif searched is not None:  # the forward search settled it
                 result = searched
                 timings.update(searched.timings)  # first_plan: when the greedy search found one
@@ -220,17 +234,53 @@ def _forward(
 
 
 def _presolve(
-    inst: ir.Instance, timings: dict[str, float], *, consumption: bool = True, refuted: bool = False
+    inst: ir.Instance,
+    k: int,
+    sequential: bool,
+    timings: dict[str, float],
+    found: list[SolveResult] | None,
+    *,
+    consumption: bool = True,
+    refuted: bool = False,
 ) -> Refutation | None:
-    """Relaxed reachability (unless ``refuted``: already tried), then the least-consumption
-    bound (``consumption``; not before the forward search, which proves more on ground tasks
-    and for which that bound costs seconds: blocks-8, 4 CPU s)."""
+    """A proof that no composition of any length exists: relaxed reachability (unless
+    ``refuted``: already tried), then the consumption abstraction (issue 24's catalogs;
+    ``consumption``: not before the forward search, which proves more on ground tasks and
+    for which that bound costs seconds: blocks-8, 4 CPU s).  With ``found`` (a list), the
+    abstraction's shortest composition (:func:`_abstract`) is tried between its solver-free
+    bound and its solver check, and appended when found: then nothing else is needed."""
     t0 = time.perf_counter()
     proof = None if refuted else refute(inst)
     if proof is None and (consumption or refuted):
-        proof = consumption_proof(inst)  # issue 24's catalogs
+        proof = bound_refutation(inst)
+        if proof is None and found is not None:
+            shortest = _abstract(inst, k, sequential)
+            if shortest is not None:
+                found.append(shortest)
+        if proof is None and not found:
+            proof = consumption_proof(inst)
     timings["presolve"] = timings.get("presolve", 0.0) + time.perf_counter() - t0
     return proof
+
+
+def _abstract(inst: ir.Instance, k: int, sequential: bool) -> SolveResult | None:
+    """A shortest composition without the step encoding (issue 24), or None: the morphisms
+    of :func:`cheapest_support`, one per step in an order they can fire, each θ at its lower
+    bound.  It counts only when the independent validator accepts it within the horizon and
+    its length equals :func:`least_length`, a lower bound on every composition's length —
+    then no shorter one exists, which is what the deepening would prove horizon by horizon."""
+    lower = least_length(inst)
+    if lower == 0 or lower > k:
+        return None
+    FiniteSorts(inst, k)  # the universe limit holds as for an encoding (E1106)
+    order = cheapest_support(inst)
+    if order is None or len(order) != lower:
+        return None
+    bounds = frozenset(m.bound_label(p.name) for m in inst.morphisms.values() for p in m.params)
+    plan = _candidate(inst, bounds, order, order)  # every θ at its lower bound (else its upper, else 0)
+    if plan is None or not validate(inst, plan, horizon=k, sequential=sequential).ok:
+        return None
+    return SolveResult(SolveStatus.SAT, k, plan, length_bound=use_bound(inst))
 
 
 def _validated(

@@ -225,7 +225,7 @@ class Consumption:
             return f"(=> {and_text(guards)} (<= (+ 0.0 {' '.join(terms)}) {room}))"
 
         out = [constraint(None)]
-        if any(bound is not None for _, _, _, bound in consumers):
+        if any(bound is not None and on(bound) != "true" for _, _, _, bound in consumers):  # a droppable θ bound
             out += [constraint(m) for m in dict.fromkeys(m for m, _, _, _ in consumers)]
         return out
 
@@ -402,10 +402,9 @@ def stronger_bound(lower: Fraction | bool | None, mine: Fraction | bool | None) 
     return mine if not isinstance(lower, Fraction) or mine > lower else lower
 
 
-def consumption_proof(inst: ir.Instance) -> Any:
-    """A :class:`~catc.semantics.relaxed.Refutation` when the abstraction shows that no
-    composition of any length exists (None otherwise), naming an initial value of its core
-    when there is one (the budget, power, RAM... that cannot cover any composition)."""
+def bound_refutation(inst: ir.Instance) -> Any:
+    """A :class:`~catc.semantics.relaxed.Refutation` when some resource's initial room is
+    below :func:`least_consumption` (no solver), else None."""
     from catc.semantics.relaxed import Refutation
 
     for name, least in least_consumption(inst).items():
@@ -415,6 +414,18 @@ def consumption_proof(inst: ir.Instance) -> Any:
                 f"({least} over the cheapest alternative per needed capability; a consumption bound)",
                 inst.problem.init[name].label,
             )
+    return None
+
+
+def consumption_proof(inst: ir.Instance) -> Any:
+    """A :class:`~catc.semantics.relaxed.Refutation` when the abstraction shows that no
+    composition of any length exists (None otherwise), naming an initial value of its core
+    when there is one (the budget, power, RAM... that cannot cover any composition)."""
+    from catc.semantics.relaxed import Refutation
+
+    proof = bound_refutation(inst)
+    if proof is not None:
+        return proof
     a = Consumption(inst)
     if not a.labels:
         return None
@@ -435,10 +446,13 @@ def least_length(inst: ir.Instance) -> int:
     """A lower bound on the number of steps of any composition reaching the goal: the h_max
     level of the goal's facts (each fact's level is 0 when it holds initially, else one more
     than the least, over its givers, of the greatest level among the giver's facts), with
-    deletes, numeric conditions and θ-dependent facts forgotten.  0 when it cannot tell."""
+    deletes, numeric conditions and θ-dependent facts forgotten.  A morphism that alone takes
+    more of a bounded, only-decreasing resource than there is never fires and gives nothing
+    (:func:`overdrawing`).  0 when it cannot tell."""
     given, any_element = _givers(inst)
-    givers = {a: [m for m, _ in ms] for a, ms in given.items()}
-    anything = {r: [m for m, _ in ms] for r, ms in any_element.items()}
+    never = overdrawing(inst)
+    givers = {a: [m for m, _ in ms if m not in never] for a, ms in given.items()}
+    anything = {r: [m for m, _ in ms if m not in never] for r, ms in any_element.items()}
     needs = {m.name: [a for lit in m.pre for a in _atoms(lit.expr)] for m in inst.morphisms.values()}
 
     def initially(atom: Atom) -> bool:
@@ -510,36 +524,12 @@ def least_consumption(inst: ir.Instance) -> dict[str, Fraction]:
     given, any_element = _givers(inst)
     needs = {m.name: [a for lit in m.pre for a in _atoms(lit.expr)] for m in inst.morphisms.values()}
     goal = [a for lit in inst.problem.goal for a in _atoms(lit.expr)]
-    decreasing = {}
-    for name, res in inst.resources.items():
-        init = inst.problem.init.get(name)
-        if not res.sort.is_numeric or res.lower is None or init is None or not isinstance(init.value, ir.Const):
-            continue
-        amounts = _amounts(inst, name)
-        if amounts:
-            decreasing[name] = amounts
-    # a morphism that alone takes more of a resource than there is never fires
-    never = {m for name, amounts in decreasing.items() for m, a in amounts.items() if a > room(inst, name)}
+    decreasing = _decreasing(inst)
+    never = overdrawing(inst, decreasing)
     atoms = set(given) | {a for ns in needs.values() for a in ns} | set(goal)
 
     def goal_cost(amounts: dict[str, Fraction], excluded: set[str]) -> Fraction | None:
-        cost: dict[Atom, Fraction] = {}
-        for a in atoms:
-            start = inst.problem.init.get(a[0])
-            if start is None or _holds(start, a):
-                cost[a] = Fraction(0)
-        changed = True
-        while changed:  # costs only go down; each round settles one more giver at least
-            changed = False
-            for a in atoms:
-                offers = [m for m, _ in given.get(a, []) + (any_element.get(a[0], []) if a[1] is not None else [])]
-                for m in offers:
-                    if m in excluded or any(b not in cost for b in needs[m]):
-                        continue
-                    c = amounts.get(m, Fraction(0)) + max((cost[b] for b in needs[m]), default=Fraction(0))
-                    if c < cost.get(a, c + 1):
-                        cost[a] = c
-                        changed = True
+        cost = _atom_costs(inst, given, any_element, needs, atoms, amounts, excluded)
         return max((cost[a] for a in goal), default=Fraction(0)) if all(a in cost for a in goal) else None
 
     out: dict[str, Fraction] = {}
@@ -552,8 +542,308 @@ def least_consumption(inst: ir.Instance) -> dict[str, Fraction]:
     return out
 
 
+def _atom_costs(
+    inst: ir.Instance,
+    given: dict[Atom, list[tuple[str, str | None]]],
+    any_element: dict[str, list[tuple[str, str | None]]],
+    needs: dict[str, list[Atom]],
+    atoms: Collection[Atom],
+    amounts: dict[str, Fraction],
+    excluded: Collection[str],
+) -> dict[Atom, Fraction]:
+    """The h_max cost of each reachable fact (:func:`least_consumption`) with the morphisms
+    in ``excluded`` left out; an unreachable fact has none."""
+    cost: dict[Atom, Fraction] = {}
+    for a in atoms:
+        start = inst.problem.init.get(a[0])
+        if start is None or _holds(start, a):
+            cost[a] = Fraction(0)
+    changed = True
+    while changed:  # costs only go down; each round settles one more giver at least
+        changed = False
+        for a in atoms:
+            offers = [m for m, _ in given.get(a, []) + (any_element.get(a[0], []) if a[1] is not None else [])]
+            for m in offers:
+                if m in excluded or any(b not in cost for b in needs[m]):
+                    continue
+                c = amounts.get(m, Fraction(0)) + max((cost[b] for b in needs[m]), default=Fraction(0))
+                if c < cost.get(a, c + 1):
+                    cost[a] = c
+                    changed = True
+    return cost
+
+
+class _GiveUp(Exception):
+    pass
+
+
+def cheapest_support(inst: ir.Instance, expansions: int = 20_000) -> list[str] | None:
+    """A set of morphisms that supports the goal in the consumption abstraction — each fact
+    a used morphism or the goal needs holds initially or is given by a used morphism that
+    fires before — and whose total consumption of every bounded, only-decreasing resource
+    fits its room, in an order they can fire (each fact given before it is needed); None
+    when none was found within ``expansions`` tries (no claim: the solver decides).
+
+    A depth-first search without a solver, deterministic: the open fact needed last is
+    given by one of its givers, the cheapest first (least sum of amount / room), and a
+    branch is cut when what it has spent plus the h_max cost (:func:`least_consumption`)
+    of an open fact exceeds a resource's room.  On a chain of alternatives this bound is
+    exact, and the search hardly backtracks.  Deletes, negative and numeric conditions are
+    forgotten: the caller replays the result with the validator."""
+    given, any_element = _givers(inst)
+    decreasing = _decreasing(inst)
+    never = overdrawing(inst, decreasing) | {m.name for m in inst.morphisms.values() if m.uses == 0}
+    needs = {m.name: [a for lit in m.pre for a in _atoms(lit.expr)] for m in inst.morphisms.values()}
+    goal = list(dict.fromkeys(a for lit in inst.problem.goal for a in _atoms(lit.expr)))
+    atoms = set(given) | {a for ns in needs.values() for a in ns} | set(goal)
+    rooms = {r: room(inst, r) for r in decreasing}
+    costs = {r: _atom_costs(inst, given, any_element, needs, atoms, decreasing[r], never) for r in decreasing}
+
+    def initially(a: Atom) -> bool:
+        init = inst.problem.init.get(a[0])
+        return init is None or _holds(init, a)
+
+    offers = _offers(given, any_element, atoms, never, decreasing, rooms)
+    spent = dict.fromkeys(decreasing, Fraction(0))
+    chosen: list[str] = []
+    gives: dict[Atom, int] = {}  # fact → how many chosen morphisms give it
+    wild: dict[str, int] = {}  # set resource → how many chosen morphisms add any element
+    left = [expansions]
+
+    def given_now(a: Atom) -> bool:
+        return initially(a) or gives.get(a, 0) > 0 or (a[1] is not None and wild.get(a[0], 0) > 0)
+
+    gives_of, adds_of = _gifts(given, any_element)
+
+    def mark(m: str, step: int) -> None:
+        for a in gives_of.get(m, []):
+            gives[a] = gives.get(a, 0) + step
+        for r in adds_of.get(m, []):
+            wild[r] = wild.get(r, 0) + step
+
+    def dfs(open_: list[Atom], depth: int) -> bool:
+        open_ = [a for a in open_ if not given_now(a)]
+        if not open_:
+            return True
+        if not _may_fit(costs, spent, rooms, open_):
+            return False
+        if depth > 400:
+            raise _GiveUp
+        a = open_[-1]
+        for m in offers.get(a, []):
+            if m in chosen:
+                continue
+            left[0] -= 1
+            if left[0] < 0:
+                raise _GiveUp
+            if any(spent[r] + amounts.get(m, Fraction(0)) > rooms[r] for r, amounts in decreasing.items()):
+                continue
+            for r, amounts in decreasing.items():
+                spent[r] += amounts.get(m, Fraction(0))
+            chosen.append(m)
+            mark(m, 1)
+            if dfs(open_[:-1] + list(dict.fromkeys(needs[m])), depth + 1):
+                return True
+            mark(m, -1)
+            chosen.pop()
+            for r, amounts in decreasing.items():
+                spent[r] -= amounts.get(m, Fraction(0))
+        return False
+
+    try:
+        if not dfs(list(reversed(goal)), 0):
+            return None
+    except _GiveUp:
+        return None
+    return _firing_order(list(reversed(chosen)), needs, initially, gives_of, adds_of)  # the deepest first
+
+
+def _offers(
+    given: dict[Atom, list[tuple[str, str | None]]],
+    any_element: dict[str, list[tuple[str, str | None]]],
+    atoms: Collection[Atom],
+    never: Collection[str],
+    decreasing: dict[str, dict[str, Fraction]],
+    rooms: dict[str, Fraction],
+) -> dict[Atom, list[str]]:
+    """Per fact, its givers but ``never``, the cheapest first (least Σ amount / room; ties
+    in declaration order)."""
+
+    def weight(m: str) -> Fraction:
+        return sum(
+            (amounts.get(m, Fraction(0)) / rooms[r] for r, amounts in decreasing.items() if rooms[r] > 0),
+            Fraction(0),
+        )
+
+    offers: dict[Atom, list[str]] = {}
+    for a in atoms:
+        ms = [m for m, _ in given.get(a, []) + (any_element.get(a[0], []) if a[1] is not None else [])]
+        offers[a] = sorted(dict.fromkeys(m for m in ms if m not in never), key=weight)
+    return offers
+
+
+def _may_fit(
+    costs: dict[str, dict[Atom, Fraction]],
+    spent: dict[str, Fraction],
+    rooms: dict[str, Fraction],
+    open_: list[Atom],
+) -> bool:
+    """Whether what is spent plus each open fact's h_max cost stays within every room (an
+    unreachable fact: no)."""
+    for r, cost in costs.items():
+        worst = Fraction(0)
+        for a in open_:
+            c = cost.get(a)
+            if c is None:
+                return False
+            worst = max(worst, c)
+        if spent[r] + worst > rooms[r]:
+            return False
+    return True
+
+
+def _gifts(
+    given: dict[Atom, list[tuple[str, str | None]]], any_element: dict[str, list[tuple[str, str | None]]]
+) -> tuple[dict[str, list[Atom]], dict[str, list[str]]]:
+    """Per morphism, the facts it gives, and the set resources it adds any element to."""
+    gives_of: dict[str, list[Atom]] = {}
+    for a, givers in given.items():
+        for x, _ in givers:
+            gives_of.setdefault(x, []).append(a)
+    adds_of: dict[str, list[str]] = {}
+    for r, adders in any_element.items():
+        for x, _ in adders:
+            adds_of.setdefault(x, []).append(r)
+    return gives_of, adds_of
+
+
+def _firing_order(
+    pending: list[str],
+    needs: dict[str, list[Atom]],
+    initially: Callable[[Atom], bool],
+    gives_of: dict[str, list[Atom]],
+    adds_of: dict[str, list[str]],
+) -> list[str] | None:
+    """An order the ``pending`` morphisms can fire in by relaxed firing from the initial
+    state, the first ready one of ``pending`` each time (None: a cyclic support)."""
+    order: list[str] = []
+    have: set[Atom] = set()
+    anyset: set[str] = set()
+    pending = list(pending)
+    while pending:
+        ready = next(
+            (
+                m
+                for m in pending
+                if all(initially(a) or a in have or (a[1] is not None and a[0] in anyset) for a in needs[m])
+            ),
+            None,
+        )
+        if ready is None:
+            return None
+        pending.remove(ready)
+        order.append(ready)
+        have.update(gives_of.get(ready, []))
+        anyset.update(adds_of.get(ready, []))
+    return order
+
+
+def _decreasing(inst: ir.Instance) -> dict[str, dict[str, Fraction]]:
+    """Per bounded numeric resource with a constant initial value that only decreases: the
+    least amount each morphism takes from it per firing (:func:`_amounts`)."""
+    out = {}
+    for name, res in inst.resources.items():
+        init = inst.problem.init.get(name)
+        if not res.sort.is_numeric or res.lower is None or init is None or not isinstance(init.value, ir.Const):
+            continue
+        amounts = _amounts(inst, name)
+        if amounts:
+            out[name] = amounts
+    return out
+
+
+def overdrawing(inst: ir.Instance, decreasing: dict[str, dict[str, Fraction]] | None = None) -> set[str]:
+    """The morphisms that alone take more of some bounded, only-decreasing resource than it
+    has room for: they never fire (the bound holds in every state)."""
+    decreasing = _decreasing(inst) if decreasing is None else decreasing
+    return {m for name, amounts in decreasing.items() for m, a in amounts.items() if a > room(inst, name)}
+
+
+def init_value(inst: ir.Instance, name: str) -> Fraction:
+    """The constant initial value of numeric resource ``name``."""
+    init = inst.problem.init[name]
+    assert isinstance(init.value, ir.Const)
+    return Fraction(init.value.value)
+
+
 def room(inst: ir.Instance, name: str) -> Fraction:
     """How much resource ``name`` can lose: its initial value minus its lower bound."""
     init, res = inst.problem.init[name], inst.resources[name]
     assert isinstance(init.value, ir.Const) and res.lower is not None
     return Fraction(init.value.value) - res.lower
+
+
+class FixedSet:
+    """The consumption abstraction of one instance for a *given* set of components, every
+    label enforced, without a solver: a set passes (:meth:`order`) when its components can
+    fire in some order, each once, with every positive fact they and the goal need holding
+    initially or given by one fired before, and their least amounts summing within every
+    bounded, only-decreasing resource's room.  The component set of every composition
+    passes, so a set that does not pass is the component set of no composition."""
+
+    def __init__(self, inst: ir.Instance) -> None:
+        self.inst = inst
+        given, any_element = _givers(inst)
+        self.decreasing = _decreasing(inst)
+        self.rooms = {r: room(inst, r) for r in self.decreasing}
+        self.needs = {m.name: [a for lit in m.pre for a in _atoms(lit.expr)] for m in inst.morphisms.values()}
+        self.goal = [a for lit in inst.problem.goal for a in _atoms(lit.expr)]
+        self.unusable = {m.name for m in inst.morphisms.values() if m.uses == 0}
+        #: per morphism, its non-zero least amounts: (resource, amount)
+        self.amounts: dict[str, list[tuple[str, Fraction]]] = {}
+        for r, per in self.decreasing.items():
+            for m, amount in per.items():
+                if amount:
+                    self.amounts.setdefault(m, []).append((r, amount))
+        self.gives_of, self.adds_of = _gifts(given, any_element)
+
+    def spent(self, components: Collection[str]) -> dict[str, Fraction]:
+        """The least each only-decreasing resource loses when each component fires once."""
+        return self.plus(dict.fromkeys(self.decreasing, Fraction(0)), components)
+
+    def plus(self, spent: dict[str, Fraction], components: Iterable[str], sign: int = 1) -> dict[str, Fraction]:
+        """``spent`` with the least amounts of ``components`` added (``sign`` -1: taken off)."""
+        out = dict(spent)
+        for m in components:
+            for r, amount in self.amounts.get(m, ()):
+                out[r] += amount if sign > 0 else -amount
+        return out
+
+    def fits(self, components: Collection[str], spent: dict[str, Fraction] | None = None) -> bool:
+        spent = self.spent(components) if spent is None else spent
+        return all(v <= self.rooms[r] for r, v in spent.items())
+
+    def order(self, components: Collection[str], spent: dict[str, Fraction] | None = None) -> list[str] | None:
+        """An order the set can fire in (None: it does not pass; see the class); ``spent``:
+        :meth:`spent` of the set when the caller has it."""
+        if any(m in self.unusable for m in components) or not self.fits(components, spent):
+            return None
+        inst = self.inst
+
+        def holds(a: Atom) -> bool:
+            init = inst.problem.init.get(a[0])
+            return init is None or _holds(init, a) or a in have or (a[1] is not None and a[0] in anyset)
+
+        have: set[Atom] = set()
+        anyset: set[str] = set()
+        pending = [m for m in inst.morphisms if m in components]  # declaration order
+        out: list[str] = []
+        while pending:
+            ready = next((m for m in pending if all(holds(a) for a in self.needs[m])), None)
+            if ready is None:
+                return None
+            pending.remove(ready)
+            out.append(ready)
+            have.update(self.gives_of.get(ready, []))
+            anyset.update(self.adds_of.get(ready, []))
+        return out if all(holds(a) for a in self.goal) else None
