@@ -663,10 +663,11 @@ CLOCK_EVERY = 2048
 
 def _timed(tokens: Iterator[Token], every: int = CLOCK_EVERY) -> Iterator[Token]:
     """``tokens``, stopping (:func:`catgrammar.limits.check_time`) every ``every`` tokens once
-    the command's time is up: reading a model is a phase like the others."""
+    the command's time is up, with the grace of a phase the answer needs (``FINISH_GRACE``:
+    a query whose time is up still gives its UNKNOWN answer)."""
     for i, tok in enumerate(tokens):
         if i % every == 0:
-            limits.check_time("reading the model")
+            limits.check_time("reading the model", finishing=True)
         yield tok
 
 
