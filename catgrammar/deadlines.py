@@ -16,9 +16,12 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
+from typing import TypeVar
+
+T = TypeVar("T")
 
 
 class Stopped(Exception):
@@ -171,3 +174,35 @@ def check_time(phase: str, finishing: bool = False) -> None:
         raise Interrupted(phase)
     if c.at is not None and time.perf_counter() >= c.at + (FINISH_GRACE if finishing else 0.0):
         raise TimeLimitReached(phase, c.limit)
+
+
+def call_within(phase: str, call: Callable[[], T]) -> T:
+    """``call()`` — code that never looks at the clock (another library's parser) — within the
+    command's time: it runs in a thread of its own and, should the time run out first,
+    :class:`TimeLimitReached` (or :class:`Interrupted`) is raised here while the thread is left
+    to finish on its own (a daemon: it does not keep the process alive).  Without a time
+    limit, ``call()`` here."""
+    c = _clock.get()
+    if c is None or c.at is None:
+        return call()
+    import threading
+
+    check_time(phase)
+    outcome: list = []
+
+    def run() -> None:
+        try:
+            outcome.append((True, call()))
+        except BaseException as exc:  # handed to the caller below
+            outcome.append((False, exc))
+
+    worker = threading.Thread(target=run, name=f"catc-{phase}", daemon=True)
+    worker.start()
+    while not outcome:
+        worker.join(min(0.05, max(0.0, c.at - time.perf_counter())))
+        if not outcome:
+            check_time(phase)  # raises once the time is up (or Ctrl-C)
+    ok, value = outcome[0]
+    if not ok:
+        raise value
+    return value

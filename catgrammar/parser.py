@@ -656,6 +656,21 @@ def _watched(tokens: Iterator[Token], cancelled: Callable[[], bool], every: int 
         yield tok
 
 
+#: How many tokens the reader takes between two looks at the command's clock (a few
+#: milliseconds' work: a 2 MB model is half a million tokens, issue 28 finding 4).
+CLOCK_EVERY = 2048
+
+
+def _timed(tokens: Iterator[Token], every: int = CLOCK_EVERY) -> Iterator[Token]:
+    """``tokens``, stopping (:func:`catgrammar.limits.check_time`) every ``every`` tokens once
+    the command's time is up, with the grace of a phase the answer needs (``FINISH_GRACE``:
+    a query whose time is up still gives its UNKNOWN answer)."""
+    for i, tok in enumerate(tokens):
+        if i % every == 0:
+            limits.check_time("reading the model", finishing=True)
+        yield tok
+
+
 def parse_source(src: Source, diags: Diagnostics, cancelled: Callable[[], bool] | None = None) -> ast.SourceFile | None:
     """Parse one file.  On failure, diagnostics are reported and None is returned.
     ``cancelled`` is asked every few thousand tokens; when it says so, :class:`Cancelled` is
@@ -679,6 +694,8 @@ def parse_source(src: Source, diags: Diagnostics, cancelled: Callable[[], bool] 
     before = len(diags.errors)
     try:
         tokens = tokenize(src.text, limits.current().tokens)
+        if limits.deadline_at() is not None:
+            tokens = _timed(tokens)
         definitions = parser.parse(tokens if cancelled is None else _watched(tokens, cancelled))
     except UnexpectedInput as exc:
         _report_syntax(exc, src, parser, diags)

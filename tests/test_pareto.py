@@ -85,3 +85,47 @@ def test_max_points_marks_the_front_incomplete():
 def test_one_objective_is_an_input_error():
     res = run_catc("pareto", str(DESIGN), "--minimize", "wer")
     assert res.exit_code == 2 and "at least two objectives" in res.stderr
+
+
+def test_ctrl_c_between_two_points_stops_the_front(monkeypatch):
+    """Issue 28: pareto never looked at Ctrl-C between points; the next check got the 1 ms a
+    stopped command has left, and an easy check answers in that (a flake).  Ctrl-C is pressed
+    here right after the first point, and the solver answers every check whatever time it is
+    given: the front stops with its one point, "interrupted", exit 130."""
+    import signal
+
+    from catc.queries import pareto as module
+    from catgrammar import limits
+
+    exclude = module._Guided.exclude
+
+    def first_point_then_ctrl_c(self, values):
+        exclude(self, values)
+        signal.raise_signal(signal.SIGINT)  # the command's handler marks it interrupted
+
+    monkeypatch.setattr(module._Guided, "exclude", first_point_then_ctrl_c)
+    monkeypatch.setattr(limits, "for_check", lambda at=None: None)  # a solver that always answers
+    res = run_catc("pareto", str(DESIGN), "--json")
+    assert res.exit_code == 130, res.output
+    doc = json.loads(res.stdout)
+    assert len(doc["points"]) == 1 and doc["complete"] is False and doc["reason"] == "interrupted", doc
+
+
+def test_the_time_limit_between_two_points_stops_the_front(monkeypatch):
+    from catc.queries import pareto as module
+    from catgrammar import limits
+
+    inst = instance()
+    exclude = module._Guided.exclude
+    clock = {"points": 0}
+
+    def first_point_then_time_is_up(self, values):
+        exclude(self, values)
+        clock["points"] += 1
+        limits.clock().at = float("-inf")  # the limit passed as the point was taken
+
+    monkeypatch.setattr(module._Guided, "exclude", first_point_then_time_is_up)
+    monkeypatch.setattr(limits, "for_check", lambda at=None: None)
+    result = pareto(inst, timeout=600)
+    assert clock["points"] == 1 and len(result.points) == 1
+    assert not result.complete and result.reason == "timeout" and result.status == "front"

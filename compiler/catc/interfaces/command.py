@@ -433,14 +433,11 @@ def command_limits(specs: Sequence[str], memory: int | None, as_json: bool, cap_
 
 def out_of_memory(phase: str | None, as_json: bool) -> NoReturn:
     """E1110, exit 3: the memory limit was reached."""
-    from catc.interfaces.guard import out_of_memory_message
+    from catc.interfaces.guard import out_of_memory_message, stopped_document
 
     message = out_of_memory_message(phase)
-    if as_json:
-        import json
-
-        doc = {"code": codes.OUT_OF_MEMORY, "name": "out-of-memory", "severity": "error", "message": message}
-        echo(json.dumps({"schema": "catc.error/1", "status": "unknown", "diagnostics": [{**doc, "location": None}]}))
+    if as_json:  # with its "reason", as every unknown answer (issue 28)
+        echo(stopped_document(codes.OUT_OF_MEMORY, message))
     echo(f"catc: error[{codes.OUT_OF_MEMORY}]: {message}", err=True)
     sys.exit(EXIT_UNKNOWN)
 

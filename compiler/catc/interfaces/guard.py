@@ -191,18 +191,34 @@ def time_limit_exit(message: str, as_json: bool, echo: Any) -> int:
     return 3
 
 
+#: The ``reason`` of the catc.error/1 document of a command stopped by a limit (status
+#: "unknown", as every unknown answer has its reason — docs/cli.md), by its error code.
+STOP_REASONS = {codes.TIME_LIMIT: "timeout", codes.OUT_OF_MEMORY: "memory"}
+
+
 def _error_document(message: str) -> str:
+    # (issue 28: the time ran out while reading the model, and the document had no reason)
+    return stopped_document(codes.TIME_LIMIT, message)
+
+
+def stopped_document(code: str, message: str) -> str:
+    """The catc.error/1 document of a command stopped by its time (E1109) or memory (E1110)
+    limit: status "unknown" with its reason (:data:`STOP_REASONS`)."""
     import json
 
-    # "reason" as every unknown answer has one (issue 28: the time ran out while reading the model)
-    doc = {"schema": "catc.error/1", "status": "unknown", "reason": "timeout", "diagnostics": [_diag(message)]}
+    doc = {
+        "schema": "catc.error/1",
+        "status": "unknown",
+        "reason": STOP_REASONS[code],
+        "diagnostics": [_diag(code, message)],
+    }
     return json.dumps(doc)
 
 
-def _diag(message: str) -> dict:
+def _diag(code: str, message: str) -> dict:
     return {
-        "code": codes.TIME_LIMIT,
-        "name": codes.CODES[codes.TIME_LIMIT].name,
+        "code": code,
+        "name": codes.CODES[code].name,
         "severity": "error",
         "message": message,
         "location": None,

@@ -93,6 +93,10 @@ class ParetoResult(Result):
 CLIMBS = 24
 
 
+#: What the command is doing while it finds points (a time-limit message names it).
+PHASE = "finding Pareto points"
+
+
 def pareto(
     inst: ir.Instance,
     objectives: list[ir.Objective] | None = None,
@@ -138,6 +142,9 @@ def _front(
     search = _Guided(inst, objectives, k, sequential, result)
     result.timings["encode"] = time.perf_counter() - start
     while len(result.points) < max_points:
+        # Ctrl-C or the time limit between two points: a solver given the 1 ms left may
+        # still answer an easy check, and the front would run on (issue 28)
+        limits.check_time(PHASE)
         found = search.next_point()
         if found is None:
             return
@@ -223,6 +230,7 @@ class _Guided:
             return None
         values, plan = self.values_now(), read_plan(self.solver, self.enc, self.k)
         for _ in range(CLIMBS):  # improve until nothing dominates it
+            limits.check_time(PHASE)
             self.solver.push()
             self.solver.assert_term(self.as_good(values))  # a point that dominates this one
             self.solver.assert_term(self.improving(values))

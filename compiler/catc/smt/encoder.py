@@ -229,6 +229,7 @@ class Encoder:
         self.theta.append(theta)
 
         for m in self.morphisms:
+            limits.check_time("encoding")  # a step of thousands of morphisms takes seconds (issue 28)
             params = {p.name: theta[(m.name, p.name)] for p in m.params}
             for lit in m.pre:
                 ctx = _Ctx(t, params, [])
@@ -240,6 +241,7 @@ class Encoder:
         adds: dict[str, SetChanges] = defaultdict(list)
         removes: dict[str, SetChanges] = defaultdict(list)
         for m in self.morphisms:
+            limits.check_time("encoding")
             params = {p.name: theta[(m.name, p.name)] for p in m.params}
             on: str = b[m.name]
             for e in m.effects:
@@ -298,6 +300,7 @@ class Encoder:
         if r.sort.kind is SortKind.SET:
             assert isinstance(cur, dict) and isinstance(nxt, dict)
             for i in cur:
+                limits.check_time("encoding")  # (adds × elements: quadratic in a large catalogue)
                 added = [_and([on, self._sym_eq(x, i)]) for _, on, x in adds]
                 removed = [_and([on, self._sym_eq(x, i)]) for _, on, x in removes]
                 value = cur[i]
@@ -338,6 +341,7 @@ class Encoder:
                         f"(=> (and {_or([b[u] for u in U])} {_or([b[x] for x in R])}) {self._at_most_one([b[x] for x in group])})",
                     )
             for ma, on_a, x in adds.get(r.name, []):
+                limits.check_time("encoding")
                 for mb, on_b, y in removes.get(r.name, []):
                     if ma != mb:
                         eq = self._sym_eq(x, y)

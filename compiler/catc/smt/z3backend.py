@@ -18,7 +18,7 @@ lifelong loop, tests.  A fresh context costs about 1 ms when the previous one ha
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from fractions import Fraction
 from typing import Any
 
@@ -69,6 +69,25 @@ def _weight_text(w: Fraction) -> str:
     return f"{int_text(w.numerator)}/{w.denominator}"
 
 
+#: About how many characters of SMT-LIB2 Z3 reads in one call (a few tenths of a second).
+PART_CHARS = 1 << 20
+
+
+def _parts(decls: list[Symbol], asserts: list[Assertion]) -> Iterator[str]:
+    """The declarations and assertions as command strings of about :data:`PART_CHARS` each,
+    the declarations first (Z3 keeps what one call declared for the next)."""
+    part = [commands_text(decls, [])]
+    size = len(part[0])
+    for _, a in asserts:
+        part.append(f"(assert {a})")
+        size += len(part[-1])
+        if size >= PART_CHARS:
+            yield "".join(part)
+            part, size = [], 0
+    if size:
+        yield "".join(part)
+
+
 class Z3Backend(Backend):
     name = "z3"
     capabilities = frozenset({Capability.MODELS, Capability.CORES, Capability.OPTIMIZE, Capability.LOGIC})
@@ -94,10 +113,12 @@ class Z3Backend(Backend):
         if decls:
             self._decls.extend(s.declaration() for s in decls)
             self._decl_text = None
-        text = commands_text(list(decls), list(asserts))
-        if text:
+        # Z3's reader of a script cannot be stopped (not even by Z3_interrupt): a large step
+        # is handed over in parts, with a look at the clock between two (issue 28, finding 4)
+        for part in _parts(list(decls), list(asserts)):
+            limits.check_time("encoding")
             try:
-                self.solver.from_string(text)
+                self.solver.from_string(part)
             except z3.Z3Exception as exc:
                 if "out of memory" in str(exc):  # the process's memory limit (--memory)
                     raise MemoryError(f"the solver ran out of memory: {exc}") from None

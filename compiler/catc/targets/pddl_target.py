@@ -20,7 +20,7 @@ from catc import ir
 from catc.queries.base import ExitCode, InputError, Kind, Option, Use
 from catc.targets.base import Echo, OptionError, Target, horizon_option, load_options
 from catc.targets.pddl_base import Flavor
-from catgrammar import codes
+from catgrammar import codes, limits
 from catgrammar.terminal import printable
 
 
@@ -146,13 +146,16 @@ def write(inst: ir.Instance, ex: Any, options: Mapping[str, Any]) -> list[str]:
     ``--no-check``."""
     if not options.get("no_check"):
         _parsers_present(Flavor(options.get("flavor") or "enhsp") is Flavor.SMTPLAN, bool(options.get("strict_check")))
+    limits.check_time("writing the export")
     out = Path(options["output"])
     out.mkdir(parents=True, exist_ok=True)
     dom, prob = out / "domain.pddl", out / "problem.pddl"
     dom.write_text(ex.domain)
     prob.write_text(ex.problem)
+    limits.check_time("writing the export")  # (a large export: seconds of writing)
     report = ex.report.markdown(f"problem {inst.problem.name} of domain {inst.domain.name}")
     (out / "report.md").write_text(report)
+    limits.check_time("writing the export")
     (out / "actions.json").write_text(json.dumps(actions_json(ex), indent=1) + "\n")
     if ex.dials:
         (out / "dials.json").write_text(json.dumps(dials_json(ex), indent=1) + "\n")
@@ -222,7 +225,6 @@ def check_pddlplus(domain_file: Path, problem_file: Path) -> list[str]:
 
 def follow(inst: ir.Instance, ex: Any, options: Mapping[str, Any], echo: Echo) -> int:
     """Parse the written files (unless ``--no-check``), then ``--run`` the planner."""
-    from catgrammar import limits
 
     out = Path(options["output"])
     dom, prob = out / "domain.pddl", out / "problem.pddl"
@@ -239,10 +241,17 @@ def follow(inst: ir.Instance, ex: Any, options: Mapping[str, Any], echo: Echo) -
 
 def _check(plus: bool, dom: Path, prob: Path, strict: bool, echo: Echo) -> None:
     """Parse the written files with parsers catc did not write."""
+    from catgrammar.deadlines import call_within
+
     try:
-        checked = check_pddlplus(dom, prob) if plus else check_pddl(dom, prob, strict)
+        # the parsers never look at catc's clock: they run within the time left (issue 28)
+        checked = call_within(
+            "parsing the export", lambda: check_pddlplus(dom, prob) if plus else check_pddl(dom, prob, strict)
+        )
     except MissingParser as exc:
         raise InputError(str(exc), codes.MISSING_EXTRA) from None
+    except limits.Stopped:
+        raise
     except Exception as exc:  # the parsers' own errors
         which = "a PDDL+ parser" if plus else "a PDDL parser"
         raise InputError(f"{which} rejects the export: {type(exc).__name__}: {exc}", codes.EXPORT_REJECTED) from None
