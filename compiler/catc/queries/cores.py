@@ -456,8 +456,6 @@ class QuickCores:
         self.bound.focus(relevant)
         if not self.bound.refuted(relevant):
             return None
-        from catc.queries.diagnose import quickxplain
-
         return quickxplain(relevant, self.bound.refuted)
 
     def feasible(self, labels: Sequence[str], prefer: str | None = None) -> bool:
@@ -557,3 +555,24 @@ def restoration(
         if plan is not None and validate(raised, plan, horizon=horizon, sequential=sequential).ok:
             return total, short, plan
     return None
+
+
+def quickxplain(labels: list[str], refuted: Callable[[list[str]], bool]) -> list[str]:
+    """A subset of ``labels`` that ``refuted`` holds of and no member of which can be left
+    out, for a monotone ``refuted`` that holds of ``labels`` (Junker's QuickXplain)."""
+
+    def qx(background: list[str], added: bool, candidates: list[str]) -> list[str]:
+        if added and refuted(background):
+            return []
+        if len(candidates) == 1:
+            return candidates
+        half = len(candidates) // 2
+        first, second = candidates[:half], candidates[half:]
+        right = qx(background + first, True, second)
+        left = qx(background + right, bool(right), first)
+        return left + right
+
+    if not labels or refuted([]):
+        return []
+    core = qx([], False, labels)
+    return core if refuted(core) else labels  # a non-monotone corner: keep what is proven

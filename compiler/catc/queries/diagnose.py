@@ -20,7 +20,7 @@ names what stops that composition rather than the whole causal chain.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -44,7 +44,7 @@ from catc.queries.base import (
     presolve_option,
     timeout_option,
 )
-from catc.queries.cores import AbstractCores, QuickCores
+from catc.queries.cores import AbstractCores, QuickCores, quickxplain
 from catc.semantics.horizon import horizon_of
 from catc.semantics.relaxed import RelaxedAnalysis
 from catc.semantics.witness import witnessed
@@ -142,27 +142,6 @@ class _Tests:
                 return Check.UNSAT, found
             return self.model.check(labels, _remaining(None))
         return Check.UNSAT, quickxplain(labels, self.refuted)
-
-
-def quickxplain(labels: list[str], refuted: Callable[[list[str]], bool]) -> list[str]:
-    """A subset of ``labels`` that ``refuted`` holds of and no member of which can be left
-    out, for a monotone ``refuted`` that holds of ``labels`` (Junker's QuickXplain)."""
-
-    def qx(background: list[str], added: bool, candidates: list[str]) -> list[str]:
-        if added and refuted(background):
-            return []
-        if len(candidates) == 1:
-            return candidates
-        half = len(candidates) // 2
-        first, second = candidates[:half], candidates[half:]
-        right = qx(background + first, True, second)
-        left = qx(background + right, bool(right), first)
-        return left + right
-
-    if not labels or refuted([]):
-        return []
-    core = qx([], False, labels)
-    return core if refuted(core) else labels  # a non-monotone corner: keep what is proven
 
 
 def _shrink(tests: _Tests, core: list[str]) -> list[str] | None:
