@@ -629,3 +629,31 @@ def test_the_environment_is_read_by_the_command_line_only(monkeypatch):
     monkeypatch.setenv("CATC_LIMIT_HORIZON", "7")
     assert limits.current().horizon == 1000
     assert limits.from_environment(os.environ).horizon == 7
+
+
+def test_an_interrupt_in_a_finaliser_is_raised_after_it_without_a_traceback(capfd):
+    """Issue 24's runs: the watchdog's SIGINT landed in Z3's ``Solver.__del__`` during garbage
+    collection; Python printed "Exception ignored in ... KeyboardInterrupt" with a traceback
+    on standard error and went on.  Within ``stoppable`` the interrupt is raised again where
+    it can propagate, and nothing is printed.  The finaliser raises it itself: no timing."""
+    import threading
+
+    from catc.interfaces import guard
+    from catgrammar import limits
+
+    assert threading.current_thread() is threading.main_thread()
+
+    class Finalised:
+        def __del__(self):
+            raise KeyboardInterrupt
+
+    interrupted = False
+    with limits.deadline(1000) as clock, guard.stoppable(clock):
+        try:
+            Finalised()  # collected at once: its finaliser raises
+            for _ in range(6000):  # until the signal sent again arrives (at most a minute)
+                threading.Event().wait(0.01)
+        except KeyboardInterrupt:
+            interrupted = True
+    assert interrupted
+    assert "Exception ignored" not in capfd.readouterr().err

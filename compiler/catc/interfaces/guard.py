@@ -128,6 +128,10 @@ def stoppable(clock: limits.Clock) -> Iterator[_Run]:
         return
     previous = signal.getsignal(signal.SIGINT)
     signal.signal(signal.SIGINT, lambda signum, frame: _on_sigint(run))
+    unraisable, alarm = sys.unraisablehook, getattr(signal, "SIGALRM", None)
+    alarm_handler = signal.getsignal(alarm) if alarm is not None else None
+    if alarm is not None:
+        sys.unraisablehook = _interrupt_again(run, unraisable)
     watcher = _watchdog(run)
     try:
         yield run
@@ -136,6 +140,28 @@ def stoppable(clock: limits.Clock) -> Iterator[_Run]:
         if watcher is not None:
             watcher.join(0.1)
         signal.signal(signal.SIGINT, previous)
+        if alarm is not None:
+            signal.setitimer(signal.ITIMER_REAL, 0)
+            if alarm_handler is not None:
+                signal.signal(alarm, alarm_handler)
+        sys.unraisablehook = unraisable
+
+
+def _interrupt_again(run: _Run, previous: Any) -> Any:
+    """A Ctrl-C or the watchdog's SIGINT that lands in a finaliser (Z3's ``Solver.__del__``
+    during garbage collection) cannot propagate: Python would print "Exception ignored in"
+    with a traceback and carry on as if nothing happened.  Instead it is sent again, to be
+    raised where it can be (should it land in a finaliser again, it is sent again)."""
+
+    def hook(unraisable: Any) -> None:
+        if unraisable.exc_type is not None and issubclass(unraisable.exc_type, KeyboardInterrupt):
+            # in 1 ms, by the clock: a signal sent from here would be handled in here again
+            signal.signal(signal.SIGALRM, lambda signum, frame: _on_sigint(run))
+            signal.setitimer(signal.ITIMER_REAL, 0.001)
+            return
+        previous(unraisable)
+
+    return hook
 
 
 def _on_sigint(run: _Run) -> None:
