@@ -1021,9 +1021,9 @@ QUERY = Query(
     "certify",
     summary="Check a catc.certificate/1 (from --certificate: a final UNSAT, a core, a least restoration, an "
     "optimum) with the z3 binary, cvc5 and the validator.",
-    description="PATHS is PROBLEM, or DOMAIN PROBLEM, then the certificate.  Exit 0 every obligation proven by a "
-    "checker other than the tool that produced the answer, 1 one refuted or not matching the model, 3 one "
-    "undecided, 2 input error.",
+    description="PATHS is PROBLEM, or DOMAIN PROBLEM, then the certificate.  Exit 0 when every obligation is "
+    "proven by a checker other than the tool that produced the answer; 1 when one is refuted or does not match the "
+    "model; 3 when one is undecided; 2 on an input error.",
     options=(
         Option("certificate_file", ("CERTIFICATE",), Kind.DOCUMENT_FILE, "The catc.certificate/1 file."),
         Option(
