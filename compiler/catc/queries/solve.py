@@ -179,6 +179,7 @@ def solve(
                 result = SolveResult(SolveStatus.UNSAT, k, final=True, length_bound=use_bound(inst), refutation=proof)
             elif found:  # the abstraction's composition, of the least length any can have
                 result = found[0]
+                timings["support"] = timings.get("presolve", 0.0)  # found in the presolve, nothing encoded
                 if validate_answer:
                     _validated(inst, result, k, sequential, prune, timings)
             elif searched is not None:  # the forward search settled it
@@ -627,6 +628,11 @@ def render(console: Console, inst: ir.Instance, result: SolveResult, options: Ma
     t = result.timings
     if t and result.refutation is not None:
         console.print(f"[dim]time: relaxed reachability {t.get('presolve', 0) * 1000:.0f} ms; nothing encoded[/]")
+    elif t and "support" in t:
+        console.print(
+            f"[dim]time: presolve {t['support'] * 1000:.0f} ms (a supporting composition as short as the least length "
+            f"any can have), validate {t.get('validate', 0) * 1000:.0f} ms; nothing encoded[/]"
+        )
     elif t:
         engine = "Z3" if result.backend == "z3" else result.backend
         start = f"{engine} start {t['start'] * 1000:.0f} ms, " if "start" in t else ""
