@@ -24,7 +24,7 @@ from catc.semantics.plan import Activation, Plan
 from catc.semantics.validate import validate
 from catc.semantics.witness import BIG, _candidate, _restricted
 from catc.smt.backend import Check
-from catc.smt.consumption import Atom, Consumption, _atoms, _givers, _holds, room
+from catc.smt.consumption import Atom, Consumption, _atoms, _givers, _holds, least_restoration, room
 from catgrammar import limits
 from catgrammar.record import replace
 
@@ -557,3 +557,35 @@ def restoration(
         if plan is not None and validate(raised, plan, horizon=horizon, sequential=sequential).ok:
             return total, short, plan
     return None
+
+
+def optimal_restoration(
+    inst: ir.Instance,
+    horizon: int,
+    sequential: bool,
+    reqs: Sequence[tuple[str, str, Fraction]],
+    integral: Collection[str],
+    relaxed: Callable[[dict[str, Fraction]], ir.Instance],
+) -> tuple[Fraction, dict[str, Fraction], Plan] | None:
+    """relax at the exact optimum of the consumption abstraction (issue 24: several
+    resources short, alternatives trading one against another): the least weighted raise
+    over which alternatives fire (:func:`catc.smt.consumption.least_restoration`, a proven
+    lower bound), and a composition of that optimum's supporting morphisms in rank order, θ
+    at their lower bounds, on the raised instance.  It counts only when the independent
+    validator accepts it — then its cost equals the lower bound, so it is least.  (cost,
+    raise per label, composition), or None."""
+    found = least_restoration(inst, reqs, limits.for_check)
+    if found is None:
+        return None
+    total, raised, order = found
+    if not order or len(order) > horizon:
+        return None
+    if any(label in integral and v.denominator != 1 for label, v in raised.items()):
+        return None
+    every = set(label_index(inst))
+    target = relaxed(raised)
+    plan = _candidate(target, every, order, order)
+    limits.check_time("relaxing")
+    if plan is None or not validate(target, plan, horizon=horizon, sequential=sequential).ok:
+        return None
+    return total, raised, plan
