@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import heapq
 import math
+import time
 from collections.abc import Callable, Collection, Iterable, Sequence
 from fractions import Fraction
 from typing import Protocol
@@ -559,6 +560,10 @@ def restoration(
     return None
 
 
+#: The most time :func:`optimal_restoration` takes without a time limit.
+OPTIMAL_SECONDS = 30.0
+
+
 def optimal_restoration(
     inst: ir.Instance,
     horizon: int,
@@ -572,9 +577,12 @@ def optimal_restoration(
     over which alternatives fire (:func:`catc.smt.consumption.least_restoration`, a proven
     lower bound), and a composition of that optimum's supporting morphisms in rank order, θ
     at their lower bounds, on the raised instance.  It counts only when the independent
-    validator accepts it — then its cost equals the lower bound, so it is least.  (cost,
+    validator accepts it — then its cost equals the lower bound, so it is least.  It takes at
+    most half the time left (:data:`OPTIMAL_SECONDS` without a limit), then gives up.  (cost,
     raise per label, composition), or None."""
-    found = least_restoration(inst, reqs, limits.for_check)
+    left = limits.remaining()  # at most half what is left (or 30 s): the search may still answer
+    until = time.perf_counter() + (OPTIMAL_SECONDS if left is None else left / 2)
+    found = least_restoration(inst, reqs, lambda: limits.for_check(until))
     if found is None:
         return None
     total, raised, order = found

@@ -335,17 +335,7 @@ def least_slack(
     Sound because the abstraction forgets every precondition and goal comparison (relaxing
     them is free here) and lowering an initial value never helps a consumption sum."""
     weights = {label: w for label, _, w in reqs}
-    quick: Fraction | None = Fraction(0)  # each resource short of its least consumption needs its own raise
-    for name, least in least_consumption(inst).items():
-        short = least - room(inst, name)
-        if short > 0 and components is None and quick is not None:
-            label = inst.problem.init[name].label
-            quick = None if label not in weights else quick + weights[label] * short
-    # least_consumption leaves out the morphisms that alone take more than there is: a
-    # restoration may instead raise what one of them needs (issue 24: a bound, not the least)
-    escape = _cheapest_overdraw(inst, weights) if components is None else None
-    if escape is not None:
-        quick = escape if quick is None else min(quick, escape)
+    quick = _quick_bound(inst, weights) if components is None else Fraction(0)
     if quick is None:
         return False  # cannot be raised: no relaxation of reqs restores it
     slack = {label: Symbol(f"slack:{label}", SmtSort.REAL) for label, kind, _ in reqs if kind == "initial value"}
@@ -366,6 +356,23 @@ def least_slack(
     if exact is None:
         return quick if quick > 0 else None
     return max(exact, quick)
+
+
+def _quick_bound(inst: ir.Instance, weights: dict[str, Fraction]) -> Fraction | None:
+    """:func:`least_slack`'s bound without a solver (None: no raise of ``weights``' labels
+    restores the instance)."""
+    quick: Fraction | None = Fraction(0)  # each resource short of its least consumption needs its own raise
+    for name, least in least_consumption(inst).items():
+        short = least - room(inst, name)
+        if short > 0 and quick is not None:
+            label = inst.problem.init[name].label
+            quick = None if label not in weights else quick + weights[label] * short
+    # least_consumption leaves out the morphisms that alone take more than there is: a
+    # restoration may instead raise what one of them needs (issue 24: a bound, not the least)
+    escape = _cheapest_overdraw(inst, weights)
+    if escape is not None:
+        quick = escape if quick is None else min(quick, escape)
+    return quick
 
 
 def _cheapest_overdraw(inst: ir.Instance, weights: dict[str, Fraction]) -> Fraction | None:
@@ -875,8 +882,10 @@ def least_restoration(
         b.assert_term(sym)
     cost = "(+ 0.0 " + " ".join(f"(* {real_literal(weights[label])} {s})" for label, s in slack.items()) + ")"
     best: tuple[Fraction, dict[str, Fraction], list[str]] | None = None
-    low = Fraction(0)  # no model costs less than low
-    while True:
+    low = _quick_bound(inst, weights)  # no model costs less than low
+    if low is None:
+        return None
+    while best is None or best[0] > low:
         b.push()
         if best is not None:  # halve the gap while it is wide, then ask for anything cheaper
             mid = (low + best[0]) / 2
@@ -898,6 +907,7 @@ def least_restoration(
             if best is None or not wide:
                 return best
             low = mid
+    return best
 
 
 def _raise_for(
