@@ -20,7 +20,7 @@ import catalog_gen as gen  # noqa: E402
 
 from catc.api import loads  # noqa: E402
 from catc.ir.labels import label_index  # noqa: E402
-from catc.queries.cores import LeastCost, restoration  # noqa: E402
+from catc.queries.cores import LeastCost, optimal_restoration, restoration  # noqa: E402
 from catc.queries.diagnose import DiagnoseStatus, diagnose  # noqa: E402
 from catc.queries.relax import RelaxStatus, relax, relaxed_instance  # noqa: E402
 from catc.smt.backend import Check  # noqa: E402
@@ -165,3 +165,83 @@ def test_unknown_keeps_the_best_core_so_far(monkeypatch: pytest.MonkeyPatch) -> 
     assert [x["label"] for x in diagnosis_json(inst, diag)["best_core"]] == diag.best
     monkeypatch.undo()
     assert LabelledModel(inst, inst.problem.horizon).check(diag.best)[0] is Check.UNSAT
+
+
+def _coupled(levels: list[list[tuple[int, int]]], budget: int, ram: int) -> tuple[str, str]:
+    """A chain of capability levels, each with alternatives (budget, ram) that compete for
+    both resources; the goal needs the last level."""
+    facts = " ".join(f"(l{i} bool)" for i in range(len(levels)))
+    parts = [
+        "(define (domain coupled)\n  (:requirements :numeric)\n  (:resources\n"
+        f"    (budget real :bounds (0 *)) (ram real :bounds (0 *)) {facts})"
+    ]
+    for i, alts in enumerate(levels):
+        for j, (b, r) in enumerate(alts):
+            pre = f"\n    :precondition (and l{i - 1})" if i else ""
+            parts.append(
+                f"  (:morphism alt{i}-{j} :uses 1{pre}\n"
+                f"    :effect (and (assign l{i} true) (decrease budget {b}) (decrease ram {r})))"
+            )
+    domain = "\n".join(parts) + ")\n"
+    problem = (
+        f"(define (problem p) (:domain coupled)\n  (:init (= budget {budget}) (= ram {ram}))\n"
+        f"  (:goal l{len(levels) - 1})\n  (:horizon {len(levels)}))\n"
+    )
+    return domain, problem
+
+
+def _brute_least(levels: list[list[tuple[int, int]]], budget: int, ram: int, wb: int, wr: int) -> Fraction:
+    """The least weighted raise by enumerating one alternative per level (more than one per
+    level only consumes more): each resource raised by its shortfall, no more."""
+    import itertools
+
+    best = None
+    for pick in itertools.product(*levels):
+        cost = wb * max(0, sum(b for b, _ in pick) - budget) + wr * max(0, sum(r for _, r in pick) - ram)
+        best = cost if best is None else min(best, cost)
+    assert best is not None
+    return Fraction(best)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_relax_of_a_coupled_cut_is_the_brute_force_least(seed: int) -> None:
+    """Budget and RAM both cut; alternatives trade one for the other.  relax must be proven
+    least and its weighted total must equal the brute-force least over one alternative per
+    level — whichever route (the per-resource shortfall or the abstraction's optimum)."""
+    rng = random.Random(seed)
+    levels = [[(rng.randint(1, 9), rng.randint(1, 9)) for _ in range(rng.randint(2, 3))] for _ in range(3)]
+    cheapest_b = sum(min(b for b, _ in alts) for alts in levels)
+    cheapest_r = sum(min(r for _, r in alts) for alts in levels)
+    budget, ram = cheapest_b + 1, cheapest_r + 1  # each resource alone: some selection fits
+    domain, problem = _coupled(levels, budget, ram)
+    inst = loads({"domain.cat": domain, "p.cat": problem}, "p.cat").instance
+    least = _brute_least(levels, budget, ram, 2, 3)
+    weights = {"init/budget": Fraction(2), "init/ram": Fraction(3)}
+    rel = relax(inst, weights=weights, timeout=60)
+    if least == 0:
+        assert rel.status is RelaxStatus.SAT
+        return
+    assert rel.status is RelaxStatus.RELAXED and rel.proven
+    assert rel.cost == least
+    assert sum((weights[r.label] * r.delta for r in rel.relaxations), Fraction(0)) == least
+
+
+def test_coupled_cut_needs_both_resources_raised() -> None:
+    """By hand: two levels, alternatives (budget, ram) = (1, 10) or (10, 1) each; budget 10
+    and RAM 10.  Picking (1, 10) twice: RAM +10; (10, 1) twice: budget +10; one of each:
+    budget 11 and RAM 11, so +1 each, total 2 at weight 1 — the least, raising both.  The per-resource
+    shortfall route has no shortfall to raise (the cheapest per level fits each resource
+    alone), so only the abstraction's optimum finds it."""
+    levels = [[(1, 10), (10, 1)], [(1, 10), (10, 1)]]
+    domain, problem = _coupled(levels, 10, 10)
+    inst = loads({"domain.cat": domain, "p.cat": problem}, "p.cat").instance
+    assert _brute_least(levels, 10, 10, 1, 1) == 2
+    every = {"init/budget": Fraction(1), "init/ram": Fraction(1)}
+    assert restoration(inst, 2, False, every, set(), lambda d: relaxed_instance(inst, d)) is None
+    triples = [(label, "initial value", w) for label, w in every.items()]
+    found = optimal_restoration(inst, 2, False, triples, set(), lambda d: relaxed_instance(inst, d))
+    assert found is not None and found[0] == 2
+    assert found[1] == {"init/budget": Fraction(1), "init/ram": Fraction(1)}
+    rel = relax(inst, timeout=60)
+    assert rel.status is RelaxStatus.RELAXED and rel.proven and rel.cost == 2
+    assert {r.label: r.delta for r in rel.relaxations} == {"init/budget": Fraction(1), "init/ram": Fraction(1)}

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import heapq
 import math
+import time
 from collections.abc import Callable, Collection, Iterable, Sequence
 from fractions import Fraction
 from typing import Protocol
@@ -24,7 +25,7 @@ from catc.semantics.plan import Activation, Plan
 from catc.semantics.validate import validate
 from catc.semantics.witness import BIG, _candidate, _restricted
 from catc.smt.backend import Check
-from catc.smt.consumption import Atom, Consumption, _atoms, _givers, _holds, room
+from catc.smt.consumption import Atom, Consumption, _atoms, _givers, _holds, least_restoration, room
 from catgrammar import limits
 from catgrammar.record import replace
 
@@ -555,6 +556,45 @@ def restoration(
         if plan is not None and validate(raised, plan, horizon=horizon, sequential=sequential).ok:
             return total, short, plan
     return None
+
+
+#: The most time :func:`optimal_restoration` takes without a time limit.
+OPTIMAL_SECONDS = 30.0
+
+
+def optimal_restoration(
+    inst: ir.Instance,
+    horizon: int,
+    sequential: bool,
+    reqs: Sequence[tuple[str, str, Fraction]],
+    integral: Collection[str],
+    relaxed: Callable[[dict[str, Fraction]], ir.Instance],
+) -> tuple[Fraction, dict[str, Fraction], Plan] | None:
+    """relax at the exact optimum of the consumption abstraction (issue 24: several
+    resources short, alternatives trading one against another): the least weighted raise
+    over which alternatives fire (:func:`catc.smt.consumption.least_restoration`, a proven
+    lower bound), and a composition of that optimum's supporting morphisms in rank order, θ
+    at their lower bounds, on the raised instance.  It counts only when the independent
+    validator accepts it — then its cost equals the lower bound, so it is least.  It takes at
+    most half the time left (:data:`OPTIMAL_SECONDS` without a limit), then gives up.  (cost,
+    raise per label, composition), or None."""
+    left = limits.remaining()  # at most half what is left (or 30 s): the search may still answer
+    until = time.perf_counter() + (OPTIMAL_SECONDS if left is None else left / 2)
+    found = least_restoration(inst, reqs, lambda: limits.for_check(until))
+    if found is None:
+        return None
+    total, raised, order = found
+    if not order or len(order) > horizon:
+        return None
+    if any(label in integral and v.denominator != 1 for label, v in raised.items()):
+        return None
+    every = set(label_index(inst))
+    target = relaxed(raised)
+    plan = _candidate(target, every, order, order)
+    limits.check_time("relaxing")
+    if plan is None or not validate(target, plan, horizon=horizon, sequential=sequential).ok:
+        return None
+    return total, raised, plan
 
 
 def quickxplain(labels: list[str], refuted: Callable[[list[str]], bool]) -> list[str]:

@@ -34,7 +34,7 @@ from catc.queries.base import (
     json_option,
     timeout_option,
 )
-from catc.queries.cores import restoration
+from catc.queries.cores import optimal_restoration, restoration
 from catc.semantics.compositions import canonical_fresh, checked
 from catc.semantics.horizon import horizon_of
 from catc.semantics.plan import Plan, value_to_json
@@ -266,6 +266,9 @@ def _at_bound(inst: ir.Instance, k: int, sequential: bool, reqs: list[Requiremen
     weights = {r.label: r.weight for r in reqs if r.kind == "initial value"}
     integral = {r.label for r in reqs if r.integral}
     found = restoration(inst, k, sequential, weights, integral, lambda deltas: relaxed_instance(inst, deltas))
+    if found is None:  # several resources short: the abstraction's exact optimum
+        triples = [(r.label, r.kind, r.weight) for r in reqs]
+        found = optimal_restoration(inst, k, sequential, triples, integral, lambda d: relaxed_instance(inst, d))
     if found is None:
         return None
     cost, raised, plan = found

@@ -335,17 +335,7 @@ def least_slack(
     Sound because the abstraction forgets every precondition and goal comparison (relaxing
     them is free here) and lowering an initial value never helps a consumption sum."""
     weights = {label: w for label, _, w in reqs}
-    quick: Fraction | None = Fraction(0)  # each resource short of its least consumption needs its own raise
-    for name, least in least_consumption(inst).items():
-        short = least - room(inst, name)
-        if short > 0 and components is None and quick is not None:
-            label = inst.problem.init[name].label
-            quick = None if label not in weights else quick + weights[label] * short
-    # least_consumption leaves out the morphisms that alone take more than there is: a
-    # restoration may instead raise what one of them needs (issue 24: a bound, not the least)
-    escape = _cheapest_overdraw(inst, weights) if components is None else None
-    if escape is not None:
-        quick = escape if quick is None else min(quick, escape)
+    quick = _quick_bound(inst, weights) if components is None else Fraction(0)
     if quick is None:
         return False  # cannot be raised: no relaxation of reqs restores it
     slack = {label: Symbol(f"slack:{label}", SmtSort.REAL) for label, kind, _ in reqs if kind == "initial value"}
@@ -366,6 +356,23 @@ def least_slack(
     if exact is None:
         return quick if quick > 0 else None
     return max(exact, quick)
+
+
+def _quick_bound(inst: ir.Instance, weights: dict[str, Fraction]) -> Fraction | None:
+    """:func:`least_slack`'s bound without a solver (None: no raise of ``weights``' labels
+    restores the instance)."""
+    quick: Fraction | None = Fraction(0)  # each resource short of its least consumption needs its own raise
+    for name, least in least_consumption(inst).items():
+        short = least - room(inst, name)
+        if short > 0 and quick is not None:
+            label = inst.problem.init[name].label
+            quick = None if label not in weights else quick + weights[label] * short
+    # least_consumption leaves out the morphisms that alone take more than there is: a
+    # restoration may instead raise what one of them needs (issue 24: a bound, not the least)
+    escape = _cheapest_overdraw(inst, weights)
+    if escape is not None:
+        quick = escape if quick is None else min(quick, escape)
+    return quick
 
 
 def _cheapest_overdraw(inst: ir.Instance, weights: dict[str, Fraction]) -> Fraction | None:
@@ -847,3 +854,73 @@ class FixedSet:
             have.update(self.gives_of.get(ready, []))
             anyset.update(self.adds_of.get(ready, []))
         return out if all(holds(a) for a in self.goal) else None
+
+
+def least_restoration(
+    inst: ir.Instance,
+    reqs: Sequence[tuple[str, str, Fraction]],
+    timeout: Callable[[], float | None] = lambda: None,
+) -> tuple[Fraction, dict[str, Fraction], list[str]] | None:
+    """The least weighted raise of the eligible initial values (``reqs``: (label, kind,
+    weight)) that lets the whole catalog's abstraction hold with every label enforced —
+    exact: a rational slack per initial value, and a bisection on the weighted total with
+    one incremental solver (Z3's Optimize takes minutes on these sums), ended by a proof
+    that no model costs less — with the raise per label of an optimal model and the
+    morphisms that model uses to support the goal, in rank order
+    (:meth:`Consumption.support`).  None: unknown (a check gave up; ``timeout`` gives each
+    check its time), infeasible, or the model gives no support (issue 24).
+
+    The total is a lower bound on every restoration (:func:`least_slack`); a composition of
+    the support that the validator accepts on the raised instance is therefore least."""
+    weights = {label: w for label, kind, w in reqs if kind == "initial value"}
+    slack = {label: Symbol(f"slack:{label}", SmtSort.REAL) for label in weights}
+    a = Consumption(inst, slack=slack)
+    b = a.backend
+    for s in slack.values():
+        b.assert_term(f"(>= {s} 0.0)")
+    for sym in a.indicator.values():
+        b.assert_term(sym)
+    cost = "(+ 0.0 " + " ".join(f"(* {real_literal(weights[label])} {s})" for label, s in slack.items()) + ")"
+    best: tuple[Fraction, dict[str, Fraction], list[str]] | None = None
+    low = _quick_bound(inst, weights)  # no model costs less than low
+    if low is None:
+        return None
+    while best is None or best[0] > low:
+        b.push()
+        if best is not None:  # halve the gap while it is wide, then ask for anything cheaper
+            mid = (low + best[0]) / 2
+            wide = best[0] - low > 1
+            b.assert_term(f"(<= {cost} {real_literal(mid)})" if wide else f"(< {cost} {real_literal(best[0])})")
+        b.set_timeout(timeout())
+        r = b.check()
+        if r is Check.SAT:  # the raise its support needs (the model's slack may be more)
+            order = a.support(a.labels)
+            values = None if order is None else _raise_for(inst, order, weights)
+            if order is None or values is None:
+                b.pop()
+                return None
+            best = (sum((weights[label] * v for label, v in values.items()), Fraction(0)), values, order)
+        b.pop()
+        if r is Check.UNKNOWN:
+            return None
+        if r is Check.UNSAT:
+            if best is None or not wide:
+                return best
+            low = mid
+    return best
+
+
+def _raise_for(
+    inst: ir.Instance, components: Collection[str], weights: dict[str, Fraction]
+) -> dict[str, Fraction] | None:
+    """The raise of each initial value that ``components``, each firing once at its least
+    amounts, need (None: a resource they overdraw may not be raised)."""
+    out: dict[str, Fraction] = {}
+    for name, amounts in _decreasing(inst).items():
+        need = sum((amounts.get(m, Fraction(0)) for m in components), Fraction(0)) - room(inst, name)
+        if need > 0:
+            label = inst.problem.init[name].label
+            if label not in weights:
+                return None
+            out[label] = need
+    return out
