@@ -204,3 +204,21 @@ def test_the_documented_grace_is_the_finish_grace():
     from catc.interfaces import guard
 
     assert f"{guard.GRACE:g} s past the limit" in doc and f"{guard.LAST_GRACE:g} s after that" in doc
+
+
+@pytest.mark.parametrize("optimize", [False, True])
+def test_a_step_read_in_parts_keeps_its_declarations(monkeypatch, optimize):
+    """relax at 200 components (issue 24) ended in an internal error, "unknown constant":
+    a Z3 Optimize, unlike a Solver, forgets what one from_string declared by the next, so the
+    second part of a large step named undeclared constants.  Every part of either kind (and a
+    later add naming earlier declarations) reads, and the assertions all count."""
+    from catc.smt import z3backend
+    from catc.smt.backend import Check
+    from catc.smt.script import SmtSort, Symbol
+
+    monkeypatch.setattr(z3backend, "PART_CHARS", 40)
+    b = z3backend.Z3Backend(optimize=optimize)
+    xs = [Symbol(f"x{i}", SmtSort.INT) for i in range(20)]
+    b.add(xs, [(None, f"(> x{i} {i})") for i in range(20)])  # many parts
+    b.add([], [(None, "(< (+ x0 x19) 21)")])  # a later call: x0 > 0 and x19 > 19 leave no room
+    assert b.check() is Check.UNSAT

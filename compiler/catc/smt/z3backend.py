@@ -114,11 +114,13 @@ class Z3Backend(Backend):
             self._decls.extend(s.declaration() for s in decls)
             self._decl_text = None
         # Z3's reader of a script cannot be stopped (not even by Z3_interrupt): a large step
-        # is handed over in parts, with a look at the clock between two (issue 28, finding 4)
-        for part in _parts(list(decls), list(asserts)):
+        # is handed over in parts, with a look at the clock between two (issue 28, finding 4).
+        # An Optimize forgets one call's declarations by the next: each part repeats them all.
+        again = "".join(self._decls) if isinstance(self.solver, z3.Optimize) else ""
+        for part in _parts([] if again else list(decls), list(asserts)):
             limits.check_time("encoding")
             try:
-                self.solver.from_string(part)
+                self.solver.from_string(again + part)
             except z3.Z3Exception as exc:
                 if "out of memory" in str(exc):  # the process's memory limit (--memory)
                     raise MemoryError(f"the solver ran out of memory: {exc}") from None
