@@ -657,3 +657,26 @@ def test_an_interrupt_in_a_finaliser_is_raised_after_it_without_a_traceback(capf
             interrupted = True
     assert interrupted
     assert "Exception ignored" not in capfd.readouterr().err
+
+
+@pytest.mark.parametrize("query", ["relax", "diagnose"])
+def test_an_unknown_relax_or_diagnose_says_why(query):
+    """relax at 200 components printed "UNKNOWN  the solver gave up" at its time limit, where
+    solve says "the solver gave up (timeout)": the reason is in the text as in the JSON."""
+    from catc.api import load
+    from catc.present.console import PlainConsole
+    from catc.queries import registry
+
+    model = load(EX / "lifelong/cheaper-camera.cat")
+    q = registry.get(query)
+    if query == "relax":
+        from catc.queries.relax import RelaxResult, RelaxStatus
+
+        result = RelaxResult(RelaxStatus.UNKNOWN, reason="timeout")
+    else:
+        from catc.queries.diagnose import DiagnoseStatus, Diagnosis
+
+        result = Diagnosis(DiagnoseStatus.UNKNOWN, reason="timeout")
+    lines: list[str] = []
+    q.render(PlainConsole(lines.append), model.instance, result, {})
+    assert "UNKNOWN" in lines[0] and "(timeout)" in lines[0], lines

@@ -409,3 +409,8 @@ def diagram_artifact(inst: ir.Instance, result: Any, options: Mapping[str, Any])
     except OSError as exc:
         raise InputError(f"cannot write the diagram to {path}: {exc.strerror or exc}", code=codes.CANNOT_WRITE) from exc
     return [f"diagram written to {path}"]
+
+
+def unknown_why(reason: str | None) -> str:
+    """Why an answer is unknown, in the words solve uses ("the solver gave up (timeout)")."""
+    return f"the solver gave up ({reason})" if reason else "the solver gave up"

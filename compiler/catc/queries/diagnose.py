@@ -43,6 +43,7 @@ from catc.queries.base import (
     json_option,
     presolve_option,
     timeout_option,
+    unknown_why,
 )
 from catc.queries.cores import AbstractCores, QuickCores, quickxplain
 from catc.semantics.horizon import horizon_of
@@ -333,7 +334,7 @@ def _render_answer(console: Console, inst: ir.Instance, diag: Diagnosis) -> None
         )
         return
     if diag.status is not DiagnoseStatus.UNSAT:
-        why = "interrupted" if diag.reason == "interrupted" else "the solver gave up"
+        why = "interrupted" if diag.reason == "interrupted" else unknown_why(diag.reason)
         if diag.best is None:
             console.print(f"[bold yellow]UNKNOWN[/]  {why} before finding a core")
             return

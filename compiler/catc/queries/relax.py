@@ -33,6 +33,7 @@ from catc.queries.base import (
     diagram_artifact,
     json_option,
     timeout_option,
+    unknown_why,
 )
 from catc.queries.cores import optimal_restoration, restoration
 from catc.semantics.compositions import canonical_fresh, checked
@@ -608,7 +609,7 @@ def _render_answer(console: Console, inst: ir.Instance, result: RelaxResult) -> 
         console.print("[bold red]UNSAT[/]  no relaxation of the eligible requirements restores feasibility")
         return
     if result.status is not RelaxStatus.RELAXED:
-        why = "interrupted" if result.reason == "interrupted" else "the solver gave up"
+        why = "interrupted" if result.reason == "interrupted" else unknown_why(result.reason)
         console.print(f"[bold yellow]UNKNOWN[/]  {why}")
         return
     index = label_index(inst)
