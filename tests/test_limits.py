@@ -680,3 +680,32 @@ def test_an_unknown_relax_or_diagnose_says_why(query):
     lines: list[str] = []
     q.render(PlainConsole(lines.append), model.instance, result, {})
     assert "UNKNOWN" in lines[0] and "(timeout)" in lines[0], lines
+
+
+def test_out_of_memory_is_reported_even_when_printing_runs_out(monkeypatch, capfd):
+    """CI's slow group, under load: at the memory limit, writing the E1110 report itself ran
+    out of memory and Python ended with "MemoryError ... lost sys.stderr", exit 1.  The
+    memory set aside is given back first, and should printing still fail, the code is written
+    directly with exit 3.  (Printing is made to fail here: no memory is exhausted.)"""
+    from catc.interfaces import command, guard
+
+    class Reserve:
+        closed = False
+
+        def close(self):
+            Reserve.closed = True
+
+    monkeypatch.setattr(guard, "_reserve", [Reserve()])
+
+    def no_memory(*args, **kwargs):
+        raise MemoryError
+
+    def exit_now(code):
+        raise SystemExit(code)
+
+    monkeypatch.setattr(command, "echo", no_memory)
+    monkeypatch.setattr(command.os, "_exit", exit_now)
+    with pytest.raises(SystemExit) as stop:
+        command.out_of_memory("solving", False)
+    assert stop.value.code == 3 and Reserve.closed
+    assert "error[E1110]" in capfd.readouterr().err

@@ -433,12 +433,17 @@ def command_limits(specs: Sequence[str], memory: int | None, as_json: bool, cap_
 
 def out_of_memory(phase: str | None, as_json: bool) -> NoReturn:
     """E1110, exit 3: the memory limit was reached."""
-    from catc.interfaces.guard import out_of_memory_message, stopped_document
+    from catc.interfaces.guard import out_of_memory_message, release_reserve, stopped_document
 
-    message = out_of_memory_message(phase)
-    if as_json:  # with its "reason", as every unknown answer (issue 28)
-        echo(stopped_document(codes.OUT_OF_MEMORY, message))
-    echo(f"catc: error[{codes.OUT_OF_MEMORY}]: {message}", err=True)
+    release_reserve()  # room to write the report
+    try:
+        message = out_of_memory_message(phase)
+        if as_json:  # with its "reason", as every unknown answer (issue 28)
+            echo(stopped_document(codes.OUT_OF_MEMORY, message))
+        echo(f"catc: error[{codes.OUT_OF_MEMORY}]: {message}", err=True)
+    except MemoryError:  # not even that: the code and exit 3, written without Python's help
+        os.write(2, f"catc: error[{codes.OUT_OF_MEMORY}]: the memory limit was reached\n".encode())
+        os._exit(EXIT_UNKNOWN)
     sys.exit(EXIT_UNKNOWN)
 
 

@@ -65,6 +65,19 @@ def command_limits(
     return found
 
 
+#: Memory set aside under ``--memory`` and given back when the limit is reached, so that the
+#: E1110 report can still be written: without it, Python itself may run out while printing it
+#: ("MemoryError ... lost sys.stderr", exit 1 — seen in CI's slow group under load).
+RESERVE_BYTES = 8 * 1024 * 1024
+_reserve: list[Any] = []  # an anonymous mapping: address space, no page touched
+
+
+def release_reserve() -> None:
+    """Give back the memory :func:`limit_memory` set aside (the limit was reached)."""
+    while _reserve:
+        _reserve.pop().close()
+
+
 def limit_memory(megabytes: int) -> None:
     """Cap this process at ``megabytes`` of address space (0: no cap) and the solver at as
     much.  The soft limit only: a child process may raise it again (a planner does:
@@ -75,6 +88,10 @@ def limit_memory(megabytes: int) -> None:
         import resource
     except ImportError:  # pragma: no cover - not on POSIX: the solver's limit only
         resource = None  # type: ignore[assignment]
+    if megabytes and not _reserve:
+        import mmap
+
+        _reserve.append(mmap.mmap(-1, RESERVE_BYTES))
     if resource is not None:
         _, hard = resource.getrlimit(resource.RLIMIT_AS)
         soft = resource.RLIM_INFINITY if megabytes == 0 else megabytes * limits.MIB
