@@ -21,6 +21,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn
 
+from catc.interfaces import guard
 from catc.queries.base import ExitCode, InputError, Kind, Query
 from catgrammar import codes
 
@@ -84,6 +85,8 @@ def guarded(
         echo(f"catc: error[{codes.TIME_LIMIT}]: {time_limit_message(exc.seconds, exc.phase)}", err=True)
         sys.exit(EXIT_UNKNOWN)
     except Exception as exc:  # a bug, reported without a traceback
+        if guard.out_of_memory_error(exc):
+            out_of_memory(None, False)
         if os.environ.get("CATC_DEBUG"):
             raise
         from catc.semantics.validate import ValidationFailure
@@ -391,7 +394,6 @@ def run_query(name: str, paths: Sequence[str], raw: Mapping[str, Any]) -> NoRetu
     the answer's exit code (130 when interrupted).  ``raw`` holds every option's value as the
     command line gives it (see :func:`convert`).  The limits (``--limit``, ``--memory``,
     ``CATC_LIMIT_*``) and the time limit (``--timeout``) hold from loading to printing."""
-    from catc.interfaces import guard
     from catc.queries import registry
     from catgrammar import limits
 
@@ -410,7 +412,9 @@ def run_query(name: str, paths: Sequence[str], raw: Mapping[str, Any]) -> NoRetu
             code = guard.stopped_exit(run, as_json, echo)
         except limits.TimeLimitReached as exc:  # reading the model, before the query could answer
             code = guard.time_limit_exit(guard.time_limit_message(exc.seconds, exc.phase), as_json, echo)
-        except MemoryError:
+        except (MemoryError, SystemError) as exc:
+            if not guard.out_of_memory_error(exc):
+                raise
             out_of_memory(clock.root.phase, as_json)
         except limits.LimitExceeded as exc:
             limit_error(exc, as_json)
@@ -420,30 +424,25 @@ def run_query(name: str, paths: Sequence[str], raw: Mapping[str, Any]) -> NoRetu
 def command_limits(specs: Sequence[str], memory: int | None, as_json: bool, cap_memory: bool = True) -> Any:
     """The limits of this command (E1111 when malformed), with the process's memory capped
     (``cap_memory``: the commands that take ``--memory``)."""
-    from catc.interfaces import guard
-
     try:
         found = guard.command_limits(specs, memory)
     except guard.LimitArgumentError as exc:
         argument_error(str(exc), exc.code, as_json)
     if cap_memory:
-        guard.limit_memory(found.memory)
+        guard.limit_memory(found.memory, as_json)
     return found
 
 
 def out_of_memory(phase: str | None, as_json: bool) -> NoReturn:
     """E1110, exit 3: the memory limit was reached."""
-    from catc.interfaces.guard import out_of_memory_message, release_reserve, stopped_document
-
-    release_reserve()  # room to write the report
     try:
-        message = out_of_memory_message(phase)
+        guard.release_reserve()  # room to write the report
+        message = guard.out_of_memory_message(phase)
         if as_json:  # with its "reason", as every unknown answer (issue 28)
-            echo(stopped_document(codes.OUT_OF_MEMORY, message))
+            echo(guard.stopped_document(codes.OUT_OF_MEMORY, message))
         echo(f"catc: error[{codes.OUT_OF_MEMORY}]: {message}", err=True)
-    except MemoryError:  # not even that: the code and exit 3, written without Python's help
-        os.write(2, f"catc: error[{codes.OUT_OF_MEMORY}]: the memory limit was reached\n".encode())
-        os._exit(EXIT_UNKNOWN)
+    except MemoryError:  # not even that: the report prepared beforehand, without Python's help
+        guard.last_words()
     sys.exit(EXIT_UNKNOWN)
 
 

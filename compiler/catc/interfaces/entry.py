@@ -130,6 +130,17 @@ def main(argv: list[str] | None = None) -> None:
     """Run ``catc`` with ``argv`` (default: the process's arguments); exits."""
     if argv is None:
         configure_process()
+        from catc.interfaces import guard
+
+        try:
+            _main(argv)
+        except MemoryError:  # at the memory limit, even the E1110 report ran out (exit 3)
+            guard.last_words()
+    else:
+        _main(argv)
+
+
+def _main(argv: list[str] | None) -> None:
     args = sys.argv[1:] if argv is None else list(argv)
     from catc.queries import registry
 

@@ -69,19 +69,55 @@ def command_limits(
 #: E1110 report can still be written: without it, Python itself may run out while printing it
 #: ("MemoryError ... lost sys.stderr", exit 1 — seen in CI's slow group under load).
 RESERVE_BYTES = 8 * 1024 * 1024
-_reserve: list[Any] = []  # an anonymous mapping: address space, no page touched
+#: The bound ``close`` of each reservation: at the limit even looking a method up allocates (a
+#: bound-method object, perhaps a new 1 MB arena) and can raise MemoryError itself, so the
+#: method is looked up while there is memory.
+_reserve: list[Any] = []
+#: The report of :func:`last_words`, rendered while there was memory: (stdout, stderr) bytes.
+_last_words: list[bytes] = []
 
 
 def release_reserve() -> None:
-    """Give back the memory :func:`limit_memory` set aside (the limit was reached)."""
+    """Give back the memory :func:`limit_memory` set aside (the limit was reached).  Looks
+    nothing up and builds nothing: it must work when nothing more can be allocated."""
     while _reserve:
-        _reserve.pop().close()
+        _reserve[-1]()
+        del _reserve[-1]
 
 
-def limit_memory(megabytes: int) -> None:
+def out_of_memory_error(exc: BaseException) -> bool:
+    """Whether ``exc`` means the memory limit was reached: a MemoryError, or — only under a
+    limit this process set (``--memory``) — the SystemError "error return without exception
+    set" that CPython 3.11 itself raises when an allocation fails where no MemoryError can be
+    made (seen at 152 and 249 MB of address space, mid-encoding, in pure Python code)."""
+    if isinstance(exc, MemoryError):
+        return True
+    return bool(_last_words) and isinstance(exc, SystemError) and "without exception set" in str(exc)
+
+
+def last_words() -> None:
+    """The last resort when the memory limit is reached and even the E1110 report cannot be
+    made: give the reserve back, write the report prepared by :func:`limit_memory` (the
+    ``catc.error/1`` document on stdout under ``--json``, the error line on stderr) with
+    system calls only, and end the process with exit 3.  Never returns."""
+    try:  # noqa: SIM105 - contextlib.suppress would allocate a context manager
+        release_reserve()
+    except MemoryError:  # pragma: no cover - nothing more can be done about it
+        pass
+    if _last_words:
+        if _last_words[0]:
+            os.write(1, _last_words[0])
+        os.write(2, _last_words[1])
+    else:  # pragma: no cover - no limit was set, yet memory ran out (the machine's own limit)
+        os.write(2, b"catc: error[E1110]: out of memory\n")
+    os._exit(3)
+
+
+def limit_memory(megabytes: int, as_json: bool = False) -> None:
     """Cap this process at ``megabytes`` of address space (0: no cap) and the solver at as
     much.  The soft limit only: a child process may raise it again (a planner does:
-    :func:`catc.targets.enhsp.lift_memory_limit`).  Only in the executable (:class:`Process`)."""
+    :func:`catc.targets.enhsp.lift_memory_limit`).  Only in the executable (:class:`Process`).
+    ``as_json``: the command answers in JSON (the report of :func:`last_words`)."""
     if not Process.executable:
         return
     try:
@@ -91,7 +127,10 @@ def limit_memory(megabytes: int) -> None:
     if megabytes and not _reserve:
         import mmap
 
-        _reserve.append(mmap.mmap(-1, RESERVE_BYTES))
+        _reserve.append(mmap.mmap(-1, RESERVE_BYTES).close)
+        message = out_of_memory_message(None, megabytes)
+        document = stopped_document(codes.OUT_OF_MEMORY, message) + "\n" if as_json else ""
+        _last_words[:] = [document.encode(), f"catc: error[{codes.OUT_OF_MEMORY}]: {message}\n".encode()]
     if resource is not None:
         _, hard = resource.getrlimit(resource.RLIMIT_AS)
         soft = resource.RLIM_INFINITY if megabytes == 0 else megabytes * limits.MIB
@@ -103,8 +142,8 @@ def limit_memory(megabytes: int) -> None:
     limit_solver_memory(megabytes)
 
 
-def out_of_memory_message(phase: str | None = None) -> str:
-    most = limits.current().memory
+def out_of_memory_message(phase: str | None = None, megabytes: int | None = None) -> str:
+    most = limits.current().memory if megabytes is None else megabytes
     where = f" while {phase}" if phase else ""
     limit = limits.BY_NAME["memory"]
     return (
