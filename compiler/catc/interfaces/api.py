@@ -349,6 +349,20 @@ def stopped_early(result: Any) -> bool:
     return bool(result.status is OptStatus.SUBOPT)
 
 
+def relax_weights(
+    inst: ir.Instance,
+    only: Iterable[str] = (),
+    weights: Mapping[str, Fraction] | None = None,
+    fixed: Iterable[str] = (),
+) -> tuple[dict[str, Fraction], str | None]:
+    """The weights ``relax`` uses by default, never adding unlike units at weight 1: (weights,
+    None), or ({}, why not) when a requirement of another unit has no scale
+    (:func:`catc.queries.relax.unit_safe_weights`; the runtime's ``[relax]`` policy)."""
+    from catc.queries.relax import unit_safe_weights
+
+    return unit_safe_weights(inst, only, weights, fixed)
+
+
 def warm_start(literal_resources: Iterable[str] = ()) -> WarmStart:
     """What ``solve`` keeps from one call to the next (``model.solve(warm=...)``) to answer on
     the previous encoding when only initial values or the goal changed; the initial values
