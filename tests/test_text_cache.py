@@ -64,3 +64,15 @@ def test_errors_are_reported_with_the_cache_as_without(parsed: list[str]):
     with pytest.raises(CatError) as plain:
         loads(bad, "m/problem.cat")
     assert str(cached.value) == str(plain.value) and "powr" in str(plain.value)
+
+
+def test_the_cache_keeps_one_version_of_each_file():
+    """A long-running runtime checks a new problem text at each step: the cache holds the
+    latest of each path, not every text it has seen."""
+    cache = text_cache()
+    for power in range(20, 30):
+        loads(files(problem=PROBLEM.replace("(= power 20)", f"(= power {power})")), "m/problem.cat", cache=cache)
+    assert sorted(path.rsplit("/", 2)[-1] for path in cache.files) == ["domain.cat", "problem.cat"]
+    assert len(cache.domains) == 1
+    loads(files(domain=DOMAIN.replace("(>= budget 1000)", "(>= budget 800)")), "m/problem.cat", cache=cache)
+    assert len(cache.domains) == 1  # the replaced file's domain went with it

@@ -110,8 +110,20 @@ class TextCache:
     (:func:`catc.frontend.session.load_texts` checks again without the cache otherwise)."""
 
     def __init__(self) -> None:
-        self.files: dict[tuple[str, str], ast.SourceFile] = {}
+        self.files: dict[str, tuple[str, ast.SourceFile]] = {}  # path → (its text, parsed): the latest only
         self.domains: dict[int, tuple[ast.Domain, ir.Domain]] = {}  # id(node) → (node, IR): the node kept alive
+
+    def parsed(self, path: str, text: str) -> ast.SourceFile | None:
+        kept = self.files.get(path)
+        return kept[1] if kept is not None and kept[0] == text else None
+
+    def keep(self, path: str, text: str, parsed: ast.SourceFile) -> None:
+        """Keep ``parsed`` as the file at ``path``; the domains of the file it replaces go."""
+        old = self.files.get(path)
+        if old is not None:
+            for d in old[1].definitions:
+                self.domains.pop(id(d), None)
+        self.files[path] = (text, parsed)
 
 
 class Workspace:
@@ -163,7 +175,7 @@ class Workspace:
         self.files[key] = None
         src = Source(path, self.texts[key]) if key in self.texts else read_source(path, self.diags)
         cache = self.text_cache
-        parsed = cache.files.get((key, src.text)) if cache is not None and src is not None else None
+        parsed = cache.parsed(key, src.text) if cache is not None and src is not None else None
         if parsed is not None and src is not None:
             self.diags.add_source(src)  # the source its diagnostics point into
         elif src is not None:
@@ -172,7 +184,7 @@ class Workspace:
             if parsed is not None and any(isinstance(d, ast.Domain) for d in parsed.definitions):
                 self.fresh_domains = True
             if cache is not None and parsed is not None and len(self.diags) == reported:
-                cache.files[(key, src.text)] = parsed
+                cache.keep(key, src.text, parsed)
         self.files[key] = parsed
         if parsed is not None:
             for d in parsed.definitions:
