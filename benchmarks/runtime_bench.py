@@ -25,6 +25,9 @@ or the burst rate less than ``--min-burst-ratio`` times:
 excluded, and prints each step's decision time and whole time side by side:
 
     python benchmarks/runtime_bench.py catalog --against /tmp/base [--n 400] [--d 6] [--rounds 2]
+
+``--sar`` runs the search-and-rescue mission (mission-events.jsonl, each tree its own copy)
+that way instead.
 """
 
 from __future__ import annotations
@@ -207,6 +210,11 @@ def catalog_child(args: argparse.Namespace) -> None:
     """Per step of a mission on a generated catalog (benchmarks/catalog_gen.py, the ``sat``
     problem): ram 10 → 7 breaks the deployed composition (it needs 8, the least is 7: a
     recompose), the rest keep it.  Prints the decision and the seconds per step as JSON."""
+    if args.sar:  # the search-and-rescue mission instead, as the tree that runs has it (the language moved)
+        folder = TREE / "examples" / "search-and-rescue"
+        mission = [json.loads(line) for line in (folder / "mission-events.jsonl").read_text().splitlines()]
+        print(json.dumps(run_events(folder / "mission.cat", mission)))
+        return
     from catalog_gen import build, write
 
     with tempfile.TemporaryDirectory() as tmp:
@@ -233,13 +241,15 @@ def catalog(args: argparse.Namespace) -> int:
                 str(args.n),
                 "--d",
                 str(args.d),
+                *(["--sar"] if args.sar else []),
             ]
             done = subprocess.run(argv, capture_output=True, text=True, check=False, env={"PATH": "/usr/bin:/bin"})
             if done.returncode != 0:
                 print(f"{name} ({tree}) failed:\n{done.stderr[-2000:]}", file=sys.stderr)
                 return 2
             runs[name].append(json.loads(done.stdout.splitlines()[-1]))
-    print(f"`python benchmarks/runtime_bench.py catalog --against {args.against} --n {args.n} --d {args.d} "
+    size = "--sar" if args.sar else f"--n {args.n} --d {args.d}"
+    print(f"`python benchmarks/runtime_bench.py catalog --against {args.against} {size} "
           f"--rounds {args.rounds}` on {machine()}\n")  # fmt: skip
     print("| step | decision | decision phases (s), " + " / ".join(trees) + " | whole step (s), "
           + " / ".join(f"{n} ({t.name})" for n, t in trees.items()) + " |")  # fmt: skip
@@ -260,6 +270,7 @@ def main() -> None:
         ap.add_argument("--n", type=int, default=400, help="components")
         ap.add_argument("--d", type=int, default=6, help="levels")
         ap.add_argument("--rounds", type=int, default=2)
+        ap.add_argument("--sar", action="store_true", help="the search-and-rescue mission instead of a catalog")
         args = ap.parse_args()
         if args.mode == "catalog-child":
             catalog_child(args)
