@@ -19,6 +19,15 @@ regression check — when the keep rate is less than ``--min-ratio`` times the o
 or the burst rate less than ``--min-burst-ratio`` times:
 
     python benchmarks/runtime_bench.py rate --against /tmp/base [--keep 10000] [--base-keep 300]
+
+``catalog`` runs a mission of five value events on a generated 400-component catalog
+(benchmarks/catalog_gen.py, ``sat``: one recompose, four keeps) on both trees, the start
+excluded, and prints each step's decision time and whole time side by side:
+
+    python benchmarks/runtime_bench.py catalog --against /tmp/base [--n 400] [--d 6] [--rounds 2]
+
+``--sar`` runs the search-and-rescue mission (mission-events.jsonl, each tree its own copy)
+that way instead.
 """
 
 from __future__ import annotations
@@ -190,7 +199,83 @@ def rate(args: argparse.Namespace) -> int:
     return 0
 
 
+# ---------------------------------------------------------------- catalog: a large model, two trees
+
+CATALOG_EVENTS = [{"id": "c1", "set": {"ram": "7"}}, {"id": "c2", "set": {"ram": "10"}},
+                  {"id": "c3", "set": {"power": "90"}}, {"id": "c4", "set": {"ram": "8"}},
+                  {"id": "c5", "set": {"power": "91"}}]  # fmt: skip
+
+
+def catalog_child(args: argparse.Namespace) -> None:
+    """Per step of a mission on a generated catalog (benchmarks/catalog_gen.py, the ``sat``
+    problem): ram 10 → 7 breaks the deployed composition (it needs 8, the least is 7: a
+    recompose), the rest keep it.  Prints the decision and the seconds per step as JSON."""
+    if args.sar:  # the search-and-rescue mission instead, as the tree that runs has it (the language moved)
+        folder = TREE / "examples" / "search-and-rescue"
+        mission = [json.loads(line) for line in (folder / "mission-events.jsonl").read_text().splitlines()]
+        print(json.dumps(run_events(folder / "mission.cat", mission)))
+        return
+    from catalog_gen import build, write
+
+    with tempfile.TemporaryDirectory() as tmp:
+        write(build(args.n, args.d), Path(tmp) / "cat")
+        rows = run_events(Path(tmp) / "cat" / "sat.cat", CATALOG_EVENTS)
+    print(json.dumps(rows))
+
+
+def catalog(args: argparse.Namespace) -> int:
+    """The steps of :func:`catalog_child` for this tree and ``--against``, rounds alternating."""
+    import subprocess
+
+    trees = {"this tree": ROOT, "--against": Path(args.against).resolve()}
+    runs: dict[str, list[list[dict]]] = {name: [] for name in trees}
+    for _ in range(args.rounds):
+        for name, tree in trees.items():
+            argv = [
+                sys.executable,
+                __file__,
+                "catalog-child",
+                "--tree",
+                str(tree),
+                "--n",
+                str(args.n),
+                "--d",
+                str(args.d),
+                *(["--sar"] if args.sar else []),
+            ]
+            done = subprocess.run(argv, capture_output=True, text=True, check=False, env={"PATH": "/usr/bin:/bin"})
+            if done.returncode != 0:
+                print(f"{name} ({tree}) failed:\n{done.stderr[-2000:]}", file=sys.stderr)
+                return 2
+            runs[name].append(json.loads(done.stdout.splitlines()[-1]))
+    size = "--sar" if args.sar else f"--n {args.n} --d {args.d}"
+    print(f"`python benchmarks/runtime_bench.py catalog --against {args.against} {size} "
+          f"--rounds {args.rounds}` on {machine()}\n")  # fmt: skip
+    print("| step | decision | decision phases (s), " + " / ".join(trees) + " | whole step (s), "
+          + " / ".join(f"{n} ({t.name})" for n, t in trees.items()) + " |")  # fmt: skip
+    print("|---|---|---:|---:|")
+    mine, other = (median_rows(runs[n]) for n in trees)
+    for a, b in zip(mine, other, strict=True):
+        print(f"| {a['event']} | {a['action']} | {a['decide']:.3f} / {b['decide']:.3f} | "
+              f"{a['step']:.3f} / {b['step']:.3f} |")  # fmt: skip
+    return 0
+
+
 def main() -> None:
+    if sys.argv[1:2] in (["catalog"], ["catalog-child"]):
+        ap = argparse.ArgumentParser(description="a mission on a generated catalog, side by side against another tree")
+        ap.add_argument("mode", choices=["catalog", "catalog-child"])
+        ap.add_argument("--against", default="/tmp/base", help="another checkout (e.g. a worktree of main)")
+        ap.add_argument("--tree", default=str(ROOT), help="(child) the tree whose code runs")
+        ap.add_argument("--n", type=int, default=400, help="components")
+        ap.add_argument("--d", type=int, default=6, help="levels")
+        ap.add_argument("--rounds", type=int, default=2)
+        ap.add_argument("--sar", action="store_true", help="the search-and-rescue mission instead of a catalog")
+        args = ap.parse_args()
+        if args.mode == "catalog-child":
+            catalog_child(args)
+            return
+        sys.exit(catalog(args))
     if sys.argv[1:2] in (["rate"], ["child"]):
         ap = argparse.ArgumentParser(description="event rate, side by side against another tree")
         ap.add_argument("mode", choices=["rate", "child"])

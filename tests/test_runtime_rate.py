@@ -12,6 +12,7 @@ import threading
 from pathlib import Path
 
 import pytest
+from shop_models import SHOP, shop
 
 from catrt.api import connect, init
 from catrt.apply import apply_change, check, check_values
@@ -120,6 +121,25 @@ def test_a_kept_composition_parses_no_source(monkeypatch: pytest.MonkeyPatch, tm
             assert outcome.decision is not None and outcome.decision.action == "keep"
         during = len(calls) - before
     assert during == 0
+
+
+def test_a_step_that_checks_the_model_whole_parses_only_the_problem(monkeypatch: pytest.MonkeyPatch, lamps: Path):
+    """power 4 → 2 breaks the lamp (it needs 3): the queries run on the model checked whole,
+    which parsed and checked every source again (issue 24: 5.5 of a 6.5 s step at n = 400);
+    now the domain's file is reused and only the written problem is parsed."""
+    from catc.frontend import workspace
+
+    parsed: list[str] = []
+    real = workspace.parse_source
+    monkeypatch.setattr(workspace, "parse_source", lambda src, *a, **k: parsed.append(src.path) or real(src, *a, **k))
+    with connect(lamps) as rt:
+        before = len(parsed)
+        outcome = rt.submit({"id": "low", "set": {"power": "2"}})
+        assert outcome.decision is not None and outcome.decision.action == "restore"
+        assert [Path(p).name for p in parsed[before:]] == ["problem.cat"]
+        approved = rt.submit({"id": "ok", "approve": "r1"})  # an approval: the whole check too
+        assert approved.decision is not None and approved.decision.action == "keep"
+    assert [Path(p).name for p in parsed[before:]] == ["problem.cat", "problem.cat"]
 
 
 def test_the_grounding_follows_the_values_it_reads(lamps: Path):
@@ -268,35 +288,12 @@ def test_a_decision_past_its_budget_is_undecided_journaled_and_the_loop_goes_on(
 
 # ---------------------------------------------------------------- the relaxation policy
 
-# Two ways to light the hall, one short of power (W), one of money (USD): restoring power
-# needs +10 W (half its value), restoring the budget +100 USD (a ninth of it).
-UNLIKE = """\
-(define (domain shop)
-  (:requirements :numeric :sets)
-  (:sorts room - symbol)
-  (:constants hall - room)
-  (:resources
-    (power real :unit W :bounds (0 *))
-    (budget real :unit USD :bounds (0 *))
-    (lit (set room)))
-  (:morphism lamp :kind software :uses 1
-    :precondition (>= power 30)
-    :effect (add lit hall))
-  (:morphism buy-lamp :kind software :uses 1
-    :precondition (>= budget 1000)
-    :effect (add lit hall)))
-
-(define (problem light)
-  (:domain shop)
-  (:init (= power 20) (= budget 900))
-  (:goal (member hall lit))
-  (:horizon 1))
-"""
-
 
 def _proposal(tmp_path: Path, config: str) -> dict:
+    """SHOP (tests/shop_models.py): restoring power needs +10 W (half its value), restoring
+    the budget +100 USD (a ninth of it)."""
     model = tmp_path / "shop.cat"
-    model.write_text(UNLIKE, encoding="utf-8")
+    model.write_text(SHOP, encoding="utf-8")
     state = tmp_path / "st"
     init(state, str(model), config_text=config)
     with connect(state) as rt:
@@ -310,12 +307,30 @@ def _proposal(tmp_path: Path, config: str) -> dict:
     [
         ("", {"budget": "1000"}),  # W and USD: by relative change, 1/9 < 1/2 (not 100 USD > 10 W)
         ("[relax]\nfixed = ['budget']\n", {"power": "30"}),
-        ("[relax]\nweights = { power = '1/100' }\n", {"power": "30"}),  # 10 × 1/100 < 100 × 1/900
+        # power weighed as said; budget, the one unit left, 1 per USD: 10 × 1/100 < 100 × 1
+        ("[relax]\nweights = { power = '1/100' }\n", {"power": "30"}),
         ("[relax]\nweights = { power = 1, budget = 1 }\n", {"power": "30"}),  # said: 1 W counts as 1 USD
     ],
 )
 def test_restorations_follow_the_relax_policy_and_never_add_unlike_units(tmp_path: Path, config: str, restored):
     assert _proposal(tmp_path, config)["set"] == restored
+
+
+def test_unlike_units_without_a_scale_ask_for_weights_instead_of_a_proposal(tmp_path: Path):
+    """0 W of power, unbounded above, compared only with need: no relative change of it
+    exists, and 1 W is not 1 USD."""
+    model = tmp_path / "shop.cat"
+    model.write_text(shop(power="0", need="30"), encoding="utf-8")
+    state = tmp_path / "st"
+    init(state, str(model))
+    with connect(state) as rt:
+        (start,) = rt.started
+    assert start.decision.action == "stuck" and start.decision.proposal is None
+    assert "different units (USD, W)" in start.decision.reason and "[relax] weights" in start.decision.reason
+    init(tmp_path / "st2", str(model), config_text="[relax]\nweights = { power = '1/30' }\n")
+    with connect(tmp_path / "st2") as rt:
+        (start,) = rt.started
+    assert start.decision.proposal["set"] == {"budget": "1000"}  # 100 × 1/900 < 30 × 1/30 (power, need)
 
 
 def test_every_resource_fixed_leaves_nothing_to_propose(tmp_path: Path):

@@ -95,14 +95,20 @@ def check_values(current: Candidate, state: ModelState, body: Mapping[str, Any])
 
 
 def check(
-    state: ModelState, sources: Mapping[str, str], folder: str, origins: Mapping[str, str] | None = None
+    state: ModelState,
+    sources: Mapping[str, str],
+    folder: str,
+    origins: Mapping[str, str] | None = None,
+    cache: Any = None,
 ) -> Candidate:
     """Check a model state as catc would check its files; Rejection (the errors mapped to
-    the event fields behind them) when it does not check."""
+    the event fields behind them) when it does not check.  ``cache``
+    (:func:`catc.api.text_cache`): the files and domains of the runtime's earlier checks,
+    reused where unchanged — usually all but the problem."""
     files, regions = texts(state, sources, folder, origins)
     problem = next(p for p in files if p.endswith("/problem.cat"))
     try:
-        model = loads(files, problem)
+        model = loads(files, problem, cache=cache)
     except CatError as exc:
         details = [_locate(d, files, regions) for d in exc.diagnostics if d.severity.value == "error"]
         fields = sorted({d["field"] for d in details if d["field"] != "model"})

@@ -22,7 +22,7 @@ from fractions import Fraction
 from typing import TYPE_CHECKING, Any, cast
 
 from catc import ir
-from catc.api import Model, composed, deploy_query, read_plan, refuted, stopped_early, validate
+from catc.api import Model, composed, deploy_query, read_plan, refuted, relax_weights, stopped_early, validate
 from catc.ir.numbers import ratio_text
 from catc.semantics.plan import Plan, PlanFormatError, plan_to_json
 
@@ -61,27 +61,25 @@ def _now() -> float:
 @dataclass(frozen=True)
 class RelaxPolicy:
     """How restorations weigh the initial values they change (``[relax]`` in config.toml):
-    ``weights`` per resource (per unit of it), ``fixed`` resources never changed; the rest,
-    when the relaxable resources are of different units, by their relative change."""
+    ``weights`` per resource (per unit of it), ``fixed`` resources never changed; the rest by
+    catc's one policy, :func:`catc.api.relax_weights` (weight 1 when of one unit, else the
+    relative change; no scale: no proposal, the operator is asked for weights)."""
 
     weights: dict[str, Fraction] = field(default_factory=dict)
     fixed: frozenset[str] = frozenset()
 
-    def for_model(self, inst: ir.Instance) -> tuple[list[str], dict[str, Fraction]]:
-        """(``only``, ``weights``) of the relax query: the initial values that may change,
-        and the weight of each.  Given weights are kept; when the resources that may change
-        do not all have the same unit, each other one is weighed by its relative change
-        (1/|its value|, 1 at 0), so that 1 GB never counts as 1 USD; of one unit, weight 1."""
+    def for_model(self, inst: ir.Instance) -> tuple[list[str], dict[str, Fraction], str | None]:
+        """(``only``, ``weights``, why none) of the relax query: the initial values that may
+        change, the weight of each, and why no weights exist (or None)."""
         numeric = sorted(r for r, iv in inst.problem.init.items()
                          if r in inst.resources and inst.resources[r].sort.is_numeric)  # fmt: skip
         free = [r for r in numeric if r not in self.fixed]
-        weights = {f"init/{r}": w for r, w in self.weights.items() if r in free}
-        if len({inst.resources[r].unit for r in free if r not in self.weights}) > 1:
-            for r in free:
-                if r not in self.weights:
-                    value = abs(Fraction(inst.problem.init[r].value.value))  # type: ignore[union-attr]
-                    weights[f"init/{r}"] = 1 / value if value else Fraction(1)
-        return ([f"init/{r}" for r in free] if self.fixed else ["init/"]) if free else [], weights
+        only = ([f"init/{r}" for r in free] if self.fixed else ["init/"]) if free else []
+        if not only:
+            return [], {}, None
+        given = {f"init/{r}": w for r, w in self.weights.items() if r in free}
+        weights, why = relax_weights(inst, only, given)
+        return only, weights, why
 
 
 class OutOfBudget(Exception):
@@ -280,7 +278,7 @@ def _restore(model: Model, incumbent: dict[str, Any] | None, limits: Limits, dea
     """Diagnose, then the least restoration of initial values: a proposal."""
     inst = model.instance
     limits = limits.within(deadline)
-    only, weights = policy.for_model(inst)
+    only, weights, unweighable = policy.for_model(inst)
     relative = _components(incumbent) if incumbent is not None else []
     relative = [c for c in relative if c in inst.morphisms]
     t = time.perf_counter()
@@ -293,6 +291,11 @@ def _restore(model: Model, incumbent: dict[str, Any] | None, limits: Limits, dea
         timings["relax"] = 0.0
         return Decision(Action.STUCK, f"no composition exists (core: {', '.join(core) or 'none found'}) and every "
                         "initial value is fixed ([relax] fixed): waiting for a change of the task or the catalogue",
+                        documents=documents, timings=timings, solver_calls=1)  # fmt: skip
+    if unweighable is not None:  # unlike units and no scale: never 1 W for 1 USD
+        timings["relax"] = 0.0
+        return Decision(Action.STUCK, f"no composition exists (core: {', '.join(core) or 'none found'}) and no "
+                        f"restoration is proposed: {unweighable.replace('--weights', '[relax] weights')}",
                         documents=documents, timings=timings, solver_calls=1)  # fmt: skip
     limits = limits.within(deadline)
     options: dict[str, Any] = {"only": only, **({"weights": weights} if weights else {})}

@@ -16,6 +16,7 @@ and spliced by the offsets catc gives (:func:`catc.api.outline`); nothing here p
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import re
 from collections.abc import Iterable, Mapping, Sequence
@@ -177,6 +178,7 @@ def sha256_text(text: str) -> str:
 # ---------------------------------------------------------------- from the user's files
 
 
+@functools.lru_cache(maxsize=16)  # each step writes the model's files from the same sources
 def _parse(path: str, text: str) -> list[Definition]:
     try:
         return outline(text, path)

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from catc.api import text_cache
 from catrt.apply import Candidate, Rejection, apply_change, check
 from catrt.enact import complete, differing, generation_name
 from catrt.events import Event
@@ -44,6 +45,7 @@ class _Replay:
         self.plans: dict[int, Any] = {}  # decision seq → its plan
         self.proposals: dict[str, Any] = {}
         self.pending_sha: str | None = None
+        self.checks = text_cache()  # the sources parsed and checked once: each entry re-checks the problem
 
     def run(self) -> Replayed:
         st = self.out.state
@@ -59,7 +61,7 @@ class _Replay:
 
     def _check(self, state: ModelState, seq: int) -> None:
         try:
-            self.candidate = check(state, self.sources, str(self.folder / MODEL_FOLDER))
+            self.candidate = check(state, self.sources, str(self.folder / MODEL_FOLDER), cache=self.checks)
         except Rejection as exc:
             self.problem(seq, f"the model no longer checks: {exc.text()}")
 

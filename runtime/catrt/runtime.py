@@ -27,7 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from catc import ir
-from catc.api import warm_start
+from catc.api import text_cache, warm_start
 from catc.ir.grounding import Value, ValueKind
 from catc.semantics.plan import Plan, plan_to_json
 from catrt.apply import Candidate, Rejection, apply_change, check, check_values
@@ -182,7 +182,8 @@ class Runtime:
         store.check_sources()  # E1013: never decide on a source changed outside catrt
         self.sources = store.sources()
         self.state = ModelState.from_json(store.get("model"))
-        self.current: Candidate = check(self.state, self.sources, str(folder / MODEL_FOLDER))
+        self._checks = text_cache()  # the sources parsed and checked once: a step re-checks the problem
+        self.current: Candidate = check(self.state, self.sources, str(folder / MODEL_FOLDER), cache=self._checks)
         self._written: dict[str, bytes] = {}  # the model files as last written by this runtime
         self._written_at = 0.0
         self._unwritten: Candidate | None = None
@@ -286,7 +287,7 @@ class Runtime:
         try:
             state, origins = apply_change(self.state, self.current.instance, self.sources, event)
             quick = check_values(self.current, state, event.body)  # only what changed: values
-            candidate = quick or check(state, self.sources, str(self.folder / MODEL_FOLDER), origins)
+            candidate = quick or check(state, self.sources, str(self.folder / MODEL_FOLDER), origins, self._checks)
         except Rejection as rejection:
             return self._reject(event, "E1002" if rejection.details else "E1001", rejection)
         checked = time.perf_counter() - t
@@ -312,7 +313,7 @@ class Runtime:
         change = Event(event.id, {"set": proposal["set"]}, event.where, event.given_id)
         try:
             state, origins = apply_change(self.state, self.current.instance, self.sources, change)
-            candidate = check(state, self.sources, str(self.folder / MODEL_FOLDER), origins)
+            candidate = check(state, self.sources, str(self.folder / MODEL_FOLDER), origins, self._checks)
         except Rejection as rejection:  # the model moved on since the request
             return self._reject(event, "E1002", rejection)
         return self._decide_and_commit(event, candidate, approval=request)
@@ -325,7 +326,10 @@ class Runtime:
         if decision is None:
             if quick:  # a solver query follows: on the model checked whole, so that what the
                 # queries report (cores, restorations) points into the files as catc reads them
-                candidate, quick = check(candidate.state, self.sources, str(self.folder / MODEL_FOLDER)), False
+                candidate, quick = (
+                    check(candidate.state, self.sources, str(self.folder / MODEL_FOLDER), cache=self._checks),
+                    False,
+                )
             decision = decide(candidate.model, incumbent["plan"] if incumbent else None, self.limits, self.warm,
                               self.policy)  # fmt: skip
         if not quick:  # the model changed beyond initial values: ground afresh

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from catc import ir
 from catc.frontend.lints import lint_domain, lint_instance
-from catc.frontend.workspace import Workspace, load_instance, stdlib_dir
+from catc.frontend.workspace import TextCache, Workspace, load_instance, stdlib_dir
 from catc.ir.views import ViewError, apply_view
 from catgrammar import ast, codes
 from catgrammar.diagnostics import Diagnostics
@@ -80,16 +80,24 @@ def load_texts(
     view: str | None = None,
     problem_name: str | None = None,
     search_paths: Iterable[str | os.PathLike[str]] = (),
+    text_cache: TextCache | None = None,
 ) -> ir.Instance | None:
     """Files given as text (path → text; imports not among them come from the disk) → the
     checked instance of the problem in ``texts[problem]``, or None with errors in ``diags``.
     Every given file is loaded first, so a domain among them is found by name wherever its
-    path points (the runtime checks candidate models this way before it writes them)."""
-    ws = Workspace(diags, tuple(str(p) for p in search_paths), texts)
+    path points (the runtime checks candidate models this way before it writes them).
+    ``text_cache``: what an earlier check of the same model parsed and checked, reused where
+    the files are unchanged (:class:`~catc.frontend.workspace.TextCache`)."""
+    found = Diagnostics() if text_cache is not None else diags
+    ws = Workspace(found, tuple(str(p) for p in search_paths), texts, text_cache=text_cache)
     for path in texts:
         if path != problem:
             ws.load(path)
-    _, inst = load_instance(None, problem, diags, problem_name=problem_name, workspace=ws)
+    _, inst = load_instance(None, problem, found, problem_name=problem_name, workspace=ws)
+    if ws.reused_domains and ws.fresh_domains:  # a domain parsed anew after one was reused: check afresh
+        return load_texts(texts, problem, diags, view=view, problem_name=problem_name, search_paths=search_paths)
+    if found is not diags:
+        diags.extend(found)
     return _viewed(inst, view, diags)
 
 

@@ -102,6 +102,30 @@ def defined_domains(text: str) -> list[str]:
     return names
 
 
+class TextCache:
+    """What one check of a model leaves for the next (the runtime checks its model after
+    every change, and usually only the problem's text changed): each file parsed without a
+    word, by (path, text), and each domain checked without a word, by its parsed node.  A
+    checked domain is reused only when no file that defines a domain was parsed anew
+    (:func:`catc.frontend.session.load_texts` checks again without the cache otherwise)."""
+
+    def __init__(self) -> None:
+        self.files: dict[str, tuple[str, ast.SourceFile]] = {}  # path → (its text, parsed): the latest only
+        self.domains: dict[int, tuple[ast.Domain, ir.Domain]] = {}  # id(node) → (node, IR): the node kept alive
+
+    def parsed(self, path: str, text: str) -> ast.SourceFile | None:
+        kept = self.files.get(path)
+        return kept[1] if kept is not None and kept[0] == text else None
+
+    def keep(self, path: str, text: str, parsed: ast.SourceFile) -> None:
+        """Keep ``parsed`` as the file at ``path``; the domains of the file it replaces go."""
+        old = self.files.get(path)
+        if old is not None:
+            for d in old[1].definitions:
+                self.domains.pop(id(d), None)
+        self.files[path] = (text, parsed)
+
+
 class Workspace:
     def __init__(
         self,
@@ -110,6 +134,7 @@ class Workspace:
         texts: Mapping[str, str] | None = None,
         scan_max_bytes: int | None = None,
         stdlib_cache: StdlibCache | None = None,
+        text_cache: TextCache | None = None,
     ):
         """``search_paths``: extra folders to look for domains in, in order (the interfaces
         add ``--path`` and ``CATC_PATH``; nothing here reads the environment).  ``texts``:
@@ -117,7 +142,8 @@ class Workspace:
         ``scan_max_bytes``: the largest file read while looking for a domain (default: the
         input-bytes limit in force, :mod:`catgrammar.limits`).  ``stdlib_cache``: where
         checked standard-library domains are kept between runs (the command line's; none:
-        each is parsed and checked)."""
+        each is parsed and checked).  ``text_cache``: files and domains of an earlier check
+        of the same model, reused where unchanged (:class:`TextCache`)."""
         self.diags = diags
         self.texts = {normalise_path(k): v for k, v in (texts or {}).items()}
         self.search_paths = [Path(p) for p in search_paths]
@@ -137,6 +163,9 @@ class Workspace:
         self._real: dict[Path, Path] = {}  # a folder → itself, resolved (once)
         self.stdlib_cache = stdlib_cache
         self._cached: dict[str, ir.Domain] = {}  # standard-library domains read from stdlib_cache
+        self.text_cache = text_cache
+        self.fresh_domains = False  # a file defining a domain was parsed anew (not from text_cache)
+        self.reused_domains = False  # a checked domain came from text_cache
 
     # -------------------------------------------------------------- files
     def load(self, path: str) -> ast.SourceFile | None:
@@ -145,7 +174,17 @@ class Workspace:
             return self.files[key]
         self.files[key] = None
         src = Source(path, self.texts[key]) if key in self.texts else read_source(path, self.diags)
-        parsed = parse_source(src, self.diags) if src is not None else None
+        cache = self.text_cache
+        parsed = cache.parsed(key, src.text) if cache is not None and src is not None else None
+        if parsed is not None and src is not None:
+            self.diags.add_source(src)  # the source its diagnostics point into
+        elif src is not None:
+            reported = len(self.diags)
+            parsed = parse_source(src, self.diags)
+            if parsed is not None and any(isinstance(d, ast.Domain) for d in parsed.definitions):
+                self.fresh_domains = True
+            if cache is not None and parsed is not None and len(self.diags) == reported:
+                cache.keep(key, src.text, parsed)
         self.files[key] = parsed
         if parsed is not None:
             for d in parsed.definitions:
@@ -321,6 +360,10 @@ class Workspace:
             return None
         if key in self._checked:
             return self._checked[key]
+        kept = self.text_cache.domains.get(key) if self.text_cache is not None and not self.fresh_domains else None
+        if kept is not None and kept[0] is node:
+            self._checked[key], self.reused_domains = kept[1], True
+            return kept[1]
         self._stack.append((name, key))
         reported = len(self.diags)
         try:
@@ -328,6 +371,8 @@ class Workspace:
         finally:
             self._stack.pop()
         self._checked[key] = result
+        if self.text_cache is not None and result is not None and len(self.diags) == reported:
+            self.text_cache.domains[key] = (node, result)
         if self.stdlib_cache is not None and result is not None and len(self.diags) == reported:
             self._keep(name, path, result)
         return result

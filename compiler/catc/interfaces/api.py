@@ -44,6 +44,7 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover
     from catc import ir
+    from catc.frontend.workspace import TextCache
     from catc.queries.base import Result
     from catc.queries.solve import WarmStart
     from catc.semantics.plan import Plan
@@ -160,9 +161,11 @@ def loads(
     problem_name: str | None = None,
     search_paths: Iterable[PathLike] = (),
     limits: Limits | None = None,
+    cache: TextCache | None = None,
 ) -> Model:
     """Load and check a model given as text: ``sources`` maps paths to ``.cat`` texts, and
-    ``problem`` is the path of the one holding the problem.  A domain among the sources is
+    ``problem`` is the path of the one holding the problem.  ``cache`` (:func:`text_cache`):
+    the files and domains of an earlier call, reused where their texts are unchanged.  A domain among the sources is
     found by name; imports that are not among them come from the disk (the folder of the
     importing path, ``search_paths``, ``CATC_PATH``, the standard library).  ``limits`` as
     for :func:`load`.  Raises :class:`CatError`, located in the given paths."""
@@ -177,7 +180,9 @@ def loads(
     paths = search_path([str(p) for p in search_paths])
     found = _limits(limits)
     with limits_.using(found):
-        inst = load_texts(sources, problem, diags, view=view, problem_name=problem_name, search_paths=paths)
+        inst = load_texts(
+            sources, problem, diags, view=view, problem_name=problem_name, search_paths=paths, text_cache=cache
+        )
     if inst is None:
         raise CatError(diags)
     return Model(inst, found)
@@ -347,6 +352,28 @@ def stopped_early(result: Any) -> bool:
     from catc.queries.optimize import OptStatus
 
     return bool(result.status is OptStatus.SUBOPT)
+
+
+def text_cache() -> TextCache:
+    """A cache for :func:`loads` (a program that checks one model again and again, each time
+    with a small change: the runtime)."""
+    from catc.frontend.workspace import TextCache
+
+    return TextCache()
+
+
+def relax_weights(
+    inst: ir.Instance,
+    only: Iterable[str] = (),
+    weights: Mapping[str, Fraction] | None = None,
+    fixed: Iterable[str] = (),
+) -> tuple[dict[str, Fraction], str | None]:
+    """The weights ``relax`` uses by default, never adding unlike units at weight 1: (weights,
+    None), or ({}, why not) when a requirement of another unit has no scale
+    (:func:`catc.queries.relax.unit_safe_weights`; the runtime's ``[relax]`` policy)."""
+    from catc.queries.relax import unit_safe_weights
+
+    return unit_safe_weights(inst, only, weights, fixed)
 
 
 def warm_start(literal_resources: Iterable[str] = ()) -> WarmStart:

@@ -160,7 +160,91 @@ def check(inst: ir.Instance, options: Mapping[str, Any]) -> str | None:
                 f"comparisons of preconditions and goals: a label, a label prefix such as init/, or a "
                 f"resource){did_you_mean(key, names)}"
             )
-    return None
+    if options.get("discrete"):
+        return None
+    given = options.get("weights") or {}
+    return unit_safe_weights(inst, options.get("only") or (), given, options.get("fixed") or ())[1]
+
+
+def unit_safe_weights(
+    inst: ir.Instance,
+    only: Iterable[str] = (),
+    weights: Mapping[str, Fraction] | None = None,
+    fixed: Iterable[str] = (),
+) -> tuple[dict[str, Fraction], str | None]:
+    """The default weights of a restoration, one policy for ``catc relax`` and the runtime.
+
+    Returns (``weights`` to pass to :func:`relax`, None), or (``{}``, why not) when the
+    default cannot be set.  Given weights are kept.  When the eligible requirements left
+    unweighted (``only``, less the ``fixed`` initial values) are all of one unit, each weighs
+    1 (1 W counts as 1 W).  When they are of different units — a requirement has the unit of
+    the resources it constrains; no unit is a unit of its own — each is weighed by its
+    relative change, 1/scale: the scale of a resource is |its initial value|, else its
+    largest nonzero |bound|, else the largest |constant| it is compared with; a
+    precondition or goal takes the largest scale of its resources, else |its own constant|.  With no scale, 1 W would have to count as 1 USD:
+    the answer is why, asking for ``--weights``."""
+    given = dict(weights or {})
+    held = set(fixed)
+    every = eligible_requirements(inst, only, given)
+    keys = list(given)
+    free = [r for r in every if not (r.kind == "initial value" and r.resources & held)]
+    open_ = [r for r in free if not _weighted(r, keys)]
+    if len({_unit_of(inst, r) for r in open_}) <= 1:
+        return given, None
+    defaults: dict[str, Fraction] = {}
+    for req in open_:
+        scale = max((_scale(inst, name) for name in req.resources), default=Fraction(0))
+        if not scale and req.kind != "initial value":
+            scale = _constant_of(inst, req)
+        if not scale:
+            units = sorted(str(u or "no unit") for u in {_unit_of(inst, r) for r in open_})
+            return {}, (
+                f"the requirements to relax are of different units ({', '.join(units)}) and {req.label} "
+                f"has no scale to weigh it by (initial value, bounds and the constants compared with are 0 or absent): "
+                f"give --weights (e.g. --weights {sorted(req.resources)[0] if req.resources else req.label}=1)"
+            )
+        defaults[req.label] = 1 / scale
+    return {**defaults, **given}, None
+
+
+def _weighted(req: Requirement, keys: Iterable[str]) -> bool:
+    return any(req.label == k or req.label.startswith(k.rstrip("/") + "/") or k in req.resources for k in keys)
+
+
+def _unit_of(inst: ir.Instance, req: Requirement) -> str | frozenset[str] | None:
+    """The unit of a requirement's slack: that of the resources it constrains (a set of
+    several is a compound unit of its own)."""
+    units = frozenset(u for name in req.resources if name in inst.resources for u in [inst.resources[name].unit] if u)
+    return None if not units else next(iter(units)) if len(units) == 1 else units
+
+
+def _scale(inst: ir.Instance, name: str) -> Fraction:
+    """|initial value| of a numeric resource, else its largest nonzero |bound|, else the
+    largest |constant| an order comparison of it (precondition or goal) compares with, else 0."""
+    init = inst.problem.init.get(name)
+    value = getattr(init.value, "value", None) if init is not None else None
+    if isinstance(value, (int, Fraction)) and not isinstance(value, bool) and value:
+        return abs(Fraction(value))
+    r = inst.resources.get(name)
+    bounds = [abs(b) for b in (r.lower, r.upper) if b is not None and b] if r is not None else []
+    if bounds:
+        return max(bounds)
+    literals = [lit for m in inst.morphisms.values() for lit in m.pre] + list(inst.problem.goal)
+    return max((_constant(lit.expr) for lit in literals if name in ir.resources_in(lit.expr)), default=Fraction(0))
+
+
+def _constant_of(inst: ir.Instance, req: Requirement) -> Fraction:
+    """|the constant| a precondition or goal compares with (0 when none)."""
+    literals = [lit for m in inst.morphisms.values() for lit in m.pre] + list(inst.problem.goal)
+    return max((_constant(lit.expr) for lit in literals if lit.label == req.label), default=Fraction(0))
+
+
+def _constant(e: ir.Expr) -> Fraction:
+    if _is_order(e):
+        for side in (e.right, e.left):
+            if isinstance(side, ir.Const) and isinstance(side.value, Fraction):
+                return abs(side.value)
+    return Fraction(0)
 
 
 def _is_order(e: ir.Expr) -> TypeGuard[ir.Compare]:
@@ -192,6 +276,12 @@ def relax(
     with limits.deadline(timeout):
         k = horizon_of(inst, horizon)
         result = RelaxResult(RelaxStatus.UNKNOWN, horizon=k)
+        if not discrete:  # unlike units are never added at weight 1 (docs/semantics.md)
+            only = list(only)
+            weights, refused = unit_safe_weights(inst, only, weights, fixed)
+            if refused is not None:
+                result.reason = refused
+                return _finish(result, start)
         if fixed and not discrete:  # every eligible requirement but the fixed initial values
             held = set(fixed)
             kept = eligible_requirements(inst, only, weights)
