@@ -233,6 +233,8 @@ class LeastCost:
         self.wanted = wanted
         #: per morphism, the facts it gives that some test may ask for
         self.gives_wanted = [[a for a in atoms if a in wanted] for atoms in self.gives]
+        #: per morphism with one condition needing facts: those facts, each once
+        self.single = [tuple(dict.fromkeys(ns[0][1])) if len(ns) == 1 else () for ns in self.needs]
         #: per resource: its θ bound labels, and its (morphism, amount, effect label) with amount > 0
         self.bounds_of = [{b for _, _, _, b in c if b is not None} for *_, c in self.resources]
         self.takers = [[(m, a, label) for m, a, label, _ in c if a] for *_, c in self.resources]
@@ -316,7 +318,13 @@ class LeastCost:
         gives, needs, get, push, pop = self.gives_wanted, self.needs, amounts.get, heapq.heappush, heapq.heappop
         useful = [m for m in self.useful if m not in never]
         for m in useful:
-            pending = {a for label, atoms in needs[m] if label in enforced for a in atoms}
+            ns = needs[m]
+            if not ns:
+                continue
+            if len(ns) == 1:  # most morphisms: one condition needing facts
+                pending: Collection[int] = self.single[m] if ns[0][0] in enforced else ()
+            else:
+                pending = {a for label, atoms in ns if label in enforced for a in atoms}
             remaining[m] = len(pending)
             for a in pending:
                 waiting[a].append(m)
