@@ -17,6 +17,7 @@ import math
 import time
 from collections.abc import Callable, Collection, Iterable, Sequence
 from fractions import Fraction
+from itertools import chain
 from typing import Protocol
 
 from catc import ir
@@ -25,7 +26,16 @@ from catc.semantics.plan import Activation, Plan
 from catc.semantics.validate import validate
 from catc.semantics.witness import BIG, _candidate, _restricted
 from catc.smt.backend import Check
-from catc.smt.consumption import Atom, Consumption, _atoms, _givers, _holds, least_restoration, room
+from catc.smt.consumption import (
+    Atom,
+    Consumption,
+    _atoms,
+    _givers,
+    _holds,
+    cheapest_support,
+    least_restoration,
+    room,
+)
 from catgrammar import limits
 from catgrammar.record import replace
 
@@ -568,8 +578,10 @@ def restoration(
     no more than every excess, raising each short resource by exactly its shortfall is
     least as soon as some composition then exists.  The
     composition is the bound's cheapest support of the goal on the raised instance
-    (``relaxed``: the instance with the raises applied); it counts only when the independent
-    validator accepts it.  (cost, raise per label, composition), or None."""
+    (``relaxed``: the instance with the raises applied) for each resource, or else one that
+    fits every resource at once (:func:`catc.smt.consumption.cheapest_support`: the coupled
+    cuts, where the cheapest per resource overdraws another); it counts only when the
+    independent validator accepts it.  (cost, raise per label, composition), or None."""
     every = set(label_index(inst))
     bound = LeastCost(inst)
     claims = bound.claims(every)
@@ -597,7 +609,9 @@ def restoration(
     if not short or any(e < total for e in excess.values()):
         return None  # not the least, or nothing to restore
     raised = relaxed(short)
-    for order in LeastCost(raised).candidates(every):
+    # the bound's cheapest support per resource, then one that fits every resource at once
+    # (alternatives trading one resource for another: the coupled cuts)
+    for order in chain(LeastCost(raised).candidates(every), _fitting(raised)):
         limits.check_time("relaxing")
         if not order or len(order) > horizon:
             continue
@@ -605,6 +619,13 @@ def restoration(
         if plan is not None and validate(raised, plan, horizon=horizon, sequential=sequential).ok:
             return total, short, plan
     return None
+
+
+def _fitting(inst: ir.Instance) -> Iterable[list[str]]:
+    """:func:`catc.smt.consumption.cheapest_support` of ``inst``, if it finds one."""
+    order = cheapest_support(inst)
+    if order is not None:
+        yield order
 
 
 #: The most time :func:`optimal_restoration` takes without a time limit.
