@@ -13,10 +13,12 @@ constructed least, or not proven; the script then exits 1).  ``×`` is diagnose 
 UNSAT solve of the same tree.
 
 The variant ``coupled`` (not in the default list) is the ``sat`` problem with the RAM cut to
-7 GB (``--coupled-ram``): several resources may need raising at once and alternatives trade
-one for another, so there is no constructed least; its relax cell counts when it is proven
-least (the total is printed after the table), its cores must contain ``init/ram`` (with the
-RAM free, the seeded selection fits every other sum exactly).
+7 GB (``--coupled-ram``; to half the seeded sum where that is 7 or less), ``coupled2`` the
+same with the GPU memory cut to 5 GB too (``--coupled-gpu``): several resources may need
+raising at once and alternatives trade one for another, so there is no constructed least;
+the relax cell counts when it is proven least (the totals are printed after the table), and
+``coupled``'s cores must contain ``init/ram`` (with the RAM free, the seeded selection fits
+every other sum exactly).
 """
 
 from __future__ import annotations
@@ -78,7 +80,7 @@ def measure(tree: Path, variant: str, expect: dict, timeout: float, tmp: Path) -
 
     def relax_ok(j: dict) -> bool:
         if expect["relax"] == "proven":  # the coupled cut: any proven least, its total kept
-            totals[variant] = j.get("cost")
+            totals[variant] = f"{j.get('cost')} ({expect['cut']})"
             return j.get("status") == "relaxed" and j.get("proven") is True
         if expect["relax"] is None:
             return j.get("status") == "unsat"
@@ -96,11 +98,19 @@ def measure(tree: Path, variant: str, expect: dict, timeout: float, tmp: Path) -
     return row
 
 
-def coupled(tmp: Path, ram: int) -> dict:
-    """The ``sat`` problem with the RAM cut to ``ram`` (see the module docstring)."""
-    text = re.sub(r"\(= ram [0-9/.]+\)", f"(= ram {ram})", (tmp / "sat.cat").read_text(), count=1)
-    (tmp / "coupled.cat").write_text(text.replace("(problem sat)", "(problem coupled)"))
-    return {"core_contains": ["init/ram"], "relax": "proven"}
+def coupled(tmp: Path, variant: str, cuts: dict[str, int]) -> dict:
+    """The ``sat`` problem with the RAM (``coupled``), or the RAM and the GPU memory
+    (``coupled2``), cut as ``cuts`` say — to half the seeded value where that is no more
+    (see the module docstring)."""
+    text = (tmp / "sat.cat").read_text()
+    done = []
+    for r in ["ram", "gpu"] if variant == "coupled2" else ["ram"]:
+        seeded = int(re.search(rf"\(= {r} ([0-9]+)\)", text).group(1))  # type: ignore[union-attr]
+        cut = cuts[r] if seeded > cuts[r] else seeded // 2
+        text = re.sub(rf"\(= {r} [0-9]+\)", f"(= {r} {cut})", text, count=1)
+        done.append(f"{r} {seeded} → {cut}")
+    (tmp / f"{variant}.cat").write_text(text.replace("(problem sat)", f"(problem {variant})"))
+    return {"core_contains": ["init/ram"] if variant == "coupled" else [], "relax": "proven", "cut": ", ".join(done)}
 
 
 def _cell(v: object) -> str:
@@ -116,7 +126,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--timeout", type=float, default=60.0)
     ap.add_argument("--timeout-of", action="append", default=[], help="NAME=SECONDS: another limit for one tree")
     ap.add_argument("--seed", type=int, default=24)
-    ap.add_argument("--coupled-ram", type=int, default=7, help="the RAM of the coupled variant (GB)")
+    ap.add_argument("--coupled-ram", type=int, default=7, help="the RAM of the coupled variants (GB)")
+    ap.add_argument("--coupled-gpu", type=int, default=5, help="the GPU memory of the coupled2 variant (GB)")
     args = ap.parse_args(argv)
     shown = sys.argv[1:] if argv is None else argv
     trees = [(name, Path(path).resolve()) for name, _, path in (t.partition("=") for t in args.tree)]
@@ -131,7 +142,9 @@ def main(argv: list[str] | None = None) -> int:
                 cat = gen.build(n, d, args.seed)
                 with tempfile.TemporaryDirectory() as tmp:
                     expects = gen.write(cat, Path(tmp))
-                    expect = coupled(Path(tmp), args.coupled_ram) if variant == "coupled" else expects[variant]
+                    cuts = {"ram": args.coupled_ram, "gpu": args.coupled_gpu}
+                    couples = variant.startswith("coupled")
+                    expect = coupled(Path(tmp), variant, cuts) if couples else expects[variant]
                     for name, tree in trees:
                         row = measure(tree, variant, expect, limit.get(name, args.timeout), Path(tmp))
                         row["load"] = os.getloadavg()[0]
