@@ -98,9 +98,7 @@ class Consumption:
         slack: dict[str, Symbol] | None = None,
         backend: str = DEFAULT_BACKEND,
         optimize: bool = False,
-        unused: Collection[str] = (),
     ) -> None:
-        """``unused``: morphisms kept unused (:func:`dominated` ones, where that is sound)."""
         self.inst = inst
         self.known = None if known is None else set(known)
         self.indicator: dict[str, Symbol] = {}
@@ -114,7 +112,6 @@ class Consumption:
         asserts += [f"(>= {r} 0)" for r in rank.values()]
         if fixed is not None:
             asserts += [used[m] if m in fixed else f"(not {used[m]})" for m in used]
-        asserts += [f"(not {used[m]})" for m in unused if m in used]
 
         def on(label: str) -> str:
             if self.known is not None and label not in self.known:
@@ -880,8 +877,10 @@ def least_restoration(
     is (see there) and takes Z3 from over 30 s a check to seconds at n = 200–400."""
     weights = {label: w for label, kind, w in reqs if kind == "initial value"}
     slack = {label: Symbol(f"slack:{label}", SmtSort.REAL) for label in weights}
-    a = Consumption(inst, slack=slack, unused=dominated(inst) if prune else ())
+    a = Consumption(inst, slack=slack)
     b = a.backend
+    for m in dominated(inst) if prune else ():  # never needed for the optimum (see there)
+        b.assert_term(f"(not {a.used[m]})")
     for s in slack.values():
         b.assert_term(f"(>= {s} 0.0)")
     for sym in a.indicator.values():
