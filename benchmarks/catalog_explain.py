@@ -11,12 +11,21 @@ A cell is the wall time in seconds, ``unknown`` (exit 3), ``timeout`` (killed 15
 limit) or ``WRONG`` (a core without the constructed members, a relaxation other than the
 constructed least, or not proven; the script then exits 1).  ``×`` is diagnose over the
 UNSAT solve of the same tree.
+
+The variant ``coupled`` (not in the default list) is the ``sat`` problem with the RAM cut to
+7 GB (``--coupled-ram``; to half the seeded sum where that is 7 or less), ``coupled2`` the
+same with the GPU memory cut to 5 GB too (``--coupled-gpu``): several resources may need
+raising at once and alternatives trade one for another, so there is no constructed least;
+the relax cell counts when it is proven least (the totals are printed after the table), and
+``coupled``'s cores must contain ``init/ram`` (with the RAM free, the seeded selection fits
+every other sum exactly).
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -52,6 +61,7 @@ def measure(tree: Path, variant: str, expect: dict, timeout: float, tmp: Path) -
     dom = "missing-domain.cat" if variant == "missing" else "domain.cat"
     t = ["--timeout", str(timeout)]
     row: dict[str, object] = {}
+    totals: dict[str, object] = {}
 
     def cell(name: str, args: list[str], ok) -> None:
         wall, rc, out = _run(tree, args, timeout, tmp)
@@ -69,6 +79,9 @@ def measure(tree: Path, variant: str, expect: dict, timeout: float, tmp: Path) -
         return j.get("status") == "unsat" and set(expect["core_contains"]) <= labels
 
     def relax_ok(j: dict) -> bool:
+        if expect["relax"] == "proven":  # the coupled cut: any proven least, its total kept
+            totals[variant] = f"{j.get('cost')} ({expect['cut']})"
+            return j.get("status") == "relaxed" and j.get("proven") is True
         if expect["relax"] is None:
             return j.get("status") == "unsat"
         got = {r["label"]: str(r["delta"]) for r in j.get("relaxations", [])}
@@ -80,7 +93,24 @@ def measure(tree: Path, variant: str, expect: dict, timeout: float, tmp: Path) -
     cell("relax", ["relax", dom, f"{variant}.cat", "--json", *t], relax_ok)
     u, dg = row.get("UNSAT solve"), row.get("diagnose")
     row["×"] = dg / u if isinstance(u, float) and isinstance(dg, float) else "—"
+    if variant in totals:
+        row["total"] = totals[variant]
     return row
+
+
+def coupled(tmp: Path, variant: str, cuts: dict[str, int]) -> dict:
+    """The ``sat`` problem with the RAM (``coupled``), or the RAM and the GPU memory
+    (``coupled2``), cut as ``cuts`` say — to half the seeded value where that is no more
+    (see the module docstring)."""
+    text = (tmp / "sat.cat").read_text()
+    done = []
+    for r in ["ram", "gpu"] if variant == "coupled2" else ["ram"]:
+        seeded = int(re.search(rf"\(= {r} ([0-9]+)\)", text).group(1))  # type: ignore[union-attr]
+        cut = cuts[r] if seeded > cuts[r] else seeded // 2
+        text = re.sub(rf"\(= {r} [0-9]+\)", f"(= {r} {cut})", text, count=1)
+        done.append(f"{r} {seeded} → {cut}")
+    (tmp / f"{variant}.cat").write_text(text.replace("(problem sat)", f"(problem {variant})"))
+    return {"core_contains": ["init/ram"] if variant == "coupled" else [], "relax": "proven", "cut": ", ".join(done)}
 
 
 def _cell(v: object) -> str:
@@ -96,6 +126,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--timeout", type=float, default=60.0)
     ap.add_argument("--timeout-of", action="append", default=[], help="NAME=SECONDS: another limit for one tree")
     ap.add_argument("--seed", type=int, default=24)
+    ap.add_argument("--coupled-ram", type=int, default=7, help="the RAM of the coupled variants (GB)")
+    ap.add_argument("--coupled-gpu", type=int, default=5, help="the GPU memory of the coupled2 variant (GB)")
     args = ap.parse_args(argv)
     shown = sys.argv[1:] if argv is None else argv
     trees = [(name, Path(path).resolve()) for name, _, path in (t.partition("=") for t in args.tree)]
@@ -109,7 +141,10 @@ def main(argv: list[str] | None = None) -> int:
                     continue
                 cat = gen.build(n, d, args.seed)
                 with tempfile.TemporaryDirectory() as tmp:
-                    expect = gen.write(cat, Path(tmp))[variant]
+                    expects = gen.write(cat, Path(tmp))
+                    cuts = {"ram": args.coupled_ram, "gpu": args.coupled_gpu}
+                    couples = variant.startswith("coupled")
+                    expect = coupled(Path(tmp), variant, cuts) if couples else expects[variant]
                     for name, tree in trees:
                         row = measure(tree, variant, expect, limit.get(name, args.timeout), Path(tmp))
                         row["load"] = os.getloadavg()[0]
@@ -122,6 +157,12 @@ def main(argv: list[str] | None = None) -> int:
     for variant, n, d, name, row in rows:
         cells = " | ".join(_cell(row.get(q, "")) for q in queries)
         print(f"| {variant} | {n} | {d} | {name} | {cells} | {row['load']:.1f} |")
+    totals = [(v, n, d, name, row["total"]) for v, n, d, name, row in rows if "total" in row]
+    if totals:
+        print(
+            "\nProven least totals of the coupled cut: "
+            + ", ".join(f"n = {n}, d = {d} {name}: {t}" for _, n, d, name, t in totals)
+        )
     wrong = [(v, n, d, name, q) for v, n, d, name, row in rows for q, x in row.items() if x == "WRONG"]
     if wrong:
         print(f"\nWRONG answers: {wrong}", file=sys.stderr)

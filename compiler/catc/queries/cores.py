@@ -17,6 +17,7 @@ import math
 import time
 from collections.abc import Callable, Collection, Iterable, Sequence
 from fractions import Fraction
+from itertools import chain
 from typing import Protocol
 
 from catc import ir
@@ -25,7 +26,16 @@ from catc.semantics.plan import Activation, Plan
 from catc.semantics.validate import validate
 from catc.semantics.witness import BIG, _candidate, _restricted
 from catc.smt.backend import Check
-from catc.smt.consumption import Atom, Consumption, _atoms, _givers, _holds, least_restoration, room
+from catc.smt.consumption import (
+    Atom,
+    Consumption,
+    _atoms,
+    _givers,
+    _holds,
+    cheapest_support,
+    least_restoration,
+    room,
+)
 from catgrammar import limits
 from catgrammar.record import replace
 
@@ -231,6 +241,13 @@ class LeastCost:
                     wanted |= fresh
                     todo += fresh
         self.wanted = wanted
+        #: per morphism, the facts it gives that some test may ask for
+        self.gives_wanted = [[a for a in atoms if a in wanted] for atoms in self.gives]
+        #: per morphism with one condition needing facts: those facts, each once
+        self.single = [tuple(dict.fromkeys(ns[0][1])) if len(ns) == 1 else () for ns in self.needs]
+        #: per resource: its θ bound labels, and its (morphism, amount, effect label) with amount > 0
+        self.bounds_of = [{b for _, _, _, b in c if b is not None} for *_, c in self.resources]
+        self.takers = [[(m, a, label) for m, a, label, _ in c if a] for *_, c in self.resources]
         self.relevant = set(self._relevant())
         self.tests = 0
 
@@ -252,14 +269,16 @@ class LeastCost:
         """The resources the bound speaks of with ``enforced``: (name, room, amount per
         morphism), scaled to integers."""
         out = []
-        for name, space, init, bounds, consumers in self.resources:
+        for (name, space, init, bounds, _), needed, takers in zip(
+            self.resources, self.bounds_of, self.takers, strict=True
+        ):
             if init not in enforced or bounds not in enforced:
                 continue
-            if any(bound is not None and bound not in enforced for _, _, _, bound in consumers):
+            if not needed.issubset(enforced):
                 continue  # a θ without its lower bound may give the resource back
             amounts: dict[int, int] = {}
-            for m, amount, label, _ in consumers:
-                if label in enforced and amount:
+            for m, amount, label in takers:
+                if label in enforced:
                     amounts[m] = amounts.get(m, 0) + amount
             out.append((name, space, amounts))
         return out
@@ -300,40 +319,37 @@ class LeastCost:
     ) -> tuple[int | None, list[int], list[int]]:
         """The goal's cost (None: unreachable), the giver of each settled atom (-1: initially;
         -2 unsettled) and the morphisms in the order they fire; ``held``: atoms given at no cost."""
-        zero = 0
         goal = {a for label, atoms in self.goal if label in enforced for a in atoms}
         giver = [-2] * len(self.atoms)
         waiting: list[list[int]] = [[] for _ in self.atoms]
         remaining = [0] * len(self.names)
-        heap: list[tuple[int, int, int]] = []
-        for a, s in enumerate(self.start):
-            if s is None or s[1] or s[0] not in enforced or a in held:
-                heap.append((zero, a, -1))
+        heap = [(0, a, -1) for a, s in enumerate(self.start) if s is None or s[1] or s[0] not in enforced or a in held]
         order: list[int] = []
-
-        wanted = self.wanted
-
-        def fire(m: int, base: int) -> None:
-            order.append(m)
-            value = base + amounts.get(m, zero)
-            for a in self.gives[m]:
-                if giver[a] == -2 and a in wanted:
-                    heapq.heappush(heap, (value, a, m))
-
+        gives, needs, get, push, pop = self.gives_wanted, self.needs, amounts.get, heapq.heappush, heapq.heappop
         useful = [m for m in self.useful if m not in never]
         for m in useful:
-            pending = {a for label, atoms in self.needs[m] if label in enforced for a in atoms}
+            ns = needs[m]
+            if not ns:
+                continue
+            if len(ns) == 1:  # most morphisms: one condition needing facts
+                pending: Collection[int] = self.single[m] if ns[0][0] in enforced else ()
+            else:
+                pending = {a for label, atoms in ns if label in enforced for a in atoms}
             remaining[m] = len(pending)
             for a in pending:
                 waiting[a].append(m)
         heapq.heapify(heap)
-        for m in useful:
+        for m in useful:  # (inlined: what fires gives its facts at its cost)
             if remaining[m] == 0:
-                fire(m, zero)
-        cost = zero
+                order.append(m)
+                value = get(m, 0)
+                for a in gives[m]:
+                    if giver[a] == -2:
+                        push(heap, (value, a, m))
+        cost = 0
         left = len(goal)
         while heap and left:
-            c, a, by = heapq.heappop(heap)
+            c, a, by = pop(heap)
             if giver[a] != -2:
                 continue
             giver[a] = by
@@ -343,7 +359,11 @@ class LeastCost:
             for m in waiting[a]:
                 remaining[m] -= 1
                 if remaining[m] == 0:
-                    fire(m, c)
+                    order.append(m)
+                    value = c + get(m, 0)
+                    for b in gives[m]:
+                        if giver[b] == -2:
+                            push(heap, (value, b, m))
         return (None if left else cost), giver, order
 
     def support(self, enforced: Collection[str], giver: list[int], order: list[int], roots: Iterable[int]) -> list[str]:
@@ -389,6 +409,20 @@ class LeastCost:
                 if plan not in seen:
                     seen.append(plan)
                     yield plan
+
+    def swapped(self, enforced: Collection[str], giver: list[int], order: list[int], first: int) -> list[str]:
+        """The support of the goal through ``giver`` (a run's, with more labels enforced) with
+        morphism ``first`` giving every fact it gives: the support of ``first``'s facts,
+        ``first``, then the rest, each part in the run's firing order."""
+        goal = [a for label, atoms in self.goal if label in enforced for a in atoms]
+        before = [b for label, atoms in self.needs[first] if label in enforced for b in atoms]
+        head = self.support(enforced, giver, order, before)
+        mine = list(giver)
+        for a in self.gives[first]:
+            mine[a] = first
+        name = self.names[first]
+        tail = [m for m in self.support(enforced, mine, order, goal) if m not in head and m != name]
+        return [m for m in head if m != name] + [name] + tail
 
     def _through(
         self,
@@ -464,31 +498,56 @@ class QuickCores:
         (the validator says so); False: not shown."""
         limits.check_time("diagnosing")
         enforced = frozenset(labels)
+        return any(self._replay(enforced, order) for order in self.bound.candidates(enforced, prefer))
+
+    def _replay(self, enforced: frozenset[str], order: list[str]) -> bool:
+        """Whether the validator accepts ``order`` (one per step, θ as the solver might pick
+        them) on the instance enforcing exactly ``enforced``."""
         steps = self.horizon if ir.Label.horizon() in enforced else self.extended
+        if len(order) > steps:
+            return False
         inst = self.inst
-        for order in self.bound.candidates(enforced, prefer):
-            if len(order) > steps:
-                continue
-            plan = _candidate(inst, enforced, order, order)
-            if plan is None:
-                continue
-            # only the plan's morphisms: the others never fire (the replay is then quick)
-            used = set(order)
-            sub = ir.Instance(
-                replace(inst.domain, morphisms=ir.frozen({m: x for m, x in inst.morphisms.items() if m in used})),
-                inst.problem,
-                inst.view,
-            )
-            for candidate in (plan, _unbounded(inst, plan, enforced)):
-                for big in (False, True):
-                    if validate(_freed(_restricted(sub, enforced, big), enforced), candidate, horizon=steps).ok:
-                        self.witnessed += 1
-                        return True
+        plan = _candidate(inst, enforced, order, order)
+        if plan is None:
+            return False
+        # only the plan's morphisms: the others never fire (the replay is then quick)
+        used = set(order)
+        sub = ir.Instance(
+            replace(inst.domain, morphisms=ir.frozen({m: x for m, x in inst.morphisms.items() if m in used})),
+            inst.problem,
+            inst.view,
+        )
+        for candidate in (plan, _unbounded(inst, plan, enforced)):
+            for big in (False, True):
+                if validate(_freed(_restricted(sub, enforced, big), enforced), candidate, horizon=steps).ok:
+                    self.witnessed += 1
+                    return True
         return False
 
     def irreducible(self, core: Sequence[str]) -> bool:
-        """Whether every member of ``core`` is shown needed (the rest witnessed feasible)."""
-        return all(self.feasible([*core[:i], *core[i + 1 :]], owner(self.inst, label)) for i, label in enumerate(core))
+        """Whether every member of ``core`` is shown needed (the rest witnessed feasible).
+        For each member first the cheapest support of the whole core with the member's own
+        morphism swapped in (one bound run for all members, :meth:`LeastCost.swapped`), then
+        the bound's supports of the core without the member (:meth:`feasible`).  Either way
+        it is only a candidate: what shows the member needed is the validator's replay."""
+        bound = self.bound
+        every = set(core)
+        claims = [c for c in bound.claims(every) if bound.deciding is None or c[0] in bound.deciding]
+        amounts = claims[0][2] if claims else {}
+        never = {m for _, space, amounts_ in bound.claims(every) for m, a in amounts_.items() if a > space}
+        cost, giver, order = bound.run(every, amounts, never)
+        position = {name: i for i, name in enumerate(bound.names)}
+        for i, label in enumerate(core):
+            rest = [*core[:i], *core[i + 1 :]]
+            m = owner(self.inst, label)
+            if cost is not None and m is not None:
+                limits.check_time("diagnosing")
+                enforced = frozenset(rest)
+                if self._replay(enforced, bound.swapped(enforced, giver, order, position[m])):
+                    continue
+            if not self.feasible(rest, m):
+                return False
+        return True
 
 
 def owner(inst: ir.Instance, label: str) -> str | None:
@@ -519,8 +578,10 @@ def restoration(
     no more than every excess, raising each short resource by exactly its shortfall is
     least as soon as some composition then exists.  The
     composition is the bound's cheapest support of the goal on the raised instance
-    (``relaxed``: the instance with the raises applied); it counts only when the independent
-    validator accepts it.  (cost, raise per label, composition), or None."""
+    (``relaxed``: the instance with the raises applied) for each resource, or else one that
+    fits every resource at once (:func:`catc.smt.consumption.cheapest_support`: the coupled
+    cuts, where the cheapest per resource overdraws another); it counts only when the
+    independent validator accepts it.  (cost, raise per label, composition), or None."""
     every = set(label_index(inst))
     bound = LeastCost(inst)
     claims = bound.claims(every)
@@ -548,7 +609,9 @@ def restoration(
     if not short or any(e < total for e in excess.values()):
         return None  # not the least, or nothing to restore
     raised = relaxed(short)
-    for order in LeastCost(raised).candidates(every):
+    # the bound's cheapest support per resource, then one that fits every resource at once
+    # (alternatives trading one resource for another: the coupled cuts)
+    for order in chain(LeastCost(raised).candidates(every), _fitting(raised)):
         limits.check_time("relaxing")
         if not order or len(order) > horizon:
             continue
@@ -556,6 +619,13 @@ def restoration(
         if plan is not None and validate(raised, plan, horizon=horizon, sequential=sequential).ok:
             return total, short, plan
     return None
+
+
+def _fitting(inst: ir.Instance) -> Iterable[list[str]]:
+    """:func:`catc.smt.consumption.cheapest_support` of ``inst``, if it finds one."""
+    order = cheapest_support(inst)
+    if order is not None:
+        yield order
 
 
 #: The most time :func:`optimal_restoration` takes without a time limit.
