@@ -31,6 +31,7 @@ from catc.queries.base import (
     json_option,
     timeout_option,
 )
+from catc.queries.churn_search import best_set
 from catc.queries.optimize import DEFAULT_TACTICS, OptResult, OptStatus, Tactics, objectives_of, optimize
 from catc.queries.optimum import _finish, _not_worse, _scores
 from catc.semantics.horizon import horizon_of
@@ -95,6 +96,11 @@ def recompose(
     if priority == "stability" or not mission:
         t0 = time.perf_counter()
         result = _least_churn_by_sets(inst, order, horizon_of(inst, horizon), sequential)
+        if result is not None:
+            result.timings["total"] = time.perf_counter() - t0
+    if result is None:
+        t0 = time.perf_counter()
+        result = _best_by_search(inst, order, horizon_of(inst, horizon), sequential)
         if result is not None:
             result.timings["total"] = time.perf_counter() - t0
     if result is None:
@@ -192,6 +198,37 @@ def _least_churn_by_sets(
             return None
     result = OptResult(OptStatus.OPT, k)
     _finish(inst, result, best[1], objectives, [], [("exact", None)] * len(objectives), k, sequential, True)
+    return result
+
+
+def _best_by_search(
+    inst: ir.Instance, objectives: list[ir.Objective], k: int, sequential: bool
+) -> OptResult | None:
+    """The lexicographic optimum of churn and the mission objectives without the solver,
+    in either priority (issue 24), or None (no claim): the passing component set of
+    greatest optimistic key (:func:`catc.queries.churn_search.best_set`), replayed by the
+    validator one step per component, θ at their lower bounds, must score exactly that key
+    — then no composition does better, as every composition's key is at most its component
+    set's optimistic key.  No soft constraints."""
+    if inst.problem.softs:
+        return None
+    found = best_set(inst, objectives)
+    if found is None:
+        return None
+    order, key = found
+    bounds = frozenset(m.bound_label(p.name) for m in inst.morphisms.values() for p in m.params)
+    plan = _candidate(inst, bounds, order, order)
+    if plan is None or len(plan.steps) > k:
+        return None
+    report = validate(inst, plan, horizon=k, sequential=sequential)
+    if not report.ok:
+        return None
+    values = _scores(inst, plan, objectives, [], k, sequential, report)
+    wanted = [-v if isinstance(o.term, ir.TotalChurn) else v for o, v in zip(objectives, key)]
+    if values != wanted:
+        return None
+    result = OptResult(OptStatus.OPT, k)
+    _finish(inst, result, plan, objectives, [], [("exact", None)] * len(objectives), k, sequential, True)
     return result
 
 
