@@ -36,41 +36,88 @@ rejects or whose replay scores less than its optimistic key.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import heapq
+import math
+from collections.abc import Collection, Iterable, Sequence
 from fractions import Fraction
 
 from catc import ir
-from catc.smt.consumption import (
-    Atom,
-    FixedSet,
-    _atom_costs,
-    _atoms,
-    _givers,
-    _holds,
-    init_value,
-    overdrawing,
-)
+from catc.smt.consumption import Atom, FixedSet, _givers, _holds, init_value, overdrawing
 
 #: The most branches :func:`best_set` tries before it gives up (no claim).
 EXPANSIONS = 200_000
 
-Key = tuple[Fraction, ...]  # greater is better: objective values, then -churn (or the reverse)
+Key = tuple[int, ...]  # greater is better: per objective its scaled value (churn negated)
 
 
 class _GiveUp(Exception):
     pass
 
 
+def _scale(values: Iterable[Fraction]) -> int:
+    """The least common multiple of the denominators: every value times it is an integer."""
+    out = 1
+    for v in values:
+        out = out * v.denominator // math.gcd(out, v.denominator)
+    return out
+
+
+def _hmax(
+    givers: dict[Atom, list[str]],
+    need_of: dict[Atom, list[str]],
+    needs: dict[str, list[Atom]],
+    gives: dict[str, list[Atom]],
+    start: Collection[Atom],
+    amount: dict[str, int],
+    free: str | None = None,
+) -> dict[Atom, int]:
+    """The h_max cost of each reachable fact (``start``: the facts that hold initially, cost 0)
+    — a fact costs the least, over its givers, of the giver's amount (``free``'s: 0) plus the
+    greatest cost among the giver's facts — settled in increasing order (Knuth's
+    generalisation of Dijkstra's algorithm); an unreachable fact has none."""
+    cost: dict[Atom, int] = {}
+    heap: list[tuple[int, int, Atom]] = []
+    tick = 0
+    for a in start:
+        heap.append((0, tick, a))
+        tick += 1
+    best: dict[Atom, int] = dict.fromkeys(start, 0)
+    waiting = {m: len(ns) for m, ns in needs.items()}
+
+    def offer(m: str, c: int) -> None:
+        nonlocal tick
+        c += 0 if m == free else amount.get(m, 0)
+        for b in gives.get(m, ()):
+            if c < best.get(b, c + 1):
+                best[b] = c
+                tick += 1
+                heapq.heappush(heap, (c, tick, b))
+
+    for m, k in waiting.items():
+        if k == 0:
+            offer(m, 0)
+    heapq.heapify(heap)
+    while heap:
+        c, _, a = heapq.heappop(heap)
+        if a in cost:
+            continue
+        cost[a] = c
+        for m in need_of.get(a, ()):
+            waiting[m] -= 1
+            if waiting[m] == 0:
+                offer(m, c)  # settled in increasing order: c is the greatest of m's facts
+    return cost
+
+
 def best_set(
     inst: ir.Instance, objectives: Sequence[ir.Objective], expansions: int = EXPANSIONS
-) -> tuple[list[str], Key] | None:
+) -> tuple[list[str], tuple[Fraction, ...]] | None:
     """The passing component set of greatest optimistic key for ``objectives`` (churn and
     maximised only-decreasing resources, in their lexicographic order), in an order it can
     fire, with that key (each objective as a value to maximise: churn negated); None when
     the search cannot say (see the module docstring) or no set passes."""
     fixed = FixedSet(inst)
     decreasing = fixed.decreasing
-    rooms = fixed.rooms
     slots: list[str | None] = []  # per objective: the resource it maximises, None for churn
     for o in objectives:
         if isinstance(o.term, ir.TotalChurn) and o.sense is ir.Sense.MINIMIZE:
@@ -79,9 +126,18 @@ def best_set(
             slots.append(o.term.name)
         else:
             return None
-    weight = {m.name: Fraction(m.churn) for m in inst.morphisms.values()}
-    if any(w <= 0 for w in weight.values()):
+    weights = {m.name: Fraction(m.churn) for m in inst.morphisms.values()}
+    if any(w <= 0 for w in weights.values()):
         return None
+    # integers throughout: each resource (and the churn weights) scaled by its denominators
+    scale = {r: _scale([*amounts.values(), fixed.rooms[r], init_value(inst, r)]) for r, amounts in decreasing.items()}
+    wscale = _scale(weights.values())
+    weight = {m: int(w * wscale) for m, w in weights.items()}
+    amt = {r: {m: int(a * scale[r]) for m, a in amounts.items()} for r, amounts in decreasing.items()}
+    rooms = {r: int(fixed.rooms[r] * scale[r]) for r in decreasing}
+    inits = {r: int(init_value(inst, r) * scale[r]) for r in decreasing}
+    resources = list(decreasing)
+
     deployed_set = set(inst.problem.deployed)
     deployed = [m for m in inst.morphisms if m in deployed_set]
     given, any_element = _givers(inst)
@@ -89,24 +145,51 @@ def best_set(
     needs = {m: list(dict.fromkeys(ns)) for m, ns in fixed.needs.items()}
     goal = list(dict.fromkeys(fixed.goal))
     atoms = set(given) | {a for ns in needs.values() for a in ns} | set(goal)
-    costs = {r: _atom_costs(inst, given, any_element, needs, atoms, decreasing[r], never) for r in decreasing}
-    inits = {r: init_value(inst, r) for r in decreasing}
-    gives_of, adds_of = fixed.gives_of, fixed.adds_of
-    if any(m not in never and m not in needs for m in deployed):
-        return None
 
-    lost = sum((weight[x] for x in deployed if x in never), Fraction(0))  # never fire: removed
+    def initially(a: Atom) -> bool:
+        init = inst.problem.init.get(a[0])
+        return init is None or _holds(init, a)
 
-    def amount(m: str, r: str) -> Fraction:
-        return decreasing[r].get(m, Fraction(0))
+    start = {a for a in atoms if initially(a)}
+    # who gives each fact (never-firing morphisms left out), and what each morphism gives
+    givers: dict[Atom, list[str]] = {}
+    for a in atoms:
+        ms = [m for m, _ in given.get(a, []) + (any_element.get(a[0], []) if a[1] is not None else [])]
+        givers[a] = [m for m in dict.fromkeys(ms) if m not in never]
+    gives: dict[str, list[Atom]] = {}
+    for a, ms in givers.items():
+        for m in ms:
+            gives.setdefault(m, []).append(a)
+    live = {m: ns for m, ns in needs.items() if m not in never}
+    need_of: dict[Atom, list[str]] = {}
+    for m, ns in live.items():
+        for a in ns:
+            need_of.setdefault(a, []).append(m)
+    costs = {r: _hmax(givers, need_of, live, gives, start, amt[r]) for r in resources}
+    free_costs = {x: {r: _hmax(givers, need_of, live, gives, start, amt[r], x) for r in resources} for x in deployed}
 
-    def sort_key(m: str) -> tuple:
-        """Givers tried first: the best contribution to the key, then cheapest overall."""
-        own = []
-        for r in slots:
-            own.append(-(weight[m] if m not in deployed_set else Fraction(0)) if r is None else -amount(m, r))
-        spend = sum((amount(m, r) / rooms[r] for r in decreasing if rooms[r] > 0), Fraction(0))
-        return (*(-x for x in own), spend)
+    cones: dict[Atom, frozenset[Atom]] = {}  # the facts a fact's supports may give (not initial)
+
+    def cone(a: Atom) -> frozenset[Atom]:
+        if a not in cones:
+            seen: set[Atom] = set()
+            todo = [a]
+            while todo:
+                b = todo.pop()
+                for m in givers.get(b, ()):
+                    for c in live[m]:
+                        if c not in seen and c not in start:
+                            seen.add(c)
+                            todo.append(c)
+            cones[a] = frozenset(seen)
+        return cones[a]
+
+    landmarks = _landmarks(atoms, start, givers, live)
+    giver_sets = {a: frozenset(ms) for a, ms in givers.items()}
+    cheapest_new = {a: min((weight[m] for m in ms if m not in deployed_set), default=None) for a, ms in givers.items()}
+
+    def amount(m: str, r: str) -> int:
+        return amt[r].get(m, 0)
 
     def dominates(a: str, b: str) -> bool:
         if a in deployed_set and b not in deployed_set:
@@ -118,51 +201,45 @@ def best_set(
         return (
             churn_ok
             and set(needs[a]) == set(needs[b])
-            and set(gives_of.get(a, [])) == set(gives_of.get(b, []))
-            and set(adds_of.get(a, [])) == set(adds_of.get(b, []))
-            and all(amount(a, r) <= amount(b, r) for r in decreasing)
+            and set(gives.get(a, [])) == set(gives.get(b, []))
+            and all(amount(a, r) <= amount(b, r) for r in resources)
         )
+
+    def sort_key(m: str) -> tuple:
+        """Givers tried first: the best contribution to the key, then cheapest overall."""
+        own = [(weight[m] if m not in deployed_set else 0) if r is None else amount(m, r) for r in slots]
+        spend = sum((Fraction(amount(m, r), rooms[r]) for r in resources if rooms[r] > 0), Fraction(0))
+        return (*own, spend)
 
     order_of = {m: i for i, m in enumerate(inst.morphisms)}
     offers: dict[Atom, list[str]] = {}
-    for a in atoms:
-        ms = [m for m, _ in given.get(a, []) + (any_element.get(a[0], []) if a[1] is not None else [])]
-        ms = [m for m in dict.fromkeys(ms) if m not in never]
+    for a, ms in givers.items():
         kept = [
             b
             for b in ms
-            if not any(
-                x != b and dominates(x, b) and (not dominates(b, x) or order_of[x] < order_of[b]) for x in ms
-            )
+            if not any(x != b and dominates(x, b) and (not dominates(b, x) or order_of[x] < order_of[b]) for x in ms)
         ]
         offers[a] = sorted(kept, key=sort_key)
 
-    def initially(a: Atom) -> bool:
-        init = inst.problem.init.get(a[0])
-        return init is None or _holds(init, a)
-
-    spent = dict.fromkeys(decreasing, Fraction(0))
+    spent = dict.fromkeys(resources, 0)
     chosen: list[str] = []
     inside: set[str] = set()
     out: set[str] = set()  # deployed components decided out
-    gives: dict[Atom, int] = {}
-    wild: dict[str, int] = {}
-    added = [Fraction(0)]  # the churn weight of the chosen components that are not deployed
-    left = [expansions]
-    best: list = [None]  # (key, components)
+    have: dict[Atom, int] = {}  # fact → how many chosen components give it
+    state = {"added": 0, "out": 0, "left": expansions}
+    lost = sum(weight[x] for x in deployed if x in never)  # never fire: removed
+    best: list = [None]  # (key, order)
 
     def given_now(a: Atom) -> bool:
-        return initially(a) or gives.get(a, 0) > 0 or (a[1] is not None and wild.get(a[0], 0) > 0)
+        return a in start or have.get(a, 0) > 0
 
     def choose(m: str, sign: int) -> None:
-        for r in decreasing:
+        for r in resources:
             spent[r] += sign * amount(m, r)
-        for a in gives_of.get(m, []):
-            gives[a] = gives.get(a, 0) + sign
-        for r in adds_of.get(m, []):
-            wild[r] = wild.get(r, 0) + sign
+        for a in gives.get(m, ()):
+            have[a] = have.get(a, 0) + sign
         if m not in deployed_set:
-            added[0] += sign * weight[m]
+            state["added"] += sign * weight[m]
         if sign > 0:
             chosen.append(m)
             inside.add(m)
@@ -170,55 +247,71 @@ def best_set(
             chosen.pop()
             inside.discard(m)
 
-    def bound(open_: list[Atom], extra: str | None = None, gone: Fraction = Fraction(0)) -> Key | None:
-        """The optimistic key of every completion (with ``extra`` in it as well; ``gone``:
-        the churn of deployed components known out besides ``out``); None: none fits."""
-        worst: dict[str, Fraction] = {}
-        for r, cost in costs.items():
-            w = Fraction(0)
-            for a in open_:
-                c = cost.get(a)
-                if c is None:
-                    return None
-                w = max(w, c)
-            total = spent[r] + w + (amount(extra, r) if extra is not None else Fraction(0))
-            if total > rooms[r]:
-                return None
-            worst[r] = total
-        churn = added[0] + gone + lost + sum((weight[x] for x in out), Fraction(0))
-        if extra is not None and extra not in deployed_set:
-            churn += weight[extra]
-        return tuple(-churn if r is None else inits[r] - worst[r] for r in slots)
-
     def promising(open_: list[Atom]) -> bool:
         """Whether some completion may beat the best set found (see the module docstring)."""
-        key = bound(open_)
-        if key is None:
-            return False
+        valid = [a for a in open_ if not any(given_now(b) for b in cone(a))]
+        worst = {}
+        for r in resources:
+            w = 0
+            for a in open_:
+                c = costs[r].get(a)
+                if c is None:
+                    return False  # unreachable
+                if a in valid and c > w:
+                    w = c
+            if spent[r] + w > rooms[r]:
+                return False
+            worst[r] = w
         incumbent = best[0][0] if best[0] is not None else None
+        base = state["added"] + state["out"] + lost
+        key = tuple(-base if r is None else inits[r] - spent[r] - worst[r] for r in slots)
         if incumbent is not None and key <= incumbent:
             return False
-        gone = Fraction(0)
+        gone: set[str] = set()
         for x in deployed:
             if x in inside or x in out or x in never:
                 continue
-            with_x = bound(open_, x)
-            if with_x is None or (incumbent is not None and with_x <= incumbent):
-                gone += weight[x]  # every completion keeping x is no better
-        if gone:
-            key = bound(open_, gone=gone)
-            if key is None or (incumbent is not None and key <= incumbent):
-                return False
-        return True
+            free = free_costs[x]
+            ok = True
+            with_x = []
+            for r in resources:
+                w = max((free[r].get(a, 0) for a in valid), default=0)
+                total = spent[r] + amount(x, r) + w
+                if total > rooms[r]:
+                    ok = False
+                    break
+                with_x.append(total)
+            if ok and incumbent is not None:
+                by = dict(zip(resources, with_x))
+                ok = tuple(-base if r is None else inits[r] - by[r] for r in slots) > incumbent
+            if not ok:
+                gone.add(x)  # every completion keeping x is no better
+        if incumbent is None:
+            return True
+        churn = base + sum(weight[x] for x in gone)
+        used: set[str] = set()
+        for a in open_:
+            for f in landmarks.get(a, ()):
+                if given_now(f) or not giver_sets[f].isdisjoint(used):
+                    continue
+                if any(x in deployed_set and x not in gone and x not in out for x in givers[f]):
+                    continue
+                c = cheapest_new[f]
+                if c is None:
+                    return False
+                churn += c
+                used |= giver_sets[f]
+        key = tuple(-churn if r is None else k for r, k in zip(slots, key))
+        return key > incumbent
 
     def leaf() -> None:
         components = set(chosen)
         order = fixed.order(components)
         if order is None:
             raise _GiveUp  # a cyclic support: no claim
-        spent_now = fixed.spent(components)
-        churn = sum((weight[m] for m in components if m not in deployed_set), Fraction(0))
-        churn += sum((weight[m] for m in deployed if m not in components), Fraction(0))
+        spent_now = {r: sum(amount(m, r) for m in components) for r in resources}
+        churn = sum(weight[m] for m in components if m not in deployed_set)
+        churn += sum(weight[m] for m in deployed if m not in components)
         key = tuple(-churn if r is None else inits[r] - spent_now[r] for r in slots)
         if best[0] is None or key > best[0][0]:
             best[0] = (key, order)
@@ -230,18 +323,17 @@ def best_set(
             leaf()
             return
         x = deployed[i]
-        for keep in (True, False):
-            if keep:
-                choose(x, 1)
-                rest = [b for b in needs[x] if not given_now(b)]
-                if promising(rest):
-                    support(list(reversed(rest)), i + 1, 0)
-                choose(x, -1)
-            else:
-                out.add(x)
-                if promising([]):
-                    extras(i + 1)
-                out.discard(x)
+        choose(x, 1)
+        rest = [b for b in needs[x] if not given_now(b)]
+        if promising(rest):
+            support(list(reversed(rest)), i + 1, 0)
+        choose(x, -1)
+        out.add(x)
+        state["out"] += weight[x]
+        if promising([]):
+            extras(i + 1)
+        state["out"] -= weight[x]
+        out.discard(x)
 
     def support(open_: list[Atom], i: int, depth: int) -> None:
         open_ = [a for a in open_ if not given_now(a)]
@@ -254,8 +346,8 @@ def best_set(
         for m in offers.get(a, []):
             if m in inside or m in out:
                 continue
-            left[0] -= 1
-            if left[0] < 0:
+            state["left"] -= 1
+            if state["left"] < 0:
                 raise _GiveUp
             choose(m, 1)
             rest = [b for b in open_[:-1] + needs[m] if not given_now(b)]
@@ -266,11 +358,38 @@ def best_set(
     try:
         if promising(goal):
             support(list(reversed(goal)), 0, 0)
-    except _GiveUp:
-        return None
-    except RecursionError:
+    except (_GiveUp, RecursionError):
         return None
     if best[0] is None:
         return None
     key, order = best[0]
-    return order, key
+    values = tuple(Fraction(k, wscale) if r is None else Fraction(k, scale[r]) for r, k in zip(slots, key))
+    return order, values
+
+
+def _landmarks(
+    atoms: Collection[Atom], start: Collection[Atom], givers: dict[Atom, list[str]], needs: dict[str, list[Atom]]
+) -> dict[Atom, frozenset[Atom]]:
+    """Per fact, the facts (not holding initially) that every support of it gives, itself
+    included: a fact's own and, for every giver, some of the giver's facts' — the
+    intersection over its givers of the union of their facts' landmarks (a greatest fixpoint
+    from "every fact"); a fact without a giver is left out."""
+    everything = frozenset(a for a in atoms if a not in start)
+    marks: dict[Atom, frozenset[Atom]] = {a: everything for a in everything if givers.get(a)}
+    changed = True
+    while changed:
+        changed = False
+        for a in list(marks):
+            common: frozenset[Atom] | None = None
+            for m in givers[a]:
+                mine: set[Atom] = set()
+                for b in needs[m]:
+                    if b in start:
+                        continue
+                    mine |= marks.get(b, everything)
+                common = frozenset(mine) if common is None else common & mine
+            new = (common or frozenset()) | {a}
+            if new != marks[a]:
+                marks[a] = new
+                changed = True
+    return marks

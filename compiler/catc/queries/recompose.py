@@ -201,9 +201,7 @@ def _least_churn_by_sets(
     return result
 
 
-def _best_by_search(
-    inst: ir.Instance, objectives: list[ir.Objective], k: int, sequential: bool
-) -> OptResult | None:
+def _best_by_search(inst: ir.Instance, objectives: list[ir.Objective], k: int, sequential: bool) -> OptResult | None:
     """The lexicographic optimum of churn and the mission objectives without the solver,
     in either priority (issue 24), or None (no claim): the passing component set of
     greatest optimistic key (:func:`catc.queries.churn_search.best_set`), replayed by the
