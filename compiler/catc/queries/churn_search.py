@@ -29,15 +29,17 @@ holds is a non-deployed component no one needs, which only costs and adds churn.
   to the best found, which any completion keeping them cannot beat either;
 * a branch that overdraws a room with the open facts' h_max costs.
 
-Any doubt gives no claim (None; the caller asks the solver): more than :data:`EXPANSIONS`
-branches, a built set without a firing order (a cyclic support), a set the validator
-rejects or whose replay scores less than its optimistic key.
+Any doubt gives no claim: more than :data:`EXPANSIONS` branches or the time given, a built
+set without a firing order (a cyclic support) — then the best set found is returned as
+not proven — or a set the validator rejects or whose replay scores less than its
+optimistic key (the caller asks the solver).
 """
 
 from __future__ import annotations
 
 import heapq
 import math
+import time
 from collections.abc import Collection, Iterable, Sequence
 from fractions import Fraction
 
@@ -110,12 +112,17 @@ def _hmax(
 
 
 def best_set(
-    inst: ir.Instance, objectives: Sequence[ir.Objective], expansions: int = EXPANSIONS
-) -> tuple[list[str], tuple[Fraction, ...]] | None:
+    inst: ir.Instance,
+    objectives: Sequence[ir.Objective],
+    expansions: int = EXPANSIONS,
+    deadline: float | None = None,
+) -> tuple[list[str], tuple[Fraction, ...], bool] | None:
     """The passing component set of greatest optimistic key for ``objectives`` (churn and
     maximised only-decreasing resources, in their lexicographic order), in an order it can
-    fire, with that key (each objective as a value to maximise: churn negated); None when
-    the search cannot say (see the module docstring) or no set passes."""
+    fire, with that key (each objective as a value to maximise: churn negated) and True;
+    when the search stops early (see the module docstring; ``deadline``: a
+    ``time.monotonic()`` it stops at), the best set found so far and False; None when the
+    objectives are not of that kind or nothing passes."""
     fixed = FixedSet(inst)
     decreasing = fixed.decreasing
     slots: list[str | None] = []  # per objective: the resource it maximises, None for churn
@@ -347,7 +354,7 @@ def best_set(
             if m in inside or m in out:
                 continue
             state["left"] -= 1
-            if state["left"] < 0:
+            if state["left"] < 0 or (deadline is not None and time.monotonic() > deadline):
                 raise _GiveUp
             choose(m, 1)
             rest = [b for b in open_[:-1] + needs[m] if not given_now(b)]
@@ -355,16 +362,17 @@ def best_set(
                 support(rest, i, depth + 1)
             choose(m, -1)
 
+    proven = True
     try:
         if promising(goal):
             support(list(reversed(goal)), 0, 0)
     except (_GiveUp, RecursionError):
-        return None
+        proven = False
     if best[0] is None:
         return None
     key, order = best[0]
     values = tuple(Fraction(k, wscale) if r is None else Fraction(k, scale[r]) for r, k in zip(slots, key))
-    return order, values
+    return order, values, proven
 
 
 def _landmarks(
