@@ -52,7 +52,9 @@ def _level(cat: gen.Catalog, name: str) -> int:
     return 0 if name.startswith("spare") else cat.d + 1
 
 
-def _brute_force(inst: ir.Instance, cat: gen.Catalog, metric: str) -> dict[str, tuple[Fraction, int]]:
+def _brute_force(
+    inst: ir.Instance, cat: gen.Catalog, metric: str, weights: dict[str, Fraction] | None = None
+) -> dict[str, tuple[Fraction, Fraction]]:
     """Per priority, the best (metric's final value, churn) over every subset the validator
     accepts in level order."""
     # shortcuts need more RAM than there is, ghost readers a topic no one publishes (the
@@ -62,7 +64,7 @@ def _brute_force(inst: ir.Instance, cat: gen.Catalog, metric: str) -> dict[str, 
     )
     deployed = set(inst.problem.deployed)
     topics = [c for c in inst.constants_of(inst.morphisms["logger-1"].params[0].sort)] if "logger-1" in names else []
-    found: list[tuple[Fraction, int]] = []
+    found: list[tuple[Fraction, Fraction]] = []
     for size in range(1, len(names) + 1):
         for subset in combinations(names, size):
             choices: list[list[Activation]] = []
@@ -81,7 +83,9 @@ def _brute_force(inst: ir.Instance, cat: gen.Catalog, metric: str) -> dict[str, 
                 report = validate(inst, Plan([[a] for a in steps]), horizon=16, sequential=False)
                 if report.ok:
                     value = Fraction(report.final_state[metric])
-                    churn = len(set(subset) ^ deployed)
+                    churn = sum(
+                        (weights.get(m, Fraction(1)) if weights else Fraction(1)) for m in set(subset) ^ deployed
+                    )
                     found.append((value, churn))
                     break
     return {
@@ -178,3 +182,31 @@ def test_a_search_stopped_early_is_not_a_proof() -> None:
     assert full is not None and full[2]
     early = best_set(inst, order, expansions=50)  # a first set found, worse than the optimum
     assert early is not None and not early[2] and early[1] < full[1]
+
+
+def test_unequal_churn_weights_agree_with_brute_force() -> None:
+    """Churn weights 1/2, 1 and 3/2 in turn (declaration order), both priorities: the
+    stability route's listing declines unequal weights, so the search answers both."""
+    cat = gen.build(10, 3)
+    init = gen.sums(cat.selection)
+    init["ram"] = gen.least_sums(cat)["ram"]
+    deployed = [a.name for a in cat.selection] + [next(m for m in _names(cat) if m.startswith("spare"))]
+    weights = {m: Fraction(1 + i % 3, 2) for i, m in enumerate(_names(cat))}
+    domain = gen.domain_text(cat)
+    for m, w in weights.items():
+        domain = domain.replace(
+            f"(:morphism {m} :kind", f"(:morphism {m} :churn {float(w)} :kind", 1
+        )  # 0.5, 1.0, 1.5: exact
+    inst = loads({"domain.cat": domain, "p.cat": _problem(cat, init, deployed)}, "p.cat").instance
+    assert {m.name: m.churn for m in inst.morphisms.values()} == weights
+    truth = _brute_force(inst, cat, "budget", weights)
+    for priority in ("objective", "stability"):
+        mission = objectives_of(inst)
+        order = [CHURN, *mission] if priority == "stability" else [*mission, CHURN]
+        found = best_set(inst, order)
+        assert found is not None and found[2], priority
+        rec = recompose(inst, priority=priority, timeout=60)
+        assert rec.status is OptStatus.OPT
+        budget, churn = truth[priority]
+        want = [budget, churn] if priority == "objective" else [churn, budget]
+        assert [v.value for v in rec.result.values] == want, priority
