@@ -133,6 +133,7 @@ def test_search_agrees_with_brute_force(name: str, n: int, d: int, event: str, a
         budget, churn = truth[priority]
         want = [budget, churn] if priority == "objective" else [churn, budget]
         assert [v.value for v in rec.result.values] == want, priority
+        assert [v.value for v in fast.values] == want, priority
         assert rec.churn == churn
 
 
@@ -205,8 +206,11 @@ def test_unequal_churn_weights_agree_with_brute_force() -> None:
         order = [CHURN, *mission] if priority == "stability" else [*mission, CHURN]
         found = best_set(inst, order)
         assert found is not None and found[2], priority
+        fast = _best_by_search(inst, order, 16, False)  # the search's own answer, not the solver's
+        assert fast is not None and fast.status is OptStatus.OPT, priority
         rec = recompose(inst, priority=priority, timeout=60)
         assert rec.status is OptStatus.OPT
         budget, churn = truth[priority]
         want = [budget, churn] if priority == "objective" else [churn, budget]
         assert [v.value for v in rec.result.values] == want, priority
+        assert [v.value for v in fast.values] == want, priority
