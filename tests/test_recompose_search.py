@@ -152,7 +152,7 @@ def test_brute_force_sees_a_better_composition_than_a_wrong_answer() -> None:
     assert truth["stability"][1] == expect["churn"] == 2
 
 
-@pytest.mark.parametrize(("n", "d"), [(100, 12), (60, 9)])
+@pytest.mark.parametrize(("n", "d"), [(100, 12), (60, 9), (100, 24)])
 def test_objective_first_matches_the_best_selection(n: int, d: int) -> None:
     """Larger catalogs (the construction's recompose case), objective first: the budget left
     is exactly the best selection's (a dynamic programme over one alternative per level,
