@@ -124,255 +124,305 @@ def best_set(
     ``time.monotonic()`` it stops at), the best set found so far and False; None when the
     objectives are not of that kind or nothing passes."""
     fixed = FixedSet(inst)
-    decreasing = fixed.decreasing
     slots: list[str | None] = []  # per objective: the resource it maximises, None for churn
     for o in objectives:
         if isinstance(o.term, ir.TotalChurn) and o.sense is ir.Sense.MINIMIZE:
             slots.append(None)
-        elif o.sense is ir.Sense.MAXIMIZE and isinstance(o.term, ir.ResourceRef) and o.term.name in decreasing:
+        elif o.sense is ir.Sense.MAXIMIZE and isinstance(o.term, ir.ResourceRef) and o.term.name in fixed.decreasing:
             slots.append(o.term.name)
         else:
             return None
-    weights = {m.name: Fraction(m.churn) for m in inst.morphisms.values()}
-    if any(w <= 0 for w in weights.values()):
+    if any(m.churn <= 0 for m in inst.morphisms.values()):
         return None
-    # integers throughout: each resource (and the churn weights) scaled by its denominators
-    scale = {r: _scale([*amounts.values(), fixed.rooms[r], init_value(inst, r)]) for r, amounts in decreasing.items()}
-    wscale = _scale(weights.values())
-    weight = {m: int(w * wscale) for m, w in weights.items()}
-    amt = {r: {m: int(a * scale[r]) for m, a in amounts.items()} for r, amounts in decreasing.items()}
-    rooms = {r: int(fixed.rooms[r] * scale[r]) for r in decreasing}
-    inits = {r: int(init_value(inst, r) * scale[r]) for r in decreasing}
-    resources = list(decreasing)
+    return _Search(inst, fixed, slots, expansions, deadline).run()
 
-    deployed_set = set(inst.problem.deployed)
-    deployed = [m for m in inst.morphisms if m in deployed_set]
-    given, any_element = _givers(inst)
-    never = overdrawing(inst, decreasing) | fixed.unusable
-    needs = {m: list(dict.fromkeys(ns)) for m, ns in fixed.needs.items()}
-    goal = list(dict.fromkeys(fixed.goal))
-    atoms = set(given) | {a for ns in needs.values() for a in ns} | set(goal)
 
-    def initially(a: Atom) -> bool:
-        init = inst.problem.init.get(a[0])
-        return init is None or _holds(init, a)
+class _Search:
+    """The branch and bound of :func:`best_set` (see the module docstring): the tables in
+    integers, then the search's state — the chosen components, what they spend and give."""
 
-    start = {a for a in atoms if initially(a)}
-    # who gives each fact (never-firing morphisms left out), and what each morphism gives
-    givers: dict[Atom, list[str]] = {}
-    for a in atoms:
-        ms = [m for m, _ in given.get(a, []) + (any_element.get(a[0], []) if a[1] is not None else [])]
-        givers[a] = [m for m in dict.fromkeys(ms) if m not in never]
-    gives: dict[str, list[Atom]] = {}
-    for a, ms in givers.items():
-        for m in ms:
-            gives.setdefault(m, []).append(a)
-    live = {m: ns for m, ns in needs.items() if m not in never}
-    need_of: dict[Atom, list[str]] = {}
-    for m, ns in live.items():
-        for a in ns:
-            need_of.setdefault(a, []).append(m)
-    costs = {r: _hmax(givers, need_of, live, gives, start, amt[r]) for r in resources}
-    free_costs = {x: {r: _hmax(givers, need_of, live, gives, start, amt[r], x) for r in resources} for x in deployed}
+    def __init__(
+        self, inst: ir.Instance, fixed: FixedSet, slots: list[str | None], expansions: int, deadline: float | None
+    ) -> None:
+        self.inst, self.fixed, self.slots, self.deadline = inst, fixed, slots, deadline
+        self._numbers()
+        self._structure()
+        self._offers()
+        self.spent = dict.fromkeys(self.resources, 0)
+        self.chosen: list[str] = []
+        self.inside: set[str] = set()
+        self.out: set[str] = set()  # deployed components decided out
+        self.have: dict[Atom, int] = {}  # fact → how many chosen components give it
+        self.added = 0  # the churn weight of the chosen components that are not deployed
+        self.out_weight = 0
+        self.left = expansions
+        self.best: tuple[Key, list[str]] | None = None
 
-    cones: dict[Atom, frozenset[Atom]] = {}  # the facts a fact's supports may give (not initial)
+    def _numbers(self) -> None:
+        """Integers throughout: each resource (and the churn weights) scaled by its denominators."""
+        inst, fixed = self.inst, self.fixed
+        decreasing = fixed.decreasing
+        weights = {m.name: Fraction(m.churn) for m in inst.morphisms.values()}
+        self.scale = {
+            r: _scale([*amounts.values(), fixed.rooms[r], init_value(inst, r)]) for r, amounts in decreasing.items()
+        }
+        self.wscale = _scale(weights.values())
+        self.weight = {m: int(w * self.wscale) for m, w in weights.items()}
+        self.amt = {r: {m: int(a * self.scale[r]) for m, a in amounts.items()} for r, amounts in decreasing.items()}
+        self.rooms = {r: int(fixed.rooms[r] * self.scale[r]) for r in decreasing}
+        self.inits = {r: int(init_value(inst, r) * self.scale[r]) for r in decreasing}
+        self.resources = list(decreasing)
 
-    def cone(a: Atom) -> frozenset[Atom]:
-        if a not in cones:
+    def _structure(self) -> None:
+        """Who gives and needs which fact, the h_max costs, cones and landmarks."""
+        inst, fixed = self.inst, self.fixed
+        self.deployed_set = set(inst.problem.deployed)
+        self.deployed = [m for m in inst.morphisms if m in self.deployed_set]
+        given, any_element = _givers(inst)
+        self.never = never = overdrawing(inst, fixed.decreasing) | fixed.unusable
+        self.needs = {m: list(dict.fromkeys(ns)) for m, ns in fixed.needs.items()}
+        self.goal = list(dict.fromkeys(fixed.goal))
+        atoms = set(given) | {a for ns in self.needs.values() for a in ns} | set(self.goal)
+
+        def initially(a: Atom) -> bool:
+            init = inst.problem.init.get(a[0])
+            return init is None or _holds(init, a)
+
+        self.start = start = {a for a in atoms if initially(a)}
+        # who gives each fact (never-firing morphisms left out), and what each morphism gives
+        self.givers: dict[Atom, list[str]] = {}
+        givers = self.givers
+        for a in atoms:
+            ms = [m for m, _ in given.get(a, []) + (any_element.get(a[0], []) if a[1] is not None else [])]
+            givers[a] = [m for m in dict.fromkeys(ms) if m not in never]
+        self.gives: dict[str, list[Atom]] = {}
+        for a, ms in givers.items():
+            for m in ms:
+                self.gives.setdefault(m, []).append(a)
+        self.live = live = {m: ns for m, ns in self.needs.items() if m not in never}
+        need_of: dict[Atom, list[str]] = {}
+        for m, ns in live.items():
+            for a in ns:
+                need_of.setdefault(a, []).append(m)
+        amt, gives = self.amt, self.gives
+        self.costs = {r: _hmax(givers, need_of, live, gives, start, amt[r]) for r in self.resources}
+        self.free_costs = {
+            x: {r: _hmax(givers, need_of, live, gives, start, amt[r], x) for r in self.resources} for x in self.deployed
+        }
+        self.cones: dict[Atom, frozenset[Atom]] = {}  # the facts a fact's supports may give (not initial)
+        self.landmarks = _landmarks(atoms, start, givers, live)
+        self.giver_sets = {a: frozenset(ms) for a, ms in givers.items()}
+        self.cheapest_new = {
+            a: min((self.weight[m] for m in ms if m not in self.deployed_set), default=None) for a, ms in givers.items()
+        }
+        self.lost = sum(self.weight[x] for x in self.deployed if x in never)  # never fire: removed
+
+    def cone(self, a: Atom) -> frozenset[Atom]:
+        if a not in self.cones:
             seen: set[Atom] = set()
             todo = [a]
             while todo:
                 b = todo.pop()
-                for m in givers.get(b, ()):
-                    for c in live[m]:
-                        if c not in seen and c not in start:
+                for m in self.givers.get(b, ()):
+                    for c in self.live[m]:
+                        if c not in seen and c not in self.start:
                             seen.add(c)
                             todo.append(c)
-            cones[a] = frozenset(seen)
-        return cones[a]
+            self.cones[a] = frozenset(seen)
+        return self.cones[a]
 
-    landmarks = _landmarks(atoms, start, givers, live)
-    giver_sets = {a: frozenset(ms) for a, ms in givers.items()}
-    cheapest_new = {a: min((weight[m] for m in ms if m not in deployed_set), default=None) for a, ms in givers.items()}
+    def amount(self, m: str, r: str) -> int:
+        return self.amt[r].get(m, 0)
 
-    def amount(m: str, r: str) -> int:
-        return amt[r].get(m, 0)
-
-    def dominates(a: str, b: str) -> bool:
-        if a in deployed_set and b not in deployed_set:
+    def dominates(self, a: str, b: str) -> bool:
+        deployed, weight = self.deployed_set, self.weight
+        if a in deployed and b not in deployed:
             churn_ok = True
-        elif (a in deployed_set) == (b in deployed_set):
-            churn_ok = weight[b] <= weight[a] if a in deployed_set else weight[a] <= weight[b]
+        elif (a in deployed) == (b in deployed):
+            churn_ok = weight[b] <= weight[a] if a in deployed else weight[a] <= weight[b]
         else:
             churn_ok = False
         return (
             churn_ok
-            and set(needs[a]) == set(needs[b])
-            and set(gives.get(a, [])) == set(gives.get(b, []))
-            and all(amount(a, r) <= amount(b, r) for r in resources)
+            and set(self.needs[a]) == set(self.needs[b])
+            and set(self.gives.get(a, [])) == set(self.gives.get(b, []))
+            and all(self.amount(a, r) <= self.amount(b, r) for r in self.resources)
         )
 
-    def sort_key(m: str) -> tuple:
-        """Givers tried first: the best contribution to the key, then cheapest overall."""
-        own = [(weight[m] if m not in deployed_set else 0) if r is None else amount(m, r) for r in slots]
-        spend = sum((Fraction(amount(m, r), rooms[r]) for r in resources if rooms[r] > 0), Fraction(0))
-        return (*own, spend)
+    def _offers(self) -> None:
+        """Per fact, its givers that no other giver dominates, the most promising first: the
+        best contribution to the key, then the cheapest overall."""
 
-    order_of = {m: i for i, m in enumerate(inst.morphisms)}
-    offers: dict[Atom, list[str]] = {}
-    for a, ms in givers.items():
-        kept = [
-            b
-            for b in ms
-            if not any(x != b and dominates(x, b) and (not dominates(b, x) or order_of[x] < order_of[b]) for x in ms)
-        ]
-        offers[a] = sorted(kept, key=sort_key)
+        def sort_key(m: str) -> tuple:
+            own = [
+                (self.weight[m] if m not in self.deployed_set else 0) if r is None else self.amount(m, r)
+                for r in self.slots
+            ]
+            rooms = self.rooms
+            spend = sum((Fraction(self.amount(m, r), rooms[r]) for r in self.resources if rooms[r] > 0), Fraction(0))
+            return (*own, spend)
 
-    spent = dict.fromkeys(resources, 0)
-    chosen: list[str] = []
-    inside: set[str] = set()
-    out: set[str] = set()  # deployed components decided out
-    have: dict[Atom, int] = {}  # fact → how many chosen components give it
-    state = {"added": 0, "out": 0, "left": expansions}
-    lost = sum(weight[x] for x in deployed if x in never)  # never fire: removed
-    best: list = [None]  # (key, order)
+        order_of = {m: i for i, m in enumerate(self.inst.morphisms)}
+        self.offers: dict[Atom, list[str]] = {}
+        for a, ms in self.givers.items():
+            kept = [
+                b
+                for b in ms
+                if not any(
+                    x != b and self.dominates(x, b) and (not self.dominates(b, x) or order_of[x] < order_of[b])
+                    for x in ms
+                )
+            ]
+            self.offers[a] = sorted(kept, key=sort_key)
 
-    def given_now(a: Atom) -> bool:
-        return a in start or have.get(a, 0) > 0
+    def given_now(self, a: Atom) -> bool:
+        return a in self.start or self.have.get(a, 0) > 0
 
-    def choose(m: str, sign: int) -> None:
-        for r in resources:
-            spent[r] += sign * amount(m, r)
-        for a in gives.get(m, ()):
-            have[a] = have.get(a, 0) + sign
-        if m not in deployed_set:
-            state["added"] += sign * weight[m]
+    def choose(self, m: str, sign: int) -> None:
+        for r in self.resources:
+            self.spent[r] += sign * self.amount(m, r)
+        for a in self.gives.get(m, ()):
+            self.have[a] = self.have.get(a, 0) + sign
+        if m not in self.deployed_set:
+            self.added += sign * self.weight[m]
         if sign > 0:
-            chosen.append(m)
-            inside.add(m)
+            self.chosen.append(m)
+            self.inside.add(m)
         else:
-            chosen.pop()
-            inside.discard(m)
+            self.chosen.pop()
+            self.inside.discard(m)
 
-    def promising(open_: list[Atom]) -> bool:
+    def promising(self, open_: list[Atom]) -> bool:
         """Whether some completion may beat the best set found (see the module docstring)."""
-        valid = [a for a in open_ if not any(given_now(b) for b in cone(a))]
+        valid = [a for a in open_ if not any(self.given_now(b) for b in self.cone(a))]
         worst = {}
-        for r in resources:
+        for r in self.resources:
             w = 0
             for a in open_:
-                c = costs[r].get(a)
+                c = self.costs[r].get(a)
                 if c is None:
                     return False  # unreachable
                 if a in valid and c > w:
                     w = c
-            if spent[r] + w > rooms[r]:
+            if self.spent[r] + w > self.rooms[r]:
                 return False
             worst[r] = w
-        incumbent = best[0][0] if best[0] is not None else None
-        base = state["added"] + state["out"] + lost
-        key = tuple(-base if r is None else inits[r] - spent[r] - worst[r] for r in slots)
+        incumbent = self.best[0] if self.best is not None else None
+        base = self.added + self.out_weight + self.lost
+        key = tuple(-base if r is None else self.inits[r] - self.spent[r] - worst[r] for r in self.slots)
         if incumbent is not None and key <= incumbent:
             return False
-        gone: set[str] = set()
-        for x in deployed:
-            if x in inside or x in out or x in never:
-                continue
-            free = free_costs[x]
-            ok = True
-            with_x = []
-            for r in resources:
-                w = max((free[r].get(a, 0) for a in valid), default=0)
-                total = spent[r] + amount(x, r) + w
-                if total > rooms[r]:
-                    ok = False
-                    break
-                with_x.append(total)
-            if ok and incumbent is not None:
-                by = dict(zip(resources, with_x))
-                ok = tuple(-base if r is None else inits[r] - by[r] for r in slots) > incumbent
-            if not ok:
-                gone.add(x)  # every completion keeping x is no better
+        gone = self._gone(valid, base, incumbent)
         if incumbent is None:
             return True
-        churn = base + sum(weight[x] for x in gone)
+        churn = base + sum(self.weight[x] for x in gone)
         used: set[str] = set()
         for a in open_:
-            for f in landmarks.get(a, ()):
-                if given_now(f) or not giver_sets[f].isdisjoint(used):
+            for f in self.landmarks.get(a, ()):
+                if self.given_now(f) or not self.giver_sets[f].isdisjoint(used):
                     continue
-                if any(x in deployed_set and x not in gone and x not in out for x in givers[f]):
+                if any(x in self.deployed_set and x not in gone and x not in self.out for x in self.givers[f]):
                     continue
-                c = cheapest_new[f]
+                c = self.cheapest_new[f]
                 if c is None:
                     return False
                 churn += c
-                used |= giver_sets[f]
-        key = tuple(-churn if r is None else k for r, k in zip(slots, key))
+                used |= self.giver_sets[f]
+        key = tuple(-churn if r is None else k for r, k in zip(self.slots, key))
         return key > incumbent
 
-    def leaf() -> None:
-        components = set(chosen)
-        order = fixed.order(components)
+    def _gone(self, valid: list[Atom], base: int, incumbent: Key | None) -> set[str]:
+        """The deployed components not decided that no completion beating ``incumbent`` keeps:
+        keeping one overdraws a room, or bounds the key by no more than the incumbent (its
+        consumption plus the valid open facts' h_max with it free)."""
+        gone: set[str] = set()
+        for x in self.deployed:
+            if x in self.inside or x in self.out or x in self.never:
+                continue
+            free = self.free_costs[x]
+            ok = True
+            with_x = {}
+            for r in self.resources:
+                w = max((free[r].get(a, 0) for a in valid), default=0)
+                total = self.spent[r] + self.amount(x, r) + w
+                if total > self.rooms[r]:
+                    ok = False
+                    break
+                with_x[r] = total
+            if ok and incumbent is not None:
+                ok = tuple(-base if r is None else self.inits[r] - with_x[r] for r in self.slots) > incumbent
+            if not ok:
+                gone.add(x)  # every completion keeping x is no better
+        return gone
+
+    def leaf(self) -> None:
+        components = set(self.chosen)
+        order = self.fixed.order(components)
         if order is None:
             raise _GiveUp  # a cyclic support: no claim
-        spent_now = {r: sum(amount(m, r) for m in components) for r in resources}
-        churn = sum(weight[m] for m in components if m not in deployed_set)
-        churn += sum(weight[m] for m in deployed if m not in components)
-        key = tuple(-churn if r is None else inits[r] - spent_now[r] for r in slots)
-        if best[0] is None or key > best[0][0]:
-            best[0] = (key, order)
+        spent = {r: sum(self.amount(m, r) for m in components) for r in self.resources}
+        churn = sum(self.weight[m] for m in components if m not in self.deployed_set)
+        churn += sum(self.weight[m] for m in self.deployed if m not in components)
+        key = tuple(-churn if r is None else self.inits[r] - spent[r] for r in self.slots)
+        if self.best is None or key > self.best[0]:
+            self.best = (key, order)
 
-    def extras(i: int) -> None:
-        while i < len(deployed) and (deployed[i] in inside or deployed[i] in never or deployed[i] in out):
+    def extras(self, i: int) -> None:
+        deployed = self.deployed
+        while i < len(deployed) and (
+            deployed[i] in self.inside or deployed[i] in self.never or deployed[i] in self.out
+        ):
             i += 1
         if i == len(deployed):
-            leaf()
+            self.leaf()
             return
         x = deployed[i]
-        choose(x, 1)
-        rest = [b for b in needs[x] if not given_now(b)]
-        if promising(rest):
-            support(list(reversed(rest)), i + 1, 0)
-        choose(x, -1)
-        out.add(x)
-        state["out"] += weight[x]
-        if promising([]):
-            extras(i + 1)
-        state["out"] -= weight[x]
-        out.discard(x)
+        self.choose(x, 1)
+        rest = [b for b in self.needs[x] if not self.given_now(b)]
+        if self.promising(rest):
+            self.support(list(reversed(rest)), i + 1, 0)
+        self.choose(x, -1)
+        self.out.add(x)
+        self.out_weight += self.weight[x]
+        if self.promising([]):
+            self.extras(i + 1)
+        self.out_weight -= self.weight[x]
+        self.out.discard(x)
 
-    def support(open_: list[Atom], i: int, depth: int) -> None:
-        open_ = [a for a in open_ if not given_now(a)]
+    def support(self, open_: list[Atom], i: int, depth: int) -> None:
+        open_ = [a for a in open_ if not self.given_now(a)]
         if not open_:
-            extras(i)
+            self.extras(i)
             return
         if depth > 1000:
             raise _GiveUp
         a = open_[-1]
-        for m in offers.get(a, []):
-            if m in inside or m in out:
+        for m in self.offers.get(a, []):
+            if m in self.inside or m in self.out:
                 continue
-            state["left"] -= 1
-            if state["left"] < 0 or (deadline is not None and time.monotonic() > deadline):
+            self.left -= 1
+            if self.left < 0 or (self.deadline is not None and time.monotonic() > self.deadline):
                 raise _GiveUp
-            choose(m, 1)
-            rest = [b for b in open_[:-1] + needs[m] if not given_now(b)]
-            if promising(rest):
-                support(rest, i, depth + 1)
-            choose(m, -1)
+            self.choose(m, 1)
+            rest = [b for b in open_[:-1] + self.needs[m] if not self.given_now(b)]
+            if self.promising(rest):
+                self.support(rest, i, depth + 1)
+            self.choose(m, -1)
 
-    proven = True
-    try:
-        if promising(goal):
-            support(list(reversed(goal)), 0, 0)
-    except (_GiveUp, RecursionError):
-        proven = False
-    if best[0] is None:
-        return None
-    key, order = best[0]
-    values = tuple(Fraction(k, wscale) if r is None else Fraction(k, scale[r]) for r, k in zip(slots, key))
-    return order, values, proven
+    def run(self) -> tuple[list[str], tuple[Fraction, ...], bool] | None:
+        proven = True
+        try:
+            if self.promising(self.goal):
+                self.support(list(reversed(self.goal)), 0, 0)
+        except (_GiveUp, RecursionError):
+            proven = False
+        if self.best is None:
+            return None
+        key, order = self.best
+        values = tuple(
+            Fraction(k, self.wscale) if r is None else Fraction(k, self.scale[r]) for r, k in zip(self.slots, key)
+        )
+        return order, values, proven
 
 
 def _landmarks(
