@@ -31,6 +31,7 @@ from catc.queries.base import (
     json_option,
     timeout_option,
 )
+from catc.queries.churn_search import best_set
 from catc.queries.optimize import DEFAULT_TACTICS, OptResult, OptStatus, Tactics, objectives_of, optimize
 from catc.queries.optimum import _finish, _not_worse, _scores
 from catc.semantics.horizon import horizon_of
@@ -97,10 +98,23 @@ def recompose(
         result = _least_churn_by_sets(inst, order, horizon_of(inst, horizon), sequential)
         if result is not None:
             result.timings["total"] = time.perf_counter() - t0
+    fallback = None  # the search's best composition when it could not prove it
+    if result is None:
+        t0 = time.perf_counter()
+        deadline = None if timeout is None else time.monotonic() + timeout / 2
+        result = _best_by_search(inst, order, horizon_of(inst, horizon), sequential, deadline)
+        if result is not None:
+            result.timings["total"] = time.perf_counter() - t0
+            if result.status is not OptStatus.OPT:
+                fallback, result = result, None
+                if timeout is not None:
+                    timeout = max(timeout - (time.perf_counter() - t0), 0.1)
     if result is None:
         result = optimize(
             inst, order, horizon=horizon, sequential=sequential, timeout=timeout, progress=progress, tactics=tactics
         )
+        if result.plan is None and fallback is not None:
+            result = fallback
     rec = Recomposition(result, inst.problem.deployed, priority)
     if result.plan is not None:
         used = result.plan.components
@@ -192,6 +206,43 @@ def _least_churn_by_sets(
             return None
     result = OptResult(OptStatus.OPT, k)
     _finish(inst, result, best[1], objectives, [], [("exact", None)] * len(objectives), k, sequential, True)
+    return result
+
+
+def _best_by_search(
+    inst: ir.Instance, objectives: list[ir.Objective], k: int, sequential: bool, deadline: float | None = None
+) -> OptResult | None:
+    """The lexicographic optimum of churn and the mission objectives without the solver,
+    in either priority (issue 24), or None (no claim): the passing component set of
+    greatest optimistic key (:func:`catc.queries.churn_search.best_set`), replayed by the
+    validator one step per component, θ at their lower bounds, must score exactly that key
+    — then no composition does better, as every composition's key is at most its component
+    set's optimistic key.  A search stopped early (``deadline``, a ``time.monotonic()``)
+    gives its best composition as SUBOPT, for when the solver finds none.  No soft
+    constraints."""
+    if inst.problem.softs:
+        return None
+    found = best_set(inst, objectives, deadline=deadline)
+    if found is None:
+        return None
+    order, key, proven = found
+    bounds = frozenset(m.bound_label(p.name) for m in inst.morphisms.values() for p in m.params)
+    plan = _candidate(inst, bounds, order, order)
+    if plan is None or len(plan.steps) > k:
+        return None
+    report = validate(inst, plan, horizon=k, sequential=sequential)
+    if not report.ok:
+        return None
+    values = _scores(inst, plan, objectives, [], k, sequential, report)
+    wanted = [-v if isinstance(o.term, ir.TotalChurn) else v for o, v in zip(objectives, key)]
+    if values != wanted:
+        return None
+    if not proven:
+        result = OptResult(OptStatus.SUBOPT, k, reason="the search for the best component set stopped early")
+        _finish(inst, result, plan, objectives, [], [("exact", None)] * len(objectives), k, sequential, True)
+        return result
+    result = OptResult(OptStatus.OPT, k)
+    _finish(inst, result, plan, objectives, [], [("exact", None)] * len(objectives), k, sequential, True)
     return result
 
 
