@@ -47,6 +47,8 @@ from catgrammar import codes
 SCHEMA = "catc.certificate/1"
 CHECKERS = ("z3", "cvc5")
 RELAXED = "catc.relaxed"  # the producer of an invariant: catc's relaxed reachability
+CONSUMPTION = "catc.consumption"  # issue 24's h_max least-consumption bound (no solver)
+SEARCH = "catc.search"  # the forward search's reachable states
 #: How long each checker may take on one obligation, in seconds (``--check-timeout``).
 CHECK_TIMEOUT = 60.0
 
@@ -178,10 +180,16 @@ def _pair(v: Any) -> bool:
 def invariant_obligations(inst: ir.Instance, inv: Mapping[str, Mapping[str, Any]], horizon: int) -> list[dict]:
     """Initiation, consecution and goal exclusion of ``inv`` over the unrelaxed one-step
     encoding (the symbolic universes of ``horizon``)."""
+    return _inductive(inst, horizon, False, lambda enc, state: invariant_text(enc, inv, state))
+
+
+def _inductive(inst: ir.Instance, horizon: int, sequential: bool, inv_of: Any) -> list[dict]:
+    """Initiation, consecution and goal exclusion of the invariant ``inv_of(encoder, state
+    variables)`` over the unrelaxed one-step encoding (parallel, or ``sequential``)."""
     from catc.smt.encoder import Encoder
     from catc.smt.script import at_most
 
-    enc = Encoder(inst, max(horizon, 1))
+    enc = Encoder(inst, max(horizon, 1), sequential=sequential)
     decls0, asserts0 = enc.script.take()
     base = [s.declaration() for s in decls0]
     state = [a for label, a in asserts0 if not (label or "").startswith("init/")]
@@ -190,7 +198,7 @@ def invariant_obligations(inst: ir.Instance, inv: Mapping[str, Mapping[str, Any]
     decls1, asserts1 = enc.script.take()
     step = [a for _, a in asserts1]
     step += [at_most([enc.act[0][m.name]], 0) for m in inst.morphisms.values() if m.uses == 0]
-    inv0, inv1 = invariant_text(enc, inv, enc.states[0]), invariant_text(enc, inv, enc.states[1])
+    inv0, inv1 = inv_of(enc, enc.states[0]), inv_of(enc, enc.states[1])
     goal = [c for _, c in enc.goal_constraints(0)]
     return [
         _obligation(
@@ -213,6 +221,125 @@ def invariant_obligations(inst: ir.Instance, inv: Mapping[str, Mapping[str, Any]
             _script(_header(inst, "goal: Inv ∧ Goal is unsat"), base, [*state, inv0, *goal]),
         ),
     ]
+
+
+def consumption_obligations(inst: ir.Instance) -> list[dict]:
+    """The consumption abstraction of issue 24 (:class:`catc.smt.consumption.Consumption`,
+    every label enforced): unsat.  Every composition of any length gives a model of it (its
+    used components, their first firings, what they consume), so no composition exists."""
+    from catc.smt.consumption import Consumption
+
+    a = Consumption(inst)
+    body = [*a.assertions, *(str(a.indicator[label]) for label in a.labels)]
+    return [
+        _obligation(
+            "consumption",
+            "no choice of components reaches the goal within what the bounded, only-decreasing resources have "
+            "(the consumption abstraction: used components, first firings, total consumption)",
+            _script(
+                _header(inst, "consumption: the abstraction of every composition is unsat"),
+                [s.declaration() for s in a.declarations],
+                body,
+            ),
+        )
+    ]
+
+
+def consumption_claims(inst: ir.Instance) -> list[dict]:
+    """The h_max least-consumption bounds that exceed a resource's room (what a reader sees;
+    certify checks each room against the model)."""
+    from catc.smt.consumption import least_consumption, room
+
+    return [
+        {"resource": name, "least": str(least), "room": str(room(inst, name))}
+        for name, least in least_consumption(inst).items()
+        if least > room(inst, name)
+    ]
+
+
+def _claims_hold(inst: ir.Instance, claims: Any) -> bool:
+    """Each claimed bound names a bounded, only-decreasing resource, its room as the model
+    gives it, and a least consumption above that room."""
+    from catc.smt.consumption import _decreasing, room
+
+    decreasing = _decreasing(inst)
+    if not isinstance(claims, list):
+        return False
+    try:
+        return all(
+            isinstance(c, dict)
+            and c.get("resource") in decreasing
+            and Fraction(str(c.get("room"))) == room(inst, c["resource"])
+            and Fraction(str(c.get("least"))) > Fraction(str(c.get("room")))
+            for c in claims
+        )
+    except (ValueError, ZeroDivisionError):
+        return False
+
+
+#: The most states a forward search's invariant lists (more: E1304, with the count).
+STATE_LIMIT = 2000
+
+
+def states_json(inst: ir.Instance, names: Sequence[str], states: Sequence[Sequence[Any]]) -> dict:
+    """The reachable states as JSON: the resources, and per state their values (a number as
+    an exact string, a Boolean, a symbol's name)."""
+
+    def value(v: Any) -> Any:
+        return v if isinstance(v, bool | str) else str(Fraction(v))
+
+    return {"resources": list(names), "values": [[value(v) for v in s] for s in states]}
+
+
+def _read_states(inst: ir.Instance, spec: Any) -> dict:
+    """The certificate's state set, checked for shape against the model (E1302 otherwise)."""
+    ok = (
+        isinstance(spec, dict)
+        and set(spec) == {"resources", "values"}
+        and isinstance(spec["resources"], list)
+        and sorted(spec["resources"]) == sorted(inst.resources)
+        and isinstance(spec["values"], list)
+        and all(isinstance(s, list) and len(s) == len(spec["resources"]) for s in spec["values"])
+    )
+    if not ok:
+        raise InputError("the states must give a value of every resource of the model per state", codes.BAD_CERTIFICATE)
+    for s in spec["values"]:
+        for name, v in zip(spec["resources"], s):
+            sort = inst.resources[name].sort
+            good = (
+                (sort.is_numeric and isinstance(v, str) and _pair([v, None]))
+                or (sort.kind is SortKind.BOOL and isinstance(v, bool))
+                or (sort.kind in (SortKind.SYMBOL, SortKind.ENUM) and isinstance(v, str))
+            )
+            if not good:
+                raise InputError(f"a state's value of resource '{name}' does not fit its sort", codes.BAD_CERTIFICATE)
+    return spec
+
+
+def _states_text(enc: Any, spec: Mapping[str, Any], state: Any) -> str:
+    """``Inv``: the state is one of ``spec``'s (a disjunction of conjunctions of equalities)."""
+    from catc.smt.script import and_text, or_text
+
+    rows = []
+    for values in spec["values"]:
+        parts = []
+        for name, v in zip(spec["resources"], values):
+            r, var = enc.inst.resources[name], state[name]
+            if r.sort.kind is SortKind.BOOL:
+                parts.append(var if v else f"(not {var})")
+            elif r.sort.is_numeric:
+                parts.append(f"(= {var} {_number(Fraction(v), r.sort.kind)})")
+            else:
+                i = _index(enc, r.sort, v)
+                parts.append("false" if i is None else f"(= {var} {i})")
+        rows.append(and_text(parts))
+    return or_text(rows)
+
+
+def reachable_obligations(inst: ir.Instance, spec: Mapping[str, Any], horizon: int) -> list[dict]:
+    """Initiation, consecution and goal exclusion of "the state is one the forward search
+    reached" over the unrelaxed sequential one-step encoding."""
+    return _inductive(inst, horizon, True, lambda enc, state: _states_text(enc, spec, state))
 
 
 def bounded_obligations(inst: ir.Instance, horizon: int, sequential: bool) -> list[dict]:
@@ -272,10 +399,40 @@ def certificate(inst: ir.Instance, result: Any) -> dict:
         doc["sequential"] = bool(result.sequential)
         doc["obligations"] = bounded_obligations(inst, result.horizon, bool(result.sequential))
         return _produced(doc, result.backend)
+    if getattr(result, "refutation", None) is not None and _abstraction_refutes(inst):
+        claims = consumption_claims(inst)
+        producer = CONSUMPTION if claims else "z3"  # the h_max bound needs no solver; else z3 checked it
+        doc |= {"answer": "unsat", "method": "consumption", "producer": producer, "horizon": result.horizon}
+        doc["bounds"] = claims
+        doc["obligations"] = consumption_obligations(inst)
+        return _produced(doc, producer)
+    if result.sequential and (getattr(result, "reason", None) or "").startswith("forward search"):
+        from catc.semantics.search import reachable_states
+
+        found = reachable_states(inst, STATE_LIMIT)
+        if found is None:
+            raise NotCertifiable(
+                f"the forward search's reachable states are more than {STATE_LIMIT} (or not all of them can be "
+                "written): their invariant is not certified"
+            )
+        spec = states_json(inst, *found)
+        doc |= {"answer": "unsat", "method": "reachable", "producer": SEARCH, "horizon": result.horizon}
+        doc["sequential"] = True
+        doc["states"] = spec
+        doc["obligations"] = reachable_obligations(inst, spec, result.horizon)
+        return _produced(doc, SEARCH)
     raise NotCertifiable(
-        "this UNSAT was proven neither by relaxed reachability at its fixpoint nor by the step encoding at a "
-        "complete horizon (a consumption bound or the forward search): no certificate yet"
+        "this UNSAT was proven neither by relaxed reachability at its fixpoint, nor by the step encoding at a "
+        "complete horizon, nor by the consumption abstraction or the forward search: no certificate yet"
     )
+
+
+def _abstraction_refutes(inst: ir.Instance) -> bool:
+    from catc.smt.backend import Check
+    from catc.smt.consumption import Consumption
+
+    a = Consumption(inst)
+    return bool(a.labels) and a.check(a.labels)[0] is Check.UNSAT
 
 
 # -- a core of catc diagnose: its UNSAT, and a witness for each member it cannot lose
@@ -825,6 +982,14 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any]) -> dict[str, str]:
         if bound is None or horizon < bound:
             return {}  # the horizon is not complete for this model: nothing matches
         built = bounded_obligations(inst, horizon, bool(doc.get("sequential")))
+    elif method == "consumption":
+        if not _claims_hold(inst, doc.get("bounds", [])):
+            return {}  # a claimed bound the model does not give: nothing matches
+        built = consumption_obligations(inst)
+    elif method == "reachable":
+        if doc.get("sequential") is not True:
+            raise InputError("a reachable-states certificate is for sequential steps", codes.BAD_CERTIFICATE)
+        built = reachable_obligations(inst, _read_states(inst, doc.get("states")), horizon)
     elif method == "optimal":
         model, objectives, softs = _objectives(inst, doc.get("objectives"))
         try:
@@ -935,7 +1100,14 @@ def certify(
     ]
     if not expected:
         rows.append(
-            {"name": "horizon", "proves": "", "producer": "", "status": "mismatch", "checkers": {}, "proved_by": []}
+            {
+                "name": "bounds" if doc.get("method") == "consumption" else "horizon",
+                "proves": "",
+                "producer": "",
+                "status": "mismatch",
+                "checkers": {},
+                "proved_by": [],
+            }
         )
     states = {r["status"] for r in rows}
     if states <= {"proved"}:
