@@ -172,3 +172,25 @@ def test_both_new_kinds_follow_the_schema():
     inst = catalog("budget")
     for doc in (certificate(inst, solve(inst)), searched()[1]):
         jsonschema.validate(json.loads(json.dumps(doc)), schema)
+
+
+# ---------------------------------------------------------------- one checker process for all
+
+
+@pytest.mark.parametrize("checker", ["z3", "cvc5"])
+def test_one_process_per_checker_keeps_obligations_apart(tmp_path, checker):
+    """Files that declare the same symbol with contradicting facts are each satisfiable on
+    their own: a batch that leaked one into the next would answer unsat or an error; a file
+    that does not parse is an error of its own, and the files after it are still answered."""
+    texts = [
+        "(set-logic ALL)\n(declare-fun x () Int)\n(assert (> x 5))\n(check-sat)\n",
+        "(set-logic ALL)\n(declare-fun x () Int)\n(assert (< x 0))\n(check-sat)\n",
+        "(set-logic ALL)\n(assert (> y 0))\n(check-sat)\n",  # y undeclared
+        "(set-logic ALL)\n(declare-fun x () Real)\n(assert (and (> x 1.0) (< x 1.0)))\n(check-sat)\n",
+    ]
+    paths = []
+    for i, text in enumerate(texts):
+        paths.append(str(tmp_path / f"{i}.smt2"))
+        (tmp_path / f"{i}.smt2").write_text(text)
+    answers = [a for a, _ in certify_module.run_batch(checker, paths, 30.0)]
+    assert answers == ["sat", "sat", "error", "unsat"]

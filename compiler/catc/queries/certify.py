@@ -882,6 +882,33 @@ while True:
 """
 
 
+# cvc5 on several files, one fresh solver each (nothing is shared between obligations): per
+# file a line "catc-obligation I ANSWER SECONDS" (argv: the time limit in ms, then the files)
+_CVC5_BATCH = """
+import sys, time, cvc5
+tm = cvc5.TermManager()
+for i, path in enumerate(sys.argv[2:]):
+    t0 = time.perf_counter()
+    answer = "error"
+    try:
+        slv = cvc5.Solver(tm)
+        slv.setOption("tlimit-per", sys.argv[1])
+        sm = cvc5.SymbolManager(tm)
+        parser = cvc5.InputParser(slv, sm)
+        parser.setFileInput(cvc5.InputLanguage.SMT_LIB_2_6, path)
+        while True:
+            cmd = parser.nextCommand()
+            if cmd.isNull():
+                break
+            out = cmd.invoke(slv, sm).strip()
+            if out in ("sat", "unsat", "unknown"):
+                answer = out
+    except Exception:
+        answer = "error"
+    print("catc-obligation", i, answer, time.perf_counter() - t0, flush=True)
+"""
+
+
 def z3_command() -> list[str] | None:
     """The z3 binary z3-solver installs (on PATH, or beside the interpreter)."""
     import shutil
@@ -942,24 +969,87 @@ def _matches(obligation: dict, expected: str | None) -> bool:
     return expected is not None and _significant(obligation["smtlib"]) == _significant(expected)
 
 
+def run_batch(checker: str, paths: Sequence[str], seconds: float) -> list[tuple[str, float]]:
+    """``checker``'s answer on each SMT-LIB2 file of ``paths``, all in one process (its
+    start-up paid once): the z3 binary on one script that runs each file after a ``(reset)``
+    with its own time limit; cvc5 with a fresh solver per file.  An obligation the batch did
+    not answer (a crash, an error) is run again alone by :func:`run_checker`."""
+    import subprocess
+
+    command = z3_command() if checker == "z3" else cvc5_command()
+    if command is None:
+        return [("missing", 0.0)] * len(paths)
+    if len(paths) == 1:
+        return [run_checker(checker, paths[0], seconds)]
+    ms = str(max(1, int(seconds * 1000)))
+    if checker == "z3":
+        script = os.path.join(os.path.dirname(paths[0]), "z3-batch.smt2")
+        with open(script, "w", encoding="utf-8") as out:
+            for i, path in enumerate(paths):
+                with open(path, encoding="utf-8") as fh:
+                    body = fh.read()
+                out.write(f'(reset)\n(set-option :timeout {ms})\n(echo "catc-obligation {i}")\n{body}\n')
+        args = [*command, script]
+    else:
+        args = [sys.executable, "-c", _CVC5_BATCH, ms, *paths]
+    answers: dict[int, tuple[str, float]] = {}
+    current, t0 = -1, time.perf_counter()
+    try:
+        with subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True) as proc:
+            limit = _kill_after(proc, len(paths) * seconds + 5)
+            assert proc.stdout is not None
+            for line in proc.stdout:
+                words = line.split()
+                if words[:1] != ["catc-obligation"] or len(words) < 2:
+                    if checker == "z3" and current >= 0 and current not in answers and words[:1]:
+                        answer = words[0] if words[0] in ("sat", "unsat", "unknown") else "error"
+                        answers[current] = (answer, time.perf_counter() - t0)
+                    continue
+                if checker == "z3":
+                    current, t0 = int(words[1]), time.perf_counter()
+                elif len(words) == 4:
+                    answers[int(words[1])] = (words[2], float(words[3]))
+            limit.cancel()
+    except OSError:
+        pass
+    return [
+        answers[i] if answers.get(i, ("error", 0.0))[0] != "error" else run_checker(checker, path, seconds)
+        for i, path in enumerate(paths)
+    ]
+
+
+def _kill_after(proc: Any, seconds: float) -> Any:
+    """Kill ``proc`` after ``seconds`` (the batch's overall limit); cancel it when done."""
+    import threading
+
+    timer = threading.Timer(seconds, proc.kill)
+    timer.daemon = True
+    timer.start()
+    return timer
+
+
 def _run_checkers(obligations: Sequence[dict], seconds: float) -> list[dict[str, tuple[str, float]]]:
-    """Every checker on every obligation, each a process of its own, as many at once as
-    there are cores (a checker shares nothing with another)."""
+    """Every checker on every obligation: one process per checker for all the obligations
+    that name it (:func:`run_batch`), the checkers at once (they share nothing)."""
     import tempfile
     from concurrent.futures import ThreadPoolExecutor
 
     with tempfile.TemporaryDirectory(prefix="catc-certify-") as folder:
-        jobs = []
+        paths = []
         for i, o in enumerate(obligations):
-            path = os.path.join(folder, f"{i}.smt2")
-            with open(path, "w", encoding="utf-8") as fh:
+            paths.append(os.path.join(folder, f"{i}.smt2"))
+            with open(paths[-1], "w", encoding="utf-8") as fh:
                 fh.write(o["smtlib"])
-            jobs += [(i, checker, path) for checker in o["checkers"]]
-        with ThreadPoolExecutor(max_workers=max(1, min(4, os.cpu_count() or 1))) as pool:
-            done = list(pool.map(lambda job: run_checker(job[1], job[2], seconds), jobs))
+        batches = {c: [i for i, o in enumerate(obligations) if c in o["checkers"]] for c in CHECKERS}
+        batches = {c: ids for c, ids in batches.items() if ids}
+        with ThreadPoolExecutor(max_workers=max(1, len(batches))) as pool:
+            done = dict(
+                zip(batches, pool.map(lambda c: run_batch(c, [paths[i] for i in batches[c]], seconds), batches))
+            )
     out: list[dict[str, tuple[str, float]]] = [{} for _ in obligations]
-    for (i, checker, _), answer in zip(jobs, done):
-        out[i][checker] = answer
+    for checker, ids in batches.items():
+        for i, answer in zip(ids, done[checker]):
+            out[i][checker] = answer
     return out
 
 
