@@ -765,9 +765,11 @@ def optimal_certificate(inst: ir.Instance, result: Any, options: Mapping[str, An
 
 def _replay_optimal(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> tuple[str, float]:
     """The optimum's composition replayed by the validator, its objective values recomputed
-    exactly (the first with the soft penalties) and compared with the claimed ones."""
+    exactly (the first with the soft penalties: optimize's own scoring) and compared with the
+    claimed ones."""
+    from catc.queries.optimum import _scores
     from catc.semantics.plan import PlanFormatError, read_plan
-    from catc.semantics.validate import evaluate, objective_value, validate
+    from catc.semantics.validate import validate
 
     t0 = time.perf_counter()
     model, objectives, softs = _objectives(inst, doc["objectives"])
@@ -776,17 +778,11 @@ def _replay_optimal(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, A
         plan = read_plan(model, o.get("plan"))
     except (PlanFormatError, ValueError, TypeError, ZeroDivisionError, KeyError):
         return "invalid", time.perf_counter() - t0
-    rep = validate(model, plan, horizon=doc["horizon"], sequential=bool(doc.get("sequential")))
+    horizon, sequential = doc["horizon"], bool(doc.get("sequential"))
+    rep = validate(model, plan, horizon=horizon, sequential=sequential)
     if not rep.ok:
         return "invalid", time.perf_counter() - t0
-    fin = rep.states[-1]
-    pen = sum((s.weight for s in softs if evaluate(model, s.expr, fin) is not True), Fraction(0))
-    scores = []
-    for i, obj in enumerate(objectives):
-        v = objective_value(model, plan, obj.term, fin)
-        if v is not None and i == 0:
-            v = v + pen if obj.sense is ir.Sense.MINIMIZE else v - pen
-        scores.append(v)
+    scores = _scores(model, plan, list(objectives), list(softs), horizon, sequential, report=rep)
     return ("valid" if scores == claimed else "invalid"), time.perf_counter() - t0
 
 
