@@ -171,7 +171,7 @@ def test_both_new_kinds_follow_the_schema():
 
     schema = json.loads((ROOT / "docs/schemas/catc.certificate-1.json").read_text())
     inst = catalog("budget")
-    for doc in (certificate(inst, solve(inst)), searched()[1]):
+    for doc in (certificate(inst, solve(inst)), searched()[1], given_optimum(("maximize", "confidence"))[1], front()[1]):
         jsonschema.validate(json.loads(json.dumps(doc)), schema)
 
 
@@ -246,3 +246,99 @@ def test_a_given_objective_the_model_does_not_have_is_an_input_error():
     doc["objectives"]["terms"][0]["term"] = "(+ confidence nonsense)"
     with pytest.raises(InputError, match="not a term of the model"):
         certify(inst, doc)
+
+
+# ---------------------------------------------------------------- a Pareto front
+
+DESIGN = ROOT / "examples/pareto-design/design.cat"  # expect.toml: 13 of the 55 pairs non-dominated
+
+
+def front():
+    from catc.frontend.workspace import load_instance
+    from catc.ir.views import apply_view
+    from catc.queries.certify import pareto_certificate
+    from catc.queries.pareto import pareto
+    from catgrammar.diagnostics import Diagnostics
+
+    _, inst = load_instance(None, str(DESIGN), Diagnostics())
+    inst = apply_view(inst, None)
+    return inst, pareto_certificate(inst, pareto(inst), {})
+
+
+def with_points(inst, doc, points, witnesses):
+    """``doc`` claiming ``points`` (exact strings), the witnesses renumbered, its front
+    obligation rebuilt for them (so that only the solvers can object)."""
+    from catc.queries.certify import _pareto_objectives, pareto_obligation
+
+    model, objectives = _pareto_objectives(inst, doc["objectives"])
+    exact = [[Fraction(v) for v in p] for p in points]
+    obligation = pareto_obligation(model, objectives, doc["horizon"], False, exact) | {"producer": "z3"}
+    renumbered = [w | {"name": f"witness/{i + 1}"} for i, w in enumerate(witnesses)]
+    return doc | {"points": points, "obligations": [*renumbered, obligation]}
+
+
+def test_a_pareto_front_is_certified_point_by_point():
+    inst, doc = front()
+    assert doc["method"] == "pareto" and len(doc["points"]) == 13
+    result = certify(inst, doc)
+    assert result.status is CertifyStatus.CERTIFIED, result.obligations
+    rows = {r["name"]: r for r in result.obligations}
+    assert {c: a["answer"] for c, a in rows["front"]["checkers"].items()} == {"z3": "unsat", "cvc5": "unsat"}
+    assert all(rows[f"witness/{i}"]["proved_by"] == ["catc.validator"] for i in range(1, 14))
+
+
+def test_a_front_missing_a_point_is_refuted_by_the_solvers():
+    inst, doc = front()
+    witnesses = [o for o in doc["obligations"] if o["expect"] == "valid"]
+    bad = with_points(inst, doc, doc["points"][1:], witnesses[1:])  # the first point dropped
+    rows = {r["name"]: r for r in certify(inst, bad).obligations}
+    assert rows["front"]["status"] == "refuted" and rows["front"]["checkers"]["z3"]["answer"] == "sat"
+
+
+def test_a_better_point_than_its_witness_reaches_is_refuted():
+    from catc.queries.certify import _pareto_objectives
+
+    inst, doc = front()
+    _, objectives = _pareto_objectives(inst, doc["objectives"])
+    first = [Fraction(v) for v in doc["points"][0]]
+    step = [Fraction(-1, 100) if o.sense.value == "minimize" else Fraction(1, 100) for o in objectives]
+    better = [str(v + d) for v, d in zip(first, step)]
+    witnesses = [o for o in doc["obligations"] if o["expect"] == "valid"]
+    bad = with_points(inst, doc, [better, *doc["points"][1:]], witnesses)
+    rows = {r["name"]: r["status"] for r in certify(inst, bad).obligations}
+    assert rows["witness/1"] == "refuted"
+
+
+def test_a_front_with_a_dominated_point_is_refuted():
+    """A valid composition whose values another point dominates, claimed as a point of the
+    front (its witness replays, its values are its own): not Pareto-optimal, refuted."""
+    from catc.queries.certify import _pareto_objectives
+    from catc.queries.optimum import _scores
+    from catc.queries.pareto import dominates
+    from catc.semantics.plan import plan_to_json, read_plan
+
+    inst, doc = front()
+    model, objectives = _pareto_objectives(inst, doc["objectives"])
+    witnesses = [o for o in doc["obligations"] if o["expect"] == "valid"]
+    points = [tuple(Fraction(v) for v in p) for p in doc["points"]]
+    firsts = {w["plan"]["steps"][0][0]["morphism"] for w in witnesses}
+    seconds = {w["plan"]["steps"][0][1]["morphism"] for w in witnesses}
+    for a in sorted(firsts):  # an STT and a VLM from two different points
+        for b in sorted(seconds):
+            plan_json = {
+                **witnesses[0]["plan"],
+                "steps": [[{"morphism": a, "params": {}}, {"morphism": b, "params": {}}]],
+            }
+            values = tuple(_scores(model, read_plan(model, plan_json), objectives, [], doc["horizon"], False))
+            if any(dominates(q, values, objectives) for q in points):
+                dominated = plan_to_json(read_plan(model, plan_json))
+                break
+        else:
+            continue
+        break
+    else:
+        pytest.fail("no dominated pair among the front's components")
+    extra = witnesses[0] | {"plan": dominated}
+    bad = with_points(inst, doc, [*doc["points"], [str(v) for v in values]], [*witnesses, extra])
+    rows = {r["name"]: r["status"] for r in certify(inst, bad).obligations}
+    assert rows["witness/14"] == "refuted" and rows["front"] == "proved"

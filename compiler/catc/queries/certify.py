@@ -792,6 +792,125 @@ def optimal_certificate(inst: ir.Instance, result: Any, options: Mapping[str, An
     return doc | {"obligations": [witness, best]}
 
 
+def pareto_obligation(
+    inst: ir.Instance,
+    objectives: Sequence[ir.Objective],
+    horizon: int,
+    sequential: bool,
+    points: Sequence[Sequence[Fraction]],
+) -> dict:
+    """ "Every composition of at most ``horizon`` steps is weakly dominated by a point of the
+    front": the step encoding with "strictly better than each point in some objective", unsat
+    (the guided improvement's last check, over the step encoding rebuilt from the model)."""
+    from catc.smt.encoder import Encoder
+    from catc.smt.terms import and_, better, or_, to_text
+
+    enc = Encoder(inst, horizon, sequential=sequential)
+    enc.unroll(horizon)
+    terms = [enc.objective(o.term, horizon) for o in objectives]
+    minimizing = [o.sense is ir.Sense.MINIMIZE for o in objectives]
+    escapes = [or_(*[better(t, v, m) for t, v, m in zip(terms, point, minimizing)]) for point in points]
+    decls, asserts = enc.script.take()
+    text = _script(
+        _header(
+            inst, f"pareto: every composition within {horizon} steps is weakly dominated by one of {len(points)} points"
+        ),
+        [s.declaration() for s in decls],
+        [a for _, a in asserts] + [to_text(and_(*escapes))],
+    )
+    return _obligation(
+        "front", f"every composition of at most {horizon} steps is weakly dominated by a point of the front", text
+    )
+
+
+def pareto_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> dict:
+    """The certificate of a complete Pareto front, every point attained (NotCertifiable
+    otherwise): a witness per point, and "nothing escapes the front"."""
+    from catc.ir.text import to_text
+    from catc.semantics.plan import plan_to_json
+
+    if result.status.value != "front" or not result.complete:
+        raise NotCertifiable("only a complete Pareto front carries a certificate")
+    if not all(p.attained for p in result.points):
+        raise NotCertifiable("a point of the front is a bound no composition attains: not certified yet")
+    if options.get("objectives"):
+        spec: dict[str, Any] = {
+            "kind": "given",
+            "terms": [{"sense": o.sense.value, "term": to_text(o.term)} for o in result.objectives],
+        }
+    else:
+        spec = {"kind": "metric"}
+    model, objectives = _pareto_objectives(inst, spec)
+    if [to_text(o.term) for o in objectives] != [to_text(o.term) for o in result.objectives]:
+        raise NotCertifiable("the front's objectives do not read back from their text")
+    sequential = bool(options.get("sequential"))
+    points = [list(p.values) for p in result.points]
+    doc: dict[str, Any] = {"schema": SCHEMA, "problem": inst.problem.name, "domain": inst.domain.name}
+    doc |= {"view": inst.view, "answer": "pareto", "method": "pareto", "producer": "z3", "horizon": result.horizon}
+    doc |= {"sequential": sequential, "objectives": spec, "points": [[str(v) for v in p] for p in points]}
+    witnesses = [
+        {
+            "name": f"witness/{i + 1}",
+            "proves": f"this composition is valid and scores ({', '.join(map(str, p.values))})",
+            "expect": "valid",
+            "checkers": [WITNESS],
+            "producer": "z3",
+            "plan": plan_to_json(p.plan),
+        }
+        for i, p in enumerate(result.points)
+    ]
+    front = pareto_obligation(model, objectives, result.horizon, sequential, points) | {"producer": "z3"}
+    return doc | {"obligations": [*witnesses, front]}
+
+
+def _pareto_objectives(inst: ir.Instance, spec: Any) -> tuple[ir.Instance, list[ir.Objective]]:
+    """The objectives of a front (no soft penalties: pareto does not weigh them)."""
+    if not (isinstance(spec, dict) and spec.get("kind") in ("metric", "given")):
+        raise InputError("a Pareto certificate's objectives are the metric or given ones", codes.BAD_CERTIFICATE)
+    model, objectives, _ = _objectives(inst, spec)
+    if len(objectives) < 2:
+        raise InputError("a Pareto front needs at least two objectives", codes.BAD_CERTIFICATE)
+    return model, objectives
+
+
+def _read_points(doc: Mapping[str, Any], width: int) -> list[list[Fraction]]:
+    points = doc.get("points")
+    try:
+        out = [[Fraction(str(v)) for v in p] for p in points] if isinstance(points, list) else None
+    except (ValueError, ZeroDivisionError, TypeError):
+        out = None
+    if not out or any(len(p) != width for p in out):
+        raise InputError("a Pareto certificate needs its points: one exact value per objective", codes.BAD_CERTIFICATE)
+    return out
+
+
+def _replay_point(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> tuple[str, float]:
+    """A front point's composition replayed, its values recomputed (optimize's scoring
+    without soft penalties) and equal to the point's; and no point dominates another."""
+    from catc.queries.optimum import _scores
+    from catc.queries.pareto import dominates
+    from catc.semantics.plan import PlanFormatError, read_plan
+    from catc.semantics.validate import validate
+
+    t0 = time.perf_counter()
+    model, objectives = _pareto_objectives(inst, doc["objectives"])
+    points = _read_points(doc, len(objectives))
+    try:
+        index = int(str(o["name"]).split("/", 1)[1]) - 1
+        claimed = points[index]
+        plan = read_plan(model, o.get("plan"))
+    except (PlanFormatError, ValueError, TypeError, KeyError, IndexError):
+        return "invalid", time.perf_counter() - t0
+    if any(dominates(tuple(q), tuple(claimed), objectives) for q in points):
+        return "invalid", time.perf_counter() - t0  # another point of the front is better: not Pareto-optimal
+    horizon, sequential = doc["horizon"], bool(doc.get("sequential"))
+    rep = validate(model, plan, horizon=horizon, sequential=sequential)
+    if not rep.ok:
+        return "invalid", time.perf_counter() - t0
+    scores = _scores(model, plan, objectives, [], horizon, sequential, report=rep)
+    return ("valid" if scores == claimed else "invalid"), time.perf_counter() - t0
+
+
 def _replay_optimal(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> tuple[str, float]:
     """The optimum's composition replayed by the validator, its objective values recomputed
     exactly (the first with the soft penalties: optimize's own scoring) and compared with the
@@ -833,6 +952,8 @@ def write_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]
     try:
         if result.query in ("optimize", "recompose"):
             doc = optimal_certificate(inst, result, options)
+        elif result.query == "pareto":
+            doc = pareto_certificate(inst, result, options)
         elif result.query == "relax":
             doc = least_certificate(inst, result, options)
         elif result.query == "diagnose":
@@ -1115,6 +1236,11 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any]) -> dict[str, str]:
             raise InputError("an optimal certificate needs one value per objective", codes.BAD_CERTIFICATE)
         built = [optimal_obligation(model, objectives, softs, horizon, bool(doc.get("sequential")), values)]
         return {o["name"]: o["smtlib"] for o in built} | {"witness": ""}
+    elif method == "pareto":
+        model, objectives = _pareto_objectives(inst, doc.get("objectives"))
+        points = _read_points(doc, len(objectives))
+        built = [pareto_obligation(model, objectives, horizon, bool(doc.get("sequential")), points)]
+        return {o["name"]: o["smtlib"] for o in built} | {f"witness/{i + 1}": "" for i in range(len(points))}
     elif method == "least":
         reqs = _read_requirements(inst, doc.get("requirements"))
         try:
@@ -1208,6 +1334,8 @@ def certify(
             answers[id(o)] = {WITNESS: _replay_least(inst, doc, o)}
         elif o.get("expect") == "valid" and doc.get("method") == "optimal" and o["name"] == "witness":
             answers[id(o)] = {WITNESS: _replay_optimal(inst, doc, o)}
+        elif o.get("expect") == "valid" and doc.get("method") == "pareto" and o["name"] in expected:
+            answers[id(o)] = {WITNESS: _replay_point(inst, doc, o)}
     rows = [_checked(o, expected.get(o["name"]), answers.get(id(o))) for o in doc["obligations"]]
     missing = sorted(_missing(doc, expected))
     rows += [
