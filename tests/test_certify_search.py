@@ -171,7 +171,12 @@ def test_both_new_kinds_follow_the_schema():
 
     schema = json.loads((ROOT / "docs/schemas/catc.certificate-1.json").read_text())
     inst = catalog("budget")
-    for doc in (certificate(inst, solve(inst)), searched()[1], given_optimum(("maximize", "confidence"))[1], front()[1]):
+    for doc in (
+        certificate(inst, solve(inst)),
+        searched()[1],
+        given_optimum(("maximize", "confidence"))[1],
+        front()[1],
+    ):
         jsonschema.validate(json.loads(json.dumps(doc)), schema)
 
 
