@@ -202,6 +202,24 @@ def test_one_process_per_checker_keeps_obligations_apart(tmp_path, checker):
     assert answers == ["sat", "sat", "error", "unsat"]
 
 
+@pytest.mark.parametrize("checker", ["z3", "cvc5"])
+def test_an_undecided_obligation_in_a_batch_is_unknown_and_the_next_is_answered(tmp_path, monkeypatch, checker):
+    """x³ + y³ = z³ over positive integers (no solution, beyond both solvers): with a limit of
+    one second each says unknown (cvc5 "unknown (TIMEOUT)" or "(INCOMPLETE)"), which is an
+    answer, not an error to run again alone; the obligation after it is still decided."""
+    texts = [
+        "(set-logic ALL)\n(declare-fun x () Int)\n(declare-fun y () Int)\n(declare-fun z () Int)\n"
+        "(assert (and (>= x 1) (>= y 1) (>= z 1) (= (+ (* x x x) (* y y y)) (* z z z))))\n(check-sat)\n",
+        "(set-logic ALL)\n(declare-fun x () Int)\n(assert (and (> x 1) (< x 2)))\n(check-sat)\n",
+    ]
+    paths = []
+    for i, text in enumerate(texts):
+        paths.append(str(tmp_path / f"{i}.smt2"))
+        (tmp_path / f"{i}.smt2").write_text(text)
+    monkeypatch.setattr(certify_module, "run_checker", lambda *args: ("run again alone", 0.0))
+    assert [a for a, _ in certify_module.run_batch(checker, paths, 1.0)] == ["unknown", "unsat"]
+
+
 # ---------------------------------------------------------------- objectives given on the command line
 
 MAX_CONFIDENCE = ROOT / "examples/gpu-allocation/max-confidence.cat"  # expect.toml: optimum 21/25

@@ -1046,9 +1046,9 @@ for i, path in enumerate(sys.argv[2:]):
             cmd = parser.nextCommand()
             if cmd.isNull():
                 break
-            out = cmd.invoke(slv, sm).strip()
-            if out in ("sat", "unsat", "unknown"):
-                answer = out
+            out = cmd.invoke(slv, sm).split()  # "unknown (TIMEOUT)": the first word
+            if out and out[0] in ("sat", "unsat", "unknown"):
+                answer = out[0]
     except Exception:
         answer = "error"
     print("catc-obligation", i, answer, time.perf_counter() - t0, flush=True)
