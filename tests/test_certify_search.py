@@ -176,6 +176,7 @@ def test_both_new_kinds_follow_the_schema():
         searched()[1],
         given_optimum(("maximize", "confidence"))[1],
         front()[1],
+        two_cores()[1],
     ):
         jsonschema.validate(json.loads(json.dumps(doc)), schema)
 
@@ -365,3 +366,66 @@ def test_a_front_with_a_dominated_point_is_refuted():
     bad = with_points(inst, doc, [*doc["points"], [str(v) for v in values]], [*witnesses, extra])
     rows = {r["name"]: r["status"] for r in certify(inst, bad).obligations}
     assert rows["witness/14"] == "refuted" and rows["front"] == "proved"
+
+
+# ---------------------------------------------------------------- cores after the first
+
+# Two independent conflicts: a needs 10 USD (5 there), b needs 10 W (5 there).
+TWO = """
+(define (domain two)
+  (:requirements :numeric)
+  (:resources (a bool) (b bool) (budget int :unit USD) (power int :unit W))
+  (:morphism get-a :uses 1 :precondition (>= budget 10) :effect (assign a true))
+  (:morphism get-b :uses 1 :precondition (>= power 10) :effect (assign b true)))
+(define (problem both)
+  (:domain two)
+  (:init (= a false) (= b false) (= budget 5) (= power 5))
+  (:goal (and a b)))
+"""
+
+
+def two_cores():
+    from catc.queries.certify import core_certificate
+    from catc.queries.diagnose import diagnose
+
+    inst = loads({"two.cat": TWO}, "two.cat").instance
+    return inst, core_certificate(inst, diagnose(inst, all_cores=True), False, "z3")
+
+
+def test_every_core_of_a_diagnosis_is_certified():
+    inst, doc = two_cores()
+    cores = [set(doc["core"]), *(set(m["core"]) for m in doc["more"])]
+    assert sorted(map(sorted, cores)) == [
+        ["goal/1", "init/a", "init/budget", "pre/get-a/1"],
+        ["goal/2", "init/b", "init/power", "pre/get-b/1"],
+    ]
+    result = certify(inst, doc)
+    assert result.status is CertifyStatus.CERTIFIED, result.obligations
+    assert {r["name"] for r in result.obligations} >= {"core", "core 2: core"}
+
+
+def test_a_later_core_with_a_dropped_label_is_refuted():
+    from catc.queries.certify import core_obligations
+
+    inst, doc = two_cores()
+    later = doc["more"][0]
+    smaller = [label for label in later["core"] if not label.startswith("init/")][:2]  # the budget or power dropped
+    (unsat,), _ = core_obligations(inst, smaller, later["horizon"], False, later["components"])
+    bad = copy.deepcopy(doc)
+    bad["more"][0] = later | {"core": smaller, "obligations": [unsat | {"producer": "z3"}]}
+    result = certify(inst, bad)
+    rows = {r["name"]: r["status"] for r in result.obligations}
+    assert result.status is CertifyStatus.REFUTED and rows["core 2: core"] == "refuted"
+    assert rows["core"] == "proved"
+
+
+def test_a_later_core_that_is_not_a_core_certificate_is_an_input_error(tmp_path):
+    from catc.queries.base import InputError
+    from catc.queries.certify import read_certificate
+
+    _, doc = two_cores()
+    doc["more"][0]["method"] = "bounded"
+    path = tmp_path / "c.json"
+    path.write_text(json.dumps(doc))
+    with pytest.raises(InputError, match="core 2 must be a core certificate"):
+        read_certificate(str(path))

@@ -477,13 +477,20 @@ def core_obligations(
 
 
 def core_certificate(inst: ir.Instance, diag: Any, sequential: bool, producer: str) -> dict:
-    """The certificate of ``diag``'s first core (NotCertifiable without one)."""
+    """The certificate of ``diag``'s first core (NotCertifiable without one); the cores after
+    it (``--all``) as certificates of their own under ``more``, checked with it."""
+    if diag.status.value != "unsat" or not diag.cores:
+        raise NotCertifiable("only a diagnosis that found a core carries a certificate")
+    first = _core_document(inst, diag, list(diag.cores[0]), sequential, producer)
+    more = [_core_document(inst, diag, list(core), sequential, producer) for core in diag.cores[1:]]
+    return first | ({"more": more} if more else {})
+
+
+def _core_document(inst: ir.Instance, diag: Any, core: list[str], sequential: bool, producer: str) -> dict:
     from catc.semantics.plan import plan_to_json
     from catc.semantics.witness import witness_plan
 
-    if diag.status.value != "unsat" or not diag.cores:
-        raise NotCertifiable("only a diagnosis that found a core carries a certificate")
-    core, components = list(diag.cores[0]), diag.relative_to
+    components = diag.relative_to
     obligations, sat = core_obligations(inst, core, diag.horizon, sequential, components)
     extended = _labelled(inst, diag.horizon, sequential, components).extended
     for label in core:
@@ -971,7 +978,8 @@ def write_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]
             out.write("\n")
     except OSError as exc:
         raise InputError(f"cannot write the certificate to {path}: {exc.strerror or exc}", codes.CANNOT_WRITE) from exc
-    return f"certificate ({len(doc['obligations'])} obligations) written to {path}; check it with: catc certify [DOMAIN] PROBLEM {path}"
+    count = len(doc["obligations"]) + sum(len(m["obligations"]) for m in doc.get("more", []))
+    return f"certificate ({count} obligations) written to {path}; check it with: catc certify [DOMAIN] PROBLEM {path}"
 
 
 def certificate_artifact(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> str:
@@ -1275,6 +1283,19 @@ def read_certificate(path: str) -> dict:
             doc = json.load(fh)
     except (OSError, UnicodeDecodeError, ValueError) as exc:
         raise InputError(f"cannot read the certificate {path}: {exc}", codes.UNREADABLE_CERTIFICATE) from None
+    _shape(doc, path)
+    more = doc.get("more", [])
+    if more and not (isinstance(more, list) and doc.get("method") == "core"):
+        raise InputError(f"{path}: only a core certificate holds more cores", codes.BAD_CERTIFICATE)
+    for i, nested in enumerate(more, start=2):
+        _shape(nested, f"{path} (core {i})")
+        if nested.get("method") != "core" or "more" in nested:
+            raise InputError(f"{path}: core {i} must be a core certificate of its own", codes.BAD_CERTIFICATE)
+    return doc
+
+
+def _shape(doc: Any, path: str) -> None:
+    """E1302 unless ``doc`` is a catc.certificate/1 document with well-formed obligations."""
     if not isinstance(doc, dict) or doc.get("schema") != SCHEMA:
         raise InputError(f"{path} is not a {SCHEMA} document", codes.BAD_CERTIFICATE)
     obligations = doc.get("obligations")
@@ -1284,7 +1305,6 @@ def read_certificate(path: str) -> dict:
         why = _malformed(o)
         if why is not None:
             raise InputError(f"{path}: {why}", codes.BAD_CERTIFICATE)
-    return doc
 
 
 def _malformed(o: Any) -> str | None:
@@ -1352,6 +1372,12 @@ def certify(
                 "proved_by": [],
             }
         )
+    for i, nested in enumerate(doc.get("more") or [], start=2):  # a diagnosis's later cores
+        if not isinstance(nested, dict) or nested.get("method") != "core" or "more" in nested:
+            raise InputError(f"core {i} must be a core certificate of its own", codes.BAD_CERTIFICATE)
+        _shape(nested, f"core {i}")
+        later = certify(inst, nested, check_timeout=check_timeout)
+        rows += [r | {"name": f"core {i}: {r['name']}"} for r in later.obligations]
     states = {r["status"] for r in rows}
     if states <= {"proved"}:
         status = CertifyStatus.CERTIFIED
