@@ -127,6 +127,19 @@ def test_the_forward_searchs_unsat_is_certified_by_its_reachable_states():
     both_proved(certify(inst, doc), doc["producer"])
 
 
+def test_a_bounded_no_with_few_reachable_states_is_certified_for_every_length():
+    """The SMT search's UNSAT within 10 sequential steps is not final (nothing has a use
+    limit); the 12 reachable states, none a goal state, prove it for every length."""
+    inst = toggle()
+    result = solve(inst, sequential=True)
+    assert result.status.value == "unsat" and not result.final
+    doc = certificate(inst, result)
+    assert doc["method"] == "reachable" and len(doc["states"]["values"]) == 12
+    assert certify(inst, doc).status is CertifyStatus.CERTIFIED
+    with pytest.raises(NotCertifiable):  # parallel steps: no reachable-states certificate
+        certificate(inst, solve(inst))
+
+
 def test_a_dropped_state_is_refuted_at_consecution():
     inst, doc = searched()
     bad = copy.deepcopy(doc)

@@ -378,15 +378,20 @@ def certificate(inst: ir.Instance, result: Any) -> dict:
     from catc.semantics.horizon import use_bound
     from catc.semantics.relaxed import RelaxedAnalysis
 
-    if getattr(result, "status", None) is None or result.status.value != "unsat" or not result.final:
+    if getattr(result, "status", None) is None or result.status.value != "unsat":
         raise NotCertifiable("only a final UNSAT answer (no composition of any length) carries a certificate")
-    analysis = RelaxedAnalysis(inst, _everything())
     doc: dict[str, Any] = {
         "schema": SCHEMA,
         "problem": inst.problem.name,
         "domain": inst.domain.name,
         "view": inst.view,
     }
+    if not result.final:  # a bounded no: a certificate only when the reachable states are few and goal-free
+        found = _reachable(inst, doc, result) if result.sequential else None
+        if found is None:
+            raise NotCertifiable("only a final UNSAT answer (no composition of any length) carries a certificate")
+        return found
+    analysis = RelaxedAnalysis(inst, _everything())
     if analysis.refutation is not None and len(analysis.state) == len(inst.resources):
         inv = invariant_json(inst, analysis.state)
         doc |= {"answer": "unsat", "method": "invariant", "producer": RELAXED, "horizon": result.horizon}
@@ -407,24 +412,31 @@ def certificate(inst: ir.Instance, result: Any) -> dict:
         doc["obligations"] = consumption_obligations(inst)
         return _produced(doc, producer)
     if result.sequential and (getattr(result, "reason", None) or "").startswith("forward search"):
-        from catc.semantics.search import reachable_states
-
-        found = reachable_states(inst, STATE_LIMIT)
+        found = _reachable(inst, doc, result)
         if found is None:
             raise NotCertifiable(
                 f"the forward search's reachable states are more than {STATE_LIMIT} (or not all of them can be "
                 "written): their invariant is not certified"
             )
-        spec = states_json(inst, *found)
-        doc |= {"answer": "unsat", "method": "reachable", "producer": SEARCH, "horizon": result.horizon}
-        doc["sequential"] = True
-        doc["states"] = spec
-        doc["obligations"] = reachable_obligations(inst, spec, result.horizon)
-        return _produced(doc, SEARCH)
+        return found
     raise NotCertifiable(
         "this UNSAT was proven neither by relaxed reachability at its fixpoint, nor by the step encoding at a "
         "complete horizon, nor by the consumption abstraction or the forward search: no certificate yet"
     )
+
+
+def _reachable(inst: ir.Instance, doc: dict[str, Any], result: Any) -> dict | None:
+    """The reachable-states certificate (sequential steps): every state compositions of any
+    length reach, at most :data:`STATE_LIMIT` and none a goal state; None otherwise."""
+    from catc.semantics.search import reachable_states
+
+    found = reachable_states(inst, STATE_LIMIT)
+    if found is None:
+        return None
+    spec = states_json(inst, *found)
+    doc = doc | {"answer": "unsat", "method": "reachable", "producer": SEARCH, "horizon": result.horizon}
+    doc |= {"sequential": True, "states": spec, "obligations": reachable_obligations(inst, spec, result.horizon)}
+    return _produced(doc, SEARCH)
 
 
 def _abstraction_refutes(inst: ir.Instance) -> bool:
