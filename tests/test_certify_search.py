@@ -190,6 +190,7 @@ def test_both_new_kinds_follow_the_schema():
         given_optimum(("maximize", "confidence"))[1],
         front()[1],
         two_cores()[1],
+        discrete(loads({"two.cat": TWO}, "two.cat").instance),
     ):
         jsonschema.validate(json.loads(json.dumps(doc)), schema)
 
@@ -442,3 +443,40 @@ def test_a_later_core_that_is_not_a_core_certificate_is_an_input_error(tmp_path)
     path.write_text(json.dumps(doc))
     with pytest.raises(InputError, match="core 2 must be a core certificate"):
         read_certificate(str(path))
+
+
+# ---------------------------------------------------------------- relax --discrete
+
+
+def discrete(inst):
+    from catc.queries.certify import discrete_certificate
+    from catc.queries.relax import relax
+
+    return discrete_certificate(inst, relax(inst, discrete=True), {})
+
+
+def test_relax_discrete_is_certified():
+    inst = loads({"two.cat": TWO}, "two.cat").instance
+    doc = discrete(inst)
+    assert doc["method"] == "discrete" and len(doc["dropped"]) == 2  # one label of each of the two cores
+    result = certify(inst, doc)
+    assert result.status is CertifyStatus.CERTIFIED, result.obligations
+
+
+def forged_discrete(inst, doc, dropped):
+    from catc.queries.certify import discrete_obligations
+
+    least, restorable = discrete_obligations(inst, dropped, doc["horizon"], False, doc["components"])
+    second = {**least, "name": "restorable", "expect": "sat", "smtlib": restorable}
+    return doc | {"dropped": dropped, "obligations": [least | {"producer": "z3"}, second | {"producer": "z3"}]}
+
+
+def test_a_smaller_discrete_set_is_refuted_and_a_larger_one_too():
+    inst = loads({"two.cat": TWO}, "two.cat").instance
+    doc = discrete(inst)
+    smaller = forged_discrete(inst, doc, doc["dropped"][:1])  # the other core still conflicts
+    rows = {r["name"]: r["status"] for r in certify(inst, smaller).obligations}
+    assert rows == {"least": "proved", "restorable": "refuted"}
+    larger = forged_discrete(inst, doc, [*doc["dropped"], "goal/1"])  # two suffice: not least
+    rows = {r["name"]: r["status"] for r in certify(inst, larger).obligations}
+    assert rows == {"least": "refuted", "restorable": "proved"}

@@ -540,13 +540,18 @@ def _core_document(inst: ir.Instance, diag: Any, core: list[str], sequential: bo
 def _replay(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> tuple[str, float]:
     """A witness composition replayed by the validator on the instance whose constraints are
     the core without the member it names: ``valid`` or ``invalid``."""
+    core, label = list(doc["core"]), o["name"].removeprefix("witness/")
+    return _replay_rest(inst, doc, o, frozenset(core) - {label})
+
+
+def _replay_rest(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any], rest: frozenset) -> tuple[str, float]:
+    """A witness composition replayed on the instance whose constraints are ``rest`` (every
+    other construct dropped): ``valid`` or ``invalid``."""
     from catc.semantics.plan import PlanFormatError, read_plan
     from catc.semantics.validate import validate
     from catc.semantics.witness import restricted
 
     t0 = time.perf_counter()
-    core, label = list(doc["core"]), o["name"].removeprefix("witness/")
-    rest = frozenset(core) - {label}
     components = doc.get("components")
     model = _labelled(inst, doc["horizon"], bool(doc.get("sequential")), components)
     steps = doc["horizon"] if ir.Label.horizon() in rest else model.extended
@@ -559,6 +564,75 @@ def _replay(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> 
     if components is not None:  # relative to a composition: exactly its components are used
         ok = ok and {a.morphism for step in plan.steps for a in step} == set(components)
     return ("valid" if ok else "invalid"), time.perf_counter() - t0
+
+
+# -- a least set of dropped constraints (catc relax --discrete): a witness, and nothing smaller
+
+
+def discrete_obligations(
+    inst: ir.Instance, dropped: Sequence[str], horizon: int, sequential: bool, components: Sequence[str] | None
+) -> tuple[dict, str]:
+    """ "Dropping fewer than ``len(dropped)`` labelled constraints restores nothing": the
+    labelled formula with at most that many minus one indicators false, unsat; and the text of
+    "every label but ``dropped`` together is satisfiable" (when no witness is at hand)."""
+    model = _labelled(inst, horizon, sequential, components)
+    unknown = [label for label in dropped if label not in model.indicator]
+    if unknown or not dropped:
+        raise InputError(f"the dropped labels are not labels of the model: {', '.join(unknown)}", codes.BAD_CERTIFICATE)
+    decls, asserts = model.formula()
+    count = " ".join(f"(ite {model.indicator[label]} 0 1)" for label in model.labels)
+    fewer = f"(<= (+ 0 {count}) {len(dropped) - 1})"
+    least = _obligation(
+        "least",
+        f"dropping fewer than {len(dropped)} labelled constraints restores no composition (horizon {horizon}, "
+        f"extended to {model.extended})",
+        _script(
+            _header(inst, f"least: at most {len(dropped) - 1} labels dropped is unsat"),
+            [s.declaration() for s in decls],
+            [text for _, text in asserts] + [fewer],
+        ),
+    )
+    kept = [label for label in model.labels if label not in dropped]
+    return least, _core_text(model, inst, kept, "restorable: every label but the dropped ones is satisfiable")
+
+
+def discrete_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> dict:
+    """The certificate of relax --discrete's least set of dropped constraints."""
+    from catc.semantics.plan import plan_to_json
+    from catc.semantics.witness import witness_plan
+
+    relative = options.get("relative_to")
+    components = (tuple(relative) or None) if relative is not None else (inst.problem.deployed or None)
+    sequential = bool(options.get("sequential"))
+    dropped = list(result.dropped)
+    least, sat = discrete_obligations(inst, dropped, result.horizon, sequential, components)
+    model = _labelled(inst, result.horizon, sequential, components)
+    kept = frozenset(model.labels) - set(dropped)
+    found = witness_plan(inst, kept, components, result.horizon, model.extended)
+    if found is None:
+        second = _obligation("restorable", "every labelled constraint but the dropped ones holds together", sat)
+        second |= {"expect": "sat", "producer": "z3"}
+    else:
+        plan, big = found
+        second = {
+            "name": "witness",
+            "proves": "this composition meets every labelled constraint but the dropped ones",
+            "expect": "valid",
+            "checkers": [WITNESS],
+            "producer": "catc.witness",
+            "plan": plan_to_json(plan),
+            "free_initial_values": "1000000000" if big else "as written",
+        }
+    doc: dict[str, Any] = {"schema": SCHEMA, "problem": inst.problem.name, "domain": inst.domain.name}
+    doc |= {"view": inst.view, "answer": "least", "method": "discrete", "producer": "z3", "horizon": result.horizon}
+    doc |= {"sequential": sequential, "components": None if components is None else list(components)}
+    doc["dropped"] = dropped
+    return doc | {"obligations": [least | {"producer": "z3"}, second]}
+
+
+def _replay_discrete(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> tuple[str, float]:
+    model = _labelled(inst, doc["horizon"], bool(doc.get("sequential")), doc.get("components"))
+    return _replay_rest(inst, doc, o, frozenset(model.labels) - set(doc["dropped"]))
 
 
 # -- a least restoration of catc relax: the witness, and nothing cheaper
@@ -973,6 +1047,8 @@ def write_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]
             doc = optimal_certificate(inst, result, options)
         elif result.query == "pareto":
             doc = pareto_certificate(inst, result, options)
+        elif result.query == "relax" and getattr(result, "dropped", None):
+            doc = discrete_certificate(inst, result, options)
         elif result.query == "relax":
             doc = least_certificate(inst, result, options)
         elif result.query == "diagnose":
@@ -1261,6 +1337,16 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any]) -> dict[str, str]:
         points = _read_points(doc, len(objectives))
         built = [pareto_obligation(model, objectives, horizon, bool(doc.get("sequential")), points)]
         return {o["name"]: o["smtlib"] for o in built} | {f"witness/{i + 1}": "" for i in range(len(points))}
+    elif method == "discrete":
+        dropped, components = doc.get("dropped"), doc.get("components")
+        if not (isinstance(dropped, list) and dropped and all(isinstance(x, str) for x in dropped)):
+            raise InputError("a discrete certificate needs its dropped labels", codes.BAD_CERTIFICATE)
+        if components is not None and not (
+            isinstance(components, list) and all(c in inst.morphisms for c in components)
+        ):
+            raise InputError("the certificate's components are not morphisms of the model", codes.BAD_CERTIFICATE)
+        least, restorable = discrete_obligations(inst, dropped, horizon, bool(doc.get("sequential")), components)
+        return {"least": least["smtlib"], "restorable": restorable, "witness": ""}
     elif method == "least":
         reqs = _read_requirements(inst, doc.get("requirements"))
         try:
@@ -1366,6 +1452,8 @@ def certify(
             answers[id(o)] = {WITNESS: _replay_least(inst, doc, o)}
         elif o.get("expect") == "valid" and doc.get("method") == "optimal" and o["name"] == "witness":
             answers[id(o)] = {WITNESS: _replay_optimal(inst, doc, o)}
+        elif o.get("expect") == "valid" and doc.get("method") == "discrete" and o["name"] == "witness":
+            answers[id(o)] = {WITNESS: _replay_discrete(inst, doc, o)}
         elif o.get("expect") == "valid" and doc.get("method") == "pareto" and o["name"] in expected:
             answers[id(o)] = {WITNESS: _replay_point(inst, doc, o)}
     rows = [_checked(o, expected.get(o["name"]), answers.get(id(o))) for o in doc["obligations"]]
@@ -1406,6 +1494,8 @@ def _missing(doc: Mapping[str, Any], expected: Mapping[str, str]) -> set[str]:
     """The obligations the certificate should hold and does not (for a core, each member
     needs a witness or a satisfiable obligation)."""
     names = {o["name"] for o in doc["obligations"]}
+    if doc.get("method") == "discrete":  # the least obligation, and a witness or "restorable"
+        return ({"least"} - names) | (set() if {"witness", "restorable"} & names else {"witness"})
     if doc.get("method") != "core":
         return set(expected) - names
     gone = {"core"} - names
