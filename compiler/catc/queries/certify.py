@@ -1270,27 +1270,35 @@ def _kill_after(proc: Any, seconds: float) -> Any:
     return timer
 
 
+#: Obligations per checker process before a checker's list is split over more processes.
+BATCH = 4
+
+
 def _run_checkers(obligations: Sequence[dict], seconds: float) -> list[dict[str, tuple[str, float]]]:
-    """Every checker on every obligation: one process per checker for all the obligations
-    that name it (:func:`run_batch`), the checkers at once (they share nothing)."""
+    """Every checker on every obligation: one process per checker for up to :data:`BATCH`
+    obligations (:func:`run_batch`: its start-up paid once), a longer list split round-robin
+    over as many processes as there are cores (up to 4), all of them at once on that many
+    workers (they share nothing)."""
     import tempfile
     from concurrent.futures import ThreadPoolExecutor
 
+    workers = max(1, min(4, os.cpu_count() or 1))
     with tempfile.TemporaryDirectory(prefix="catc-certify-") as folder:
         paths = []
         for i, o in enumerate(obligations):
             paths.append(os.path.join(folder, f"{i}.smt2"))
             with open(paths[-1], "w", encoding="utf-8") as fh:
                 fh.write(o["smtlib"])
-        batches = {c: [i for i, o in enumerate(obligations) if c in o["checkers"]] for c in CHECKERS}
-        batches = {c: ids for c, ids in batches.items() if ids}
-        with ThreadPoolExecutor(max_workers=max(1, len(batches))) as pool:
-            done = dict(
-                zip(batches, pool.map(lambda c: run_batch(c, [paths[i] for i in batches[c]], seconds), batches))
-            )
+        chunks: list[tuple[str, list[int]]] = []
+        for c in CHECKERS:
+            ids = [i for i, o in enumerate(obligations) if c in o["checkers"]]
+            parts = min(workers, -(-len(ids) // BATCH))
+            chunks += [(c, ids[j::parts]) for j in range(parts)]
+        with ThreadPoolExecutor(max_workers=max(1, min(workers, len(chunks)))) as pool:
+            done = list(pool.map(lambda chunk: run_batch(chunk[0], [paths[i] for i in chunk[1]], seconds), chunks))
     out: list[dict[str, tuple[str, float]]] = [{} for _ in obligations]
-    for checker, ids in batches.items():
-        for i, answer in zip(ids, done[checker]):
+    for (checker, ids), answers in zip(chunks, done):
+        for i, answer in zip(ids, answers):
             out[i][checker] = answer
     return out
 
