@@ -217,6 +217,21 @@ def test_one_process_per_checker_keeps_obligations_apart(tmp_path, checker):
     assert answers == ["sat", "sat", "error", "unsat"]
 
 
+def test_many_obligations_split_over_processes_keep_their_answers():
+    """More obligations than one batch takes run in several processes of each checker at
+    once; each answer still belongs to its obligation (here sat and unsat alternate, so the
+    round-robin chunks hold all the sat ones and all the unsat ones: a mix-up shows)."""
+    sat = "(set-logic ALL)\n(declare-fun x () Int)\n(assert (> x {i}))\n(check-sat)\n"
+    unsat = "(set-logic ALL)\n(declare-fun x () Int)\n(assert (and (> x {i}) (< x {i})))\n(check-sat)\n"
+    obligations = [
+        {"smtlib": (sat if i % 2 == 0 else unsat).format(i=i), "checkers": ["z3", "cvc5"]} for i in range(12)
+    ]
+    answers = certify_module._run_checkers(obligations, 30.0)
+    expected = ["sat" if i % 2 == 0 else "unsat" for i in range(12)]
+    assert [a["z3"][0] for a in answers] == expected
+    assert [a["cvc5"][0] for a in answers] == expected
+
+
 @pytest.mark.parametrize("checker", ["z3", "cvc5"])
 def test_an_undecided_obligation_in_a_batch_is_unknown_and_the_next_is_answered(tmp_path, monkeypatch, checker):
     """x³ + y³ = z³ over positive integers (no solution, beyond both solvers): with a limit of

@@ -1225,8 +1225,11 @@ def run_batch(checker: str, paths: Sequence[str], seconds: float) -> list[tuple[
         return [run_checker(checker, paths[0], seconds)]
     ms = str(max(1, int(seconds * 1000)))
     if checker == "z3":
-        script = os.path.join(os.path.dirname(paths[0]), "z3-batch.smt2")
-        with open(script, "w", encoding="utf-8") as out:
+        import tempfile
+
+        # a script of its own: other batches of the same certificate run at the same time
+        handle, script = tempfile.mkstemp(suffix=".smt2", prefix="z3-batch-", dir=os.path.dirname(paths[0]))
+        with os.fdopen(handle, "w", encoding="utf-8") as out:
             for i, path in enumerate(paths):
                 with open(path, encoding="utf-8") as fh:
                     body = fh.read()

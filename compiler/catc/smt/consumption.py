@@ -165,10 +165,9 @@ class Consumption:
                 asserts += texts
                 self.resources.append(name)
         self.used = used
-        #: the abstraction as SMT-LIB2 (declarations, assertions): a certificate's obligation
-        self.declarations, self.assertions = [*(slack or {}).values(), *decls], asserts
         self.backend: Backend = open_backend(backend, optimize=optimize)
         self.backend.add([*(slack or {}).values(), *decls], [(None, a) for a in asserts])
+        self.declarations, self.assertions = [*(slack or {}).values(), *decls], asserts  # a certificate's text
         self._label_of = {s: label for label, s in self.indicator.items()}
         self.checks = 0
 
