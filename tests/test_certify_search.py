@@ -187,7 +187,6 @@ def test_both_new_kinds_follow_the_schema():
     for doc in (
         certificate(inst, solve(inst)),
         searched()[1],
-        given_optimum(("maximize", "confidence"))[1],
         front()[1],
         two_cores()[1],
         discrete(loads({"two.cat": TWO}, "two.cat").instance),
@@ -248,57 +247,6 @@ def test_an_undecided_obligation_in_a_batch_is_unknown_and_the_next_is_answered(
         (tmp_path / f"{i}.smt2").write_text(text)
     monkeypatch.setattr(certify_module, "run_checker", lambda *args: ("run again alone", 0.0))
     assert [a for a, _ in certify_module.run_batch(checker, paths, 1.0)] == ["unknown", "unsat"]
-
-
-# ---------------------------------------------------------------- objectives given on the command line
-
-MAX_CONFIDENCE = ROOT / "examples/gpu-allocation/max-confidence.cat"  # expect.toml: optimum 21/25
-
-
-def given_optimum(*terms):
-    from catc.frontend.workspace import load_instance
-    from catc.interfaces.command import objectives
-    from catc.ir.views import apply_view
-    from catc.queries.certify import optimal_certificate
-    from catc.queries.optimize import optimize
-    from catgrammar.diagnostics import Diagnostics
-
-    _, inst = load_instance(None, str(MAX_CONFIDENCE), Diagnostics())
-    inst = apply_view(inst, None)
-    given = objectives(inst, list(terms))
-    return inst, optimal_certificate(inst, optimize(inst, given), {"objectives": given})
-
-
-def test_an_optimum_of_objectives_given_on_the_command_line_is_certified():
-    inst, doc = given_optimum(("maximize", "confidence"))  # the metric's own term, given
-    assert doc["objectives"] == {"kind": "given", "terms": [{"sense": "maximize", "term": "confidence"}]}
-    assert doc["values"] == ["21/25"]
-    assert certify(inst, doc).status is CertifyStatus.CERTIFIED
-
-
-@pytest.mark.parametrize(
-    "claim, refuted",
-    [("22/25", {"witness"}), ("4/5", {"witness", "optimal"})],  # better than reachable; worse than the optimum
-)
-def test_a_wrong_optimum_of_given_objectives_is_refuted(claim, refuted):
-    from catc.queries.certify import _objectives, optimal_obligation
-
-    inst, doc = given_optimum(("maximize", "confidence"))
-    model, objectives, softs = _objectives(inst, doc["objectives"])
-    best = optimal_obligation(model, objectives, softs, doc["horizon"], False, [Fraction(claim)])
-    witness = next(o for o in doc["obligations"] if o["name"] == "witness")
-    wrong = doc | {"values": [claim], "obligations": [witness, best | {"producer": "z3"}]}
-    rows = certify(inst, wrong).obligations
-    assert {r["name"] for r in rows if r["status"] == "refuted"} == refuted
-
-
-def test_a_given_objective_the_model_does_not_have_is_an_input_error():
-    from catc.queries.base import InputError
-
-    inst, doc = given_optimum(("maximize", "confidence"))
-    doc["objectives"]["terms"][0]["term"] = "(+ confidence nonsense)"
-    with pytest.raises(InputError, match="not a term of the model"):
-        certify(inst, doc)
 
 
 # ---------------------------------------------------------------- a Pareto front

@@ -778,34 +778,12 @@ def _objectives(inst: ir.Instance, spec: Any) -> tuple[ir.Instance, list[ir.Obje
         objectives = [churn, *mission] if spec["priority"] == "stability" else [*mission, churn]
     elif kind == "metric":
         objectives = objectives_of(inst)
-    elif kind == "given":  # --minimize/--maximize: each term as text, checked against the model again
-        objectives = _given_objectives(inst, spec.get("terms"))
     else:
         raise InputError("the certificate's objectives are not known: metric or recompose", codes.BAD_CERTIFICATE)
     softs = list(inst.problem.softs)
     if not objectives and softs:
         objectives = [ir.Objective(ir.Sense.MINIMIZE, ir.Const(Fraction(0), ir.REAL))]
     return inst, objectives, softs
-
-
-def _given_objectives(inst: ir.Instance, terms: Any) -> list[ir.Objective]:
-    """Objectives given on the command line, as a certificate states them (``[{"sense":
-    "minimize" | "maximize", "term": TEXT}, ...]``), checked against the model (E1302)."""
-    from catc.frontend.check_problem import check_objective_text
-    from catgrammar.diagnostics import Diagnostics
-
-    if not (isinstance(terms, list) and terms):
-        raise InputError("the certificate's given objectives must be a non-empty list", codes.BAD_CERTIFICATE)
-    out = []
-    for t in terms:
-        if not (isinstance(t, dict) and t.get("sense") in ("minimize", "maximize") and isinstance(t.get("term"), str)):
-            raise InputError("a given objective needs its sense and its term", codes.BAD_CERTIFICATE)
-        diags = Diagnostics()
-        term = check_objective_text(t["term"], inst, diags, "<certificate>")
-        if term is None or diags.has_errors:
-            raise InputError(f"the given objective {t['term']!r} is not a term of the model", codes.BAD_CERTIFICATE)
-        out.append(ir.Objective(ir.Sense(t["sense"]), term))
-    return out
 
 
 def optimal_obligation(
@@ -846,18 +824,11 @@ def optimal_certificate(inst: ir.Instance, result: Any, options: Mapping[str, An
     """The certificate of a proven optimum of optimize or recompose (NotCertifiable otherwise)."""
     from catc.semantics.plan import plan_to_json
 
-    if result.query == "recompose" and options.get("objectives"):
-        raise NotCertifiable("objectives given on the command line to recompose: not certified yet")
+    if options.get("objectives"):
+        raise NotCertifiable("objectives given on the command line: a certificate states the problem's own metric")
     if result.query == "recompose":
         spec: dict[str, Any] = {"kind": "recompose", "priority": result.priority, "deployed": list(result.deployed)}
         result = result.result
-    elif options.get("objectives"):  # --minimize/--maximize: the terms as text, parsed again by certify
-        from catc.ir.text import to_text
-
-        terms = [{"sense": o.sense.value, "term": to_text(o.term)} for o in options["objectives"]]
-        spec = {"kind": "given", "terms": terms}
-        if [to_text(o.term) for o in _given_objectives(inst, terms)] != [t["term"] for t in terms]:
-            raise NotCertifiable("an objective given on the command line does not read back from its text")
     else:
         spec = {"kind": "metric"}
     values = [v.value for v in result.values]
@@ -927,15 +898,11 @@ def pareto_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any
     if not all(p.attained for p in result.points):
         raise NotCertifiable("a point of the front is a bound no composition attains: not certified yet")
     if options.get("objectives"):
-        spec: dict[str, Any] = {
-            "kind": "given",
-            "terms": [{"sense": o.sense.value, "term": to_text(o.term)} for o in result.objectives],
-        }
-    else:
-        spec = {"kind": "metric"}
+        raise NotCertifiable("objectives given on the command line: a certificate states the problem's own metric")
+    spec = {"kind": "metric"}
     model, objectives = _pareto_objectives(inst, spec)
     if [to_text(o.term) for o in objectives] != [to_text(o.term) for o in result.objectives]:
-        raise NotCertifiable("the front's objectives do not read back from their text")
+        raise NotCertifiable("the front's objectives are not the problem's metric")
     sequential = bool(options.get("sequential"))
     points = [list(p.values) for p in result.points]
     doc: dict[str, Any] = {"schema": SCHEMA, "problem": inst.problem.name, "domain": inst.domain.name}
@@ -958,8 +925,8 @@ def pareto_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any
 
 def _pareto_objectives(inst: ir.Instance, spec: Any) -> tuple[ir.Instance, list[ir.Objective]]:
     """The objectives of a front (no soft penalties: pareto does not weigh them)."""
-    if not (isinstance(spec, dict) and spec.get("kind") in ("metric", "given")):
-        raise InputError("a Pareto certificate's objectives are the metric or given ones", codes.BAD_CERTIFICATE)
+    if not (isinstance(spec, dict) and spec.get("kind") == "metric"):
+        raise InputError("a Pareto certificate's objectives are the problem's metric", codes.BAD_CERTIFICATE)
     model, objectives, _ = _objectives(inst, spec)
     if len(objectives) < 2:
         raise InputError("a Pareto front needs at least two objectives", codes.BAD_CERTIFICATE)
