@@ -1,8 +1,8 @@
 """The certificates table of ``catc bench`` (issue 31): every final UNSAT of the examples
 (examples/*/expect.toml), the wall time of ``catc solve --certificate`` (the answer, with
 its certificate written) beside that of ``catc certify`` (both checkers on every
-obligation), each a process of its own, median of the bench's runs; whether it was
-certified, and by what."""
+obligation, one process per checker), each a process of its own, median of the bench's
+runs; whether it was certified, and by what."""
 
 from __future__ import annotations
 
@@ -87,7 +87,7 @@ def certificate_table(rows: list[dict[str, Any]], runs: int) -> list[str]:
         "### Certificates of the no-answers",
         "",
         f"Every final UNSAT of the examples: `catc solve --certificate` (the answer and its certificate) and "
-        f"`catc certify` (the z3 binary and cvc5 on every obligation, each in its own process), wall seconds "
+        f"`catc certify` (the z3 binary and cvc5 on every obligation, one process per checker), wall seconds "
         f"of each process, median of {runs} interleaved trial(s); the ratio is certify over answer (target ≤ 2).",
         "",
         "| problem | method (producer) | obligations | status | proved by | answer wall (s) | certify wall (s) | ratio |",

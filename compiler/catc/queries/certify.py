@@ -47,6 +47,8 @@ from catgrammar import codes
 SCHEMA = "catc.certificate/1"
 CHECKERS = ("z3", "cvc5")
 RELAXED = "catc.relaxed"  # the producer of an invariant: catc's relaxed reachability
+CONSUMPTION = "catc.consumption"  # issue 24's h_max least-consumption bound (no solver)
+SEARCH = "catc.search"  # the forward search's reachable states
 #: How long each checker may take on one obligation, in seconds (``--check-timeout``).
 CHECK_TIMEOUT = 60.0
 
@@ -178,10 +180,16 @@ def _pair(v: Any) -> bool:
 def invariant_obligations(inst: ir.Instance, inv: Mapping[str, Mapping[str, Any]], horizon: int) -> list[dict]:
     """Initiation, consecution and goal exclusion of ``inv`` over the unrelaxed one-step
     encoding (the symbolic universes of ``horizon``)."""
+    return _inductive(inst, horizon, False, lambda enc, state: invariant_text(enc, inv, state))
+
+
+def _inductive(inst: ir.Instance, horizon: int, sequential: bool, inv_of: Any) -> list[dict]:
+    """Initiation, consecution and goal exclusion of the invariant ``inv_of(encoder, state
+    variables)`` over the unrelaxed one-step encoding (parallel, or ``sequential``)."""
     from catc.smt.encoder import Encoder
     from catc.smt.script import at_most
 
-    enc = Encoder(inst, max(horizon, 1))
+    enc = Encoder(inst, max(horizon, 1), sequential=sequential)
     decls0, asserts0 = enc.script.take()
     base = [s.declaration() for s in decls0]
     state = [a for label, a in asserts0 if not (label or "").startswith("init/")]
@@ -190,7 +198,7 @@ def invariant_obligations(inst: ir.Instance, inv: Mapping[str, Mapping[str, Any]
     decls1, asserts1 = enc.script.take()
     step = [a for _, a in asserts1]
     step += [at_most([enc.act[0][m.name]], 0) for m in inst.morphisms.values() if m.uses == 0]
-    inv0, inv1 = invariant_text(enc, inv, enc.states[0]), invariant_text(enc, inv, enc.states[1])
+    inv0, inv1 = inv_of(enc, enc.states[0]), inv_of(enc, enc.states[1])
     goal = [c for _, c in enc.goal_constraints(0)]
     return [
         _obligation(
@@ -213,6 +221,125 @@ def invariant_obligations(inst: ir.Instance, inv: Mapping[str, Mapping[str, Any]
             _script(_header(inst, "goal: Inv ∧ Goal is unsat"), base, [*state, inv0, *goal]),
         ),
     ]
+
+
+def consumption_obligations(inst: ir.Instance) -> list[dict]:
+    """The consumption abstraction of issue 24 (:class:`catc.smt.consumption.Consumption`,
+    every label enforced): unsat.  Every composition of any length gives a model of it (its
+    used components, their first firings, what they consume), so no composition exists."""
+    from catc.smt.consumption import Consumption
+
+    a = Consumption(inst)
+    body = [*a.assertions, *(str(a.indicator[label]) for label in a.labels)]
+    return [
+        _obligation(
+            "consumption",
+            "no choice of components reaches the goal within what the bounded, only-decreasing resources have "
+            "(the consumption abstraction: used components, first firings, total consumption)",
+            _script(
+                _header(inst, "consumption: the abstraction of every composition is unsat"),
+                [s.declaration() for s in a.declarations],
+                body,
+            ),
+        )
+    ]
+
+
+def consumption_claims(inst: ir.Instance) -> list[dict]:
+    """The h_max least-consumption bounds that exceed a resource's room (what a reader sees;
+    certify checks each room against the model)."""
+    from catc.smt.consumption import least_consumption, room
+
+    return [
+        {"resource": name, "least": str(least), "room": str(room(inst, name))}
+        for name, least in least_consumption(inst).items()
+        if least > room(inst, name)
+    ]
+
+
+def _claims_hold(inst: ir.Instance, claims: Any) -> bool:
+    """Each claimed bound names a bounded, only-decreasing resource, its room as the model
+    gives it, and a least consumption above that room."""
+    from catc.smt.consumption import _decreasing, room
+
+    decreasing = _decreasing(inst)
+    if not isinstance(claims, list):
+        return False
+    try:
+        return all(
+            isinstance(c, dict)
+            and c.get("resource") in decreasing
+            and Fraction(str(c.get("room"))) == room(inst, c["resource"])
+            and Fraction(str(c.get("least"))) > Fraction(str(c.get("room")))
+            for c in claims
+        )
+    except (ValueError, ZeroDivisionError):
+        return False
+
+
+#: The most states a forward search's invariant lists (more: E1304, with the count).
+STATE_LIMIT = 2000
+
+
+def states_json(inst: ir.Instance, names: Sequence[str], states: Sequence[Sequence[Any]]) -> dict:
+    """The reachable states as JSON: the resources, and per state their values (a number as
+    an exact string, a Boolean, a symbol's name)."""
+
+    def value(v: Any) -> Any:
+        return v if isinstance(v, bool | str) else str(Fraction(v))
+
+    return {"resources": list(names), "values": [[value(v) for v in s] for s in states]}
+
+
+def _read_states(inst: ir.Instance, spec: Any) -> dict:
+    """The certificate's state set, checked for shape against the model (E1302 otherwise)."""
+    ok = (
+        isinstance(spec, dict)
+        and set(spec) == {"resources", "values"}
+        and isinstance(spec["resources"], list)
+        and sorted(spec["resources"]) == sorted(inst.resources)
+        and isinstance(spec["values"], list)
+        and all(isinstance(s, list) and len(s) == len(spec["resources"]) for s in spec["values"])
+    )
+    if not ok:
+        raise InputError("the states must give a value of every resource of the model per state", codes.BAD_CERTIFICATE)
+    for s in spec["values"]:
+        for name, v in zip(spec["resources"], s):
+            sort = inst.resources[name].sort
+            good = (
+                (sort.is_numeric and isinstance(v, str) and _pair([v, None]))
+                or (sort.kind is SortKind.BOOL and isinstance(v, bool))
+                or (sort.kind in (SortKind.SYMBOL, SortKind.ENUM) and isinstance(v, str))
+            )
+            if not good:
+                raise InputError(f"a state's value of resource '{name}' does not fit its sort", codes.BAD_CERTIFICATE)
+    return spec
+
+
+def _states_text(enc: Any, spec: Mapping[str, Any], state: Any) -> str:
+    """``Inv``: the state is one of ``spec``'s (a disjunction of conjunctions of equalities)."""
+    from catc.smt.script import and_text, or_text
+
+    rows = []
+    for values in spec["values"]:
+        parts = []
+        for name, v in zip(spec["resources"], values):
+            r, var = enc.inst.resources[name], state[name]
+            if r.sort.kind is SortKind.BOOL:
+                parts.append(var if v else f"(not {var})")
+            elif r.sort.is_numeric:
+                parts.append(f"(= {var} {_number(Fraction(v), r.sort.kind)})")
+            else:
+                i = _index(enc, r.sort, v)
+                parts.append("false" if i is None else f"(= {var} {i})")
+        rows.append(and_text(parts))
+    return or_text(rows)
+
+
+def reachable_obligations(inst: ir.Instance, spec: Mapping[str, Any], horizon: int) -> list[dict]:
+    """Initiation, consecution and goal exclusion of "the state is one the forward search
+    reached" over the unrelaxed sequential one-step encoding."""
+    return _inductive(inst, horizon, True, lambda enc, state: _states_text(enc, spec, state))
 
 
 def bounded_obligations(inst: ir.Instance, horizon: int, sequential: bool) -> list[dict]:
@@ -251,15 +378,20 @@ def certificate(inst: ir.Instance, result: Any) -> dict:
     from catc.semantics.horizon import use_bound
     from catc.semantics.relaxed import RelaxedAnalysis
 
-    if getattr(result, "status", None) is None or result.status.value != "unsat" or not result.final:
+    if getattr(result, "status", None) is None or result.status.value != "unsat":
         raise NotCertifiable("only a final UNSAT answer (no composition of any length) carries a certificate")
-    analysis = RelaxedAnalysis(inst, _everything())
     doc: dict[str, Any] = {
         "schema": SCHEMA,
         "problem": inst.problem.name,
         "domain": inst.domain.name,
         "view": inst.view,
     }
+    if not result.final:  # a bounded no: a certificate only when the reachable states are few and goal-free
+        found = _reachable(inst, doc, result) if result.sequential else None
+        if found is None:
+            raise NotCertifiable("only a final UNSAT answer (no composition of any length) carries a certificate")
+        return found
+    analysis = RelaxedAnalysis(inst, _everything())
     if analysis.refutation is not None and len(analysis.state) == len(inst.resources):
         inv = invariant_json(inst, analysis.state)
         doc |= {"answer": "unsat", "method": "invariant", "producer": RELAXED, "horizon": result.horizon}
@@ -272,10 +404,47 @@ def certificate(inst: ir.Instance, result: Any) -> dict:
         doc["sequential"] = bool(result.sequential)
         doc["obligations"] = bounded_obligations(inst, result.horizon, bool(result.sequential))
         return _produced(doc, result.backend)
+    if getattr(result, "refutation", None) is not None and _abstraction_refutes(inst):
+        claims = consumption_claims(inst)
+        producer = CONSUMPTION if claims else "z3"  # the h_max bound needs no solver; else z3 checked it
+        doc |= {"answer": "unsat", "method": "consumption", "producer": producer, "horizon": result.horizon}
+        doc["bounds"] = claims
+        doc["obligations"] = consumption_obligations(inst)
+        return _produced(doc, producer)
+    if result.sequential and (getattr(result, "reason", None) or "").startswith("forward search"):
+        found = _reachable(inst, doc, result)
+        if found is None:
+            raise NotCertifiable(
+                f"the forward search's reachable states are more than {STATE_LIMIT} (or not all of them can be "
+                "written): their invariant is not certified"
+            )
+        return found
     raise NotCertifiable(
-        "this UNSAT was proven neither by relaxed reachability at its fixpoint nor by the step encoding at a "
-        "complete horizon (a consumption bound or the forward search): no certificate yet"
+        "this UNSAT was proven neither by relaxed reachability at its fixpoint, nor by the step encoding at a "
+        "complete horizon, nor by the consumption abstraction or the forward search: no certificate yet"
     )
+
+
+def _reachable(inst: ir.Instance, doc: dict[str, Any], result: Any) -> dict | None:
+    """The reachable-states certificate (sequential steps): every state compositions of any
+    length reach, at most :data:`STATE_LIMIT` and none a goal state; None otherwise."""
+    from catc.semantics.search import reachable_states
+
+    found = reachable_states(inst, STATE_LIMIT)
+    if found is None:
+        return None
+    spec = states_json(inst, *found)
+    doc = doc | {"answer": "unsat", "method": "reachable", "producer": SEARCH, "horizon": result.horizon}
+    doc |= {"sequential": True, "states": spec, "obligations": reachable_obligations(inst, spec, result.horizon)}
+    return _produced(doc, SEARCH)
+
+
+def _abstraction_refutes(inst: ir.Instance) -> bool:
+    from catc.smt.backend import Check
+    from catc.smt.consumption import Consumption
+
+    a = Consumption(inst)
+    return bool(a.labels) and a.check(a.labels)[0] is Check.UNSAT
 
 
 # -- a core of catc diagnose: its UNSAT, and a witness for each member it cannot lose
@@ -320,13 +489,20 @@ def core_obligations(
 
 
 def core_certificate(inst: ir.Instance, diag: Any, sequential: bool, producer: str) -> dict:
-    """The certificate of ``diag``'s first core (NotCertifiable without one)."""
+    """The certificate of ``diag``'s first core (NotCertifiable without one); the cores after
+    it (``--all``) as certificates of their own under ``more``, checked with it."""
+    if diag.status.value != "unsat" or not diag.cores:
+        raise NotCertifiable("only a diagnosis that found a core carries a certificate")
+    first = _core_document(inst, diag, list(diag.cores[0]), sequential, producer)
+    more = [_core_document(inst, diag, list(core), sequential, producer) for core in diag.cores[1:]]
+    return first | ({"more": more} if more else {})
+
+
+def _core_document(inst: ir.Instance, diag: Any, core: list[str], sequential: bool, producer: str) -> dict:
     from catc.semantics.plan import plan_to_json
     from catc.semantics.witness import witness_plan
 
-    if diag.status.value != "unsat" or not diag.cores:
-        raise NotCertifiable("only a diagnosis that found a core carries a certificate")
-    core, components = list(diag.cores[0]), diag.relative_to
+    components = diag.relative_to
     obligations, sat = core_obligations(inst, core, diag.horizon, sequential, components)
     extended = _labelled(inst, diag.horizon, sequential, components).extended
     for label in core:
@@ -364,13 +540,18 @@ def core_certificate(inst: ir.Instance, diag: Any, sequential: bool, producer: s
 def _replay(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> tuple[str, float]:
     """A witness composition replayed by the validator on the instance whose constraints are
     the core without the member it names: ``valid`` or ``invalid``."""
+    core, label = list(doc["core"]), o["name"].removeprefix("witness/")
+    return _replay_rest(inst, doc, o, frozenset(core) - {label})
+
+
+def _replay_rest(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any], rest: frozenset) -> tuple[str, float]:
+    """A witness composition replayed on the instance whose constraints are ``rest`` (every
+    other construct dropped): ``valid`` or ``invalid``."""
     from catc.semantics.plan import PlanFormatError, read_plan
     from catc.semantics.validate import validate
     from catc.semantics.witness import restricted
 
     t0 = time.perf_counter()
-    core, label = list(doc["core"]), o["name"].removeprefix("witness/")
-    rest = frozenset(core) - {label}
     components = doc.get("components")
     model = _labelled(inst, doc["horizon"], bool(doc.get("sequential")), components)
     steps = doc["horizon"] if ir.Label.horizon() in rest else model.extended
@@ -383,6 +564,75 @@ def _replay(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> 
     if components is not None:  # relative to a composition: exactly its components are used
         ok = ok and {a.morphism for step in plan.steps for a in step} == set(components)
     return ("valid" if ok else "invalid"), time.perf_counter() - t0
+
+
+# -- a least set of dropped constraints (catc relax --discrete): a witness, and nothing smaller
+
+
+def discrete_obligations(
+    inst: ir.Instance, dropped: Sequence[str], horizon: int, sequential: bool, components: Sequence[str] | None
+) -> tuple[dict, str]:
+    """ "Dropping fewer than ``len(dropped)`` labelled constraints restores nothing": the
+    labelled formula with at most that many minus one indicators false, unsat; and the text of
+    "every label but ``dropped`` together is satisfiable" (when no witness is at hand)."""
+    model = _labelled(inst, horizon, sequential, components)
+    unknown = [label for label in dropped if label not in model.indicator]
+    if unknown or not dropped:
+        raise InputError(f"the dropped labels are not labels of the model: {', '.join(unknown)}", codes.BAD_CERTIFICATE)
+    decls, asserts = model.formula()
+    count = " ".join(f"(ite {model.indicator[label]} 0 1)" for label in model.labels)
+    fewer = f"(<= (+ 0 {count}) {len(dropped) - 1})"
+    least = _obligation(
+        "least",
+        f"dropping fewer than {len(dropped)} labelled constraints restores no composition (horizon {horizon}, "
+        f"extended to {model.extended})",
+        _script(
+            _header(inst, f"least: at most {len(dropped) - 1} labels dropped is unsat"),
+            [s.declaration() for s in decls],
+            [text for _, text in asserts] + [fewer],
+        ),
+    )
+    kept = [label for label in model.labels if label not in dropped]
+    return least, _core_text(model, inst, kept, "restorable: every label but the dropped ones is satisfiable")
+
+
+def discrete_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> dict:
+    """The certificate of relax --discrete's least set of dropped constraints."""
+    from catc.semantics.plan import plan_to_json
+    from catc.semantics.witness import witness_plan
+
+    relative = options.get("relative_to")
+    components = (tuple(relative) or None) if relative is not None else (inst.problem.deployed or None)
+    sequential = bool(options.get("sequential"))
+    dropped = list(result.dropped)
+    least, sat = discrete_obligations(inst, dropped, result.horizon, sequential, components)
+    model = _labelled(inst, result.horizon, sequential, components)
+    kept = frozenset(model.labels) - set(dropped)
+    found = witness_plan(inst, kept, components, result.horizon, model.extended)
+    if found is None:
+        second = _obligation("restorable", "every labelled constraint but the dropped ones holds together", sat)
+        second |= {"expect": "sat", "producer": "z3"}
+    else:
+        plan, big = found
+        second = {
+            "name": "witness",
+            "proves": "this composition meets every labelled constraint but the dropped ones",
+            "expect": "valid",
+            "checkers": [WITNESS],
+            "producer": "catc.witness",
+            "plan": plan_to_json(plan),
+            "free_initial_values": "1000000000" if big else "as written",
+        }
+    doc: dict[str, Any] = {"schema": SCHEMA, "problem": inst.problem.name, "domain": inst.domain.name}
+    doc |= {"view": inst.view, "answer": "least", "method": "discrete", "producer": "z3", "horizon": result.horizon}
+    doc |= {"sequential": sequential, "components": None if components is None else list(components)}
+    doc["dropped"] = dropped
+    return doc | {"obligations": [least | {"producer": "z3"}, second]}
+
+
+def _replay_discrete(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> tuple[str, float]:
+    model = _labelled(inst, doc["horizon"], bool(doc.get("sequential")), doc.get("components"))
+    return _replay_rest(inst, doc, o, frozenset(model.labels) - set(doc["dropped"]))
 
 
 # -- a least restoration of catc relax: the witness, and nothing cheaper
@@ -574,13 +824,13 @@ def optimal_certificate(inst: ir.Instance, result: Any, options: Mapping[str, An
     """The certificate of a proven optimum of optimize or recompose (NotCertifiable otherwise)."""
     from catc.semantics.plan import plan_to_json
 
+    if options.get("objectives"):
+        raise NotCertifiable("objectives given on the command line: a certificate states the problem's own metric")
     if result.query == "recompose":
         spec: dict[str, Any] = {"kind": "recompose", "priority": result.priority, "deployed": list(result.deployed)}
         result = result.result
     else:
         spec = {"kind": "metric"}
-    if options.get("objectives"):
-        raise NotCertifiable("objectives given on the command line: a certificate states the problem's own metric")
     values = [v.value for v in result.values]
     if result.status.value != "opt" or result.plan is None or not all(v.attained for v in result.values):
         raise NotCertifiable("only an optimum proven and attained carries a certificate")
@@ -606,11 +856,128 @@ def optimal_certificate(inst: ir.Instance, result: Any, options: Mapping[str, An
     return doc | {"obligations": [witness, best]}
 
 
+def pareto_obligation(
+    inst: ir.Instance,
+    objectives: Sequence[ir.Objective],
+    horizon: int,
+    sequential: bool,
+    points: Sequence[Sequence[Fraction]],
+) -> dict:
+    """ "Every composition of at most ``horizon`` steps is weakly dominated by a point of the
+    front": the step encoding with "strictly better than each point in some objective", unsat
+    (the guided improvement's last check, over the step encoding rebuilt from the model)."""
+    from catc.smt.encoder import Encoder
+    from catc.smt.terms import and_, better, or_, to_text
+
+    enc = Encoder(inst, horizon, sequential=sequential)
+    enc.unroll(horizon)
+    terms = [enc.objective(o.term, horizon) for o in objectives]
+    minimizing = [o.sense is ir.Sense.MINIMIZE for o in objectives]
+    escapes = [or_(*[better(t, v, m) for t, v, m in zip(terms, point, minimizing)]) for point in points]
+    decls, asserts = enc.script.take()
+    text = _script(
+        _header(
+            inst, f"pareto: every composition within {horizon} steps is weakly dominated by one of {len(points)} points"
+        ),
+        [s.declaration() for s in decls],
+        [a for _, a in asserts] + [to_text(and_(*escapes))],
+    )
+    return _obligation(
+        "front", f"every composition of at most {horizon} steps is weakly dominated by a point of the front", text
+    )
+
+
+def pareto_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> dict:
+    """The certificate of a complete Pareto front, every point attained (NotCertifiable
+    otherwise): a witness per point, and "nothing escapes the front"."""
+    from catc.ir.text import to_text
+    from catc.semantics.plan import plan_to_json
+
+    if result.status.value != "front" or not result.complete:
+        raise NotCertifiable("only a complete Pareto front carries a certificate")
+    if not all(p.attained for p in result.points):
+        raise NotCertifiable("a point of the front is a bound no composition attains: not certified yet")
+    if options.get("objectives"):
+        raise NotCertifiable("objectives given on the command line: a certificate states the problem's own metric")
+    spec = {"kind": "metric"}
+    model, objectives = _pareto_objectives(inst, spec)
+    if [to_text(o.term) for o in objectives] != [to_text(o.term) for o in result.objectives]:
+        raise NotCertifiable("the front's objectives are not the problem's metric")
+    sequential = bool(options.get("sequential"))
+    points = [list(p.values) for p in result.points]
+    doc: dict[str, Any] = {"schema": SCHEMA, "problem": inst.problem.name, "domain": inst.domain.name}
+    doc |= {"view": inst.view, "answer": "pareto", "method": "pareto", "producer": "z3", "horizon": result.horizon}
+    doc |= {"sequential": sequential, "objectives": spec, "points": [[str(v) for v in p] for p in points]}
+    witnesses = [
+        {
+            "name": f"witness/{i + 1}",
+            "proves": f"this composition is valid and scores ({', '.join(map(str, p.values))})",
+            "expect": "valid",
+            "checkers": [WITNESS],
+            "producer": "z3",
+            "plan": plan_to_json(p.plan),
+        }
+        for i, p in enumerate(result.points)
+    ]
+    front = pareto_obligation(model, objectives, result.horizon, sequential, points) | {"producer": "z3"}
+    return doc | {"obligations": [*witnesses, front]}
+
+
+def _pareto_objectives(inst: ir.Instance, spec: Any) -> tuple[ir.Instance, list[ir.Objective]]:
+    """The objectives of a front (no soft penalties: pareto does not weigh them)."""
+    if not (isinstance(spec, dict) and spec.get("kind") == "metric"):
+        raise InputError("a Pareto certificate's objectives are the problem's metric", codes.BAD_CERTIFICATE)
+    model, objectives, _ = _objectives(inst, spec)
+    if len(objectives) < 2:
+        raise InputError("a Pareto front needs at least two objectives", codes.BAD_CERTIFICATE)
+    return model, objectives
+
+
+def _read_points(doc: Mapping[str, Any], width: int) -> list[list[Fraction]]:
+    points = doc.get("points")
+    try:
+        out = [[Fraction(str(v)) for v in p] for p in points] if isinstance(points, list) else None
+    except (ValueError, ZeroDivisionError, TypeError):
+        out = None
+    if not out or any(len(p) != width for p in out):
+        raise InputError("a Pareto certificate needs its points: one exact value per objective", codes.BAD_CERTIFICATE)
+    return out
+
+
+def _replay_point(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> tuple[str, float]:
+    """A front point's composition replayed, its values recomputed (optimize's scoring
+    without soft penalties) and equal to the point's; and no point dominates another."""
+    from catc.queries.optimum import _scores
+    from catc.queries.pareto import dominates
+    from catc.semantics.plan import PlanFormatError, read_plan
+    from catc.semantics.validate import validate
+
+    t0 = time.perf_counter()
+    model, objectives = _pareto_objectives(inst, doc["objectives"])
+    points = _read_points(doc, len(objectives))
+    try:
+        index = int(str(o["name"]).split("/", 1)[1]) - 1
+        claimed = points[index]
+        plan = read_plan(model, o.get("plan"))
+    except (PlanFormatError, ValueError, TypeError, KeyError, IndexError):
+        return "invalid", time.perf_counter() - t0
+    if any(dominates(tuple(q), tuple(claimed), objectives) for q in points):
+        return "invalid", time.perf_counter() - t0  # another point of the front is better: not Pareto-optimal
+    horizon, sequential = doc["horizon"], bool(doc.get("sequential"))
+    rep = validate(model, plan, horizon=horizon, sequential=sequential)
+    if not rep.ok:
+        return "invalid", time.perf_counter() - t0
+    scores = _scores(model, plan, objectives, [], horizon, sequential, report=rep)
+    return ("valid" if scores == claimed else "invalid"), time.perf_counter() - t0
+
+
 def _replay_optimal(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> tuple[str, float]:
     """The optimum's composition replayed by the validator, its objective values recomputed
-    exactly (the first with the soft penalties) and compared with the claimed ones."""
+    exactly (the first with the soft penalties: optimize's own scoring) and compared with the
+    claimed ones."""
+    from catc.queries.optimum import _scores
     from catc.semantics.plan import PlanFormatError, read_plan
-    from catc.semantics.validate import evaluate, objective_value, validate
+    from catc.semantics.validate import validate
 
     t0 = time.perf_counter()
     model, objectives, softs = _objectives(inst, doc["objectives"])
@@ -619,17 +986,11 @@ def _replay_optimal(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, A
         plan = read_plan(model, o.get("plan"))
     except (PlanFormatError, ValueError, TypeError, ZeroDivisionError, KeyError):
         return "invalid", time.perf_counter() - t0
-    rep = validate(model, plan, horizon=doc["horizon"], sequential=bool(doc.get("sequential")))
+    horizon, sequential = doc["horizon"], bool(doc.get("sequential"))
+    rep = validate(model, plan, horizon=horizon, sequential=sequential)
     if not rep.ok:
         return "invalid", time.perf_counter() - t0
-    fin = rep.states[-1]
-    pen = sum((s.weight for s in softs if evaluate(model, s.expr, fin) is not True), Fraction(0))
-    scores = []
-    for i, obj in enumerate(objectives):
-        v = objective_value(model, plan, obj.term, fin)
-        if v is not None and i == 0:
-            v = v + pen if obj.sense is ir.Sense.MINIMIZE else v - pen
-        scores.append(v)
+    scores = _scores(model, plan, list(objectives), list(softs), horizon, sequential, report=rep)
     return ("valid" if scores == claimed else "invalid"), time.perf_counter() - t0
 
 
@@ -651,6 +1012,10 @@ def write_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]
     try:
         if result.query in ("optimize", "recompose"):
             doc = optimal_certificate(inst, result, options)
+        elif result.query == "pareto":
+            doc = pareto_certificate(inst, result, options)
+        elif result.query == "relax" and getattr(result, "dropped", None):
+            doc = discrete_certificate(inst, result, options)
         elif result.query == "relax":
             doc = least_certificate(inst, result, options)
         elif result.query == "diagnose":
@@ -668,7 +1033,8 @@ def write_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]
             out.write("\n")
     except OSError as exc:
         raise InputError(f"cannot write the certificate to {path}: {exc.strerror or exc}", codes.CANNOT_WRITE) from exc
-    return f"certificate ({len(doc['obligations'])} obligations) written to {path}; check it with: catc certify [DOMAIN] PROBLEM {path}"
+    count = len(doc["obligations"]) + sum(len(m["obligations"]) for m in doc.get("more", []))
+    return f"certificate ({count} obligations) written to {path}; check it with: catc certify [DOMAIN] PROBLEM {path}"
 
 
 def certificate_artifact(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> str:
@@ -722,6 +1088,33 @@ while True:
     out = cmd.invoke(slv, sm)
     if out:
         print(out.strip())
+"""
+
+
+# cvc5 on several files, one fresh solver each (nothing is shared between obligations): per
+# file a line "catc-obligation I ANSWER SECONDS" (argv: the time limit in ms, then the files)
+_CVC5_BATCH = """
+import sys, time, cvc5
+tm = cvc5.TermManager()
+for i, path in enumerate(sys.argv[2:]):
+    t0 = time.perf_counter()
+    answer = "error"
+    try:
+        slv = cvc5.Solver(tm)
+        slv.setOption("tlimit-per", sys.argv[1])
+        sm = cvc5.SymbolManager(tm)
+        parser = cvc5.InputParser(slv, sm)
+        parser.setFileInput(cvc5.InputLanguage.SMT_LIB_2_6, path)
+        while True:
+            cmd = parser.nextCommand()
+            if cmd.isNull():
+                break
+            out = cmd.invoke(slv, sm).split()  # "unknown (TIMEOUT)": the first word
+            if out and out[0] in ("sat", "unsat", "unknown"):
+                answer = out[0]
+    except Exception:
+        answer = "error"
+    print("catc-obligation", i, answer, time.perf_counter() - t0, flush=True)
 """
 
 
@@ -785,24 +1178,98 @@ def _matches(obligation: dict, expected: str | None) -> bool:
     return expected is not None and _significant(obligation["smtlib"]) == _significant(expected)
 
 
+def run_batch(checker: str, paths: Sequence[str], seconds: float) -> list[tuple[str, float]]:
+    """``checker``'s answer on each SMT-LIB2 file of ``paths``, all in one process (its
+    start-up paid once): the z3 binary on one script that runs each file after a ``(reset)``
+    with its own time limit; cvc5 with a fresh solver per file.  An obligation the batch did
+    not answer (a crash, an error) is run again alone by :func:`run_checker`."""
+    import subprocess
+
+    command = z3_command() if checker == "z3" else cvc5_command()
+    if command is None:
+        return [("missing", 0.0)] * len(paths)
+    if len(paths) == 1:
+        return [run_checker(checker, paths[0], seconds)]
+    ms = str(max(1, int(seconds * 1000)))
+    if checker == "z3":
+        import tempfile
+
+        # a script of its own: other batches of the same certificate run at the same time
+        handle, script = tempfile.mkstemp(suffix=".smt2", prefix="z3-batch-", dir=os.path.dirname(paths[0]))
+        with os.fdopen(handle, "w", encoding="utf-8") as out:
+            for i, path in enumerate(paths):
+                with open(path, encoding="utf-8") as fh:
+                    body = fh.read()
+                out.write(f'(reset)\n(set-option :timeout {ms})\n(echo "catc-obligation {i}")\n{body}\n')
+        args = [*command, script]
+    else:
+        args = [sys.executable, "-c", _CVC5_BATCH, ms, *paths]
+    answers: dict[int, tuple[str, float]] = {}
+    current, t0 = -1, time.perf_counter()
+    try:
+        with subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True) as proc:
+            limit = _kill_after(proc, len(paths) * seconds + 5)
+            assert proc.stdout is not None
+            for line in proc.stdout:
+                words = line.split()
+                if words[:1] != ["catc-obligation"] or len(words) < 2:
+                    if checker == "z3" and current >= 0 and current not in answers and words[:1]:
+                        answer = words[0] if words[0] in ("sat", "unsat", "unknown") else "error"
+                        answers[current] = (answer, time.perf_counter() - t0)
+                    continue
+                if checker == "z3":
+                    current, t0 = int(words[1]), time.perf_counter()
+                elif len(words) == 4:
+                    answers[int(words[1])] = (words[2], float(words[3]))
+            limit.cancel()
+    except OSError:
+        pass
+    return [
+        answers[i] if answers.get(i, ("error", 0.0))[0] != "error" else run_checker(checker, path, seconds)
+        for i, path in enumerate(paths)
+    ]
+
+
+def _kill_after(proc: Any, seconds: float) -> Any:
+    """Kill ``proc`` after ``seconds`` (the batch's overall limit); cancel it when done."""
+    import threading
+
+    timer = threading.Timer(seconds, proc.kill)
+    timer.daemon = True
+    timer.start()
+    return timer
+
+
+#: Obligations per checker process before a checker's list is split over more processes.
+BATCH = 4
+
+
 def _run_checkers(obligations: Sequence[dict], seconds: float) -> list[dict[str, tuple[str, float]]]:
-    """Every checker on every obligation, each a process of its own, as many at once as
-    there are cores (a checker shares nothing with another)."""
+    """Every checker on every obligation: one process per checker for up to :data:`BATCH`
+    obligations (:func:`run_batch`: its start-up paid once), a longer list split round-robin
+    over as many processes as there are cores (up to 4), all of them at once on that many
+    workers (they share nothing)."""
     import tempfile
     from concurrent.futures import ThreadPoolExecutor
 
+    workers = max(1, min(4, os.cpu_count() or 1))
     with tempfile.TemporaryDirectory(prefix="catc-certify-") as folder:
-        jobs = []
+        paths = []
         for i, o in enumerate(obligations):
-            path = os.path.join(folder, f"{i}.smt2")
-            with open(path, "w", encoding="utf-8") as fh:
+            paths.append(os.path.join(folder, f"{i}.smt2"))
+            with open(paths[-1], "w", encoding="utf-8") as fh:
                 fh.write(o["smtlib"])
-            jobs += [(i, checker, path) for checker in o["checkers"]]
-        with ThreadPoolExecutor(max_workers=max(1, min(4, os.cpu_count() or 1))) as pool:
-            done = list(pool.map(lambda job: run_checker(job[1], job[2], seconds), jobs))
+        chunks: list[tuple[str, list[int]]] = []
+        for c in CHECKERS:
+            ids = [i for i, o in enumerate(obligations) if c in o["checkers"]]
+            parts = min(workers, -(-len(ids) // BATCH))
+            chunks += [(c, ids[j::parts]) for j in range(parts)]
+        with ThreadPoolExecutor(max_workers=max(1, min(workers, len(chunks)))) as pool:
+            done = list(pool.map(lambda chunk: run_batch(chunk[0], [paths[i] for i in chunk[1]], seconds), chunks))
     out: list[dict[str, tuple[str, float]]] = [{} for _ in obligations]
-    for (i, checker, _), answer in zip(jobs, done):
-        out[i][checker] = answer
+    for (checker, ids), answers in zip(chunks, done):
+        for i, answer in zip(ids, answers):
+            out[i][checker] = answer
     return out
 
 
@@ -825,6 +1292,14 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any]) -> dict[str, str]:
         if bound is None or horizon < bound:
             return {}  # the horizon is not complete for this model: nothing matches
         built = bounded_obligations(inst, horizon, bool(doc.get("sequential")))
+    elif method == "consumption":
+        if not _claims_hold(inst, doc.get("bounds", [])):
+            return {}  # a claimed bound the model does not give: nothing matches
+        built = consumption_obligations(inst)
+    elif method == "reachable":
+        if doc.get("sequential") is not True:
+            raise InputError("a reachable-states certificate is for sequential steps", codes.BAD_CERTIFICATE)
+        built = reachable_obligations(inst, _read_states(inst, doc.get("states")), horizon)
     elif method == "optimal":
         model, objectives, softs = _objectives(inst, doc.get("objectives"))
         try:
@@ -835,6 +1310,21 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any]) -> dict[str, str]:
             raise InputError("an optimal certificate needs one value per objective", codes.BAD_CERTIFICATE)
         built = [optimal_obligation(model, objectives, softs, horizon, bool(doc.get("sequential")), values)]
         return {o["name"]: o["smtlib"] for o in built} | {"witness": ""}
+    elif method == "pareto":
+        model, objectives = _pareto_objectives(inst, doc.get("objectives"))
+        points = _read_points(doc, len(objectives))
+        built = [pareto_obligation(model, objectives, horizon, bool(doc.get("sequential")), points)]
+        return {o["name"]: o["smtlib"] for o in built} | {f"witness/{i + 1}": "" for i in range(len(points))}
+    elif method == "discrete":
+        dropped, components = doc.get("dropped"), doc.get("components")
+        if not (isinstance(dropped, list) and dropped and all(isinstance(x, str) for x in dropped)):
+            raise InputError("a discrete certificate needs its dropped labels", codes.BAD_CERTIFICATE)
+        if components is not None and not (
+            isinstance(components, list) and all(c in inst.morphisms for c in components)
+        ):
+            raise InputError("the certificate's components are not morphisms of the model", codes.BAD_CERTIFICATE)
+        least, restorable = discrete_obligations(inst, dropped, horizon, bool(doc.get("sequential")), components)
+        return {"least": least["smtlib"], "restorable": restorable, "witness": ""}
     elif method == "least":
         reqs = _read_requirements(inst, doc.get("requirements"))
         try:
@@ -869,6 +1359,19 @@ def read_certificate(path: str) -> dict:
             doc = json.load(fh)
     except (OSError, UnicodeDecodeError, ValueError) as exc:
         raise InputError(f"cannot read the certificate {path}: {exc}", codes.UNREADABLE_CERTIFICATE) from None
+    _shape(doc, path)
+    more = doc.get("more", [])
+    if more and not (isinstance(more, list) and doc.get("method") == "core"):
+        raise InputError(f"{path}: only a core certificate holds more cores", codes.BAD_CERTIFICATE)
+    for i, nested in enumerate(more, start=2):
+        _shape(nested, f"{path} (core {i})")
+        if nested.get("method") != "core" or "more" in nested:
+            raise InputError(f"{path}: core {i} must be a core certificate of its own", codes.BAD_CERTIFICATE)
+    return doc
+
+
+def _shape(doc: Any, path: str) -> None:
+    """E1302 unless ``doc`` is a catc.certificate/1 document with well-formed obligations."""
     if not isinstance(doc, dict) or doc.get("schema") != SCHEMA:
         raise InputError(f"{path} is not a {SCHEMA} document", codes.BAD_CERTIFICATE)
     obligations = doc.get("obligations")
@@ -878,7 +1381,6 @@ def read_certificate(path: str) -> dict:
         why = _malformed(o)
         if why is not None:
             raise InputError(f"{path}: {why}", codes.BAD_CERTIFICATE)
-    return doc
 
 
 def _malformed(o: Any) -> str | None:
@@ -928,6 +1430,10 @@ def certify(
             answers[id(o)] = {WITNESS: _replay_least(inst, doc, o)}
         elif o.get("expect") == "valid" and doc.get("method") == "optimal" and o["name"] == "witness":
             answers[id(o)] = {WITNESS: _replay_optimal(inst, doc, o)}
+        elif o.get("expect") == "valid" and doc.get("method") == "discrete" and o["name"] == "witness":
+            answers[id(o)] = {WITNESS: _replay_discrete(inst, doc, o)}
+        elif o.get("expect") == "valid" and doc.get("method") == "pareto" and o["name"] in expected:
+            answers[id(o)] = {WITNESS: _replay_point(inst, doc, o)}
     rows = [_checked(o, expected.get(o["name"]), answers.get(id(o))) for o in doc["obligations"]]
     missing = sorted(_missing(doc, expected))
     rows += [
@@ -935,8 +1441,21 @@ def certify(
     ]
     if not expected:
         rows.append(
-            {"name": "horizon", "proves": "", "producer": "", "status": "mismatch", "checkers": {}, "proved_by": []}
+            {
+                "name": "bounds" if doc.get("method") == "consumption" else "horizon",
+                "proves": "",
+                "producer": "",
+                "status": "mismatch",
+                "checkers": {},
+                "proved_by": [],
+            }
         )
+    for i, nested in enumerate(doc.get("more") or [], start=2):  # a diagnosis's later cores
+        if not isinstance(nested, dict) or nested.get("method") != "core" or "more" in nested:
+            raise InputError(f"core {i} must be a core certificate of its own", codes.BAD_CERTIFICATE)
+        _shape(nested, f"core {i}")
+        later = certify(inst, nested, check_timeout=check_timeout)
+        rows += [r | {"name": f"core {i}: {r['name']}"} for r in later.obligations]
     states = {r["status"] for r in rows}
     if states <= {"proved"}:
         status = CertifyStatus.CERTIFIED
@@ -953,6 +1472,8 @@ def _missing(doc: Mapping[str, Any], expected: Mapping[str, str]) -> set[str]:
     """The obligations the certificate should hold and does not (for a core, each member
     needs a witness or a satisfiable obligation)."""
     names = {o["name"] for o in doc["obligations"]}
+    if doc.get("method") == "discrete":  # the least obligation, and a witness or "restorable"
+        return ({"least"} - names) | (set() if {"witness", "restorable"} & names else {"witness"})
     if doc.get("method") != "core":
         return set(expected) - names
     gone = {"core"} - names

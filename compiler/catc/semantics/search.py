@@ -1120,3 +1120,27 @@ def _plan(task: Any, parent: dict[Any, tuple[Any, int] | None], s: Any) -> Plan:
         names.append(task.names[a_i] if isinstance(task, _Strips) else task.actions[a_i].name)
         link = parent[prev]
     return Plan([(Activation(n),) for n in reversed(names)])
+
+
+def reachable_states(inst: ir.Instance, limit: int) -> tuple[list[str], list[tuple[Any, ...]]] | None:
+    """Every state sequential compositions of any length reach (breadth first over the
+    concrete step of :class:`_Task`), as the resource names and one value tuple per state:
+    a certificate's invariant (issue 31). None when the search does not model the instance,
+    a goal state is reachable, or there are more than ``limit`` states."""
+    try:
+        task = _Task(inst)
+    except _Unsupported:
+        return None
+    seen: dict[Any, None] = {task.init: None}
+    todo = [task.init]
+    while todo:
+        s = todo.pop()
+        if task.is_goal(s):
+            return None
+        for _, t in task.successors(s):
+            if t not in seen:
+                if len(seen) >= limit:
+                    return None
+                seen[t] = None
+                todo.append(t)
+    return task.names, list(seen)

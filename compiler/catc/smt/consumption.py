@@ -167,6 +167,7 @@ class Consumption:
         self.used = used
         self.backend: Backend = open_backend(backend, optimize=optimize)
         self.backend.add([*(slack or {}).values(), *decls], [(None, a) for a in asserts])
+        self.declarations, self.assertions = [*(slack or {}).values(), *decls], asserts  # a certificate's text
         self._label_of = {s: label for label, s in self.indicator.items()}
         self.checks = 0
 
