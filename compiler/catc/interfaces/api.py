@@ -44,7 +44,7 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover
     from catc import ir
-    from catc.frontend.workspace import TextCache
+    from catc.frontend.session import TextCache
     from catc.queries.base import Result
     from catc.queries.solve import WarmStart
     from catc.semantics.plan import Plan
@@ -357,7 +357,7 @@ def stopped_early(result: Any) -> bool:
 def text_cache() -> TextCache:
     """A cache for :func:`loads` (a program that checks one model again and again, each time
     with a small change: the runtime)."""
-    from catc.frontend.workspace import TextCache
+    from catc.frontend.session import TextCache
 
     return TextCache()
 
@@ -371,9 +371,9 @@ def relax_weights(
     """The weights ``relax`` uses by default, never adding unlike units at weight 1: (weights,
     None), or ({}, why not) when a requirement of another unit has no scale
     (:func:`catc.queries.relax.unit_safe_weights`; the runtime's ``[relax]`` policy)."""
-    from catc.queries.relax import unit_safe_weights
+    from catc.queries.registry import relax_weights as weigh
 
-    return unit_safe_weights(inst, only, weights, fixed)
+    return weigh(inst, only, weights, fixed)
 
 
 def warm_start(literal_resources: Iterable[str] = ()) -> WarmStart:

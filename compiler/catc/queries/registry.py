@@ -5,7 +5,8 @@ answering one query loads only its own module."""
 from __future__ import annotations
 
 import importlib
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
+from fractions import Fraction
 from typing import TYPE_CHECKING, Any
 
 from catc.queries.base import Query
@@ -49,6 +50,17 @@ def deploy_query(inst: ir.Instance) -> str:
     optimum when the problem says what is best — a metric or soft constraints — else the
     shortest (``solve``)."""
     return "optimize" if inst.problem.metric is not None or inst.problem.softs else "solve"
+
+
+def relax_weights(
+    inst: ir.Instance, only: Iterable[str], weights: Mapping[str, Fraction] | None, fixed: Iterable[str]
+) -> tuple[dict[str, Fraction], str | None]:
+    """The weights ``relax`` gives by default (:func:`catc.queries.relax.unit_safe_weights`),
+    for the runtime's ``[relax]`` policy (the relax module loads only when asked)."""
+    found: tuple[dict[str, Fraction], str | None] = importlib.import_module(QUERIES["relax"]).unit_safe_weights(
+        inst, only, weights, fixed
+    )
+    return found
 
 
 def certificate_artifact(inst: ir.Instance, result: object, options: Mapping[str, Any]) -> str:
