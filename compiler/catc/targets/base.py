@@ -52,7 +52,9 @@ class Target(Record):
     ``follow(instance, artifact, options, echo)``, when given, runs after writing (check the
     files with other tools, run a planner on them) and returns the exit code.
     ``prepare(options)`` reads the options before loading (:class:`OptionError` for a bad
-    value).  ``command``: the command-line words (default ``("export", name)``); ``schema``:
+    value).  ``layout(artifact, lay_out)``, when given, is the artifact with its ``.cat``
+    texts laid out by ``lay_out`` — the front end's formatter, which no target may import:
+    every interface applies it right after ``run`` (``catc.interfaces.layout``).  ``command``: the command-line words (default ``("export", name)``); ``schema``:
     the JSON document's (default ``catc.export-NAME/1``)."""
 
     __slots__ = (
@@ -67,6 +69,7 @@ class Target(Record):
         "write",
         "follow",
         "prepare",
+        "layout",
         "schema",
     )
     name: str
@@ -80,6 +83,7 @@ class Target(Record):
     write: Callable[[ir.Instance, Any, Mapping[str, Any]], list[str]]
     follow: Callable[[ir.Instance, Any, Mapping[str, Any], Echo], int] | None
     prepare: Callable[[dict[str, Any]], None] | None
+    layout: Callable[[Any, Callable[[str], str]], Any] | None
     schema: str
 
     def __init__(
@@ -95,6 +99,7 @@ class Target(Record):
         write: Callable[[ir.Instance, Any, Mapping[str, Any]], list[str]] = no_files,
         follow: Callable[[ir.Instance, Any, Mapping[str, Any], Echo], int] | None = None,
         prepare: Callable[[dict[str, Any]], None] | None = None,
+        layout: Callable[[Any, Callable[[str], str]], Any] | None = None,
         command: tuple[str, ...] | None = None,
         schema: str | None = None,
     ) -> None:
@@ -109,6 +114,7 @@ class Target(Record):
         set_field(self, "write", write)
         set_field(self, "follow", follow)
         set_field(self, "prepare", prepare)
+        set_field(self, "layout", layout)
         set_field(self, "schema", schema or f"catc.export-{name}/1")
 
     def option(self, name: str) -> Option:

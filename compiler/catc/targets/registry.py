@@ -12,6 +12,7 @@ TARGETS: dict[str, str] = {
     "pddl": "catc.targets.pddl_target",
     "pddlplus": "catc.targets.pddlplus_target",
     "smt2": "catc.targets.smt2",
+    "cat": "catc.targets.cat",
     "ground": "catc.targets.ground",
 }
 
