@@ -17,7 +17,7 @@ from collections.abc import Callable, Mapping
 from typing import Any
 
 from catc import ir
-from catc.queries.base import InputError, Kind, Option, Use, limit_options, load_options
+from catc.queries.base import InputError, Kind, Operation, Option, limit_options, load_options
 from catgrammar.record import Record, set_field
 
 #: ``echo(text, err)``: how a target's follow-up (:attr:`Target.follow`) prints a line.
@@ -41,7 +41,7 @@ def no_files(inst: ir.Instance, artifact: Any, options: Mapping[str, Any]) -> li
     return []
 
 
-class Target(Record):
+class Target(Operation, Record):
     """A target as every interface sees it.
 
     ``run(instance, **options)`` makes the artifact (``options``: those with ``use=Use.RUN``;
@@ -116,19 +116,6 @@ class Target(Record):
         set_field(self, "prepare", prepare)
         set_field(self, "layout", layout)
         set_field(self, "schema", schema or f"catc.export-{name}/1")
-
-    def option(self, name: str) -> Option:
-        for o in self.options:
-            if o.name == name:
-                return o
-        raise KeyError(name)
-
-    def defaults(self) -> dict[str, Any]:
-        return {o.name: o.default for o in self.options}
-
-    def run_options(self, values: Mapping[str, Any]) -> dict[str, Any]:
-        """The keyword arguments of ``run`` among ``values`` (an option's name → value)."""
-        return {o.name: values[o.name] for o in self.options if o.use is Use.RUN and o.name in values}
 
 
 __all__ = ["Echo", "InputError", "OptionError", "Target", "horizon_option", "load_options", "no_files"]
