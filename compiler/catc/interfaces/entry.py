@@ -2,7 +2,7 @@
 
 A plain query command line (``catc solve ...``, ``catc optimize ...``, ...) runs without
 importing click.  Importing click costs about 20 ms, as much as everything else catc imports
-and a fifth of a small solve's whole run; the start-up target (within 1.3× of a hand-written
+and a fifth of a small solve's whole run; the start-up target (within 1.2× of a hand-written
 Z3 script, docs/benchmarks.md) cannot be met with it.  So :func:`parse_query` reads the
 common forms of a query's options itself, from the same option table the click command is
 built from, and hands anything else — help, an unknown or malformed option, a value click
