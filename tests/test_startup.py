@@ -69,6 +69,7 @@ NEVER = (
     "catc.present.diagram",
     "catc.present.plot",
     "catc.frontend.formatter",
+    "catc.interfaces.layout",
     "catc.frontend.up_import",
     "catc.smt.cvc5backend",
     "catgrammar.lexer",

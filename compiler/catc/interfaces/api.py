@@ -267,14 +267,15 @@ class Model:
     # ------------------------------------------------------------ targets
     def export(self, target: str, /, **options: Any) -> Any:
         """The artifact of the target ``target`` (:mod:`catc.targets.registry`: ``pddl``,
-        ``pddlplus``, ``smt2``, ``ground``) with its options, as ``catc export``/``compile``/
+        ``pddlplus``, ``smt2``, ``cat``, ``ground``) with its options, as ``catc export``/``compile``/
         ``ground`` make it; its JSON document: ``model.export_json(target, artifact)``.
         Raises :class:`catc.queries.base.InputError` when the model cannot be expressed."""
+        from catc.interfaces.layout import export as export_artifact
         from catc.targets import registry as targets
         from catgrammar import limits
 
         with limits.using(self.limits):
-            return targets.get(target).run(self.instance, **options)
+            return export_artifact(targets.get(target), self.instance, options)
 
     def export_json(self, target: str, artifact: Any) -> dict:
         from catc.targets import registry as targets

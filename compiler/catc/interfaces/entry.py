@@ -2,7 +2,7 @@
 
 A plain query command line (``catc solve ...``, ``catc optimize ...``, ...) runs without
 importing click.  Importing click costs about 20 ms, as much as everything else catc imports
-and a fifth of a small solve's whole run; the start-up target (within 1.3× of a hand-written
+and a fifth of a small solve's whole run; the start-up target (within 1.2× of a hand-written
 Z3 script, docs/benchmarks.md) cannot be met with it.  So :func:`parse_query` reads the
 common forms of a query's options itself, from the same option table the click command is
 built from, and hands anything else — help, an unknown or malformed option, a value click
@@ -136,8 +136,45 @@ def main(argv: list[str] | None = None) -> None:
             _main(argv)
         except MemoryError:  # at the memory limit, even the E1110 report ran out (exit 3)
             guard.last_words()
+        except SystemExit as exc:
+            leave(exc.code)
+            raise
     else:
         _main(argv)
+
+
+def leave(code: object) -> None:
+    """End the ``catc`` process now with exit status ``code`` (an ``int`` or None, as
+    ``sys.exit`` takes), skipping the interpreter's teardown of its modules and objects: the
+    answer is printed, and that teardown cost a plain ``catc solve`` ~25 ms of CPU, about
+    twice what it costs a hand-written Z3 script (docs/benchmarks.md, issue 23).  What an
+    exit must still do is done first: the ``atexit`` functions run and standard output and
+    error are flushed.  Returns (and the process ends as usual) when it cannot be sure:
+    another thread still runs, the status is a message, or a stream cannot be flushed
+    (a closed pipe: Python then reports it as it always does)."""
+    import atexit
+
+    status = 0 if code is None else code
+    if not isinstance(status, int) or not 0 <= status <= 255:
+        return
+    threading = sys.modules.get("threading")
+    if threading is not None and threading.active_count() > 1:
+        return
+    run_exit_functions = getattr(atexit, "_run_exitfuncs", None)
+    if run_exit_functions is None:  # not CPython
+        return
+    try:
+        sys.stdout.flush()
+        sys.stderr.flush()
+    except BaseException:  # left to the interpreter's own exit
+        return
+    run_exit_functions()
+    try:
+        sys.stdout.flush()
+        sys.stderr.flush()
+    except BaseException:
+        return
+    os._exit(status)
 
 
 def _main(argv: list[str] | None) -> None:

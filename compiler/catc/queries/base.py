@@ -315,7 +315,28 @@ def objectives_option(minimize_help: str, maximize_help: str) -> Option:
 # ====================================================================== queries
 
 
-class Query(Record):
+class Operation:
+    """What a query and a target (:class:`catc.targets.base.Target`) share: named options
+    that every interface reads, and the ``run`` they feed (a mixin of those records)."""
+
+    __slots__ = ()
+    options: tuple[Option, ...]
+
+    def option(self, name: str) -> Option:
+        for o in self.options:
+            if o.name == name:
+                return o
+        raise KeyError(name)
+
+    def defaults(self) -> dict[str, Any]:
+        return {o.name: o.default for o in self.options}
+
+    def run_options(self, values: Mapping[str, Any]) -> dict[str, Any]:
+        """The keyword arguments of ``run`` among ``values`` (an option's name → value)."""
+        return {o.name: values[o.name] for o in self.options if o.use is Use.RUN and o.name in values}
+
+
+class Query(Operation, Record):
     """A query as every interface sees it.
 
     ``run(instance, **options)`` answers it (``options``: those with ``use=Use.RUN``, plus
@@ -379,19 +400,6 @@ class Query(Record):
         set_field(self, "artifacts", artifacts or diagram_artifact)
         set_field(self, "progress", progress)
         set_field(self, "schema", f"catc.{name}/1")
-
-    def option(self, name: str) -> Option:
-        for o in self.options:
-            if o.name == name:
-                return o
-        raise KeyError(name)
-
-    def defaults(self) -> dict[str, Any]:
-        return {o.name: o.default for o in self.options}
-
-    def run_options(self, values: Mapping[str, Any]) -> dict[str, Any]:
-        """The keyword arguments of ``run`` among ``values`` (an option's name → value)."""
-        return {o.name: values[o.name] for o in self.options if o.use is Use.RUN and o.name in values}
 
 
 def diagram_artifact(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> list[str]:

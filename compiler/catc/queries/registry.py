@@ -4,12 +4,12 @@ answering one query loads only its own module."""
 
 from __future__ import annotations
 
-import importlib
 from collections.abc import Iterable, Mapping
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any
 
 from catc.queries.base import Query
+from catgrammar.registry import Registry
 
 if TYPE_CHECKING:  # pragma: no cover
     from catc import ir
@@ -26,15 +26,17 @@ QUERIES: dict[str, str] = {
     "certify": "catc.queries.certify",
 }
 
+REGISTRY: Registry[Query] = Registry("query", QUERIES, "QUERY")
+
 
 def names() -> list[str]:
-    return list(QUERIES)
+    return REGISTRY.names()
 
 
 def get(name: str) -> Query:
-    """The query named ``name`` (KeyError when there is none)."""
-    query: Query = importlib.import_module(QUERIES[name]).QUERY
-    return query
+    """The query named ``name`` (:class:`~catgrammar.registry.UnknownName`, a KeyError, when
+    there is none)."""
+    return REGISTRY.get(name)
 
 
 def for_result(result: object) -> Query:
@@ -57,7 +59,7 @@ def relax_weights(
 ) -> tuple[dict[str, Fraction], str | None]:
     """The weights ``relax`` gives by default (:func:`catc.queries.relax.unit_safe_weights`),
     for the runtime's ``[relax]`` policy (the relax module loads only when asked)."""
-    found: tuple[dict[str, Fraction], str | None] = importlib.import_module(QUERIES["relax"]).unit_safe_weights(
+    found: tuple[dict[str, Fraction], str | None] = REGISTRY.module("relax").unit_safe_weights(
         inst, only, weights, fixed
     )
     return found
@@ -66,13 +68,13 @@ def relax_weights(
 def certificate_artifact(inst: ir.Instance, result: object, options: Mapping[str, Any]) -> str:
     """``--certificate FILE`` of any query that offers it: write the proof of its answer and
     say where (the certificate module loads only when asked)."""
-    artifact: str = importlib.import_module(QUERIES["certify"]).certificate_artifact(inst, result, options)
+    artifact: str = REGISTRY.module("certify").certificate_artifact(inst, result, options)
     return artifact
 
 
 def certificate_document(inst: ir.Instance, result: object) -> tuple[dict[str, Any] | None, str]:
     """The catc.certificate/1 document proving ``result``, or ``None`` and why there is none."""
-    certify = importlib.import_module(QUERIES["certify"])
+    certify = REGISTRY.module("certify")
     try:
         return certify.certificate(inst, result), ""
     except certify.NotCertifiable as exc:

@@ -47,7 +47,7 @@ from catc.semantics.relaxed import Refutation, refute
 from catc.semantics.validate import validate
 from catc.semantics.witness import _candidate
 from catc.smt.backend import DEFAULT_BACKEND, Check, open_backend
-from catc.smt.consumption import bound_refutation, cheapest_support, consumption_proof, least_length
+from catc.smt.consumption import FixedSet, bound_refutation, cheapest_support, consumption_proof, least_length
 from catc.smt.encoder import Encoder
 from catc.smt.finite import FiniteSorts
 from catc.smt.readback import read_plan
@@ -258,10 +258,20 @@ def _presolve(
             shortest = _abstract(inst, k, sequential)
             if shortest is not None:
                 found.append(shortest)
-        if proof is None and not found:
+        if proof is None and not found and not _passes_abstraction(inst):
             proof = consumption_proof(inst)
     timings["presolve"] = timings.get("presolve", 0.0) + time.perf_counter() - t0
     return proof
+
+
+def _passes_abstraction(inst: ir.Instance) -> bool:
+    """Whether a set of components passes the consumption abstraction with every label
+    enforced, found without a solver (:func:`cheapest_support`, checked by
+    :class:`~catc.smt.consumption.FixedSet`): the abstraction is then satisfiable, its solver
+    check (:func:`consumption_proof`) can prove nothing, and the process makes no Z3 context
+    for it — the search makes the only one, as a hand-written script does (issue 23)."""
+    order = cheapest_support(inst)
+    return order is not None and FixedSet(inst).order(order) is not None
 
 
 def _abstract(inst: ir.Instance, k: int, sequential: bool) -> SolveResult | None:

@@ -14,7 +14,6 @@ backend is one module implementing :class:`Backend` plus one entry in :data:`BAC
 
 from __future__ import annotations
 
-import importlib
 from abc import ABC, abstractmethod
 from collections.abc import Sequence
 from contextvars import ContextVar
@@ -25,6 +24,7 @@ from typing import Any
 from catc.smt.script import Assertion, Symbol
 from catc.smt.terms import Term
 from catgrammar.record import Record, set_field
+from catgrammar.registry import Registry, UnknownName
 
 
 class Check(str, Enum):
@@ -170,13 +170,14 @@ BACKENDS: dict[str, str] = {
 DEFAULT_BACKEND = "z3"
 
 
+_REGISTRY: Registry[type[Backend]] = Registry("backend", BACKENDS)
+
+
 def backend_class(name: str) -> type[Backend]:
-    target = BACKENDS.get(name)
-    if target is None:
-        raise BackendError(f"unknown backend {name!r}; expected one of: {', '.join(sorted(BACKENDS))}")
-    module, _, attr = target.partition(":")
-    cls: type[Backend] = getattr(importlib.import_module(module), attr)
-    return cls
+    try:
+        return _REGISTRY.get(name)
+    except UnknownName as exc:
+        raise BackendError(str(exc)) from None
 
 
 def open_backend(

@@ -17,7 +17,7 @@ from collections.abc import Callable, Mapping
 from typing import Any
 
 from catc import ir
-from catc.queries.base import InputError, Kind, Option, Use, limit_options, load_options
+from catc.queries.base import InputError, Kind, Operation, Option, limit_options, load_options
 from catgrammar.record import Record, set_field
 
 #: ``echo(text, err)``: how a target's follow-up (:attr:`Target.follow`) prints a line.
@@ -41,7 +41,7 @@ def no_files(inst: ir.Instance, artifact: Any, options: Mapping[str, Any]) -> li
     return []
 
 
-class Target(Record):
+class Target(Operation, Record):
     """A target as every interface sees it.
 
     ``run(instance, **options)`` makes the artifact (``options``: those with ``use=Use.RUN``;
@@ -52,7 +52,9 @@ class Target(Record):
     ``follow(instance, artifact, options, echo)``, when given, runs after writing (check the
     files with other tools, run a planner on them) and returns the exit code.
     ``prepare(options)`` reads the options before loading (:class:`OptionError` for a bad
-    value).  ``command``: the command-line words (default ``("export", name)``); ``schema``:
+    value).  ``layout(artifact, lay_out)``, when given, is the artifact with its ``.cat``
+    texts laid out by ``lay_out`` — the front end's formatter, which no target may import:
+    every interface applies it right after ``run`` (``catc.interfaces.layout``).  ``command``: the command-line words (default ``("export", name)``); ``schema``:
     the JSON document's (default ``catc.export-NAME/1``)."""
 
     __slots__ = (
@@ -67,6 +69,7 @@ class Target(Record):
         "write",
         "follow",
         "prepare",
+        "layout",
         "schema",
     )
     name: str
@@ -80,6 +83,7 @@ class Target(Record):
     write: Callable[[ir.Instance, Any, Mapping[str, Any]], list[str]]
     follow: Callable[[ir.Instance, Any, Mapping[str, Any], Echo], int] | None
     prepare: Callable[[dict[str, Any]], None] | None
+    layout: Callable[[Any, Callable[[str], str]], Any] | None
     schema: str
 
     def __init__(
@@ -95,6 +99,7 @@ class Target(Record):
         write: Callable[[ir.Instance, Any, Mapping[str, Any]], list[str]] = no_files,
         follow: Callable[[ir.Instance, Any, Mapping[str, Any], Echo], int] | None = None,
         prepare: Callable[[dict[str, Any]], None] | None = None,
+        layout: Callable[[Any, Callable[[str], str]], Any] | None = None,
         command: tuple[str, ...] | None = None,
         schema: str | None = None,
     ) -> None:
@@ -109,20 +114,8 @@ class Target(Record):
         set_field(self, "write", write)
         set_field(self, "follow", follow)
         set_field(self, "prepare", prepare)
+        set_field(self, "layout", layout)
         set_field(self, "schema", schema or f"catc.export-{name}/1")
-
-    def option(self, name: str) -> Option:
-        for o in self.options:
-            if o.name == name:
-                return o
-        raise KeyError(name)
-
-    def defaults(self) -> dict[str, Any]:
-        return {o.name: o.default for o in self.options}
-
-    def run_options(self, values: Mapping[str, Any]) -> dict[str, Any]:
-        """The keyword arguments of ``run`` among ``values`` (an option's name → value)."""
-        return {o.name: values[o.name] for o in self.options if o.use is Use.RUN and o.name in values}
 
 
 __all__ = ["Echo", "InputError", "OptionError", "Target", "horizon_option", "load_options", "no_files"]

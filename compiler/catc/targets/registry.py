@@ -4,26 +4,28 @@ exporting to one target loads only its own module."""
 
 from __future__ import annotations
 
-import importlib
-
 from catc.targets.base import Target
+from catgrammar.registry import Registry
 
 TARGETS: dict[str, str] = {
     "pddl": "catc.targets.pddl_target",
     "pddlplus": "catc.targets.pddlplus_target",
     "smt2": "catc.targets.smt2",
+    "cat": "catc.targets.cat",
     "ground": "catc.targets.ground",
 }
 
+REGISTRY: Registry[Target] = Registry("target", TARGETS, "TARGET")
+
 
 def names() -> list[str]:
-    return list(TARGETS)
+    return REGISTRY.names()
 
 
 def get(name: str) -> Target:
-    """The target named ``name`` (KeyError when there is none)."""
-    target: Target = importlib.import_module(TARGETS[name]).TARGET
-    return target
+    """The target named ``name`` (:class:`~catgrammar.registry.UnknownName`, a KeyError, when
+    there is none)."""
+    return REGISTRY.get(name)
 
 
 def by_command(words: tuple[str, ...]) -> Target | None:

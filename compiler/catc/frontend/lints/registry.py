@@ -4,9 +4,8 @@ line here."""
 
 from __future__ import annotations
 
-import importlib
-
 from catc.frontend.lints.base import Lint
+from catgrammar.registry import Registry
 
 LINTS: dict[str, str] = {
     "unbounded-parameter": "catc.frontend.lints.unbounded_parameter",
@@ -16,12 +15,14 @@ LINTS: dict[str, str] = {
     "unreachable-morphism": "catc.frontend.lints.unreachable_morphism",
 }
 
+REGISTRY: Registry[Lint] = Registry("lint", LINTS, "LINT")
+
 
 def names() -> list[str]:
-    return list(LINTS)
+    return REGISTRY.names()
 
 
 def get(name: str) -> Lint:
-    """The lint named ``name`` (KeyError when there is none)."""
-    lint: Lint = importlib.import_module(LINTS[name]).LINT
-    return lint
+    """The lint named ``name`` (:class:`~catgrammar.registry.UnknownName`, a KeyError, when
+    there is none)."""
+    return REGISTRY.get(name)

@@ -17,6 +17,7 @@ import click
 
 from catc.interfaces import command
 from catc.interfaces.cli.options import click_params, limited
+from catc.interfaces.layout import export
 from catc.queries.base import InputError, Kind
 from catc.targets import registry
 from catc.targets.base import OptionError, Target
@@ -126,7 +127,7 @@ def run_target(target: Target, paths: Sequence[str], values: dict[str, Any]) -> 
     try:
         with limited(values.get("limits") or (), values.get("memory")), limits.deadline(values.get("timeout")):
             inst = loaded(paths, values, as_json)
-            artifact = target.run(inst, **target.run_options(values))
+            artifact = export(target, inst, target.run_options(values))
             if as_json:
                 command.echo(json.dumps(target.to_json(inst, artifact), indent=2))
                 return
