@@ -299,3 +299,36 @@ def test_the_counting_lp_is_solved_exactly():
 
     assert _max_dual([[F(1), F(3)], [F(2), F(1)]], [F(3), F(4)], 100) == 2
     assert _max_dual([[F(1), F(-1)], [F(1), F(-1)]], [F(1), F(0)], 100) is None
+
+
+def test_a_warm_started_dual_answers_as_a_fresh_one():
+    """The kept basis of one objective is a feasible start for the next: the same maxima as
+    from the slack basis. The region y1 + 3·y2 ≤ 1, 2·y1 + y2 ≤ 1, y ≥ 0 has the vertices
+    (0, 0), (0, 1/3), (2/5, 1/5), (1/2, 0): 4·y1 + 3·y2 takes 0, 1, 11/5, 2 there, so 11/5."""
+    from fractions import Fraction as F
+
+    from catc.semantics.search import _Dual, _max_dual
+
+    a = [[F(1), F(3)], [F(2), F(1)]]
+    dual = _Dual(a, 2)
+    assert dual.solve([F(3), F(4)], 100) == 2
+    assert dual.solve([F(4), F(3)], 100) == _max_dual(a, [F(4), F(3)], 100) == F(11, 5)
+    assert dual.solve([F(0), F(0)], 100) == 0
+
+
+def test_farmland_is_proven_shortest_and_short_of_workers_unsolvable(tmp_path):
+    """farmland's actions on a line of 5 farms, all workers on f0 (the corpus script's
+    generator, whose docstring argues the counts): with 5 workers the 4 + 3 + 2 + 1 = 10
+    move-slow steps are the shortest plan; with 4 there is none (the total never grows)."""
+    mod = _corpus_script()
+    (tmp_path / "d.pddl").write_text(mod.FARMLAND)
+    for workers, expect in ((5, 10), (4, None)):
+        (tmp_path / "p.pddl").write_text(mod.farmland(5, workers))
+        inst, _ = up_to_instance(_read(tmp_path / "d.pddl", tmp_path / "p.pddl"))
+        r = search(inst, 200)
+        if expect is None:
+            assert r.status is SearchStatus.NONE and r.final
+        else:
+            assert r.status is SearchStatus.PLAN and r.length == expect and r.shortest
+            via = solve(inst, horizon=200, sequential=True, strategy="search")  # validated inside
+            assert via.status is SolveStatus.SAT and via.plan is not None and len(via.plan.steps) == 10

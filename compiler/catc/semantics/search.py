@@ -679,10 +679,11 @@ class _Counting:
         used = sorted({a for coeffs, _ in rows for a, _ in coeffs})
         where = {a: k for k, a in enumerate(used)}
         # the dual's constraint matrix: one row per action taking part, one column per primal row
-        self.matrix = [[Fraction(0)] * len(rows) for _ in used]
+        matrix = [[Fraction(0)] * len(rows) for _ in used]
         for j, (coeffs, _) in enumerate(rows):
             for a, c in coeffs:
-                self.matrix[where[a]][j] += c
+                matrix[where[a]][j] += c
+        self.dual = _Dual(matrix, len(rows))
 
     @classmethod
     def build(cls, task: _Task, atoms: _Atoms, inst: ir.Instance) -> _Counting | None:
@@ -744,7 +745,7 @@ class _Counting:
                 return 0
         if all(x <= 0 for x in r):
             return 0
-        value = _max_dual(self.matrix, r, self.PIVOTS)
+        value = self.dual.solve(r, self.PIVOTS)
         if value is None:
             return None
         return int(-((-value) // 1))  # ⌈value⌉
@@ -755,39 +756,57 @@ def _unmet(test: Fn) -> Callable[[State], Any]:
 
 
 def _max_dual(matrix: list[list[Fraction]], r: list[Fraction], pivots: int) -> Fraction | None:
-    """max r·y subject to matrix·y ≤ 1, y ≥ 0 (exact simplex, Bland's rule, slack basis);
-    None when unbounded. After ``pivots`` pivots the value reached so far (feasible: a lower
-    bound on the maximum)."""
-    n = len(r)
-    m = len(matrix)
-    rows = [row[:] + [Fraction(int(i == k)) for k in range(m)] + [Fraction(1)] for i, row in enumerate(matrix)]
-    z = [-x for x in r] + [Fraction(0)] * m + [Fraction(0)]
-    basis = [n + i for i in range(m)]
-    for _ in range(pivots):
-        j = next((j for j in range(n + m) if z[j] < 0), None)
-        if j is None:
-            break
-        best: tuple[Fraction, int, int] | None = None
-        for i, row in enumerate(rows):
-            if row[j] > 0:
-                key = (row[-1] / row[j], basis[i], i)
-                if best is None or key < best:
-                    best = key
-        if best is None:
-            return None  # unbounded
-        i = best[2]
-        prow = rows[i]
-        p = prow[j]
-        prow = [x / p for x in prow]
-        rows[i] = prow
-        for k, row in enumerate(rows):
-            if k != i and row[j]:
+    """max r·y subject to matrix·y ≤ 1, y ≥ 0 (:class:`_Dual`, from the slack basis)."""
+    return _Dual(matrix, len(r)).solve(r, pivots)
+
+
+class _Dual:
+    """max r·y subject to A·y ≤ 1, y ≥ 0 for one A and many r, by an exact simplex (Fractions,
+    Bland's rule). The feasible region does not depend on r, so the basis the last call ended
+    in is a feasible start for the next (a warm start: a state's bound differs from its
+    parent's by a few pivots); every basis on the way is feasible, so the value reached after
+    ``pivots`` pivots is a lower bound on the maximum; None when unbounded."""
+
+    def __init__(self, matrix: list[list[Fraction]], n: int) -> None:
+        m = len(matrix)
+        self.n, self.m = n, m
+        self.rows = [
+            list(row) + [Fraction(int(i == k)) for k in range(m)] + [Fraction(1)] for i, row in enumerate(matrix)
+        ]
+        self.basis = [n + i for i in range(m)]
+
+    def solve(self, r: list[Fraction], pivots: int) -> Fraction | None:
+        n, m, rows, basis = self.n, self.m, self.rows, self.basis
+        cost = list(r) + [Fraction(0)] * m
+        z = [-c for c in cost] + [Fraction(0)]
+        for i, b in enumerate(basis):  # the reduced costs in the kept basis: −c + Σ c_B·row
+            cb = cost[b]
+            if cb:
+                z = [x + cb * y for x, y in zip(z, rows[i])]
+        for _ in range(pivots):
+            j = next((j for j in range(n + m) if z[j] < 0), None)
+            if j is None:
+                break
+            best: tuple[Fraction, int, int] | None = None
+            for i, row in enumerate(rows):
+                if row[j] > 0:
+                    key = (row[-1] / row[j], basis[i], i)
+                    if best is None or key < best:
+                        best = key
+            if best is None:
+                return None  # unbounded
+            i = best[2]
+            p = rows[i][j]
+            prow = [x / p for x in rows[i]]
+            rows[i] = prow
+            for k, row in enumerate(rows):
                 f = row[j]
-                rows[k] = [x - f * y for x, y in zip(row, prow)]
-        f = z[j]
-        z = [x - f * y for x, y in zip(z, prow)]
-        basis[i] = j
-    return z[-1]
+                if k != i and f:
+                    rows[k] = [x - f * y for x, y in zip(row, prow)]
+            f = z[j]
+            z = [x - f * y for x, y in zip(z, prow)]
+            basis[i] = j
+        return z[-1]
 
 
 #: The most states the greedy phase stores before it gives way to A* (with no deadline it
@@ -1239,7 +1258,9 @@ def search(
         return SearchResult(SearchStatus.NONE, reason=f"no composition within {horizon} steps (h^max)")
     if not greedy:
         return _astar(task, horizon, deadline)
-    hadd = task.hadd if atoms is None else atoms.hadd
+    hadd: Callable[[Any], Any] = task.hadd if atoms is None else atoms.hadd
+    if atoms is not None and task.counting is not None:
+        hadd = _counting_first(task.counting, atoms.hadd)
     share = None if deadline is None else time.monotonic() + (deadline - time.monotonic()) / (2 if prove else 1)
     found = _greedy(task, hadd, horizon, share)
     if found.status is SearchStatus.NONE and found.final:
@@ -1274,7 +1295,20 @@ def search(
     return found
 
 
-def _greedy(task: Any, hadd: Callable[[Any], int], horizon: int, deadline: float | None) -> SearchResult:
+def _counting_first(counting: _Counting, hadd: Callable[[State], int]) -> Callable[[State], tuple[int, int]]:
+    """The greedy search's order where the task has numeric goal conditions: the counting
+    bound first (h_add counts a worker moved once per condition it helps, and plateaus where
+    many moves are needed; the bound sees them all at once), h_add to break its ties. A dead
+    end the bound proves goes last (not dropped: the greedy search's exhaustion stays a proof)."""
+
+    def key(s: State) -> tuple[int, int]:
+        c = counting.h(s)
+        return (_FAR if c is None else c, hadd(s))
+
+    return key
+
+
+def _greedy(task: Any, hadd: Callable[[Any], Any], horizon: int, deadline: float | None) -> SearchResult:
     """Greedy best-first search on h_add (ties: the state generated first), every state once;
     the goal tested when a state is generated. Exhausting the states without cutting any at
     the horizon proves that there is no composition."""
@@ -1284,7 +1318,7 @@ def _greedy(task: Any, hadd: Callable[[Any], int], horizon: int, deadline: float
     g_of: dict[Any, int] = {start: 0}
     parent: dict[Any, tuple[Any, int] | None] = {start: None}
     tie = itertools.count()
-    heap: list[tuple[int, int, Any]] = [(hadd(start), next(tie), start)]
+    heap: list[tuple[Any, int, Any]] = [(hadd(start), next(tie), start)]
     expanded = 0
     cut = False
     while heap:
