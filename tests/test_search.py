@@ -332,3 +332,19 @@ def test_farmland_is_proven_shortest_and_short_of_workers_unsolvable(tmp_path):
             assert r.status is SearchStatus.PLAN and r.length == expect and r.shortest
             via = solve(inst, horizon=200, sequential=True, strategy="search")  # validated inside
             assert via.status is SolveStatus.SAT and via.plan is not None and len(via.plan.steps) == 10
+
+
+def test_the_plan_neighbourhood_shortens_the_greedy_gripper_plan(tmp_path):
+    """gripper-12: h_add's greedy plan carries one ball a trip (47 actions, 63 for 16 balls);
+    two a trip is 6 per pair less the last move back: 35. The search of the plan's
+    neighbourhood finds trips of two; the plan is replayed by the validator."""
+    from catc.semantics.validate import validate
+
+    corpus_mod = _corpus_script()
+    (tmp_path / "d.pddl").write_text(corpus_mod.GRIPPER)
+    (tmp_path / "p.pddl").write_text(corpus_mod.gripper(12))
+    inst, _ = up_to_instance(_read(tmp_path / "d.pddl", tmp_path / "p.pddl"))
+    r = search(inst, 200, prove=False)
+    assert r.status is SearchStatus.PLAN and r.plan is not None and not r.shortest
+    assert r.length == 35
+    assert validate(inst, r.plan, sequential=True).ok

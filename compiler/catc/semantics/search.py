@@ -1273,6 +1273,10 @@ def search(
         return r
     assert found.plan is not None
     found.first_plan = time.monotonic() - t0
+    if len(found.plan.steps) > 1:
+        until = None if deadline is None else time.monotonic() + (deadline - time.monotonic()) / 4
+        found.plan = _improve(task, found.plan, until)
+        found.length = len(found.plan.steps)
     length = len(found.plan.steps)
     if length == 0:
         return found
@@ -1402,6 +1406,85 @@ def _astar(task: Any, horizon: int, deadline: float | None) -> SearchResult:
         expanded=expanded,
         reason=f"every reachable state not proven a dead end ({alive}) was expanded",
     )
+
+
+#: The most states the plan's neighbourhood (:func:`_improve`) may hold, and how many depths
+#: past the last one that shortened the plan it tries.
+NEIGHBOURHOOD_STATES = 100_000
+IMPROVE_DEPTHS = 2
+
+
+def _improve(task: Any, plan: Plan, deadline: float | None) -> Plan:
+    """A shorter plan through the plan's neighbourhood (plan neighbourhood graph search,
+    Nakhost & Müller 2010): the states within d steps of a state of the plan, d = 1, 2, …,
+    searched breadth-first from the initial state for a goal state; a shorter plan found
+    becomes the plan, and its neighbourhood is searched again. Every plan it returns is a path
+    of successors from the initial state to a goal state (the validator replays it all the
+    same). Stops at the deadline or when a neighbourhood outgrows ``NEIGHBOURHOOD_STATES``,
+    keeping the best plan so far, or after ``IMPROVE_DEPTHS`` depths in a row found nothing
+    shorter; it claims nothing about length."""
+    by_name = {n: i for i, n in enumerate(_action_names(task))}
+    steps = [by_name[step[0].morphism] for step in plan.steps]
+    depth = last = 1
+    while depth < last + IMPROVE_DEPTHS:
+        states = [task.init]
+        for a_i in steps:
+            states.append(next(t for b, t in task.successors(states[-1]) if b == a_i))
+        succ: dict[Any, list[tuple[int, Any]]] = {}
+        frontier = list(dict.fromkeys(states))
+        nodes = set(frontier)
+        for d in range(depth + 1):
+            nxt = []
+            for s in frontier:
+                if deadline is not None and time.monotonic() >= deadline:
+                    return _as_plan(task, steps)
+                succ[s] = task.successors(s)
+                if d < depth:
+                    for _, t in succ[s]:
+                        if t not in nodes:
+                            nodes.add(t)
+                            nxt.append(t)
+            if len(nodes) > NEIGHBOURHOOD_STATES:
+                return _as_plan(task, steps)
+            frontier = nxt
+        better = _bfs(task, succ, nodes, len(steps) - 1)
+        if better is not None:
+            steps, last = better, depth
+        else:
+            depth += 1
+    return _as_plan(task, steps)
+
+
+def _bfs(task: Any, succ: dict[Any, list[tuple[int, Any]]], nodes: set[Any], limit: int) -> list[int] | None:
+    """A shortest path of at most ``limit`` steps from the initial state to a goal state within
+    ``nodes``, as action indices; None when there is none."""
+    parent: dict[Any, tuple[Any, int] | None] = {task.init: None}
+    layer = [task.init]
+    for _ in range(limit):
+        nxt = []
+        for s in layer:
+            for a_i, t in succ.get(s, ()):
+                if t in nodes and t not in parent:
+                    parent[t] = (s, a_i)
+                    if task.is_goal(t):
+                        out = []
+                        link = parent[t]
+                        while link is not None:
+                            out.append(link[1])
+                            link = parent[link[0]]
+                        return out[::-1]
+                    nxt.append(t)
+        layer = nxt
+    return None
+
+
+def _action_names(task: Any) -> list[str]:
+    return task.names if isinstance(task, _Strips) else [a.name for a in task.actions]
+
+
+def _as_plan(task: Any, steps: list[int]) -> Plan:
+    names = _action_names(task)
+    return Plan([(Activation(names[a_i]),) for a_i in steps])
 
 
 def _plan(task: Any, parent: dict[Any, tuple[Any, int] | None], s: Any) -> Plan:
