@@ -2,9 +2,15 @@
 numeric h_add for a first composition, then A* with a numeric h^max to prove it shortest.
 
 The greedy phase (:func:`_greedy`, h_add over the conditions cut into atoms by :class:`_Atoms`,
-or over literals on bitmasks) is inadmissible and claims nothing about length; A* below its
-length (:func:`_astar`) either finds a shorter composition or proves that there is none. The
-rest of this docstring is about A*.
+or over literals on bitmasks; ordered first by the counting bound where the task has numeric
+goal conditions) is inadmissible and claims nothing about length; its plan is shortened through
+its neighbourhood (:func:`_improve`), and A* below that length (:func:`_astar`) either finds a
+shorter composition or proves that there is none. The rest of this docstring is about A*.
+
+For numeric tasks A*'s heuristic is the larger of h^max (below) and an operator-counting bound
+(:class:`_Counting`: a linear program over how often each morphism fires, solved exactly),
+both read against the bounds every reachable state keeps — declared, or inferred from the
+preconditions that guard every change of a number (:func:`infer_bounds`).
 
 For ground instances (morphisms without parameters, as :mod:`catc.frontend.up_import` makes
 them) the shortest sequential composition is found by A* over the concrete states (exact
