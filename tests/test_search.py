@@ -348,3 +348,20 @@ def test_the_plan_neighbourhood_shortens_the_greedy_gripper_plan(tmp_path):
     assert r.status is SearchStatus.PLAN and r.plan is not None and not r.shortest
     assert r.length == 35
     assert validate(inst, r.plan, sequential=True).ok
+
+
+def test_sums_of_conditions_strengthen_h_max_on_sailing(tmp_path):
+    """UP's sailing, persons 3q and 3q − 6 away (the corpus script's generator argues 2q + 2
+    by hand). save_person needs x + y ≥ d and y − x ≥ d: taken one at a time the intervals
+    meet them after ~2/3 of the 2q moves; their sum 2·y ≥ 2·d needs y to grow by 1.5 per move
+    for all of them. With the sum tested, h^max at the start is 2q layers of moves and one of
+    both saves together (h^max lets them share a layer): 2q + 1, one below the optimum."""
+    from catc.semantics.search import _Task
+
+    mod = _corpus_script()
+    (tmp_path / "p.pddl").write_text(mod.sailing_far(7))
+    inst, _ = up_to_instance(_read(corpus.wheel_dir() / "sailing" / "domain.pddl", tmp_path / "p.pddl"))
+    task = _Task(inst)
+    assert task.hmax(task.init, 100) == 2 * 7 + 1
+    r = search(inst, 200)
+    assert r.status is SearchStatus.PLAN and r.length == 16 and r.shortest

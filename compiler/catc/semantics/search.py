@@ -349,6 +349,53 @@ def _relaxed(e: ir.Expr, index: dict[str, int]) -> Callable[[Relaxed], Any]:
     raise _Unsupported(type(e).__name__)
 
 
+def _redundant(exprs: list[ir.Expr], index: dict[str, int]) -> list[Callable[[Relaxed], tuple[bool, bool]]]:
+    """Relaxed tests of the sums of two linear inequalities among the conjuncts ``exprs`` where
+    a resource cancels out (as ENHSP's hrmax adds redundant constraints): x + y ≥ d and
+    y − x ≥ d give 2·y ≥ 2·d, which the intervals of x and y, taken one conjunct at a time,
+    do not see. Each sum is implied by the conjunction (non-strict, weaker than a strict sum),
+    so testing it too keeps the relaxation an over-approximation: h^max stays admissible and
+    consistent, and grows where the sum needs more layers."""
+    forms: list[tuple[dict[int, Fraction], Fraction]] = []
+    todo = list(exprs)
+    while todo:
+        e = todo.pop()
+        if isinstance(e, ir.BoolOp) and e.op is BoolOpKind.AND:
+            todo.extend(e.args)
+            continue
+        if not isinstance(e, ir.Compare) or e.op not in (CmpOp.LE, CmpOp.LT, CmpOp.GE, CmpOp.GT):
+            continue
+        if _kind(e.left.sort) != "number":
+            continue
+        left, right = _linear(e.left, index), _linear(e.right, index)
+        if left is not None and right is not None:
+            forms.append(_minus(right, left) if e.op in (CmpOp.LE, CmpOp.LT) else _minus(left, right))
+    out = []
+    for (wa, ka), (wb, kb) in itertools.combinations(forms, 2):
+        w = dict(wa)
+        for i, c in wb.items():
+            w[i] = w.get(i, Fraction(0)) + c
+        terms = [(i, _num(c)) for i, c in w.items() if c != 0]
+        if terms and len(terms) < len(set(wa) | set(wb)):
+            out.append(_linear_test(terms, _num(ka + kb)))
+    return out
+
+
+def _linear_test(terms: list[tuple[int, Any]], k: Any) -> Callable[[Relaxed], tuple[bool, bool]]:
+    """Whether Σ c·x + k ≥ 0 can hold over intervals (and, not tracked, whether it can fail)."""
+
+    def test(r: Relaxed) -> tuple[bool, bool]:
+        hi = k
+        for i, c in terms:
+            end = r[i][1] if c > 0 else r[i][0]
+            if end is None:
+                return (True, True)
+            hi += c * end
+        return (hi >= 0, True)
+
+    return test
+
+
 def _join(a: Any, b: Any, kind: str) -> Any:
     if kind == "bool":
         return (a[0] or b[0], a[1] or b[1])
@@ -378,7 +425,7 @@ class _Action:
             raise _Unsupported("parameters or use limits")
         self.name = m.name
         self.pre = [_concrete(lit.expr, index) for lit in m.pre]
-        self.rpre = [_relaxed(lit.expr, index) for lit in m.pre]
+        self.rpre = [_relaxed(lit.expr, index) for lit in m.pre] + _redundant([lit.expr for lit in m.pre], index)
         by_res: dict[int, list[ir.Effect]] = {}
         for e in m.effects:
             if e.kind not in (EffectKind.ASSIGN, EffectKind.INCREASE, EffectKind.DECREASE):
@@ -421,7 +468,9 @@ class _Task:
         )
         self.actions = [_Action(m, self.index) for m in d.morphisms.values()]
         self.goal = [_concrete(lit.expr, self.index) for lit in p.goal]
-        self.rgoal = [_relaxed(lit.expr, self.index) for lit in p.goal]
+        self.rgoal = [_relaxed(lit.expr, self.index) for lit in p.goal] + _redundant(
+            [lit.expr for lit in p.goal], self.index
+        )
         # the declared bounds stay the validity test of a successor (``bounded``); the
         # relaxation and the counting heuristic use them narrowed by the inferred ones
         self.bounds = [
