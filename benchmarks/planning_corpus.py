@@ -13,9 +13,15 @@ lengths from ~5 to ~50; the optimal lengths argued by hand in each generator):
   once, two actions each: 2n.
 * counters-n (numeric, IPC 2023 counters, UP's wheel domain): n counters from 0 ending strictly
   increasing: n(n − 1)/2 increments.
+* farmland-n (numeric, IPC 2023 farmland's actions on a line of n farms, n workers on f0, one
+  needed on every farm): n(n − 1)/2 move-slow steps (:func:`farmland`).
+* sailing-far-q (numeric, UP's sailing domain, IPC 2023): persons 3q and 3q − 6 away, 2q + 2
+  (:func:`sailing_far`).
 * unsolvable tasks: blocks-cycle-n (a cyclic goal: relaxed reachability cannot refute it, the
   reachable states can), counters-tight-n (max_int = n − 2: n strictly increasing values do not
-  fit; the relaxation cannot tell).
+  fit; the relaxation cannot tell), farmland-short-n (n − 1 workers for n farms).
+
+Not here (yet): IPC 2023 rover and hydropower (no generator on this machine; not written).
 
 For each task: ``catc import pddl`` (timed), ``catc solve --sequential --strategy search`` (forward
 greedy search on a numeric h_add for a first plan, then A* with numeric h^max below its length:
