@@ -13,9 +13,15 @@ lengths from ~5 to ~50; the optimal lengths argued by hand in each generator):
   once, two actions each: 2n.
 * counters-n (numeric, IPC 2023 counters, UP's wheel domain): n counters from 0 ending strictly
   increasing: n(n − 1)/2 increments.
+* farmland-n (numeric, IPC 2023 farmland's actions on a line of n farms, n workers on f0, one
+  needed on every farm): n(n − 1)/2 move-slow steps (:func:`farmland`).
+* sailing-far-q (numeric, UP's sailing domain, IPC 2023): persons 3q and 3q − 6 away, 2q + 2
+  (:func:`sailing_far`).
 * unsolvable tasks: blocks-cycle-n (a cyclic goal: relaxed reachability cannot refute it, the
   reachable states can), counters-tight-n (max_int = n − 2: n strictly increasing values do not
-  fit; the relaxation cannot tell).
+  fit; the relaxation cannot tell), farmland-short-n (n − 1 workers for n farms).
+
+Not here (yet): IPC 2023 rover and hydropower (no generator on this machine; not written).
 
 For each task: ``catc import pddl`` (timed), ``catc solve --sequential --strategy search`` (forward
 greedy search on a numeric h_add for a first plan, then A* with numeric h^max below its length:
@@ -124,6 +130,49 @@ def blocks(n: int, cycle: bool = False) -> str:
     )
 
 
+FARMLAND = """(define (domain farmland)
+ (:requirements :typing :equality :numeric-fluents)
+ (:types farm)
+ (:predicates (adj ?f1 ?f2 - farm))
+ (:functions (x ?f - farm) (cost))
+ (:action move-fast :parameters (?f1 ?f2 - farm)
+  :precondition (and (not (= ?f1 ?f2)) (adj ?f1 ?f2) (>= (x ?f1) 4))
+  :effect (and (decrease (x ?f1) 4) (increase (x ?f2) 2) (increase (cost) 1)))
+ (:action move-slow :parameters (?f1 ?f2 - farm)
+  :precondition (and (not (= ?f1 ?f2)) (adj ?f1 ?f2) (>= (x ?f1) 1))
+  :effect (and (decrease (x ?f1) 1) (increase (x ?f2) 1) (increase (cost) 1))))
+"""
+
+
+def farmland(n: int, workers: int) -> str:
+    """IPC 2023 farmland's actions (move-fast loses two of four workers, move-slow moves one)
+    on a line of n farms, every worker on f0, every farm to hold one at the end. With n workers
+    no move-fast can be part of a plan (the total never grows and would fall below n), so farm
+    j's worker crosses j edges one move-slow each: n(n − 1)/2, and that suffices. With n − 1
+    workers there is no plan."""
+    fs = [f"f{i}" for i in range(n)]
+    adj = " ".join(f"(adj f{i} f{i + 1}) (adj f{i + 1} f{i})" for i in range(n - 1))
+    init = " ".join(f"(= (x {f}) {workers if f == 'f0' else 0})" for f in fs)
+    goal = " ".join(f"(>= (x {f}) 1)" for f in fs)
+    return (
+        f"(define (problem farmland-{n}-{workers}) (:domain farmland)\n (:objects {' '.join(fs)} - farm)\n"
+        f" (:init {adj} {init} (= (cost) 0))\n (:goal (and {goal})))\n"
+    )
+
+
+def sailing_far(q: int) -> str:
+    """UP's sailing domain (IPC 2023), one boat at the origin, persons at d = 3q and 3q − 6.
+    In u = x + y, v = y − x no move raises u + v by more than 3 (north-east, north-west: +3;
+    the others 0 or less), saving the first needs u ≥ 3q and v ≥ 3q: 2q moves at least, and q
+    north-east then q north-west reach u = v = 3q, inside both persons' windows [d, d + 25];
+    one save each: 2q + 2."""
+    return (
+        corpus.sailing_problem(2)
+        .replace("(= (d p0) -10)", f"(= (d p0) {3 * q})")
+        .replace("(= (d p1) -17)", f"(= (d p1) {3 * q - 6})")
+    )
+
+
 def counters_tight(n: int) -> str:
     text = corpus.counters_problem(n)
     import re
@@ -153,8 +202,15 @@ def tasks() -> list[Task]:
         out.append(Task(f"blocks-{n}", "blocks", BLOCKS, blocks(n), 2 * n))
     for n in (4, 5, 6, 7, 8, 10):
         out.append(Task(f"counters-{n}", "counters", counters_domain, corpus.counters_problem(n), n * (n - 1) // 2))
+    for n in (4, 5, 6, 7, 8, 10):
+        out.append(Task(f"farmland-{n}", "farmland", FARMLAND, farmland(n, n), n * (n - 1) // 2))
+    sailing_domain = (wheel / "sailing" / "domain.pddl").read_text()
+    for q in (2, 4, 7, 10, 14, 19, 24):
+        out.append(Task(f"sailing-far-{q}", "sailing", sailing_domain, sailing_far(q), 2 * q + 2))
     for n in (3, 4, 5, 6):
         out.append(Task(f"blocks-cycle-{n}", "unsolvable", BLOCKS, blocks(n, cycle=True), None))
+    for n in (4, 6, 8):
+        out.append(Task(f"farmland-short-{n}", "unsolvable", FARMLAND, farmland(n, n - 1), None))
     for n in (3, 4, 5):
         out.append(Task(f"counters-tight-{n}", "unsolvable", counters_domain, counters_tight(n), None))
     return out

@@ -222,3 +222,154 @@ def test_a_greedy_search_past_its_share_gives_way_to_a_star(monkeypatch):
     inst, _ = up_to_instance(_parity())
     r = search(inst, 200)
     assert r.status is SearchStatus.NONE and r.final and "(4)" in r.reason
+
+
+def _counters(tmp_path, n: int, max_int: int | None = None):
+    import re
+
+    wheel = corpus.wheel_dir()
+    assert wheel is not None
+    text = corpus.counters_problem(n)
+    if max_int is not None:
+        text = re.sub(r"\(=\s*\(max_int\)\s*[0-9.]+\)", f"(= (max_int) {max_int})", text)
+    (tmp_path / "p.pddl").write_text(text)
+    return up_to_instance(_read(wheel / "counters" / "domain.pddl", tmp_path / "p.pddl"))[0]
+
+
+def test_counters_bounds_are_inferred_from_the_guards_of_every_change(tmp_path):
+    """decrement needs value ≥ 1 and takes 1: value never falls below 0 (its initial value);
+    increment needs value + 1 ≤ max_int and adds 1: value never exceeds max_int. PDDL declares
+    neither (the import gives unbounded reals)."""
+    from catc.semantics.search import _Task, infer_bounds
+
+    inst = _counters(tmp_path, 4, max_int=9)
+    assert all(r.lower is None and r.upper is None for r in inst.domain.resources.values())
+    task = _Task(inst)
+    bounds = dict(zip(task.names, infer_bounds(inst, task)))
+    assert {bounds[f"value_c{i}"] for i in range(4)} == {(0, 9)}
+
+
+def test_a_change_without_a_guard_gives_no_bound():
+    """tank starts at 5, fill adds 3 unguarded, drain takes 2 when tank ≥ 2: no upper bound
+    (fill has no guard), lower bound 0 (2 − 2, below the initial 5)."""
+    from unified_planning.shortcuts import GE, RealType
+
+    from catc.semantics.search import _Task, infer_bounds
+
+    tank = Fluent("tank", RealType())
+    p = Problem("tank")
+    p.add_fluent(tank, default_initial_value=5)
+    fill = InstantaneousAction("fill")
+    fill.add_increase_effect(tank, 3)
+    drain = InstantaneousAction("drain")
+    drain.add_precondition(GE(tank, 2))
+    drain.add_decrease_effect(tank, 2)
+    p.add_action(fill)
+    p.add_action(drain)
+    p.add_goal(Equals(tank, 1))
+    inst, _ = up_to_instance(p)
+    task = _Task(inst)
+    assert infer_bounds(inst, task) == [(0, None)]
+    r = search(inst, 50)  # 5 − 2 − 2 = 1; no single step reaches 1 (8 or 3)
+    assert r.status is SearchStatus.PLAN and r.length == 2 and r.shortest
+
+
+def test_counters_7_is_proven_shortest_by_the_counting_bound(tmp_path):
+    """7 counters from 0 ending strictly increasing: the values never fall below 0 (inferred),
+    so c_i ≥ i at the end and each increment raises one counter by one: Σ i = 21 steps at
+    least, and 21 suffice. h^max alone left A* unfinished after 60 s (~400,000 states); the
+    counting bound is 21 at the initial state, so the greedy plan is proven at once."""
+    inst = _counters(tmp_path, 7)
+    r = search(inst, 200, deadline=__import__("time").monotonic() + 120)
+    assert r.status is SearchStatus.PLAN and r.length == 21 and r.shortest
+
+
+def test_counters_that_do_not_fit_below_max_int_are_proven_unsolvable(tmp_path):
+    """5 strictly increasing values ≥ 0 need the last ≥ 4; max_int = 3 forbids it. The inferred
+    bounds make the counting system infeasible at the initial state; with max_int = 4 the task
+    stays solvable (0, 1, 2, 3, 4: 10 increments)."""
+    inst = _counters(tmp_path, 5, max_int=3)
+    r = search(inst, 200)
+    assert r.status is SearchStatus.NONE and r.final and r.expanded == 0
+    assert solve(inst, horizon=200, sequential=True, strategy="search").status is SolveStatus.UNSAT
+    ok = _counters(tmp_path, 5, max_int=4)
+    r = search(ok, 200)
+    assert r.status is SearchStatus.PLAN and r.length == 10 and r.shortest
+
+
+def test_the_counting_lp_is_solved_exactly():
+    """min c1 + c2 subject to c1 + 2·c2 ≥ 3, 3·c1 + c2 ≥ 4 (c ≥ 0): the vertices (0, 4), (1, 1),
+    (3, 0) give 4, 2, 3, so 2; read from the dual max 3·y1 + 4·y2 under y1 + 3·y2 ≤ 1,
+    2·y1 + y2 ≤ 1. With c1 + c2 ≥ 1 and −c1 − c2 ≥ 0 there is no c: the dual is unbounded."""
+    from fractions import Fraction as F
+
+    from catc.semantics.search import _max_dual
+
+    assert _max_dual([[F(1), F(3)], [F(2), F(1)]], [F(3), F(4)], 100) == 2
+    assert _max_dual([[F(1), F(-1)], [F(1), F(-1)]], [F(1), F(0)], 100) is None
+
+
+def test_a_warm_started_dual_answers_as_a_fresh_one():
+    """The kept basis of one objective is a feasible start for the next: the same maxima as
+    from the slack basis. The region y1 + 3·y2 ≤ 1, 2·y1 + y2 ≤ 1, y ≥ 0 has the vertices
+    (0, 0), (0, 1/3), (2/5, 1/5), (1/2, 0): 4·y1 + 3·y2 takes 0, 1, 11/5, 2 there, so 11/5."""
+    from fractions import Fraction as F
+
+    from catc.semantics.search import _Dual, _max_dual
+
+    a = [[F(1), F(3)], [F(2), F(1)]]
+    dual = _Dual(a, 2)
+    assert dual.solve([F(3), F(4)], 100) == 2
+    assert dual.solve([F(4), F(3)], 100) == _max_dual(a, [F(4), F(3)], 100) == F(11, 5)
+    assert dual.solve([F(0), F(0)], 100) == 0
+
+
+def test_farmland_is_proven_shortest_and_short_of_workers_unsolvable(tmp_path):
+    """farmland's actions on a line of 5 farms, all workers on f0 (the corpus script's
+    generator, whose docstring argues the counts): with 5 workers the 4 + 3 + 2 + 1 = 10
+    move-slow steps are the shortest plan; with 4 there is none (the total never grows)."""
+    mod = _corpus_script()
+    (tmp_path / "d.pddl").write_text(mod.FARMLAND)
+    for workers, expect in ((5, 10), (4, None)):
+        (tmp_path / "p.pddl").write_text(mod.farmland(5, workers))
+        inst, _ = up_to_instance(_read(tmp_path / "d.pddl", tmp_path / "p.pddl"))
+        r = search(inst, 200)
+        if expect is None:
+            assert r.status is SearchStatus.NONE and r.final
+        else:
+            assert r.status is SearchStatus.PLAN and r.length == expect and r.shortest
+            via = solve(inst, horizon=200, sequential=True, strategy="search")  # validated inside
+            assert via.status is SolveStatus.SAT and via.plan is not None and len(via.plan.steps) == 10
+
+
+def test_the_plan_neighbourhood_shortens_the_greedy_gripper_plan(tmp_path):
+    """gripper-12: h_add's greedy plan carries one ball a trip (47 actions, 63 for 16 balls);
+    two a trip is 6 per pair less the last move back: 35. The search of the plan's
+    neighbourhood finds trips of two; the plan is replayed by the validator."""
+    from catc.semantics.validate import validate
+
+    corpus_mod = _corpus_script()
+    (tmp_path / "d.pddl").write_text(corpus_mod.GRIPPER)
+    (tmp_path / "p.pddl").write_text(corpus_mod.gripper(12))
+    inst, _ = up_to_instance(_read(tmp_path / "d.pddl", tmp_path / "p.pddl"))
+    r = search(inst, 200, prove=False)
+    assert r.status is SearchStatus.PLAN and r.plan is not None and not r.shortest
+    assert r.length == 35
+    assert validate(inst, r.plan, sequential=True).ok
+
+
+def test_sums_of_conditions_strengthen_h_max_on_sailing(tmp_path):
+    """UP's sailing, persons 3q and 3q − 6 away (the corpus script's generator argues 2q + 2
+    by hand). save_person needs x + y ≥ d and y − x ≥ d: taken one at a time the intervals
+    meet them after ~2/3 of the 2q moves; their sum 2·y ≥ 2·d needs y to grow by 1.5 per move
+    for all of them. With the sum tested, h^max at the start is 2q layers of moves and one of
+    both saves together (h^max lets them share a layer): 2q + 1, one below the optimum."""
+    from catc.semantics.search import _Task
+
+    mod = _corpus_script()
+    (tmp_path / "p.pddl").write_text(mod.sailing_far(7))
+    inst, _ = up_to_instance(_read(corpus.wheel_dir() / "sailing" / "domain.pddl", tmp_path / "p.pddl"))
+    task = _Task(inst)
+    assert task.hmax(task.init, 100) == 2 * 7 + 1
+    r = search(inst, 200)
+    assert r.status is SearchStatus.PLAN and r.length == 16 and r.shortest

@@ -2,9 +2,15 @@
 numeric h_add for a first composition, then A* with a numeric h^max to prove it shortest.
 
 The greedy phase (:func:`_greedy`, h_add over the conditions cut into atoms by :class:`_Atoms`,
-or over literals on bitmasks) is inadmissible and claims nothing about length; A* below its
-length (:func:`_astar`) either finds a shorter composition or proves that there is none. The
-rest of this docstring is about A*.
+or over literals on bitmasks; ordered first by the counting bound where the task has numeric
+goal conditions) is inadmissible and claims nothing about length; its plan is shortened through
+its neighbourhood (:func:`_improve`), and A* below that length (:func:`_astar`) either finds a
+shorter composition or proves that there is none. The rest of this docstring is about A*.
+
+For numeric tasks A*'s heuristic is the larger of h^max (below) and an operator-counting bound
+(:class:`_Counting`: a linear program over how often each morphism fires, solved exactly),
+both read against the bounds every reachable state keeps — declared, or inferred from the
+preconditions that guard every change of a number (:func:`infer_bounds`).
 
 For ground instances (morphisms without parameters, as :mod:`catc.frontend.up_import` makes
 them) the shortest sequential composition is found by A* over the concrete states (exact
@@ -343,6 +349,53 @@ def _relaxed(e: ir.Expr, index: dict[str, int]) -> Callable[[Relaxed], Any]:
     raise _Unsupported(type(e).__name__)
 
 
+def _redundant(exprs: list[ir.Expr], index: dict[str, int]) -> list[Callable[[Relaxed], tuple[bool, bool]]]:
+    """Relaxed tests of the sums of two linear inequalities among the conjuncts ``exprs`` where
+    a resource cancels out (as ENHSP's hrmax adds redundant constraints): x + y ≥ d and
+    y − x ≥ d give 2·y ≥ 2·d, which the intervals of x and y, taken one conjunct at a time,
+    do not see. Each sum is implied by the conjunction (non-strict, weaker than a strict sum),
+    so testing it too keeps the relaxation an over-approximation: h^max stays admissible and
+    consistent, and grows where the sum needs more layers."""
+    forms: list[tuple[dict[int, Fraction], Fraction]] = []
+    todo = list(exprs)
+    while todo:
+        e = todo.pop()
+        if isinstance(e, ir.BoolOp) and e.op is BoolOpKind.AND:
+            todo.extend(e.args)
+            continue
+        if not isinstance(e, ir.Compare) or e.op not in (CmpOp.LE, CmpOp.LT, CmpOp.GE, CmpOp.GT):
+            continue
+        if _kind(e.left.sort) != "number":
+            continue
+        left, right = _linear(e.left, index), _linear(e.right, index)
+        if left is not None and right is not None:
+            forms.append(_minus(right, left) if e.op in (CmpOp.LE, CmpOp.LT) else _minus(left, right))
+    out = []
+    for (wa, ka), (wb, kb) in itertools.combinations(forms, 2):
+        w = dict(wa)
+        for i, c in wb.items():
+            w[i] = w.get(i, Fraction(0)) + c
+        terms = [(i, _num(c)) for i, c in w.items() if c != 0]
+        if terms and len(terms) < len(set(wa) | set(wb)):
+            out.append(_linear_test(terms, _num(ka + kb)))
+    return out
+
+
+def _linear_test(terms: list[tuple[int, Any]], k: Any) -> Callable[[Relaxed], tuple[bool, bool]]:
+    """Whether Σ c·x + k ≥ 0 can hold over intervals (and, not tracked, whether it can fail)."""
+
+    def test(r: Relaxed) -> tuple[bool, bool]:
+        hi = k
+        for i, c in terms:
+            end = r[i][1] if c > 0 else r[i][0]
+            if end is None:
+                return (True, True)
+            hi += c * end
+        return (hi >= 0, True)
+
+    return test
+
+
 def _join(a: Any, b: Any, kind: str) -> Any:
     if kind == "bool":
         return (a[0] or b[0], a[1] or b[1])
@@ -372,7 +425,7 @@ class _Action:
             raise _Unsupported("parameters or use limits")
         self.name = m.name
         self.pre = [_concrete(lit.expr, index) for lit in m.pre]
-        self.rpre = [_relaxed(lit.expr, index) for lit in m.pre]
+        self.rpre = [_relaxed(lit.expr, index) for lit in m.pre] + _redundant([lit.expr for lit in m.pre], index)
         by_res: dict[int, list[ir.Effect]] = {}
         for e in m.effects:
             if e.kind not in (EffectKind.ASSIGN, EffectKind.INCREASE, EffectKind.DECREASE):
@@ -415,7 +468,16 @@ class _Task:
         )
         self.actions = [_Action(m, self.index) for m in d.morphisms.values()]
         self.goal = [_concrete(lit.expr, self.index) for lit in p.goal]
-        self.rgoal = [_relaxed(lit.expr, self.index) for lit in p.goal]
+        self.rgoal = [_relaxed(lit.expr, self.index) for lit in p.goal] + _redundant(
+            [lit.expr for lit in p.goal], self.index
+        )
+        # the declared bounds stay the validity test of a successor (``bounded``); the
+        # relaxation and the counting heuristic use them narrowed by the inferred ones
+        self.bounds = [
+            (_tighter(lo, ilo, max), _tighter(hi, ihi, min))
+            for (lo, hi), (ilo, ihi) in zip(self.bounds, infer_bounds(inst, self))
+        ]
+        self.counting: _Counting | None = None
 
     def valid(self, s: list[Any]) -> bool:
         for i in self.bounded:
@@ -457,6 +519,16 @@ class _Task:
             return False
 
     def h(self, s: State, cap: int) -> int | None:
+        """The larger of two admissible and consistent bounds (so itself both): h^max
+        (:meth:`hmax`) and, where the task has numeric conditions, the operator-counting bound
+        (:class:`_Counting`); None for a dead end either proves."""
+        h = self.hmax(s, cap)
+        if h is None or self.counting is None or h >= cap:
+            return h
+        c = self.counting.h(s)
+        return None if c is None else min(max(h, c), cap)
+
+    def hmax(self, s: State, cap: int) -> int | None:
         """Layers of the interval relaxation until the goal can hold: None for a proven dead
         end, ``cap`` when the goal cannot hold within ``cap - 1`` layers (and the widened
         relaxation, :meth:`_dead`, cannot prove it never will)."""
@@ -533,6 +605,263 @@ class _Task:
         if a is not None and b is not None and a > b:
             return None
         return (a, b)
+
+
+def _tighter(a: Any, b: Any, pick: Callable[[Any, Any], Any]) -> Any:
+    return b if a is None else a if b is None else pick(a, b)
+
+
+def _pre_bounds(m: ir.Morphism, index: dict[str, int], static: dict[int, Any]) -> dict[int, list[Any]]:
+    """The bounds ``m``'s precondition puts on single numeric resources: each conjunct that is
+    linear over one written resource (the others static, replaced by their values), as
+    ``{resource: [lo, hi]}`` (None: no bound). A strict inequality gives the non-strict bound
+    (weaker, still implied)."""
+    out: dict[int, list[Any]] = {}
+    todo = [lit.expr for lit in m.pre]
+    while todo:
+        e = todo.pop()
+        if isinstance(e, ir.BoolOp) and e.op is BoolOpKind.AND:
+            todo.extend(e.args)
+            continue
+        if not isinstance(e, ir.Compare) or _kind(e.left.sort) != "number":
+            continue
+        left, right = _linear(e.left, index), _linear(e.right, index)
+        if left is None or right is None:
+            continue
+        forms = []
+        if e.op in (CmpOp.LE, CmpOp.LT, CmpOp.EQ):
+            forms.append(_minus(right, left))  # right − left ≥ 0
+        if e.op in (CmpOp.GE, CmpOp.GT, CmpOp.EQ):
+            forms.append(_minus(left, right))
+        for w, k in forms:  # Σ w·x + k ≥ 0
+            rest = {i: c for i, c in w.items() if c != 0 and i not in static}
+            if len(rest) != 1:
+                continue
+            k_all = k + sum((c * static[i] for i, c in w.items() if i in static), Fraction(0))
+            ((i, c),) = rest.items()
+            b = _num(-k_all / c)
+            lo_hi = out.setdefault(i, [None, None])
+            if c > 0:  # x ≥ −k/c
+                lo_hi[0] = _tighter(lo_hi[0], b, max)
+            else:  # x ≤ −k/c
+                lo_hi[1] = _tighter(lo_hi[1], b, min)
+    return out
+
+
+def infer_bounds(inst: ir.Instance, task: _Task) -> list[tuple[Any, Any]]:
+    """Bounds (lo, hi; None: none) that every reachable state keeps on each numeric resource,
+    inferred from the task where PDDL declares none (imported numbers are unbounded reals).
+
+    For a resource x written by the morphisms M_x, with initial value v₀:
+
+    * lo = min(v₀, every constant that a morphism of M_x assigns to x, and k − d for every
+      morphism of M_x that decreases x by a constant d > 0 and whose precondition has a
+      conjunct implying x ≥ k); no lo when a morphism of M_x changes x by a non-constant, or
+      decreases it without such a conjunct;
+    * hi symmetrically (max; increases by d > 0 under x ≤ k give k + d).
+
+    Soundness, by induction over the steps of any execution: the initial state has x = v₀
+    within [lo, hi]. A step that does not write x keeps it. A step that assigns the constant
+    c leaves c, within the bounds by their definition. A step that changes x by a constant
+    d ≥ 0 keeps x ≥ lo (x grows) and, if d > 0, fired from a state where its precondition held,
+    so x ≤ k before and x + d ≤ k + d ≤ hi after; d ≤ 0 symmetrically. The precondition
+    conjuncts are read with the other resources they mention replaced by their initial values
+    only where no morphism writes those (static: the same in every state). Every reachable
+    state therefore lies within the bounds, and cutting the relaxation (or the counting bound)
+    by them loses no reachable state: what they prove unreachable is unreachable."""
+    d = inst.domain
+    index = task.index
+    written = {index[e.resource] for m in d.morphisms.values() for e in m.effects}
+    static = {i: v for i, v in enumerate(task.init) if task.kinds[i] == "number" and i not in written}
+    lo: list[Any] = [v if k == "number" else None for v, k in zip(task.init, task.kinds)]
+    hi: list[Any] = list(lo)
+    pre: dict[str, dict[int, list[Any]]] = {}
+    for m in d.morphisms.values():
+        by_res: dict[int, list[ir.Effect]] = {}
+        for e in m.effects:
+            by_res.setdefault(index[e.resource], []).append(e)
+        for i, group in by_res.items():
+            if task.kinds[i] != "number" or (lo[i] is None and hi[i] is None):
+                continue
+            values = [e.value.value for e in group if isinstance(e.value, ir.Const)]
+            if len(values) < len(group) or (len(group) > 1 and any(e.kind is EffectKind.ASSIGN for e in group)):
+                lo[i] = hi[i] = None
+                continue
+            if group[0].kind is EffectKind.ASSIGN:
+                v = _num(values[0])
+                lo[i] = None if lo[i] is None else min(lo[i], v)
+                hi[i] = None if hi[i] is None else max(hi[i], v)
+                continue
+            delta = Fraction(0)
+            for e, c in zip(group, values):
+                delta += -Fraction(c) if e.kind is EffectKind.DECREASE else Fraction(c)
+            if delta == 0:
+                continue
+            if m.name not in pre:
+                pre[m.name] = _pre_bounds(m, index, static)
+            k_lo, k_hi = pre[m.name].get(i, [None, None])
+            if delta < 0:
+                lo[i] = None if lo[i] is None or k_lo is None else min(lo[i], _num(k_lo + delta))
+            else:
+                hi[i] = None if hi[i] is None or k_hi is None else max(hi[i], _num(k_hi + delta))
+    return list(zip(lo, hi))
+
+
+class _Counting:
+    """An operator-counting lower bound (Pommerening et al. 2014, the state equation over
+    numbers): the least Σ c_a over real c ≥ 0, c_a standing for how often morphism a fires on
+    the way to the goal, such that the values at the end, x + Σ c_a·Δ_a (Δ_a: a's constant
+    change of each numeric resource), satisfy every linear goal condition and the resources'
+    bounds (declared, and inferred: :func:`infer_bounds`), and every goal fact false now has
+    an achiever with c_a ≥ 1.
+
+    Only resources every morphism changes by constants (or leaves alone) take part, so the
+    counts of any composition reaching the goal are a solution: the least Σ c_a, rounded up,
+    is a lower bound on its length (admissible), and an infeasible system proves a dead end.
+    It is consistent: from s, a step a to s′ and a solution c′ for s′ give the solution c′ +
+    e_a for s (the same values at the end; a fact false in s and true in s′ has a as an
+    achiever), so h(s) ≤ h(s′) + 1.
+
+    The least Σ c_a is read from the dual, max r·y subject to Mᵀy ≤ 1, y ≥ 0, solved by an
+    exact simplex (Fractions, Bland's rule): the slacks are a feasible start, every basis on
+    the way is dual feasible, so its value is a lower bound even if the pivots are capped, and
+    an unbounded dual is an infeasible primal."""
+
+    PIVOTS = 200
+
+    def __init__(self, rows: list[tuple[list[tuple[int, Fraction]], Callable[[State], Any]]], n_actions: int) -> None:
+        self.rows = rows  # (the column's non-zero entries (action, coefficient), rhs of the state)
+        used = sorted({a for coeffs, _ in rows for a, _ in coeffs})
+        where = {a: k for k, a in enumerate(used)}
+        # the dual's constraint matrix: one row per action taking part, one column per primal row
+        matrix = [[Fraction(0)] * len(rows) for _ in used]
+        for j, (coeffs, _) in enumerate(rows):
+            for a, c in coeffs:
+                matrix[where[a]][j] += c
+        self.dual = _Dual(matrix, len(rows))
+
+    @classmethod
+    def build(cls, task: _Task, atoms: _Atoms, inst: ir.Instance) -> _Counting | None:
+        n_act = len(task.actions)
+        deltas: list[dict[int, Fraction]] = [{} for _ in range(n_act)]
+        counted = [k == "number" for k in task.kinds]
+        for a_i, m in enumerate(inst.domain.morphisms.values()):
+            for e in m.effects:
+                i = task.index[e.resource]
+                if task.kinds[i] != "number":
+                    continue
+                if e.kind is EffectKind.ASSIGN or not isinstance(e.value, ir.Const):
+                    counted[i] = False
+                    continue
+                c = Fraction(e.value.value)
+                deltas[a_i][i] = deltas[a_i].get(i, Fraction(0)) + (-c if e.kind is EffectKind.DECREASE else c)
+        rows: list[tuple[list[tuple[int, Fraction]], Callable[[State], Any]]] = []
+
+        def column(w: list[tuple[int, Fraction]]) -> list[tuple[int, Fraction]]:
+            out = []
+            for a_i in range(n_act):
+                c = sum((wi * deltas[a_i].get(i, 0) for i, wi in w), Fraction(0))
+                if c:
+                    out.append((a_i, c))
+            return out
+
+        def rhs(w: list[tuple[int, Fraction]], k: Any) -> Callable[[State], Any]:
+            return lambda s: -k - sum((wi * s[i] for i, wi in w), 0)  # Σ w·(x + Σ c·Δ) + k ≥ 0
+
+        for atom in atoms.goal:
+            what, j = atoms.kind[atom]
+            if what != "linear":
+                continue
+            terms, k, _strict = atoms.linear[j]
+            if all(counted[i] for i, _ in terms):
+                rows.append((column(terms), rhs(terms, k)))
+        if not rows:
+            return None
+        for i, (lo, hi) in enumerate(task.bounds):
+            if not counted[i]:
+                continue
+            if lo is not None:
+                rows.append((column([(i, Fraction(1))]), rhs([(i, Fraction(1))], -lo)))  # x ≥ lo
+            if hi is not None:
+                rows.append((column([(i, Fraction(-1))]), rhs([(i, Fraction(-1))], hi)))  # x ≤ hi
+        for atom in atoms.goal:
+            if atoms.kind[atom][0] != "fact":
+                continue
+            achievers = [(a_i, Fraction(1)) for a_i in range(n_act) if atom in atoms.adds[a_i]]
+            rows.append((achievers, _unmet(dict(atoms.tests)[atom])))
+        return cls(rows, n_act)
+
+    def h(self, s: State) -> int | None:
+        r = []
+        for _, f in self.rows:
+            try:
+                r.append(Fraction(f(s)))
+            except ArithmeticError:
+                return 0
+        if all(x <= 0 for x in r):
+            return 0
+        value = self.dual.solve(r, self.PIVOTS)
+        if value is None:
+            return None
+        return int(-((-value) // 1))  # ⌈value⌉
+
+
+def _unmet(test: Fn) -> Callable[[State], Any]:
+    return lambda s: 0 if test(s) else 1
+
+
+def _max_dual(matrix: list[list[Fraction]], r: list[Fraction], pivots: int) -> Fraction | None:
+    """max r·y subject to matrix·y ≤ 1, y ≥ 0 (:class:`_Dual`, from the slack basis)."""
+    return _Dual(matrix, len(r)).solve(r, pivots)
+
+
+class _Dual:
+    """max r·y subject to A·y ≤ 1, y ≥ 0 for one A and many r, by an exact simplex (Fractions,
+    Bland's rule). The feasible region does not depend on r, so the basis the last call ended
+    in is a feasible start for the next (a warm start: a state's bound differs from its
+    parent's by a few pivots); every basis on the way is feasible, so the value reached after
+    ``pivots`` pivots is a lower bound on the maximum; None when unbounded."""
+
+    def __init__(self, matrix: list[list[Fraction]], n: int) -> None:
+        m = len(matrix)
+        self.n, self.m = n, m
+        self.rows = [
+            list(row) + [Fraction(int(i == k)) for k in range(m)] + [Fraction(1)] for i, row in enumerate(matrix)
+        ]
+        self.basis = [n + i for i in range(m)]
+
+    def solve(self, r: list[Fraction], pivots: int) -> Fraction | None:
+        n, m, rows, basis = self.n, self.m, self.rows, self.basis
+        cost = list(r) + [Fraction(0)] * m
+        z = [-c for c in cost] + [Fraction(0)]
+        for i, b in enumerate(basis):  # the reduced costs in the kept basis: −c + Σ c_B·row
+            cb = cost[b]
+            if cb:
+                z = [x + cb * y for x, y in zip(z, rows[i])]
+        for _ in range(pivots):
+            j = next((j for j in range(n + m) if z[j] < 0), None)
+            if j is None:
+                break
+            best: tuple[Fraction, int, int] | None = None
+            for i, row in enumerate(rows):
+                if row[j] > 0:
+                    key = (row[-1] / row[j], basis[i], i)
+                    if best is None or key < best:
+                        best = key
+            if best is None:
+                return None  # unbounded
+            i = best[2]
+            p = rows[i][j]
+            prow = [x / p for x in rows[i]]
+            rows[i] = prow
+            for k, row in enumerate(rows):
+                f = row[j]
+                if k != i and f:
+                    rows[k] = [x - f * y for x, y in zip(row, prow)]
+            f = z[j]
+            z = [x - f * y for x, y in zip(z, prow)]
+            basis[i] = j
+        return z[-1]
 
 
 #: The most states the greedy phase stores before it gives way to A* (with no deadline it
@@ -973,6 +1302,9 @@ def search(
             task = _Task(inst)
         except _Unsupported as why:
             return SearchResult(SearchStatus.UNSUPPORTED, reason=str(why))
+    atoms = None if isinstance(task, _Strips) else _Atoms(task, inst)
+    if atoms is not None:
+        task.counting = _Counting.build(task, atoms, inst)
     t0 = time.monotonic()
     h0 = task.h(task.init, horizon + 1)
     if h0 is None:
@@ -981,7 +1313,9 @@ def search(
         return SearchResult(SearchStatus.NONE, reason=f"no composition within {horizon} steps (h^max)")
     if not greedy:
         return _astar(task, horizon, deadline)
-    hadd = task.hadd if isinstance(task, _Strips) else _Atoms(task, inst).hadd
+    hadd: Callable[[Any], Any] = task.hadd if atoms is None else atoms.hadd
+    if atoms is not None and task.counting is not None:
+        hadd = _counting_first(task.counting, atoms.hadd)
     share = None if deadline is None else time.monotonic() + (deadline - time.monotonic()) / (2 if prove else 1)
     found = _greedy(task, hadd, horizon, share)
     if found.status is SearchStatus.NONE and found.final:
@@ -994,6 +1328,10 @@ def search(
         return r
     assert found.plan is not None
     found.first_plan = time.monotonic() - t0
+    if len(found.plan.steps) > 1:
+        until = None if deadline is None else time.monotonic() + (deadline - time.monotonic()) / 4
+        found.plan = _improve(task, found.plan, until)
+        found.length = len(found.plan.steps)
     length = len(found.plan.steps)
     if length == 0:
         return found
@@ -1016,7 +1354,20 @@ def search(
     return found
 
 
-def _greedy(task: Any, hadd: Callable[[Any], int], horizon: int, deadline: float | None) -> SearchResult:
+def _counting_first(counting: _Counting, hadd: Callable[[State], int]) -> Callable[[State], tuple[int, int]]:
+    """The greedy search's order where the task has numeric goal conditions: the counting
+    bound first (h_add counts a worker moved once per condition it helps, and plateaus where
+    many moves are needed; the bound sees them all at once), h_add to break its ties. A dead
+    end the bound proves goes last (not dropped: the greedy search's exhaustion stays a proof)."""
+
+    def key(s: State) -> tuple[int, int]:
+        c = counting.h(s)
+        return (_FAR if c is None else c, hadd(s))
+
+    return key
+
+
+def _greedy(task: Any, hadd: Callable[[Any], Any], horizon: int, deadline: float | None) -> SearchResult:
     """Greedy best-first search on h_add (ties: the state generated first), every state once;
     the goal tested when a state is generated. Exhausting the states without cutting any at
     the horizon proves that there is no composition."""
@@ -1026,7 +1377,7 @@ def _greedy(task: Any, hadd: Callable[[Any], int], horizon: int, deadline: float
     g_of: dict[Any, int] = {start: 0}
     parent: dict[Any, tuple[Any, int] | None] = {start: None}
     tie = itertools.count()
-    heap: list[tuple[int, int, Any]] = [(hadd(start), next(tie), start)]
+    heap: list[tuple[Any, int, Any]] = [(hadd(start), next(tie), start)]
     expanded = 0
     cut = False
     while heap:
@@ -1110,6 +1461,85 @@ def _astar(task: Any, horizon: int, deadline: float | None) -> SearchResult:
         expanded=expanded,
         reason=f"every reachable state not proven a dead end ({alive}) was expanded",
     )
+
+
+#: The most states the plan's neighbourhood (:func:`_improve`) may hold, and how many depths
+#: past the last one that shortened the plan it tries.
+NEIGHBOURHOOD_STATES = 100_000
+IMPROVE_DEPTHS = 2
+
+
+def _improve(task: Any, plan: Plan, deadline: float | None) -> Plan:
+    """A shorter plan through the plan's neighbourhood (plan neighbourhood graph search,
+    Nakhost & Müller 2010): the states within d steps of a state of the plan, d = 1, 2, …,
+    searched breadth-first from the initial state for a goal state; a shorter plan found
+    becomes the plan, and its neighbourhood is searched again. Every plan it returns is a path
+    of successors from the initial state to a goal state (the validator replays it all the
+    same). Stops at the deadline or when a neighbourhood outgrows ``NEIGHBOURHOOD_STATES``,
+    keeping the best plan so far, or after ``IMPROVE_DEPTHS`` depths in a row found nothing
+    shorter; it claims nothing about length."""
+    by_name = {n: i for i, n in enumerate(_action_names(task))}
+    steps = [by_name[step[0].morphism] for step in plan.steps]
+    depth = last = 1
+    while depth < last + IMPROVE_DEPTHS:
+        states = [task.init]
+        for a_i in steps:
+            states.append(next(t for b, t in task.successors(states[-1]) if b == a_i))
+        succ: dict[Any, list[tuple[int, Any]]] = {}
+        frontier = list(dict.fromkeys(states))
+        nodes = set(frontier)
+        for d in range(depth + 1):
+            nxt = []
+            for s in frontier:
+                if deadline is not None and time.monotonic() >= deadline:
+                    return _as_plan(task, steps)
+                succ[s] = task.successors(s)
+                if d < depth:
+                    for _, t in succ[s]:
+                        if t not in nodes:
+                            nodes.add(t)
+                            nxt.append(t)
+            if len(nodes) > NEIGHBOURHOOD_STATES:
+                return _as_plan(task, steps)
+            frontier = nxt
+        better = _bfs(task, succ, nodes, len(steps) - 1)
+        if better is not None:
+            steps, last = better, depth
+        else:
+            depth += 1
+    return _as_plan(task, steps)
+
+
+def _bfs(task: Any, succ: dict[Any, list[tuple[int, Any]]], nodes: set[Any], limit: int) -> list[int] | None:
+    """A shortest path of at most ``limit`` steps from the initial state to a goal state within
+    ``nodes``, as action indices; None when there is none."""
+    parent: dict[Any, tuple[Any, int] | None] = {task.init: None}
+    layer = [task.init]
+    for _ in range(limit):
+        nxt = []
+        for s in layer:
+            for a_i, t in succ.get(s, ()):
+                if t in nodes and t not in parent:
+                    parent[t] = (s, a_i)
+                    if task.is_goal(t):
+                        out = []
+                        link = parent[t]
+                        while link is not None:
+                            out.append(link[1])
+                            link = parent[link[0]]
+                        return out[::-1]
+                    nxt.append(t)
+        layer = nxt
+    return None
+
+
+def _action_names(task: Any) -> list[str]:
+    return task.names if isinstance(task, _Strips) else [a.name for a in task.actions]
+
+
+def _as_plan(task: Any, steps: list[int]) -> Plan:
+    names = _action_names(task)
+    return Plan([(Activation(names[a_i]),) for a_i in steps])
 
 
 def _plan(task: Any, parent: dict[Any, tuple[Any, int] | None], s: Any) -> Plan:
