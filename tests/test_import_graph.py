@@ -10,6 +10,7 @@ arrows of their own.  A cycle fails the test with the path that closes it."""
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 from conftest import ROOT
@@ -42,6 +43,7 @@ def _arrows(name: str, path: Path, paths: dict[str, Path]) -> set[str]:
     return found - {name}
 
 
+@functools.cache  # read by two tests: built once a process
 def import_graph() -> dict[str, set[str]]:
     paths = _modules()
     return {name: _arrows(name, path, paths) for name, path in paths.items()}
