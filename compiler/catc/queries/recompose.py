@@ -9,7 +9,7 @@ in either priority (eq. reconfigure): *stability* first (least churn, then the m
 from __future__ import annotations
 
 import time
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from itertools import combinations
@@ -187,15 +187,11 @@ def _least_churn_by_sets(
     else:
         return None
     best: tuple[list, Plan] | None = None
-    bounds = frozenset(m.bound_label(p.name) for m in inst.morphisms.values() for p in m.params)
     for order in passing:
-        plan = _candidate(inst, bounds, order, order)
-        if plan is None or len(plan.steps) > k:
+        replayed = _replayed(inst, order, mission, k, sequential)
+        if replayed is None:
             return None
-        report = validate(inst, plan, horizon=k, sequential=sequential)
-        if not report.ok:
-            return None
-        values = _scores(inst, plan, mission, [], k, sequential, report)
+        values, plan = replayed
         if best is None or (values != best[0] and _not_worse(values, best[0], mission)):
             best = (values, plan)
     assert best is not None
@@ -207,6 +203,21 @@ def _least_churn_by_sets(
     result = OptResult(OptStatus.OPT, k)
     _finish(inst, result, best[1], objectives, [], [("exact", None)] * len(objectives), k, sequential, True)
     return result
+
+
+def _replayed(
+    inst: ir.Instance, order: Sequence[str], objectives: list[ir.Objective], k: int, sequential: bool
+) -> tuple[list, Plan] | None:
+    """The composition of the components ``order`` (one step each, θ at their lower bounds)
+    and its scores, when the validator replays it within ``k`` steps; else None."""
+    bounds = frozenset(m.bound_label(p.name) for m in inst.morphisms.values() for p in m.params)
+    plan = _candidate(inst, bounds, order, order)
+    if plan is None or len(plan.steps) > k:
+        return None
+    report = validate(inst, plan, horizon=k, sequential=sequential)
+    if not report.ok:
+        return None
+    return _scores(inst, plan, objectives, [], k, sequential, report), plan
 
 
 def _best_by_search(
@@ -226,14 +237,10 @@ def _best_by_search(
     if found is None:
         return None
     order, key, proven = found
-    bounds = frozenset(m.bound_label(p.name) for m in inst.morphisms.values() for p in m.params)
-    plan = _candidate(inst, bounds, order, order)
-    if plan is None or len(plan.steps) > k:
+    replayed = _replayed(inst, order, objectives, k, sequential)
+    if replayed is None:
         return None
-    report = validate(inst, plan, horizon=k, sequential=sequential)
-    if not report.ok:
-        return None
-    values = _scores(inst, plan, objectives, [], k, sequential, report)
+    values, plan = replayed
     wanted = [-v if isinstance(o.term, ir.TotalChurn) else v for o, v in zip(objectives, key)]
     if values != wanted:
         return None
