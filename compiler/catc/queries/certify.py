@@ -1278,6 +1278,22 @@ def _significant(text: str) -> list[str]:
     return [line.strip() for line in text.splitlines() if line.strip() and not line.lstrip().startswith(";")]
 
 
+def _labels(doc: Mapping[str, Any], key: str, missing: str) -> list[str]:
+    """The certificate's non-empty list of labels under ``key`` (E1302 ``missing`` if not)."""
+    labels = doc.get(key)
+    if not (isinstance(labels, list) and labels and all(isinstance(x, str) for x in labels)):
+        raise InputError(missing, codes.BAD_CERTIFICATE)
+    return labels
+
+
+def _components(inst: ir.Instance, doc: Mapping[str, Any]) -> list[str] | None:
+    """The certificate's components (None: not given), each a morphism of the model."""
+    components = doc.get("components")
+    if components is not None and not (isinstance(components, list) and all(c in inst.morphisms for c in components)):
+        raise InputError("the certificate's components are not morphisms of the model", codes.BAD_CERTIFICATE)
+    return components
+
+
 def _expected(inst: ir.Instance, doc: Mapping[str, Any]) -> dict[str, str]:
     """The obligations' text as the model and the certificate's claims give them."""
     method, horizon = doc.get("method"), doc.get("horizon")
@@ -1316,13 +1332,8 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any]) -> dict[str, str]:
         built = [pareto_obligation(model, objectives, horizon, bool(doc.get("sequential")), points)]
         return {o["name"]: o["smtlib"] for o in built} | {f"witness/{i + 1}": "" for i in range(len(points))}
     elif method == "discrete":
-        dropped, components = doc.get("dropped"), doc.get("components")
-        if not (isinstance(dropped, list) and dropped and all(isinstance(x, str) for x in dropped)):
-            raise InputError("a discrete certificate needs its dropped labels", codes.BAD_CERTIFICATE)
-        if components is not None and not (
-            isinstance(components, list) and all(c in inst.morphisms for c in components)
-        ):
-            raise InputError("the certificate's components are not morphisms of the model", codes.BAD_CERTIFICATE)
+        dropped = _labels(doc, "dropped", "a discrete certificate needs its dropped labels")
+        components = _components(inst, doc)
         least, restorable = discrete_obligations(inst, dropped, horizon, bool(doc.get("sequential")), components)
         return {"least": least["smtlib"], "restorable": restorable, "witness": ""}
     elif method == "least":
@@ -1335,13 +1346,8 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any]) -> dict[str, str]:
         built = [least_obligation(inst, reqs, horizon, bool(doc.get("sequential")), components, cost)]
         return {o["name"]: o["smtlib"] for o in built} | {"witness": ""}
     elif method == "core":
-        core, components = doc.get("core"), doc.get("components")
-        if not (isinstance(core, list) and core and all(isinstance(x, str) for x in core)):
-            raise InputError("a core certificate needs its core: a non-empty list of labels", codes.BAD_CERTIFICATE)
-        if components is not None and not (
-            isinstance(components, list) and all(c in inst.morphisms for c in components)
-        ):
-            raise InputError("the certificate's components are not morphisms of the model", codes.BAD_CERTIFICATE)
+        core = _labels(doc, "core", "a core certificate needs its core: a non-empty list of labels")
+        components = _components(inst, doc)
         built, sat = core_obligations(inst, core, horizon, bool(doc.get("sequential")), components)
         return {o["name"]: o["smtlib"] for o in built} | {f"sat/{label}": text for label, text in sat.items()}
     else:
