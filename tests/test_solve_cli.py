@@ -160,3 +160,29 @@ def test_an_infeasibility_the_relaxation_sees_is_final_without_encoding():
     res = run_catc("solve", str(sar / "domain.cat"), str(sar / "budget-cut.cat"), "--json", "--no-presolve")
     doc = json.loads(res.stdout)
     assert res.exit_code == 1 and doc["unsat"]["proof"] == "solver" and doc["timings"]["encode"] > 0
+
+
+COMPETING = """(define (domain shop) (:requirements :numeric)
+  (:resources (budget real :bounds (0 100)) (cam bool) (done bool))
+  (:morphism cam-a :uses 1 :precondition (>= budget 10) :effect (and (decrease budget 10) (assign cam true)))
+  (:morphism cam-b :uses 1 :precondition (>= budget 12) :effect (and (decrease budget 12) (assign cam true)))
+  (:morphism det-x :uses 1 :precondition (and cam (>= budget 10)) :effect (and (decrease budget 10) (assign done true)))
+  (:morphism det-y :uses 1 :precondition (and cam (>= budget 11)) :effect (and (decrease budget 11) (assign done true))))
+(define (problem short) (:domain shop) (:init (= budget 15)) (:goal done))
+"""
+
+
+def test_an_infeasibility_only_the_consumption_bound_sees_is_named_so(tmp_path):
+    """Each camera and each detector alone is affordable with 15, so relaxed reachability sees
+    no obstacle; any composition needs one of each, at least 10 + 10 = 20 (by hand): issue
+    24's consumption bound proves it, and the answer names that bound, not the relaxation."""
+    path = tmp_path / "shop.cat"
+    path.write_text(COMPETING)
+    res = run_catc("solve", str(path), "--json")
+    doc = json.loads(res.stdout)
+    assert res.exit_code == 1 and doc["unsat"]["final"] is True, res.output
+    assert doc["unsat"]["proof"] == "consumption" and doc["unsat"]["label"] == "init/budget", doc["unsat"]
+    assert "20" in doc["unsat"]["why"]
+    res = run_catc("solve", str(path))
+    assert "no composition of any length" in res.stdout and "by a consumption bound" in res.stdout, res.output
+    assert "relaxed reachability" not in res.stdout.split("time:")[0]

@@ -47,6 +47,7 @@ from catc.semantics.relaxed import Refutation, refute
 from catc.semantics.validate import validate
 from catc.semantics.witness import _candidate
 from catc.smt.backend import DEFAULT_BACKEND, Check, open_backend
+from catc.smt.consumption import BY as CONSUMPTION_BY
 from catc.smt.consumption import FixedSet, bound_refutation, cheapest_support, consumption_proof, least_length
 from catc.smt.encoder import Encoder
 from catc.smt.finite import FiniteSorts
@@ -578,7 +579,7 @@ def solve_json(inst: ir.Instance, result: SolveResult) -> dict:
         doc["unsat"] = {
             "final": result.final,
             "length_bound": result.length_bound,
-            "proof": "solver" if proof is None else "relaxation",
+            "proof": "solver" if proof is None else "consumption" if proof.by == CONSUMPTION_BY else "relaxation",
             "why": None if proof is None else proof.reason,
             "label": None if proof is None else proof.label,
         }
@@ -596,7 +597,7 @@ def unsat_sentence(inst: ir.Instance, result: SolveResult) -> str:
         info = label_index(inst).get(proof.label or "")
         what = f" ({' '.join(describe(info).split())}, {where(info)})" if info is not None else ""
         return (
-            f"no composition of any length: {proof.reason}{what}, by relaxed reachability "
+            f"no composition of any length: {proof.reason}{what}, by {proof.by} "
             "(catc diagnose names the constraints responsible)"
         )
     if result.final and result.reason:  # the forward search saw every reachable state

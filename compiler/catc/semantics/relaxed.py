@@ -404,14 +404,16 @@ def _member(element: Value, s: Value) -> Value:
 
 
 class Refutation(_Record):
-    """Why no composition exists: a sentence, and the label of the construct that cannot hold."""
+    """Why no composition exists: a sentence, the label of the construct that cannot hold,
+    and the analysis that proved it (``by``, as the answer names it)."""
 
-    __slots__ = ("reason", "label")
-    _fields = ("reason", "label")
+    __slots__ = ("reason", "label", "by")
+    _fields = ("reason", "label", "by")
 
-    def __init__(self, reason: str, label: str | None = None) -> None:
+    def __init__(self, reason: str, label: str | None = None, by: str = "relaxed reachability") -> None:
         self.reason = reason
         self.label = label
+        self.by = by
 
 
 #: After this many changes of one interval, its growing sides are widened to infinity.

@@ -410,6 +410,10 @@ def stronger_bound(lower: Fraction | bool | None, mine: Fraction | bool | None) 
     return mine if not isinstance(lower, Fraction) or mine > lower else lower
 
 
+#: How an answer names this module's refutations (:attr:`Refutation.by`).
+BY = "a consumption bound (what every composition reaching the goal must take)"
+
+
 def bound_refutation(inst: ir.Instance) -> Any:
     """A :class:`~catc.semantics.relaxed.Refutation` when some resource's initial room is
     below :func:`least_consumption` (no solver), else None."""
@@ -419,8 +423,9 @@ def bound_refutation(inst: ir.Instance) -> Any:
         if least > room(inst, name):
             return Refutation(
                 f"the initial {name} cannot cover the least any composition reaching the goal takes from it "
-                f"({least} over the cheapest alternative per needed capability; a consumption bound)",
+                f"({least} over the cheapest alternative per needed capability)",
                 inst.problem.init[name].label,
+                BY,
             )
     return None
 
@@ -445,8 +450,9 @@ def consumption_proof(inst: ir.Instance) -> Any:
     what = f"the initial {label[5:]}" if inits and label else "the goal's facts"
     return Refutation(
         f"{what} cannot be met by any choice of components: the least total consumption of the "
-        "alternatives that reach the goal exceeds what there is (a consumption bound)",
+        "alternatives that reach the goal exceeds what there is",
         label,
+        BY,
     )
 
 
