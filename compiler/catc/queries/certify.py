@@ -40,7 +40,7 @@ from typing import Any
 
 from catc import ir
 from catc.ir import SortKind
-from catc.present.console import Console, escape
+from catc.present.console import Console, counted, escape
 from catc.queries.base import ExitCode, InputError, Kind, Option, Query, Result, Status, json_option
 from catgrammar import codes
 
@@ -1034,7 +1034,7 @@ def write_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]
     except OSError as exc:
         raise InputError(f"cannot write the certificate to {path}: {exc.strerror or exc}", codes.CANNOT_WRITE) from exc
     count = len(doc["obligations"]) + sum(len(m["obligations"]) for m in doc.get("more", []))
-    return f"certificate ({count} obligations) written to {path}; check it with: catc certify [DOMAIN] PROBLEM {path}"
+    return f"certificate ({counted(count, 'obligation')}) written to {path}; check it with: catc certify [DOMAIN] PROBLEM {path}"
 
 
 def certificate_artifact(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> str:
