@@ -16,6 +16,7 @@ import sys
 from fractions import Fraction
 from itertools import combinations
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -122,19 +123,7 @@ def test_search_agrees_with_brute_force(name: str, n: int, d: int, event: str, a
     inst = loads({"domain.cat": gen.domain_text(cat), "p.cat": _problem(cat, init, deployed)}, "p.cat").instance
     truth = _brute_force(inst, cat, "budget")
     for priority in ("objective", "stability"):
-        mission = objectives_of(inst)
-        order = [CHURN, *mission] if priority == "stability" else [*mission, CHURN]
-        found = best_set(inst, order)
-        assert found is not None and found[2], priority  # the search answers, proven, not the solver
-        fast = _best_by_search(inst, order, 16, False)
-        assert fast is not None and fast.status is OptStatus.OPT, priority
-        rec = recompose(inst, priority=priority, timeout=60)
-        assert rec.status is OptStatus.OPT
-        budget, churn = truth[priority]
-        want = [budget, churn] if priority == "objective" else [churn, budget]
-        assert [v.value for v in rec.result.values] == want, priority
-        assert [v.value for v in fast.values] == want, priority
-        assert rec.churn == churn
+        _agrees_with_truth(inst, priority, truth[priority])
 
 
 def _names(cat: gen.Catalog) -> list[str]:
@@ -202,15 +191,22 @@ def test_unequal_churn_weights_agree_with_brute_force() -> None:
     assert {m.name: m.churn for m in inst.morphisms.values()} == weights
     truth = _brute_force(inst, cat, "budget", weights)
     for priority in ("objective", "stability"):
-        mission = objectives_of(inst)
-        order = [CHURN, *mission] if priority == "stability" else [*mission, CHURN]
-        found = best_set(inst, order)
-        assert found is not None and found[2], priority
-        fast = _best_by_search(inst, order, 16, False)  # the search's own answer, not the solver's
-        assert fast is not None and fast.status is OptStatus.OPT, priority
-        rec = recompose(inst, priority=priority, timeout=60)
-        assert rec.status is OptStatus.OPT
-        budget, churn = truth[priority]
-        want = [budget, churn] if priority == "objective" else [churn, budget]
-        assert [v.value for v in rec.result.values] == want, priority
-        assert [v.value for v in fast.values] == want, priority
+        _agrees_with_truth(inst, priority, truth[priority])
+
+
+def _agrees_with_truth(inst: Any, priority: str, truth: tuple[Any, Any]) -> None:
+    """The search alone (proven, not the solver) and ``recompose`` both answer the brute
+    force's (budget, churn) in ``priority``'s order."""
+    mission = objectives_of(inst)
+    order = [CHURN, *mission] if priority == "stability" else [*mission, CHURN]
+    found = best_set(inst, order)
+    assert found is not None and found[2], priority  # the search answers, proven, not the solver
+    fast = _best_by_search(inst, order, 16, False)
+    assert fast is not None and fast.status is OptStatus.OPT, priority
+    rec = recompose(inst, priority=priority, timeout=60)
+    assert rec.status is OptStatus.OPT
+    budget, churn = truth
+    want = [budget, churn] if priority == "objective" else [churn, budget]
+    assert [v.value for v in rec.result.values] == want, priority
+    assert [v.value for v in fast.values] == want, priority
+    assert rec.churn == churn
