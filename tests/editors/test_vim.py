@@ -23,7 +23,7 @@ def _run_test_vim(env: dict[str, str]):
     version = run([vim, "--version"])
     if "+syntax" not in version.stdout:
         pytest.fail(f"{vim} is built without +syntax (vim-tiny?): install vim-nox", pytrace=False)
-    return run([vim, "-Nu", "NONE", "-es", "-S", str(TEST_VIM)], env=env, timeout=120)
+    return run([vim, "-Nu", "NONE", "-n", "-es", "-S", str(TEST_VIM)], env=env, timeout=120)
 
 
 @pytest.mark.editors
@@ -54,6 +54,26 @@ def repo_cat_files_for_indent() -> list[str]:
     return [str(p) for p in repo_cat_files()]
 
 
+def _reindent(files: list[str], out, syntax: str, flush: str):
+    env = {"CAT_VIM_RTP": str(EDITORS / "vim"), "CAT_FILES": "\n".join(files), "CAT_OUT": str(out),
+           "CAT_SYNTAX": syntax, "CAT_FLUSH": flush}  # fmt: skip
+    script = EDITORS.parent / "tests/editors/scripts/reindent.vim"
+    return run([tool("vim"), "-Nu", "NONE", "-n", "-es", "-S", str(script)], env=env, timeout=600)
+
+
+@pytest.mark.editors
+def test_reindent_is_not_stopped_by_another_vims_swap_file(tmp_path):
+    """The four variants below run in parallel on the same files: a swap file another Vim
+    left next to a file (E325 on `:edit') must not fail the sweep (it did in CI, exit 1)."""
+    sample = tmp_path / "sample.cat"
+    sample.write_text((EDITORS / "vim" / "test" / "sample.cat").read_text())
+    (tmp_path / ".sample.cat.swp").write_bytes(b"")  # what E325 meets, as a live one does
+    out = tmp_path / "out.txt"
+    result = _reindent([str(sample)], out, "0", "1")
+    assert result.returncode == 0, explain(result)
+    assert out.read_text() == "", out.read_text()
+
+
 @pytest.mark.editors
 @pytest.mark.parametrize("syntax", ["0", "1"], ids=["syntax-off", "syntax-on"])
 @pytest.mark.parametrize("flush", ["0", "1"], ids=["as-is", "flushed-left"])
@@ -61,13 +81,9 @@ def test_vim_indents_every_repository_file_as_catc_fmt(tmp_path, syntax, flush):
     """`gg=G` changes no line of any .cat file of the repository (all in catc fmt's layout),
     with syntax highlighting on or off (a bracket in a comment or a string never counts), and
     restores every file from its lines flushed left."""
-    vim = tool("vim")
     out = tmp_path / "out.txt"
     files = repo_cat_files_for_indent()
-    env = {"CAT_VIM_RTP": str(EDITORS / "vim"), "CAT_FILES": "\n".join(files), "CAT_OUT": str(out),
-           "CAT_SYNTAX": syntax, "CAT_FLUSH": flush}  # fmt: skip
-    result = run([vim, "-Nu", "NONE", "-es", "-S", str(EDITORS.parent / "tests/editors/scripts/reindent.vim")],
-                 env=env, timeout=600)  # fmt: skip
+    result = _reindent(files, out, syntax, flush)
     assert result.returncode == 0, explain(result)
     assert len(files) > 50
     assert out.read_text() == "", out.read_text()

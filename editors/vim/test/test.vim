@@ -13,6 +13,7 @@
 "
 " Prints the failures to stderr and exits non-zero on failure, zero on success.
 
+set noswapfile
 let s:here = expand('<sfile>:p:h')
 let s:errors = []
 
