@@ -1,22 +1,39 @@
 """Front-end entry points shared by the CLI, the language server and the Python API:
-files → checked IR, with every error and lint in a :class:`Diagnostics`."""
+files → checked IR, with every error and lint in a :class:`Diagnostics`.
+
+The parser, the checker and the lints load when a function here first needs them: a query
+whose model is kept checked between runs (:mod:`catc.frontend.model_cache`) answers
+without them (the start-up of every query: docs/benchmarks.md)."""
 
 from __future__ import annotations
 
 import os
+import time
 from collections.abc import Iterable, Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from catc import ir
-from catc.frontend.lints import lint_domain, lint_instance
-from catc.frontend.workspace import TextCache, Workspace, load_instance, stdlib_dir
 from catc.ir.views import ViewError, apply_view
-from catgrammar import ast, codes
+from catgrammar import codes
 from catgrammar.diagnostics import Diagnostics
+
+if TYPE_CHECKING:
+    from catc.frontend.workspace import TextCache, Workspace
+    from catgrammar import ast
+
+
+def new_text_cache() -> TextCache:
+    """An empty :class:`~catc.frontend.workspace.TextCache` (for :func:`load_texts`)."""
+    from catc.frontend.workspace import TextCache
+
+    return TextCache()
 
 
 def is_user_file(path: str) -> bool:
     """Lints are reported for the user's files, not for the standard library."""
+    from catc.frontend.workspace import stdlib_dir
+
     try:
         return stdlib_dir() not in Path(path).resolve().parents
     except OSError:  # pragma: no cover
@@ -27,6 +44,8 @@ def check_files(
     files: list[str], diags: Diagnostics, search_paths: tuple[str, ...] | list[str] = ()
 ) -> tuple[dict[str, ir.Domain], dict[str, ir.Instance]]:
     """Check every definition in ``files``: errors and lints go to ``diags``."""
+    from catc.frontend.workspace import Workspace
+
     ws = Workspace(diags, search_paths)
     parsed: list[tuple[str, ast.SourceFile]] = []
     for f in files:
@@ -41,6 +60,9 @@ def check_parsed(
 ) -> tuple[dict[str, ir.Domain], dict[str, ir.Instance]]:
     """Check the definitions of files already loaded into ``ws`` (the CLI and the
     language server share this): domains, then problems with their views, then lints."""
+    from catc.frontend.lints import lint_domain, lint_instance
+    from catgrammar import ast
+
     domains: dict[str, ir.Domain] = {}
     instances: dict[str, ir.Instance] = {}
     for path, sf in parsed:
@@ -88,6 +110,8 @@ def load_texts(
     path points (the runtime checks candidate models this way before it writes them).
     ``text_cache``: what an earlier check of the same model parsed and checked, reused where
     the files are unchanged (:class:`~catc.frontend.workspace.TextCache`)."""
+    from catc.frontend.workspace import Workspace, load_instance
+
     found = Diagnostics() if text_cache is not None else diags
     ws = Workspace(found, tuple(str(p) for p in search_paths), texts, text_cache=text_cache)
     for path in texts:
@@ -121,14 +145,30 @@ def load_checked(
     problem_name: str | None = None,
     search_paths: Iterable[str | os.PathLike[str]] = (),
     stdlib_cache: Path | None = None,
+    model_cache: Path | None = None,
 ) -> ir.Instance | None:
     """Files → the checked instance with its view applied, or None with errors in ``diags``
     (the front end of every query: the command line, the API, the language server).  Paths
     are written as ``catc check`` writes them (``./x.cat`` is ``x.cat``) in diagnostics.
     ``stdlib_cache``: a folder where checked standard-library domains are kept between runs
-    (:mod:`catc.frontend.stdlib_cache`; the command line's, under the user's cache folder)."""
+    (:mod:`catc.frontend.stdlib_cache`; the command line's, under the user's cache folder).
+    ``model_cache``: a folder where checked models are kept between runs, with
+    ``stdlib_cache`` (:mod:`catc.frontend.model_cache`; the command line's)."""
+    from catc.frontend.stdlib_cache import StdlibCache, stdlib_dir
+
     problem = str(Path(problem))
     domain = None if domain is None else str(Path(domain))
+    found = tuple(str(p) for p in search_paths)
+    stdlib = None if stdlib_cache is None else StdlibCache(stdlib_cache, stdlib_dir())
+    kept = None
+    if stdlib is not None and model_cache is not None:
+        from catc.frontend.model_cache import ModelCache
+
+        kept = ModelCache(model_cache, stdlib)
+        request = kept.request(problem, domain, view, problem_name, found)
+        inst = kept.get(request)
+        if inst is not None:
+            return inst
     paths = [problem] if domain is None else [domain, problem]
     for p in paths:
         if Path(p).is_dir():
@@ -137,11 +177,16 @@ def load_checked(
             diags.report(codes.UNREADABLE_FILE, f"cannot read '{p}': no such file", None)
     if diags.has_errors:
         return None
-    found = tuple(str(p) for p in search_paths)
-    ws = None
-    if stdlib_cache is not None:
-        from catc.frontend.stdlib_cache import StdlibCache
+    from catc.frontend.workspace import Workspace, load_instance
 
-        ws = Workspace(diags, found, stdlib_cache=StdlibCache(stdlib_cache, stdlib_dir()))
+    ws = Workspace(diags, found, stdlib_cache=stdlib)
+    began = time.time_ns()
     _, inst = load_instance(None if domain is None else str(domain), str(problem), diags, found, problem_name, ws)
-    return _viewed(inst, view, diags)
+    viewed = _viewed(inst, view, diags)
+    if kept is not None and viewed is not None and len(diags) == 0:
+        from catc.frontend.model_cache import reads
+
+        read = reads(ws, began)
+        if read is not None:
+            kept.put(request, read, viewed)
+    return viewed

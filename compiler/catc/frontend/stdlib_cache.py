@@ -15,10 +15,8 @@ a hit reports nothing either.  (No hashlib: loading OpenSSL costs a command ~3 m
 
 from __future__ import annotations
 
-import copyreg
 import io
 import os
-import pickle
 import sys
 import zlib
 from pathlib import Path
@@ -28,6 +26,17 @@ from typing import Any
 from catc import ir
 
 _CODE = [Path(__file__).resolve().parent, Path(ir.__file__).resolve().parent]
+STDLIB_DIR = Path(__file__).resolve().parents[3] / "stdlib_domains"
+
+
+def stdlib_dir() -> Path:
+    """The folder of the standard library domains (installed or in a checkout)."""
+    try:
+        import stdlib_domains
+
+        return Path(stdlib_domains.__file__).resolve().parent
+    except ImportError:  # pragma: no cover - running from a bare checkout
+        return STDLIB_DIR
 
 
 def _code_folders() -> list[Path]:
@@ -42,6 +51,16 @@ def _proxy(d: dict[Any, Any]) -> MappingProxyType[Any, Any]:
 
 def _reduce_proxy(m: MappingProxyType[Any, Any]) -> tuple[Any, ...]:
     return (_proxy, (dict(m),))
+
+
+def dump(buffer: io.BytesIO, value: object) -> None:
+    """Pickle ``value`` (checked IR, whose read-only mappings pickle as mappings) into ``buffer``."""
+    import copyreg
+    import pickle
+
+    pickler = pickle.Pickler(buffer, protocol=pickle.HIGHEST_PROTOCOL)
+    pickler.dispatch_table = {**copyreg.dispatch_table, MappingProxyType: _reduce_proxy}  # this pickler only
+    pickler.dump(value)
 
 
 class StdlibCache:
@@ -66,6 +85,8 @@ class StdlibCache:
         return self.folder / f"{name}-{zlib.crc32(self.key.encode()):08x}.pickle"
 
     def get(self, name: str) -> ir.Domain | None:
+        import pickle
+
         try:
             key, found = pickle.loads(self._path(name).read_bytes())
         except Exception:
@@ -73,11 +94,11 @@ class StdlibCache:
         return found if key == self.key and isinstance(found, ir.Domain) else None
 
     def put(self, name: str, domain: ir.Domain) -> None:
+        import pickle
+
         buffer = io.BytesIO()
-        pickler = pickle.Pickler(buffer, protocol=pickle.HIGHEST_PROTOCOL)
-        pickler.dispatch_table = {**copyreg.dispatch_table, MappingProxyType: _reduce_proxy}  # this pickler only
         try:
-            pickler.dump((self.key, domain))
+            dump(buffer, (self.key, domain))
             self.folder.mkdir(parents=True, exist_ok=True)
             path = self._path(name)
             part = path.with_name(f"{path.name}.{os.getpid()}.part")

@@ -19,31 +19,16 @@ from __future__ import annotations
 import os
 from collections.abc import Iterator, Mapping
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from catc import ir
 from catc.frontend.check import DomainChecker, ProblemChecker
+from catc.frontend.stdlib_cache import StdlibCache, stdlib_dir
 from catgrammar import ast, codes, limits
 from catgrammar._lalr import UnexpectedCharacters
 from catgrammar.diagnostics import Diagnostics, Note, Suggestion
 from catgrammar.parser import decode_source, parse_source, read_regular, read_source
 from catgrammar.span import Source, Span
 from catgrammar.tokens import tokenize
-
-if TYPE_CHECKING:
-    from catc.frontend.stdlib_cache import StdlibCache
-
-STDLIB_DIR = Path(__file__).resolve().parents[3] / "stdlib_domains"
-
-
-def stdlib_dir() -> Path:
-    """The folder of the standard library domains (installed or in a checkout)."""
-    try:
-        import stdlib_domains
-
-        return Path(stdlib_domains.__file__).resolve().parent
-    except ImportError:  # pragma: no cover - running from a bare checkout
-        return STDLIB_DIR
 
 
 def stdlib_names() -> list[str]:
@@ -326,6 +311,10 @@ class Workspace:
             if found:
                 return found
         return _STDLIB
+
+    def scanned(self) -> list[str]:
+        """The files read only to look for a domain's header (:meth:`_candidates`), by key."""
+        return list(self._defines)
 
     def known_domain_names(self) -> list[str]:
         return sorted(set(self.domains) | set(stdlib_names()))

@@ -358,9 +358,9 @@ def stopped_early(result: Any) -> bool:
 def text_cache() -> TextCache:
     """A cache for :func:`loads` (a program that checks one model again and again, each time
     with a small change: the runtime)."""
-    from catc.frontend.session import TextCache
+    from catc.frontend.session import new_text_cache
 
-    return TextCache()
+    return new_text_cache()
 
 
 def relax_weights(

@@ -158,6 +158,13 @@ def stdlib_cache() -> Path | None:
     return Path(base) / "catc" / "stdlib"
 
 
+def model_cache() -> Path | None:
+    """Where the command line keeps checked models between runs: beside the standard
+    library's (:func:`stdlib_cache`), in ``models``; none when that is off."""
+    found = stdlib_cache()
+    return None if found is None else found.parent / "models"
+
+
 def instance(
     paths: Sequence[str], view: str | None, search_paths: Sequence[str], problem: str | None, as_json: bool
 ) -> ir.Instance:
@@ -178,6 +185,7 @@ def instance(
         problem_name=problem,
         search_paths=search_path(search_paths),
         stdlib_cache=stdlib_cache(),
+        model_cache=model_cache(),
     )
     if inst is None:
         input_errors(diags, as_json)
