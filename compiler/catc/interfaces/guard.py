@@ -137,9 +137,10 @@ def limit_memory(megabytes: int, as_json: bool = False) -> None:
         if hard != resource.RLIM_INFINITY and (soft == resource.RLIM_INFINITY or soft > hard):
             soft = hard
         resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
-    from catc.smt.backend import limit_solver_memory
+    from catc.smt.backend import keep_solver_contexts, limit_solver_memory
 
     limit_solver_memory(megabytes)
+    keep_solver_contexts()  # the executable ends with os._exit: its solver contexts need no freeing
 
 
 def out_of_memory_message(phase: str | None = None, megabytes: int | None = None) -> str:

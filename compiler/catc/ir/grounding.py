@@ -186,12 +186,12 @@ class Deployment(Record):
 
 # ---------------------------------------------------------------- names the targets accept
 
-_ROS_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
-_XML_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_.-]*")
-_SERVICE_NAME = re.compile(r"[a-zA-Z0-9][a-zA-Z0-9_.-]*")
-_IMAGE = re.compile(
-    r"[a-z0-9]+(?:[._-][a-z0-9]+)*(?::[0-9]+)?(?:/[a-z0-9]+(?:[._-][a-z0-9]+)*)*(?::[\w][\w.-]{0,127})?(?:@sha256:[0-9a-f]{64})?"
-)
+# patterns, compiled by re (and kept in its cache) when a name is first checked: most
+# commands never check one, and compiling them costs every command's start-up
+_ROS_NAME = r"[A-Za-z_][A-Za-z0-9_]*"
+_XML_NAME = r"[A-Za-z_][A-Za-z0-9_.-]*"
+_SERVICE_NAME = r"[a-zA-Z0-9][a-zA-Z0-9_.-]*"
+_IMAGE = r"[a-z0-9]+(?:[._-][a-z0-9]+)*(?::[0-9]+)?(?:/[a-z0-9]+(?:[._-][a-z0-9]+)*)*(?::[\w][\w.-]{0,127})?(?:@sha256:[0-9a-f]{64})?"
 
 
 def ros_name_problem(name: str) -> str | None:
@@ -201,7 +201,7 @@ def ros_name_problem(name: str) -> str | None:
         return "it is empty"
     if len(name) > 255:
         return "it is longer than 255 characters"
-    if not _ROS_NAME.fullmatch(name):
+    if not re.fullmatch(_ROS_NAME, name):
         return "only letters, digits and '_' are allowed, and it must not start with a digit"
     return None
 
@@ -216,18 +216,18 @@ def topic_problem(name: str) -> str | None:
 
 def xml_name_problem(name: str) -> str | None:
     """Why ``name`` cannot be a BehaviorTree.CPP node ID or port name (an XML name), or None."""
-    return None if _XML_NAME.fullmatch(name) and not name.lower().startswith("xml") else "it is not an XML name"
+    return None if re.fullmatch(_XML_NAME, name) and not name.lower().startswith("xml") else "it is not an XML name"
 
 
 def service_name_problem(name: str) -> str | None:
     """Why ``name`` cannot name a Compose service (``[a-zA-Z0-9][a-zA-Z0-9_.-]*``), or None."""
-    return None if _SERVICE_NAME.fullmatch(name) else "Compose service names are letters, digits, '_', '.' and '-'"
+    return None if re.fullmatch(_SERVICE_NAME, name) else "Compose service names are letters, digits, '_', '.' and '-'"
 
 
 def image_problem(ref: str) -> str | None:
     """Why ``ref`` is not a container image reference (``[host[:port]/]path[:tag][@sha256:…]``,
     lower-case path), or None."""
-    return None if _IMAGE.fullmatch(ref) else "it is not an image reference such as 'ghcr.io/org/name:1.0'"
+    return None if re.fullmatch(_IMAGE, ref) else "it is not an image reference such as 'ghcr.io/org/name:1.0'"
 
 
 def ros_node_name(morphism: str) -> str:

@@ -19,7 +19,8 @@ from typing import Any, Protocol
 from catgrammar.terminal import printable
 
 # rich's markup tags (rich.markup.RE_TAGS): an opening or closing tag, after any backslashes
-_TAG = re.compile(r"(\\*)(\[[a-z#/@][^[]*?])")
+# (compiled by re when first used, and kept in its cache: a JSON answer never uses it)
+_TAG = r"(\\*)(\[[a-z#/@][^[]*?])"
 
 
 def counted(n: int, noun: str) -> str:
@@ -33,7 +34,7 @@ class Console(Protocol):
 
 def escape(text: str) -> str:
     """``text`` as markup that shows it as written (what ``rich.markup.escape`` does)."""
-    text = _TAG.sub(lambda m: f"{m.group(1)}{m.group(1)}\\{m.group(2)}", text)
+    text = re.sub(_TAG, lambda m: f"{m.group(1)}{m.group(1)}\\{m.group(2)}", text)
     return text + "\\" if text.endswith("\\") and not text.endswith("\\\\") else text
 
 
@@ -45,7 +46,7 @@ def plain(markup: str) -> str:
         backslashes, escaped = divmod(len(m.group(1)), 2)
         return "\\" * backslashes + (m.group(2) if escaped else "")
 
-    return _TAG.sub(tag, markup)
+    return re.sub(_TAG, tag, markup)
 
 
 class PlainConsole:

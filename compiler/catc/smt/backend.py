@@ -161,6 +161,28 @@ def solver_memory() -> int:
     return _SOLVER_MEMORY.get()
 
 
+#: The solver contexts kept to the end of the process instead of being freed, in this context
+#: (None: none are): the executable's, which ends with ``os._exit`` (catc.interfaces.entry.leave)
+#: once its answer is printed, so freeing a context it made only costs time — 2–5 ms for Z3's,
+#: a few per cent of a small query.  At most :data:`KEEP_AT_MOST`, so a query that makes many
+#: contexts still frees all but the first few.
+_KEPT: ContextVar[list[object] | None] = ContextVar("catc_kept_contexts", default=None)
+KEEP_AT_MOST = 4
+
+
+def keep_solver_contexts() -> None:
+    """Keep the first :data:`KEEP_AT_MOST` solver contexts opened from now on in this context
+    until the process ends (the executable's setting, made with its memory limit)."""
+    _KEPT.set([])
+
+
+def kept(context: object) -> None:
+    """A backend made ``context``: kept to the process's end when :func:`keep_solver_contexts` says so."""
+    found = _KEPT.get()
+    if found is not None and len(found) < KEEP_AT_MOST:
+        found.append(context)
+
+
 #: Backend name → "module:class", imported on first use.
 BACKENDS: dict[str, str] = {
     "z3": "catc.smt.z3backend:Z3Backend",

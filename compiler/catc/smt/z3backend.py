@@ -25,7 +25,7 @@ from typing import Any
 import z3
 
 from catc.ir.numbers import fraction_text, int_text, int_value
-from catc.smt.backend import Backend, Bound, Capability, Check
+from catc.smt.backend import Backend, Bound, Capability, Check, kept
 from catc.smt.script import Assertion, SmtSort, Symbol, commands_text
 from catc.smt.terms import App, Interned, Term
 from catgrammar import limits
@@ -96,6 +96,8 @@ class Z3Backend(Backend):
         if share_with is not None and not isinstance(share_with, Z3Backend):
             raise TypeError("a Z3 backend can share its context only with another Z3 backend")
         self.ctx: z3.Context = z3.Context() if share_with is None else share_with.ctx
+        if share_with is None:
+            kept(self.ctx)
         self.solver: z3.Solver | z3.Optimize
         if optimize:
             self.solver = z3.Optimize(ctx=self.ctx)
