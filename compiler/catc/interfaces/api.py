@@ -453,13 +453,16 @@ def diff_artifacts(old: Mapping[str, bytes], new: Mapping[str, bytes]) -> Ground
 
 def problem_source(inst: ir.Instance, *, header: str | None = None) -> str:
     """The problem of the checked instance ``inst`` as a ``.cat`` file in ``catc fmt``'s
-    layout (written by :mod:`catc.targets.catsource`, laid out by the formatter), with
-    ``header`` as a comment on top; it names ``inst``'s domain and reads back as the same
-    problem."""
-    from catc.frontend.formatter import format_text
-    from catc.targets.catsource import problem_text
+    layout — the problem file of the ``cat`` target (``catc export cat``,
+    ``Model.export("cat")``), laid out as every interface lays it out
+    (:mod:`catc.interfaces.layout`) — with ``header`` as a comment on top; it names
+    ``inst``'s domain and reads back as the same problem.  Raises
+    :class:`catc.queries.base.InputError` when the model cannot be written as ``.cat`` (as
+    ``Model.export("cat")`` does)."""
+    from catc.interfaces.layout import export
+    from catc.targets import registry as targets
 
-    return format_text(problem_text(inst, header=header))
+    return str(export(targets.get("cat"), inst, {"header": header}).problem)
 
 
 @dataclass(frozen=True)

@@ -92,15 +92,17 @@ class ImportResult:
 
 def write_cat(inst: ir.Instance, out: Path, *, header: str | None = None) -> tuple[Path, Path]:
     """``out/domain.cat`` and ``out/problem.cat`` in catc fmt's layout (what ``catc fmt
-    --check`` leaves unchanged)."""
-    from catc.frontend.formatter import format_text
-    from catc.targets.catsource import instance_texts
+    --check`` leaves unchanged): the ``cat`` target's files, laid out as every interface lays
+    them out (:mod:`catc.interfaces.layout`).  Raises :class:`catc.queries.base.InputError`
+    when the model cannot be written as ``.cat`` (the writer's own reason is its cause)."""
+    from catc.interfaces.layout import export
+    from catc.targets import registry as targets
 
-    dom_text, prob_text = instance_texts(inst, domain_header=header, problem_header=header)
+    files = export(targets.get("cat"), inst, {"header": header})
     out.mkdir(parents=True, exist_ok=True)
     dom, prob = out / "domain.cat", out / "problem.cat"
-    dom.write_text(format_text(dom_text), encoding="utf-8")
-    prob.write_text(format_text(prob_text), encoding="utf-8")
+    dom.write_text(files.domain, encoding="utf-8")
+    prob.write_text(files.problem, encoding="utf-8")
     return dom, prob
 
 
@@ -271,7 +273,7 @@ def import_pddl(
     grounding: past it, ``E1109``."""
     from catc.frontend.session import load_checked
     from catc.frontend.up_import import UpImportError, UpImportStopped, UpMissing, up_to_instance
-    from catc.targets.catsource import CatSourceError
+    from catc.queries.base import InputError
     from catgrammar.diagnostics import Diagnostics
 
     up_problem = _read(domain, problem)
@@ -303,8 +305,8 @@ def import_pddl(
     header = f"Imported by `catc import pddl` from {domain.name} and {problem.name}: see import-report.md.\nSolve with --sequential (PDDL plans are sequences)."
     try:
         written = write_cat(inst, out, header=header)
-    except CatSourceError as exc:
-        raise ImportFailed(codes.IMPORT_UNSPELLABLE, str(exc), str(domain)) from None
+    except InputError as exc:  # the .cat writer's reason (the cause), as before the cat target
+        raise ImportFailed(codes.IMPORT_UNSPELLABLE, str(exc.__cause__ or exc), str(domain)) from None
     actions = {m: _pddl_action(a) for m, a in rep.actions.items()}
     (out / "actions.json").write_text(json.dumps(actions, indent=1) + "\n", encoding="utf-8")
     report_file.write_text(_report(domain, problem, up_problem, rep, inst, [], written), encoding="utf-8")

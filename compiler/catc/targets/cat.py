@@ -41,7 +41,7 @@ def export_cat(inst: ir.Instance, *, header: str | None = None) -> CatFiles:
     try:
         domain, problem = instance_texts(inst, domain_header=header, problem_header=header)
     except CatSourceError as exc:
-        raise InputError(f"cannot write the model as .cat: {exc}", codes.EXPORT_UNSUPPORTED) from None
+        raise InputError(f"cannot write the model as .cat: {exc}", codes.EXPORT_UNSUPPORTED) from exc
     return CatFiles(domain, problem)
 
 
