@@ -1,7 +1,7 @@
 """Every query as a whole process against a hand-written Z3 script, side by side in one run
 (the target: each ≤ 1.2× its yardstick; docs/benchmarks.md, "Start-up of every query").
 
-    python benchmarks/startup_bench.py [--runs N] [--no-compile]
+    python benchmarks/startup_bench.py [--runs N] [--no-compile] [--against OTHER-CHECKOUT]
 
 Each row is one ``catc`` command line, run as ``python -m catc ...`` (which enters
 :func:`catc.interfaces.entry.main` as the installed ``catc`` script does), and its yardstick:
@@ -65,10 +65,10 @@ ROWS: list[tuple[str, list[str], int, str | None]] = [
 ]
 
 
-def timed(cmd: list[str]) -> tuple[float, float, int]:
+def timed(cmd: list[str], env: dict[str, str] | None = None) -> tuple[float, float, int]:
     """Wall seconds, CPU seconds (user + system) and exit code of one run of ``cmd``."""
     start = time.perf_counter()
-    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=ROOT)
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=ROOT, env=env)
     _, status, usage = os.wait4(proc.pid, 0)
     wall = time.perf_counter() - start
     proc.returncode = os.waitstatus_to_exitcode(status)
@@ -79,65 +79,108 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--runs", type=int, default=21)
     ap.add_argument("--no-compile", action="store_true", help="do not byte-compile catc first")
+    ap.add_argument(
+        "--against",
+        metavar="TREE",
+        help="also run each catc command from this other checkout (e.g. the main branch's), interleaved in the "
+        "same rounds; it is not byte-compiled here",
+    )
     args = ap.parse_args()
     if not args.no_compile:
-        compile_catc()
+        compile_catc()  # this tree only: the other one is run as it is (compile it beforehand)
     print(
-        f"command: python benchmarks/startup_bench.py --runs {args.runs}" + (" --no-compile" if args.no_compile else "")
+        f"command: python benchmarks/startup_bench.py --runs {args.runs}"
+        + (" --no-compile" if args.no_compile else "")
+        + (f" --against {args.against}" if args.against else "")
     )
     print(f"machine: {cpu_text()}\n")
 
     with tempfile.TemporaryDirectory() as tmp:
+        # each tree its own cache folder (filled by the untimed first run): two trees sharing
+        # one would replace each other's standard-library entries, whose keys differ
+        trees = {"catc": ROOT, **({"other": Path(args.against).resolve()} if args.against else {})}
+        envs = {
+            side: {
+                **os.environ,
+                "CATC_CACHE": str(Path(tmp) / f"cache-{side}"),
+                "PYTHONPATH": os.pathsep.join(str(tree / p) for p in ("compiler", "runtime", ".")),
+            }
+            for side, tree in trees.items()
+        }
         plan = Path(tmp) / "plan.json"
         solved = subprocess.run(
-            CATC + ["solve", "examples/detection/person.cat", "--json"], capture_output=True, text=True, cwd=ROOT
+            CATC + ["solve", "examples/detection/person.cat", "--json"],
+            capture_output=True,
+            text=True,
+            cwd=ROOT,
+            env=envs["catc"],
         )
         json.loads(solved.stdout)  # a catc.plan/1-compatible answer, or this fails
         plan.write_text(solved.stdout)
 
-        commands: dict[str, list[str]] = {}
+        commands: dict[str, tuple[list[str], dict[str, str] | None]] = {}
         for label, words, expected, script in ROWS:
             catc_cmd = CATC + [str(plan) if w == "PLAN" else w for w in words]
             yard = [PY, f"benchmarks/reference/{script}"] if script else [PY, "-c", FLOOR]
-            for cmd, want in ((catc_cmd, expected), (yard, 0)):
-                code = subprocess.run(cmd, capture_output=True, cwd=ROOT).returncode
+            runs = [(side, catc_cmd, expected, envs[side]) for side in trees] + [("yard", yard, 0, None)]
+            for side, cmd, want, env in runs:
+                code = subprocess.run(cmd, capture_output=True, cwd=ROOT, env=env).returncode
                 if code != want:
-                    raise SystemExit(f"{' '.join(cmd)} exited {code}, not {want}")
-            commands[f"catc {label}"] = catc_cmd
-            commands[f"yard {label}"] = yard
+                    raise SystemExit(f"{' '.join(cmd)} ({side}) exited {code}, not {want}")
+                commands[f"{side} {label}"] = (cmd, env)
 
         # the floor is one command: run it once a round, shared by the rows that use it
         unique: dict[tuple[str, ...], str] = {}
-        for key, cmd in commands.items():
-            unique.setdefault(tuple(cmd), key)
+        for key, (cmd, env) in commands.items():
+            unique.setdefault((*cmd, str(sorted(env.items())) if env else ""), key)
         wall: dict[str, list[float]] = {key: [] for key in unique.values()}
         cpu: dict[str, list[float]] = {key: [] for key in unique.values()}
         for _ in range(args.runs):
-            for cmd, key in unique.items():
-                w, c, _ = timed(list(cmd))
+            for key in unique.values():
+                cmd, env = commands[key]
+                w, c, _ = timed(cmd, env)
                 wall[key].append(w)
                 cpu[key].append(c)
 
     def series(key: str, table: dict[str, list[float]]) -> list[float]:
-        return table[unique[tuple(commands[key])]]
+        cmd, env = commands[key]
+        return table[unique[(*cmd, str(sorted(env.items())) if env else "")]]
 
+    other = f" Beside this tree's catc, the catc of {args.against} (other)." if args.against else ""
     print(f"Whole processes, interleaved, {args.runs} rounds, bytecode compiled.  Yardstick: the")
-    print(f"hand-written script of benchmarks/reference/, or (*) the floor `python -c '{FLOOR}'`.\n")
-    print("| query | catc wall (s) | yardstick wall (s) | wall ratio | catc CPU (s) | yardstick CPU (s) | CPU ratio |")
-    print("|---|---:|---:|---:|---:|---:|---:|")
+    print(f"hand-written script of benchmarks/reference/, or (*) the floor `python -c '{FLOOR}'`.{other}\n")
+    extra_head, extra_rule = (" other wall ratio | other CPU ratio |", "---:|---:|") if args.against else ("", "")
+    print(
+        "| query | catc wall (s) | yardstick wall (s) | wall ratio | catc CPU (s) | yardstick CPU (s) | CPU ratio |"
+        + extra_head
+    )
+    print("|---|---:|---:|---:|---:|---:|---:|" + extra_rule)
+
+    def ratios(side: str, label: str) -> tuple[float, float]:
+        cw, yw = series(f"{side} {label}", wall), series(f"yard {label}", wall)
+        cc, yc = series(f"{side} {label}", cpu), series(f"yard {label}", cpu)
+        return (
+            statistics.median(a / b for a, b in zip(cw, yw)),
+            statistics.median(a / b for a, b in zip(cc, yc) if b > 0),
+        )
+
     worst = 0.0
     for label, _, _, script in ROWS:
         cw, yw = series(f"catc {label}", wall), series(f"yard {label}", wall)
         cc, yc = series(f"catc {label}", cpu), series(f"yard {label}", cpu)
-        wr = statistics.median(a / b for a, b in zip(cw, yw))
-        cr = statistics.median(a / b for a, b in zip(cc, yc) if b > 0)
-        worst = max(worst, wr)
+        wr, cr = ratios("catc", label)
+        if script:  # the floor rows are upper bounds, not the target's comparison
+            worst = max(worst, wr)
         star = "" if script else " (*)"
+        extra = " {:.2f}× | {:.2f}× |".format(*ratios("other", label)) if args.against else ""
         print(
             f"| {label}{star} | {statistics.median(cw):.3f} | {statistics.median(yw):.3f} | {wr:.2f}× "
-            f"| {statistics.median(cc):.3f} | {statistics.median(yc):.3f} | {cr:.2f}× |"
+            f"| {statistics.median(cc):.3f} | {statistics.median(yc):.3f} | {cr:.2f}× |" + extra
         )
-    print(f"\nLargest wall ratio: {worst:.2f}× (target ≤ 1.2×: {'met' if worst <= 1.2 else 'not met'}).")
+    print(
+        f"\nLargest wall ratio against a hand-written script: {worst:.2f}× "
+        f"(target ≤ 1.2×: {'met' if worst <= 1.2 else 'not met'})."
+    )
 
 
 if __name__ == "__main__":
