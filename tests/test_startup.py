@@ -201,3 +201,46 @@ def test_both_routes_of_validate_answer_alike(tmp_path):
             assert fast.exit_code in codes
     _, names = loaded("validate", "examples/detection/person.cat", str(good))
     assert never(names, (*NEVER, "z3", "catc.smt.z3backend")) == []  # no click, no dataclasses, no solver
+
+
+# ------------------------------------------------------------------ a model kept checked between runs
+
+#: What a query whose checked model is kept (catc.frontend.model_cache) does not load: the
+#: tokenizer, the parser and the checker.
+HIT_NEVER = (
+    "catgrammar.parser",
+    "catgrammar._lalr",
+    "catgrammar.tokens",
+    "catgrammar.ast",
+    "catc.frontend.workspace",
+    "catc.frontend.check",
+    "catc.frontend.typecheck",
+    "catc.frontend.lints",
+)
+
+
+@pytest.mark.parametrize(
+    "words",
+    [["solve", "detection/person.cat"], ["optimize", "navigation/farthest.cat"]],
+    ids=["solve", "optimize"],
+)
+def test_a_query_on_a_kept_model_loads_no_parser(words, tmp_path, monkeypatch):
+    import os
+    import shutil
+    import time
+
+    folder = words[1].split("/")[0]
+    shutil.copytree(ROOT / "examples" / folder, tmp_path / folder)
+    old = time.time() - 3600  # settled: a file changed in the last seconds is not kept
+    for p in [*(tmp_path / folder).iterdir(), tmp_path / folder]:
+        os.utime(p, (old, old))
+    monkeypatch.setenv("CATC_CACHE", str(tmp_path / "cache"))
+    args = [words[0], str(tmp_path / words[1]), "--json"]
+    code, first = loaded(*args)  # a miss: parsed and checked, then kept
+    assert code == 0 and "catgrammar.parser" in first
+    code, names = loaded(*args)
+    assert code == 0 and never(names, HIT_NEVER) == []
+    if words[0] == "solve":
+        own = [n for n in names if n.split(".")[0] in ("catc", "catgrammar")]
+        assert [n for n in own if not within(n, SOLVE_ALLOWED)] == []
+    assert "z3" in names
