@@ -104,3 +104,9 @@ def _contexts(*args: str) -> int:
 def test_a_plain_solve_makes_one_z3_context():
     assert _contexts("solve", "examples/detection/person.cat", "--json") == 1
     assert _contexts("check", "examples/detection/person.cat") == 0  # the probe counts what is made
+
+
+def test_relax_shares_its_search_context_with_the_counting_bound():
+    """relax on lifelong/budget-cut: the search's context (its two solvers), and the
+    consumption bound's; the counting bound's solver shares the search's (3 before)."""
+    assert _contexts("relax", "examples/lifelong/budget-cut.cat", "--json") == 2

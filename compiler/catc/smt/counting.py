@@ -30,7 +30,7 @@ from fractions import Fraction
 from catc import ir
 from catc.semantics import transfer
 from catc.semantics.relaxed import VALUES, Finite, Interval, SetValue, Value, _Eval, top
-from catc.smt.backend import DEFAULT_BACKEND, Check, open_backend
+from catc.smt.backend import DEFAULT_BACKEND, Backend, Check, open_backend
 from catc.smt.script import SmtSort, Symbol, int_literal
 from catc.smt.terms import Term, and_, eq, ge, gt, implies, ite, le, lt, minus, or_, plus, times, to_real, to_text
 
@@ -47,11 +47,13 @@ def slack_lower_bound(
     components: Collection[str] | None,
     timeout: float | None = None,
     backend: str = DEFAULT_BACKEND,
+    share_with: Backend | None = None,
 ) -> Fraction | bool | None:
     """The least weighted slack of the counting relaxation: a Fraction; ``False`` when no
-    slack satisfies it (then no relaxation exists); ``None`` when it could not be settled."""
+    slack satisfies it (then no relaxation exists); ``None`` when it could not be settled.
+    ``share_with``: a backend whose term store (Z3: context) its solver shares."""
     counting = _Counting(inst, list(requirements), components)
-    solver = open_backend(backend, optimize=True)
+    solver = open_backend(backend, optimize=True, share_with=share_with)
     solver.add(counting.decls, [(None, a) for a in counting.asserts])
     handle = solver.minimize(counting.cost())
     solver.set_timeout(timeout)
