@@ -72,6 +72,24 @@ def test_a_hit_checks_nothing_and_gives_the_same_instance(model, tmp_path, monke
     assert again == uncached
 
 
+def test_the_folder_keeps_the_most_recent_entries_only(model, tmp_path, monkeypatch):
+    """Every folder catc runs in adds an entry: beyond KEPT, the oldest go."""
+    from catc.frontend import model_cache
+
+    monkeypatch.setattr(model_cache, "KEPT", 2)
+    models = tmp_path / "c/models"
+    models.mkdir(parents=True)
+    for i in range(3):  # three older entries of other command lines
+        (models / f"model-old{i}.pickle").write_bytes(b"x")
+        os.utime(models / f"model-old{i}.pickle", (1000 + i, 1000 + i))
+    _load(tmp_path / "c")
+    left = sorted(p.name for p in models.iterdir())
+    assert len(left) == 2 and "model-old2.pickle" in left, left
+    checks = Counting(monkeypatch)
+    _load(tmp_path / "c")
+    assert checks.runs == 0  # the new entry is one of those kept
+
+
 def test_an_edit_of_the_same_length_keeping_the_time_is_a_miss(model, tmp_path, monkeypatch):
     checks = Counting(monkeypatch)
     problem = model / "farthest.cat"

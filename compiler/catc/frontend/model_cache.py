@@ -23,6 +23,7 @@ folder); the library never caches on its own.
 
 from __future__ import annotations
 
+import contextlib
 import io
 import os
 import pickle
@@ -62,6 +63,9 @@ def _read(path: str) -> bytes | None:
 #: check to be kept (nanoseconds): what is read afterwards is then what the check read, even
 #: on file systems that keep modification times to 2 s (a racy edit is a miss, never a hit).
 SETTLED_NS = 3_000_000_000
+
+#: How many checked models the cache folder keeps (the most recently written).
+KEPT = 200
 
 
 def reads(ws: Workspace, began_ns: int) -> Reads | None:
@@ -145,3 +149,15 @@ class ModelCache:
             os.replace(part, path)  # whole or not at all, whoever reads it at the same time
         except (OSError, pickle.PicklingError, TypeError, AttributeError, RecursionError):
             return
+        self._prune()
+
+    def _prune(self) -> None:
+        """Keep at most :data:`KEPT` entries, dropping the least recently written: every folder
+        a user runs catc in adds its own, and nothing else would ever remove them."""
+        try:
+            entries = [(e.stat().st_mtime_ns, e.path) for e in os.scandir(self.folder) if e.name.startswith("model-")]
+        except OSError:
+            return
+        for _, path in sorted(entries)[: max(0, len(entries) - KEPT)]:
+            with contextlib.suppress(OSError):  # another process removed it first
+                os.unlink(path)
