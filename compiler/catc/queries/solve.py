@@ -41,7 +41,7 @@ from catc.queries.base import (
     timeout_option,
 )
 from catc.semantics.compositions import canonical_fresh, checked, prune_plan
-from catc.semantics.horizon import horizon_of, use_bound
+from catc.semantics.horizon import horizon_of, state_bound, use_bound
 from catc.semantics.plan import Plan
 from catc.semantics.relaxed import Refutation, refute
 from catc.semantics.validate import validate
@@ -194,7 +194,15 @@ def solve(
                     if warm is None
                     else warm.search(inst, k, sequential, backend, timings)
                 )
-                result = search.run(range(k + 1) if strategy != "single" else (k,), progress, phase)
+                most = _state_steps(inst, k)  # every state within this many steps: deepen no further
+                if strategy == "single":
+                    horizons: range | tuple[int, ...] = (k,)
+                else:
+                    horizons = range((k if most is None else most) + 1)
+                result = search.run(horizons, progress, phase)
+                if result.status is SolveStatus.UNSAT and most is not None and not result.final:
+                    result.final = True
+                    result.reason = _states_reason(most)
                 if result.status is SolveStatus.SAT and validate_answer:
                     _validated(inst, result, k, sequential, prune, timings)
         except limits.Stopped as stop:  # encoding or validating when the time ran out
@@ -203,6 +211,25 @@ def solve(
     timings["total"] = time.perf_counter() - start
     result.timings = timings
     return result
+
+
+def _state_steps(inst: ir.Instance, k: int) -> int | None:
+    """N − 1 for a model of at most N ≤ k + 1 states (:func:`state_bound`), else None: a
+    shortest composition visits no state twice, so none within N − 1 steps is none at all,
+    and the deepening stops there. None also where the use limits already bound the length
+    within ``k`` (that proof needs no count)."""
+    uses = use_bound(inst)
+    if uses is not None and uses <= k:
+        return None
+    n = state_bound(inst, k + 1)
+    return None if n is None else max(n - 1, 0)
+
+
+def _states_reason(most: int) -> str:
+    return (
+        f"the model has at most {counted(most + 1, 'state')}, so some shortest composition, if any, "
+        f"has at most {counted(most, 'step')} (it visits no state twice)"
+    )
 
 
 def _forward(
