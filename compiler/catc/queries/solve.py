@@ -139,6 +139,7 @@ def solve(
     phase: str = "solving",
     presolve: bool = True,
     warm: WarmStart | None = None,
+    exists_step: bool = False,
 ) -> SolveResult:
     """The shortest composition within the horizon (``strategy="incremental"``), or any
     composition (``"single"``), on the named backend.  ``progress(message)`` is told each
@@ -150,9 +151,19 @@ def solve(
     solver between calls: a problem that differs from the previous one only in its initial
     values and goal is answered on the same solver, whose initial values and goals sit behind
     assumption literals; any other change (the domain, its objects, the horizon, the
-    semantics, the backend) encodes afresh.  The answers are the same as without it."""
+    semantics, the backend) encodes afresh.  The answers are the same as without it.
+
+    ``exists_step`` (with ``sequential``, not with ``warm``): the SMT search encodes ∃-step
+    parallel steps (:meth:`~catc.smt.encoder.Encoder._exists_step`): a step is a run of
+    activations in a fixed order, and the composition found is :func:`linearised` into a
+    sequential one, which the validator replays. The horizon counts ∃-steps, so longer
+    compositions are reached, but the composition is not proven shortest (``shortest`` is
+    False). An UNSAT at horizon h still says that no sequential composition of at most h
+    steps exists (each of its steps is an ∃-step of one activation)."""
     if strategy not in STRATEGIES:
         raise ValueError(f"unknown strategy {strategy!r}; expected one of {', '.join(STRATEGIES)}")
+    if exists_step and (not sequential or warm is not None):
+        raise ValueError("exists_step searches sequential compositions (sequential=True), without warm")
     start = time.perf_counter()
     with limits.deadline(timeout):
         k = horizon_of(inst, horizon)
@@ -190,7 +201,7 @@ def solve(
                     _validated(inst, result, k, sequential, prune, timings)
             else:
                 search = (
-                    _Search(inst, k, sequential, backend, timings)
+                    _Search(inst, k, sequential, backend, timings, exists=exists_step)
                     if warm is None
                     else warm.search(inst, k, sequential, backend, timings)
                 )
@@ -203,14 +214,25 @@ def solve(
                 if result.status is SolveStatus.UNSAT and most is not None and not result.final:
                     result.final = True
                     result.reason = _states_reason(most)
+                if result.status is SolveStatus.SAT and exists_step:
+                    assert result.plan is not None
+                    result.plan = linearised(result.plan)
+                    result.shortest = False
                 if result.status is SolveStatus.SAT and validate_answer:
-                    _validated(inst, result, k, sequential, prune, timings)
+                    steps = max(k, len(result.plan)) if exists_step and result.plan is not None else k
+                    _validated(inst, result, steps, sequential, prune, timings)
         except limits.Stopped as stop:  # encoding or validating when the time ran out
             result = SolveResult(SolveStatus.UNKNOWN, k, reason=stop.reason, length_bound=use_bound(inst))
     result.sequential, result.strategy, result.backend = sequential, strategy, backend
     timings["total"] = time.perf_counter() - start
     result.timings = timings
     return result
+
+
+def linearised(plan: Plan) -> Plan:
+    """A composition of ∃-steps as the sequential one it stands for: each step's activations
+    one per step, in the order the step fires them (the encoder's, which the plan keeps)."""
+    return Plan(tuple((a,) for step in plan.steps for a in step), plan.fresh)
 
 
 def _state_steps(inst: ir.Instance, k: int) -> int | None:
@@ -347,6 +369,7 @@ class _Search:
         backend: str,
         timings: dict[str, float],
         assumed: frozenset[str] = frozenset(),
+        exists: bool = False,
     ) -> None:
         self.k = k
         self.bound = use_bound(inst)
@@ -355,7 +378,7 @@ class _Search:
         self.timings = timings
         self.tried = 0
         t0 = time.perf_counter()
-        self.enc = Encoder(inst, k, sequential=sequential, assumed=assumed)
+        self.enc = Encoder(inst, k, sequential=sequential and not exists, assumed=assumed, exists=exists)
         t1 = time.perf_counter()
         self.solver = open_backend(backend)
         t2 = time.perf_counter()
