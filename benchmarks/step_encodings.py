@@ -45,9 +45,10 @@ DEFAULT_ONLY = (
 
 
 def run_mode(inst, report, up_problem, mode: str, timeout: float, horizon: int) -> dict:
+    from planning_corpus import _pddl_steps
+
     from catc.bench import corpus
     from catc.queries.solve import solve
-    from planning_corpus import _pddl_steps
 
     t0 = time.perf_counter()
     r = solve(
@@ -74,11 +75,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--horizon", type=int, default=200)
     ap.add_argument("--only", nargs="*", default=list(DEFAULT_ONLY))
     args = ap.parse_args(argv)
+    from planning_corpus import tasks
     from unified_planning.io import PDDLReader
     from unified_planning.shortcuts import get_environment
 
     from catc.frontend.up_import import up_to_instance
-    from planning_corpus import tasks
 
     get_environment().credits_stream = None
     chosen = [t for t in tasks() if not args.only or t.name in args.only]
@@ -101,7 +102,9 @@ def main(argv: list[str] | None = None) -> int:
             opt = "unsolvable" if task.optimal is None else str(task.optimal)
             print(f"| {task.name} | {opt} | " + " | ".join(cells) + " |", flush=True)
     print()
-    print(f"`python benchmarks/step_encodings.py --timeout {args.timeout:g}" + (" --only ..." if args.only else "") + "`")
+    print(
+        f"`python benchmarks/step_encodings.py --timeout {args.timeout:g}" + (" --only ..." if args.only else "") + "`"
+    )
     return 0
 
 
