@@ -152,18 +152,9 @@ def solve(
     values and goal is answered on the same solver, whose initial values and goals sit behind
     assumption literals; any other change (the domain, its objects, the horizon, the
     semantics, the backend) encodes afresh.  The answers are the same as without it.
-
-    ``exists_step`` (with ``sequential``, not with ``warm``): the SMT search encodes ∃-step
-    parallel steps (:meth:`~catc.smt.encoder.Encoder._exists_step`): a step is a run of
-    activations in a fixed order, and the composition found is :func:`linearised` into a
-    sequential one, which the validator replays. The horizon counts ∃-steps, so longer
-    compositions are reached, but the composition is not proven shortest (``shortest`` is
-    False). An UNSAT at horizon h still says that no sequential composition of at most h
-    steps exists (each of its steps is an ∃-step of one activation)."""
-    if strategy not in STRATEGIES:
+    ``exists_step`` (``sequential``, no ``warm``): ∃-steps in the SMT search (:func:`_deepen`)."""
+    if strategy not in STRATEGIES or (exists_step and (not sequential or warm is not None)):
         raise ValueError(f"unknown strategy {strategy!r}; expected one of {', '.join(STRATEGIES)}")
-    if exists_step and (not sequential or warm is not None):
-        raise ValueError("exists_step searches sequential compositions (sequential=True), without warm")
     start = time.perf_counter()
     with limits.deadline(timeout):
         k = horizon_of(inst, horizon)
@@ -205,27 +196,49 @@ def solve(
                     if warm is None
                     else warm.search(inst, k, sequential, backend, timings)
                 )
-                most = _state_steps(inst, k)  # every state within this many steps: deepen no further
-                if strategy == "single":
-                    horizons: range | tuple[int, ...] = (k,)
-                else:
-                    horizons = range((k if most is None else most) + 1)
-                result = search.run(horizons, progress, phase)
-                if result.status is SolveStatus.UNSAT and most is not None and not result.final:
-                    result.final = True
-                    result.reason = _states_reason(most)
-                if result.status is SolveStatus.SAT and exists_step:
-                    assert result.plan is not None
-                    result.plan = linearised(result.plan)
-                    result.shortest = False
+                result = _deepen(inst, search, k, strategy, progress, phase, exists_step)
                 if result.status is SolveStatus.SAT and validate_answer:
-                    steps = max(k, len(result.plan)) if exists_step and result.plan is not None else k
-                    _validated(inst, result, steps, sequential, prune, timings)
+                    _validated(inst, result, max(k, len(result.plan or ())), sequential, prune, timings)
         except limits.Stopped as stop:  # encoding or validating when the time ran out
             result = SolveResult(SolveStatus.UNKNOWN, k, reason=stop.reason, length_bound=use_bound(inst))
     result.sequential, result.strategy, result.backend = sequential, strategy, backend
     timings["total"] = time.perf_counter() - start
     result.timings = timings
+    return result
+
+
+def _deepen(
+    inst: ir.Instance,
+    search: _Search,
+    k: int,
+    strategy: str,
+    progress: Progress | None,
+    phase: str,
+    exists_step: bool,
+) -> SolveResult:
+    """The SMT search's answer: horizons 0..k (``single``: k alone), no further than the
+    reachable-state bound (:func:`_state_steps`), which then makes an UNSAT final.
+
+    ``exists_step`` (with ``sequential``, not with ``warm``): the search encodes ∃-step
+    parallel steps (:meth:`~catc.smt.encoder.Encoder._exists_step`): a step is a run of
+    activations in a fixed order, and the composition found is :func:`linearised` into a
+    sequential one, which the validator replays. The horizon counts ∃-steps, so longer
+    compositions are reached, but the composition is not proven shortest (``shortest`` is
+    False). An UNSAT at horizon h still says that no sequential composition of at most h
+    steps exists (each of its steps is an ∃-step of one activation)."""
+    most = _state_steps(inst, k)  # every state within this many steps: deepen no further
+    if strategy == "single":
+        horizons: range | tuple[int, ...] = (k,)
+    else:
+        horizons = range((k if most is None else most) + 1)
+    result = search.run(horizons, progress, phase)
+    if result.status is SolveStatus.UNSAT and most is not None and not result.final:
+        result.final = True
+        result.reason = _states_reason(most)
+    if result.status is SolveStatus.SAT and exists_step:
+        assert result.plan is not None
+        result.plan = linearised(result.plan)
+        result.shortest = False
     return result
 
 
