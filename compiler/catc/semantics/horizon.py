@@ -87,18 +87,12 @@ def state_bound(inst: ir.Instance, most: int) -> int | None:
     parallel steps the states between steps are those of a sequential execution (the
     non-interference rules make a step's activations run in any order, :mod:`catc.smt.encoder`),
     so the inferred bounds, argued over sequential steps, hold there as well."""
-    from catc.semantics.validate import initial_state
-
+    if inst.domain.holes:  # a hole's μ writes what no morphism does (catc synthesize): not counted here
+        return None
     written = {e.resource for m in inst.morphisms.values() for e in m.effects}
-    numbers = [
-        r.name
-        for r in inst.resources.values()
-        if r.name in written and r.sort.kind in (ir.SortKind.INT, ir.SortKind.REAL)
-    ]
-    init = initial_state(inst) if numbers else {}
-    inferred = _inferred_bounds(inst, init) if numbers else {}
     named_only = not any(p.sort.is_symbolic for m in inst.morphisms.values() for p in m.params)
     size = 1
+    numbers: list[ir.Resource] = []
     for r in inst.resources.values():
         kind = r.sort.kind
         if r.name not in written:
@@ -113,16 +107,43 @@ def state_bound(inst: ir.Instance, most: int) -> int | None:
             assert r.sort.element is not None  # a set sort's element sort
             n = 2 ** len(inst.constants_of(r.sort.element))
         elif kind in (ir.SortKind.INT, ir.SortKind.REAL):
-            n_or_none = _number_values(inst, r, init.get(r.name), inferred.get(r.name, (None, None)))
-            if n_or_none is None:
-                return None
-            n = n_or_none
+            if not _constant_changes(inst, r.name) and not (
+                kind is ir.SortKind.INT and r.lower is not None and r.upper is not None
+            ):
+                return None  # changed by a non-constant, and no declared range of integers
+            numbers.append(r)
+            continue
         else:
             return None
         size *= max(1, n)
         if size > most:
             return None
+    if not numbers:
+        return size
+    # the inferred bounds (and the forward search's module, ~70 ms to import) only where needed
+    from catc.semantics.validate import initial_state
+
+    init = initial_state(inst)
+    needs = any(r.lower is None or r.upper is None for r in numbers)
+    inferred = _inferred_bounds(inst, init) if needs else {}
+    for r in numbers:
+        n_or_none = _number_values(inst, r, init.get(r.name), inferred.get(r.name, (None, None)))
+        if n_or_none is None:
+            return None
+        size *= max(1, n_or_none)
+        if size > most:
+            return None
     return size
+
+
+def _constant_changes(inst: ir.Instance, name: str) -> bool:
+    """Every effect on resource ``name`` is by a constant number."""
+    return all(
+        isinstance(e.value, ir.Const) and isinstance(e.value.value, Fraction)
+        for m in inst.morphisms.values()
+        for e in m.effects
+        if e.resource == name
+    )
 
 
 def _inferred_bounds(inst: ir.Instance, init: dict[str, Any]) -> dict[str, tuple[Any, Any]]:
