@@ -24,8 +24,9 @@ Statuses, honestly:
   ``max_horizon`` + 1 states (some best plan visits no state twice: N − 1 actions); and
   oversubscription when every goal is reached. Otherwise ``SOLVED_SATISFICING``.
 * ``UNSOLVABLE_PROVEN`` — catc's answer is a proof for every horizon: the relaxed-reachability
-  refutation, or a finite state space (Boolean and object fluents only) whose every state is
-  within the horizon searched.
+  refutation, or a finite state space (Boolean and object fluents, and numbers bounded by
+  declaration or by the preconditions guarding their changes) whose every state is within the
+  horizon searched.
 * ``UNSOLVABLE_INCOMPLETELY`` — no plan within the horizon searched (``max_horizon``), or the
   solver could not decide. ``TIMEOUT`` — the time ran out before any answer (while grounding,
   encoding or solving: every stop by the clock, whatever the solver calls it).
@@ -50,7 +51,7 @@ from catc.frontend import up_import
 from catc.frontend.up_import import ImportReport, UpImportError, UpImportStopped, plan_to_up, up_to_instance
 from catc.queries.diagnose import DiagnoseStatus, diagnose
 from catc.queries.optimize import OptStatus, optimize
-from catc.queries.solve import SolveResult, SolveStatus, solve
+from catc.queries.solve import SolveResult, SolveStatus, solve, state_bound
 from catc.semantics.plan import Plan
 from catgrammar import limits
 
@@ -412,22 +413,12 @@ def _finite_states_within(inst: ir.Instance, horizon: int) -> bool:
 
 
 def _finite_states(inst: ir.Instance, most: int) -> int | None:
-    """An upper bound on the number of states when it is finite and at most ``most`` (Boolean,
-    object and bounded int fluents only; a shortest plan visits no state twice, so it has
-    fewer actions than that), else None."""
-    size = 1
-    for r in inst.resources.values():
-        if r.sort.kind is ir.SortKind.BOOL:
-            size *= 2
-        elif r.sort.kind is ir.SortKind.SYMBOL:
-            size *= max(1, len(inst.constants_of(r.sort)))
-        elif r.sort.kind is ir.SortKind.INT and r.lower is not None and r.upper is not None:
-            size *= max(1, int(r.upper - r.lower) + 1)
-        else:
-            return None
-        if size > most:
-            return None
-    return size
+    """An upper bound on the number of states when it is finite and at most ``most``, else
+    None (:func:`catc.semantics.horizon.state_bound`: Boolean, object and bounded numeric
+    fluents — bounds declared, or inferred from the preconditions that guard every change of
+    an imported number, whose constant changes keep it on a lattice); a shortest plan visits
+    no state twice, so it has fewer actions than that."""
+    return state_bound(inst, most)
 
 
 def register(environment: Any = None) -> None:

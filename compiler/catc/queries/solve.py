@@ -41,7 +41,7 @@ from catc.queries.base import (
     timeout_option,
 )
 from catc.semantics.compositions import canonical_fresh, checked, prune_plan
-from catc.semantics.horizon import horizon_of, use_bound
+from catc.semantics.horizon import horizon_of, state_bound, use_bound
 from catc.semantics.plan import Plan
 from catc.semantics.relaxed import Refutation, refute
 from catc.semantics.validate import validate
@@ -139,6 +139,7 @@ def solve(
     phase: str = "solving",
     presolve: bool = True,
     warm: WarmStart | None = None,
+    exists_step: bool = False,
 ) -> SolveResult:
     """The shortest composition within the horizon (``strategy="incremental"``), or any
     composition (``"single"``), on the named backend.  ``progress(message)`` is told each
@@ -150,8 +151,9 @@ def solve(
     solver between calls: a problem that differs from the previous one only in its initial
     values and goal is answered on the same solver, whose initial values and goals sit behind
     assumption literals; any other change (the domain, its objects, the horizon, the
-    semantics, the backend) encodes afresh.  The answers are the same as without it."""
-    if strategy not in STRATEGIES:
+    semantics, the backend) encodes afresh.  The answers are the same as without it.
+    ``exists_step`` (``sequential``, no ``warm``): ∃-steps in the SMT search (:func:`_deepen`)."""
+    if strategy not in STRATEGIES or (exists_step and (not sequential or warm is not None)):
         raise ValueError(f"unknown strategy {strategy!r}; expected one of {', '.join(STRATEGIES)}")
     start = time.perf_counter()
     with limits.deadline(timeout):
@@ -190,19 +192,79 @@ def solve(
                     _validated(inst, result, k, sequential, prune, timings)
             else:
                 search = (
-                    _Search(inst, k, sequential, backend, timings)
+                    _Search(inst, k, sequential, backend, timings, exists=exists_step)
                     if warm is None
                     else warm.search(inst, k, sequential, backend, timings)
                 )
-                result = search.run(range(k + 1) if strategy != "single" else (k,), progress, phase)
+                result = _deepen(inst, search, k, strategy, progress, phase, exists_step)
                 if result.status is SolveStatus.SAT and validate_answer:
-                    _validated(inst, result, k, sequential, prune, timings)
+                    _validated(inst, result, max(k, len(result.plan or ())), sequential, prune, timings)
         except limits.Stopped as stop:  # encoding or validating when the time ran out
             result = SolveResult(SolveStatus.UNKNOWN, k, reason=stop.reason, length_bound=use_bound(inst))
     result.sequential, result.strategy, result.backend = sequential, strategy, backend
     timings["total"] = time.perf_counter() - start
     result.timings = timings
     return result
+
+
+def _deepen(
+    inst: ir.Instance,
+    search: _Search,
+    k: int,
+    strategy: str,
+    progress: Progress | None,
+    phase: str,
+    exists_step: bool,
+) -> SolveResult:
+    """The SMT search's answer: horizons 0..k (``single``: k alone), no further than the
+    reachable-state bound (:func:`_state_steps`), which then makes an UNSAT final.
+
+    ``exists_step`` (with ``sequential``, not with ``warm``): the search encodes ∃-step
+    parallel steps (:meth:`~catc.smt.encoder.Encoder._exists_step`): a step is a run of
+    activations in a fixed order, and the composition found is :func:`linearised` into a
+    sequential one, which the validator replays. The horizon counts ∃-steps, so longer
+    compositions are reached, but the composition is not proven shortest (``shortest`` is
+    False). An UNSAT at horizon h still says that no sequential composition of at most h
+    steps exists (each of its steps is an ∃-step of one activation)."""
+    most = _state_steps(inst, k)  # every state within this many steps: deepen no further
+    if strategy == "single":
+        horizons: range | tuple[int, ...] = (k,)
+    else:
+        horizons = range((k if most is None else most) + 1)
+    result = search.run(horizons, progress, phase)
+    if result.status is SolveStatus.UNSAT and most is not None and not result.final:
+        result.final = True
+        result.reason = _states_reason(most)
+    if result.status is SolveStatus.SAT and exists_step:
+        assert result.plan is not None
+        result.plan = linearised(result.plan)
+        result.shortest = False
+    return result
+
+
+def linearised(plan: Plan) -> Plan:
+    """A composition of ∃-steps as the sequential one it stands for: each step's activations
+    one per step, in the order the step fires them (the encoder's, which the plan keeps)."""
+    return Plan(tuple((a,) for step in plan.steps for a in step), plan.fresh)
+
+
+def _state_steps(inst: ir.Instance, k: int) -> int | None:
+    """N − 1 for a model of at most N ≤ k + 1 states (:func:`state_bound`), else None: a
+    shortest composition visits no state twice, so none within N − 1 steps is none at all,
+    and the deepening stops there. None also where the use limits already bound the length
+    within ``k`` (that proof needs no count)."""
+    uses = use_bound(inst)
+    if uses is not None and uses <= k:
+        return None
+    n = state_bound(inst, k + 1)
+    return None if n is None else max(n - 1, 0)
+
+
+def _states_reason(most: int) -> str:
+    return (
+        f"the model has at most {counted(most + 1, 'state')}, so some shortest composition, if any, "
+        f"has at most {counted(most, 'step')} (it visits no state twice)"
+    )
 
 
 def _forward(
@@ -320,6 +382,7 @@ class _Search:
         backend: str,
         timings: dict[str, float],
         assumed: frozenset[str] = frozenset(),
+        exists: bool = False,
     ) -> None:
         self.k = k
         self.bound = use_bound(inst)
@@ -328,7 +391,7 @@ class _Search:
         self.timings = timings
         self.tried = 0
         t0 = time.perf_counter()
-        self.enc = Encoder(inst, k, sequential=sequential, assumed=assumed)
+        self.enc = Encoder(inst, k, sequential=sequential and not exists, assumed=assumed, exists=exists)
         t1 = time.perf_counter()
         self.solver = open_backend(backend)
         t2 = time.perf_counter()

@@ -68,12 +68,15 @@ def _text(t: Term) -> str:
 
 
 class _Ctx:
-    __slots__ = ("t", "params", "guards")
+    __slots__ = ("t", "params", "guards", "state")
 
-    def __init__(self, t: int, params: dict[str, Term], guards: list[str]) -> None:
+    def __init__(
+        self, t: int, params: dict[str, Term], guards: list[str], state: dict[str, Term] | None = None
+    ) -> None:
         self.t = t
         self.params = params
         self.guards = guards
+        self.state = state  # the resources read (∃-step: the state after the step's earlier morphisms)
 
 
 _SMT_SORT = {
@@ -96,8 +99,10 @@ class Encoder:
         slack: dict[str, str] | None = None,
         extra_written: frozenset[str] = frozenset(),
         assumed: frozenset[str] = frozenset(),
+        exists: bool = False,
     ) -> None:
-        """``slack`` maps labels of relaxable requirements (numeric initial values and
+        """``exists`` (not with ``sequential``): ∃-step parallel steps (:meth:`_exists_step`).
+        ``slack`` maps labels of relaxable requirements (numeric initial values and
         order comparisons) to the name of a slack term that weakens them (``catc relax``).
         ``extra_written`` names resources something besides the morphisms may write (a hole
         μ, ``catc synthesize``), which then add their effects through ``step_hook``."""
@@ -106,6 +111,9 @@ class Encoder:
         self.step_hook: StepHook | None = None  # called as hook(t, actions, assigns, deltas, adds, removes)
         self.horizon = horizon
         self.sequential = sequential
+        if exists and sequential:
+            raise ValueError("∃-step steps are parallel steps: not with sequential=True")
+        self.exists = exists
         self.track = track
         self.assumed = assumed
         check_horizon(None, horizon)
@@ -227,7 +235,24 @@ class Encoder:
                     if m.uses != 0:  # a morphism switched off (:uses 0) has no values to choose
                         self._param_constraints(m, p, v)
         self.theta.append(theta)
+        if self.exists:
+            self._exists_step(t, s, nxt, b, theta)
+        else:
+            self._forall_step(t, s, nxt, b, theta)
+        if t > 0:  # symmetry breaking: idle steps only at the end (compositions compact)
+            self.add(None, f"(=> (not {_or(list(self.act[t - 1].values()))}) (not {_or(list(b.values()))}))")
+        return t
 
+    def _forall_step(
+        self,
+        t: int,
+        s: dict[str, Term],
+        nxt: dict[str, Term],
+        b: dict[str, Symbol],
+        theta: dict[tuple[str, str], Term],
+    ) -> None:
+        """Sequential steps, or parallel steps whose activations do not interfere (each reads
+        state ``t``; any order of them runs alike)."""
         for m in self.morphisms:
             limits.check_time("encoding")  # a step of thousands of morphisms takes seconds (issue 28)
             params = {p.name: theta[(m.name, p.name)] for p in m.params}
@@ -272,9 +297,78 @@ class Encoder:
                     r, s[r.name], nxt[r.name], assigns[r.name], deltas[r.name], adds[r.name], removes[r.name]
                 )
         self._interference(b, adds, removes)
-        if t > 0:  # symmetry breaking: idle steps only at the end (compositions compact)
-            self.add(None, f"(=> (not {_or(list(self.act[t - 1].values()))}) (not {_or(list(b.values()))}))")
-        return t
+
+    def _exists_step(
+        self,
+        t: int,
+        s: dict[str, Term],
+        nxt: dict[str, Term],
+        b: dict[str, Symbol],
+        theta: dict[tuple[str, str], Term],
+    ) -> None:
+        """∃-step parallel steps, in their relaxed form (R²∃, Bofill et al. 2016): the morphisms
+        of a step fire in one fixed order (:attr:`morphisms`), each reading the state its
+        predecessors in the step left — an intermediate state, a fresh variable for each
+        resource it writes (within the resource's bounds, as every state). An active morphism's
+        preconditions hold on the state before it and its effects make the state after it, so
+        the step is the sequential execution of its activations in that order: a composition of
+        h such steps linearises (``catc.queries.solve.linearised``) to a sequential one of the same
+        activations, which the validator replays. No interference rules are needed, and
+        neither is the ∃-step condition that no action disables a later one: it holds by
+        construction, each precondition read where it applies."""
+        assert self.step_hook is None, "∃-step steps have no hook (catc synthesize encodes ∀-steps)"
+        cur = dict(s)
+        zero = {SortKind.REAL: "0.0"}
+        for i, m in enumerate(self.morphisms):
+            limits.check_time("encoding")
+            params = {p.name: theta[(m.name, p.name)] for p in m.params}
+            for lit in m.pre:
+                ctx = _Ctx(t, params, [], cur)
+                body = self._literal(lit, ctx)
+                self.add(lit.label, f"(=> {b[m.name]} {_and([body] + ctx.guards)})")
+            assigns: dict[str, Assigns] = defaultdict(list)
+            deltas: dict[str, Deltas] = defaultdict(list)
+            adds: dict[str, SetChanges] = defaultdict(list)
+            removes: dict[str, SetChanges] = defaultdict(list)
+            for e in m.effects:
+                res = self.inst.resources[e.resource]
+                ctx = _Ctx(t, params, [], cur)
+                value = self.term(e.value, ctx)
+                if e.kind in (ir.EffectKind.INCREASE, ir.EffectKind.DECREASE, ir.EffectKind.ASSIGN):
+                    value = self._as(value, e.value.sort, res.sort)
+                if ctx.guards:
+                    self.add(e.label, f"(=> {b[m.name]} {_and(ctx.guards)})")
+                on = self.effect_guard(e, b[m.name])
+                z = zero.get(res.sort.kind, "0")
+                if e.kind is ir.EffectKind.ASSIGN:
+                    assigns[e.resource].append((on, value))
+                elif e.kind is ir.EffectKind.INCREASE:
+                    deltas[e.resource].append(f"(ite {on} {value} {z})")
+                elif e.kind is ir.EffectKind.DECREASE:
+                    deltas[e.resource].append(f"(ite {on} (- {value}) {z})")
+                elif e.kind is ir.EffectKind.ADD:
+                    adds[e.resource].append((m.name, on, value))
+                else:
+                    removes[e.resource].append((m.name, on, value))
+            after = dict(cur)
+            for name in dict.fromkeys(e.resource for e in m.effects):
+                r = self.inst.resources[name]
+                after[name] = self._intermediate(r, t, i)
+                self._successor(r, cur[name], after[name], assigns[name], deltas[name], adds[name], removes[name])
+            cur = after
+        for r in self.resources:
+            if r.name in self.written:
+                self.add(None, self._equal(nxt[r.name], cur[r.name]))
+
+    def _intermediate(self, r: ir.Resource, t: int, i: int) -> Term:
+        """Resource ``r`` after the ``i``-th morphism of step ``t`` (∃-step), within its bounds."""
+        v = self._var(f"s.{r.name}.{t}.{i}", r.sort)
+        lit = real_literal if r.sort.kind is SortKind.REAL else (lambda f: int_literal(int(f)))
+        if r.lower is not None:
+            self.add(self.bounds_labels[r.name], f"(>= {v} {lit(r.lower)})")
+        if r.upper is not None:
+            self.add(self.bounds_labels[r.name], f"(<= {v} {lit(r.upper)})")
+        return v
 
     def effect_guard(self, e: ir.Effect, on: str) -> str:
         """When the effect acts.  With tracking, an effect also needs its label's indicator
@@ -448,6 +542,8 @@ class Encoder:
         return int_literal(v.numerator) if e.sort.kind is SortKind.INT else real_literal(v)
 
     def _resource(self, e: ir.ResourceRef, ctx: _Ctx) -> Term:
+        if ctx.state is not None:
+            return ctx.state[e.name]
         return self.states[ctx.t][e.name]
 
     def _param(self, e: ir.ParamRef, ctx: _Ctx) -> Term:
