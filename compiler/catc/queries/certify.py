@@ -41,7 +41,17 @@ from typing import Any
 from catc import ir
 from catc.ir import SortKind
 from catc.present.console import Console, counted, escape
-from catc.queries.base import ExitCode, InputError, Kind, Option, Query, Result, Status, json_option
+from catc.queries.base import (
+    ExitCode,
+    InputError,
+    Kind,
+    Option,
+    Query,
+    Result,
+    Status,
+    json_option,
+    objectives_option,
+)
 from catgrammar import codes
 
 SCHEMA = "catc.certificate/1"
@@ -760,15 +770,78 @@ def _replay_least(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any
 # -- an optimum of catc optimize / catc recompose: the witness, and nothing better
 
 
-def _objectives(inst: ir.Instance, spec: Any) -> tuple[ir.Instance, list[ir.Objective], list[ir.Soft]]:
+#: The certificate's objectives when they were given on the command line (``--minimize``,
+#: ``--maximize``): their source text, which only an interface may parse (the frontend is not
+#: the queries' to import) — :func:`objective_texts` gives it, and the IR comes back as
+#: ``certify(..., objectives=...)``.
+COMMAND_LINE = "command-line"
+
+
+def command_line_spec(objectives: Sequence[ir.Objective], texts: Any) -> dict:
+    """The certificate's ``objectives`` entry for objectives given on the command line:
+    each one's sense and source text, in lexicographic order (NotCertifiable when the
+    interface did not keep the text)."""
+    pairs = list(texts or ())
+    if len(pairs) != len(objectives) or any(s != o.sense.value for (s, _), o in zip(pairs, objectives)):
+        raise NotCertifiable("the command-line objectives' text was not kept by the interface that asked")
+    return {"kind": COMMAND_LINE, "terms": [{"sense": s, "term": t} for s, t in pairs]}
+
+
+def objective_texts(doc: Mapping[str, Any]) -> list[tuple[str, str]]:
+    """The ``(sense, text)`` pairs a certificate of command-line objectives stores, in
+    lexicographic order ([] for the problem's own metric; E1302 when malformed)."""
+    spec = doc.get("objectives")
+    if not (isinstance(spec, dict) and spec.get("kind") == COMMAND_LINE):
+        return []
+    terms = spec.get("terms")
+    if not (isinstance(terms, list) and terms and all(_term_spec(t) for t in terms)):
+        raise InputError(
+            "a certificate of command-line objectives needs each one's sense and term", codes.BAD_CERTIFICATE
+        )
+    return [(t["sense"], t["term"]) for t in terms]
+
+
+def _term_spec(t: Any) -> bool:
+    return isinstance(t, dict) and t.get("sense") in ("minimize", "maximize") and isinstance(t.get("term"), str)
+
+
+def _given(spec: Mapping[str, Any], given: Sequence[ir.Objective] | None) -> list[ir.Objective]:
+    """The IR of a certificate's command-line objectives, as the interface parsed them (E1304
+    when none did: only an interface may parse text; E1303 when they are not the stored ones)."""
+    stored = objective_texts({"objectives": spec})
+    if given is None:
+        raise InputError(
+            "the certificate's objectives were given on the command line ("
+            + ", ".join(f"--{s} {t}" for s, t in stored)
+            + "): their text is read by catc certify (in Python: certify(..., objectives=[...]))",
+            codes.NOT_CERTIFIABLE,
+        )
+    if [o.sense.value for o in given] != [s for s, _ in stored]:
+        raise InputError(
+            "the objectives given are not the certificate's: " + ", ".join(f"{s} {t}" for s, t in stored),
+            codes.CERTIFICATE_MISMATCH,
+        )
+    return list(given)
+
+
+def _objectives(
+    inst: ir.Instance, spec: Any, given: Sequence[ir.Objective] | None = None
+) -> tuple[ir.Instance, list[ir.Objective], list[ir.Soft]]:
     """The model (with the certificate's deployed composition, for recompose), the objectives
-    in lexicographic order and the soft constraints an optimum is claimed for (E1302)."""
+    in lexicographic order and the soft constraints an optimum is claimed for (E1302);
+    ``given``: the IR of command-line objectives, parsed by the interface."""
     from dataclasses import replace
 
     from catc.queries.optimum import objectives_of
 
     kind = spec.get("kind") if isinstance(spec, dict) else None
-    if kind == "recompose" and spec.get("priority") in ("stability", "objective"):
+    if given is not None and kind != COMMAND_LINE:
+        raise InputError(
+            "objectives were given, but the certificate is for the problem's own objectives", codes.CERTIFICATE_MISMATCH
+        )
+    if kind == COMMAND_LINE:
+        objectives = _given(spec, given)
+    elif kind == "recompose" and spec.get("priority") in ("stability", "objective"):
         deployed = spec.get("deployed")
         if not (isinstance(deployed, list) and all(m in inst.morphisms for m in deployed)):
             raise InputError("the certificate's deployed composition is not of the model", codes.BAD_CERTIFICATE)
@@ -779,7 +852,9 @@ def _objectives(inst: ir.Instance, spec: Any) -> tuple[ir.Instance, list[ir.Obje
     elif kind == "metric":
         objectives = objectives_of(inst)
     else:
-        raise InputError("the certificate's objectives are not known: metric or recompose", codes.BAD_CERTIFICATE)
+        raise InputError(
+            "the certificate's objectives are not known: metric, recompose or command-line", codes.BAD_CERTIFICATE
+        )
     softs = list(inst.problem.softs)
     if not objectives and softs:
         objectives = [ir.Objective(ir.Sense.MINIMIZE, ir.Const(Fraction(0), ir.REAL))]
@@ -824,18 +899,19 @@ def optimal_certificate(inst: ir.Instance, result: Any, options: Mapping[str, An
     """The certificate of a proven optimum of optimize or recompose (NotCertifiable otherwise)."""
     from catc.semantics.plan import plan_to_json
 
-    if options.get("objectives"):
-        raise NotCertifiable("objectives given on the command line: a certificate states the problem's own metric")
+    given = options.get("objectives") or None
     if result.query == "recompose":
         spec: dict[str, Any] = {"kind": "recompose", "priority": result.priority, "deployed": list(result.deployed)}
         result = result.result
+    elif given is not None:
+        spec = command_line_spec(given, options.get("objective_source"))
     else:
         spec = {"kind": "metric"}
     values = [v.value for v in result.values]
     if result.status.value != "opt" or result.plan is None or not all(v.attained for v in result.values):
         raise NotCertifiable("only an optimum proven and attained carries a certificate")
     sequential = bool(options.get("sequential"))
-    model, objectives, softs = _objectives(inst, spec)
+    model, objectives, softs = _objectives(inst, spec, given)
     doc: dict[str, Any] = {
         "schema": SCHEMA,
         "problem": inst.problem.name,
@@ -897,10 +973,9 @@ def pareto_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any
         raise NotCertifiable("only a complete Pareto front carries a certificate")
     if not all(p.attained for p in result.points):
         raise NotCertifiable("a point of the front is a bound no composition attains: not certified yet")
-    if options.get("objectives"):
-        raise NotCertifiable("objectives given on the command line: a certificate states the problem's own metric")
-    spec = {"kind": "metric"}
-    model, objectives = _pareto_objectives(inst, spec)
+    given = options.get("objectives") or None
+    spec = {"kind": "metric"} if given is None else command_line_spec(given, options.get("objective_source"))
+    model, objectives = _pareto_objectives(inst, spec, given)
     if [to_text(o.term) for o in objectives] != [to_text(o.term) for o in result.objectives]:
         raise NotCertifiable("the front's objectives are not the problem's metric")
     sequential = bool(options.get("sequential"))
@@ -923,11 +998,15 @@ def pareto_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any
     return doc | {"obligations": [*witnesses, front]}
 
 
-def _pareto_objectives(inst: ir.Instance, spec: Any) -> tuple[ir.Instance, list[ir.Objective]]:
+def _pareto_objectives(
+    inst: ir.Instance, spec: Any, given: Sequence[ir.Objective] | None = None
+) -> tuple[ir.Instance, list[ir.Objective]]:
     """The objectives of a front (no soft penalties: pareto does not weigh them)."""
-    if not (isinstance(spec, dict) and spec.get("kind") == "metric"):
-        raise InputError("a Pareto certificate's objectives are the problem's metric", codes.BAD_CERTIFICATE)
-    model, objectives, _ = _objectives(inst, spec)
+    if not (isinstance(spec, dict) and spec.get("kind") in ("metric", COMMAND_LINE)):
+        raise InputError(
+            "a Pareto certificate's objectives are the problem's metric or the command line's", codes.BAD_CERTIFICATE
+        )
+    model, objectives, _ = _objectives(inst, spec, given)
     if len(objectives) < 2:
         raise InputError("a Pareto front needs at least two objectives", codes.BAD_CERTIFICATE)
     return model, objectives
@@ -944,7 +1023,9 @@ def _read_points(doc: Mapping[str, Any], width: int) -> list[list[Fraction]]:
     return out
 
 
-def _replay_point(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> tuple[str, float]:
+def _replay_point(
+    inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any], given: Sequence[ir.Objective] | None = None
+) -> tuple[str, float]:
     """A front point's composition replayed, its values recomputed (optimize's scoring
     without soft penalties) and equal to the point's; and no point dominates another."""
     from catc.queries.optimum import _scores
@@ -953,7 +1034,7 @@ def _replay_point(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any
     from catc.semantics.validate import validate
 
     t0 = time.perf_counter()
-    model, objectives = _pareto_objectives(inst, doc["objectives"])
+    model, objectives = _pareto_objectives(inst, doc["objectives"], given)
     points = _read_points(doc, len(objectives))
     try:
         index = int(str(o["name"]).split("/", 1)[1]) - 1
@@ -971,7 +1052,9 @@ def _replay_point(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any
     return ("valid" if scores == claimed else "invalid"), time.perf_counter() - t0
 
 
-def _replay_optimal(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> tuple[str, float]:
+def _replay_optimal(
+    inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any], given: Sequence[ir.Objective] | None = None
+) -> tuple[str, float]:
     """The optimum's composition replayed by the validator, its objective values recomputed
     exactly (the first with the soft penalties: optimize's own scoring) and compared with the
     claimed ones."""
@@ -980,7 +1063,7 @@ def _replay_optimal(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, A
     from catc.semantics.validate import validate
 
     t0 = time.perf_counter()
-    model, objectives, softs = _objectives(inst, doc["objectives"])
+    model, objectives, softs = _objectives(inst, doc["objectives"], given)
     try:
         claimed = [Fraction(str(v)) for v in doc["values"]]
         plan = read_plan(model, o.get("plan"))
@@ -1294,8 +1377,9 @@ def _components(inst: ir.Instance, doc: Mapping[str, Any]) -> list[str] | None:
     return components
 
 
-def _expected(inst: ir.Instance, doc: Mapping[str, Any]) -> dict[str, str]:
-    """The obligations' text as the model and the certificate's claims give them."""
+def _expected(inst: ir.Instance, doc: Mapping[str, Any], given: Sequence[ir.Objective] | None = None) -> dict[str, str]:
+    """The obligations' text as the model and the certificate's claims give them (``given``:
+    the IR of command-line objectives, parsed by the interface)."""
     method, horizon = doc.get("method"), doc.get("horizon")
     if not isinstance(horizon, int) or horizon < 0:
         raise InputError("the certificate's horizon must be a whole number", codes.BAD_CERTIFICATE)
@@ -1317,7 +1401,7 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any]) -> dict[str, str]:
             raise InputError("a reachable-states certificate is for sequential steps", codes.BAD_CERTIFICATE)
         built = reachable_obligations(inst, _read_states(inst, doc.get("states")), horizon)
     elif method == "optimal":
-        model, objectives, softs = _objectives(inst, doc.get("objectives"))
+        model, objectives, softs = _objectives(inst, doc.get("objectives"), given)
         try:
             values = [Fraction(str(v)) for v in doc.get("values") or []]
         except (ValueError, ZeroDivisionError):
@@ -1327,7 +1411,7 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any]) -> dict[str, str]:
         built = [optimal_obligation(model, objectives, softs, horizon, bool(doc.get("sequential")), values)]
         return {o["name"]: o["smtlib"] for o in built} | {"witness": ""}
     elif method == "pareto":
-        model, objectives = _pareto_objectives(inst, doc.get("objectives"))
+        model, objectives = _pareto_objectives(inst, doc.get("objectives"), given)
         points = _read_points(doc, len(objectives))
         built = [pareto_obligation(model, objectives, horizon, bool(doc.get("sequential")), points)]
         return {o["name"]: o["smtlib"] for o in built} | {f"witness/{i + 1}": "" for i in range(len(points))}
@@ -1416,13 +1500,20 @@ def _same_problem(inst: ir.Instance, doc: Mapping[str, Any]) -> None:
 
 
 def certify(
-    inst: ir.Instance, certificate: str | Mapping[str, Any], *, check_timeout: float | None = None
+    inst: ir.Instance,
+    certificate: str | Mapping[str, Any],
+    *,
+    check_timeout: float | None = None,
+    objectives: Sequence[ir.Objective] | None = None,
 ) -> Certification:
-    """Check ``certificate`` (a file or a document) against ``inst`` (InputError: E1301–E1303)."""
+    """Check ``certificate`` (a file or a document) against ``inst`` (InputError: E1301–E1304).
+    ``objectives``: for a certificate of objectives given on the command line, their IR —
+    the interface parses the text the certificate stores (:func:`objective_texts`)."""
     doc = read_certificate(certificate) if isinstance(certificate, str) else dict(certificate)
     _same_problem(inst, doc)
     t0 = time.perf_counter()
-    expected = _expected(inst, doc)
+    given = list(objectives) if objectives else None
+    expected = _expected(inst, doc, given)
     seconds = CHECK_TIMEOUT if check_timeout is None else check_timeout
     smt = [o for o in doc["obligations"] if o.get("expect", "unsat") != "valid"]
     matching = [o for o in smt if _matches(o, expected.get(o["name"]))]
@@ -1435,11 +1526,11 @@ def certify(
         elif o.get("expect") == "valid" and doc.get("method") == "least" and o["name"] == "witness":
             answers[id(o)] = {WITNESS: _replay_least(inst, doc, o)}
         elif o.get("expect") == "valid" and doc.get("method") == "optimal" and o["name"] == "witness":
-            answers[id(o)] = {WITNESS: _replay_optimal(inst, doc, o)}
+            answers[id(o)] = {WITNESS: _replay_optimal(inst, doc, o, given)}
         elif o.get("expect") == "valid" and doc.get("method") == "discrete" and o["name"] == "witness":
             answers[id(o)] = {WITNESS: _replay_discrete(inst, doc, o)}
         elif o.get("expect") == "valid" and doc.get("method") == "pareto" and o["name"] in expected:
-            answers[id(o)] = {WITNESS: _replay_point(inst, doc, o)}
+            answers[id(o)] = {WITNESS: _replay_point(inst, doc, o, given)}
     rows = [_checked(o, expected.get(o["name"]), answers.get(id(o))) for o in doc["obligations"]]
     missing = sorted(_missing(doc, expected))
     rows += [
@@ -1529,8 +1620,21 @@ def _check(inst: ir.Instance, options: Mapping[str, Any]) -> str | None:
         return "give the certificate: catc certify PROBLEM CERTIFICATE"
     doc = read_certificate(path)
     _same_problem(inst, doc)
-    _expected(inst, doc)
+    _expected(inst, doc, options.get("objectives") or None)
     return None
+
+
+def _stored_objectives(options: Mapping[str, Any]) -> list[tuple[str, str]]:
+    """The query's :attr:`~catc.queries.base.Query.objective_texts`: the command-line
+    objectives the certificate stores, for the interface to parse (none when ``--minimize``
+    or ``--maximize`` restate them, or the file cannot be read: ``check`` says why)."""
+    path = options.get("certificate_file")
+    if options.get("objectives") or not path:
+        return []
+    try:
+        return objective_texts(read_certificate(path))
+    except InputError:
+        return []
 
 
 def _run(
@@ -1539,9 +1643,10 @@ def _run(
     check_timeout: float | None = None,
     horizon: int | None = None,
     sequential: bool = False,
+    objectives: list[ir.Objective] | None = None,
 ) -> Certification:
     """The query's ``run`` (the horizon and the semantics are the certificate's own)."""
-    return certify(inst, certificate_file, check_timeout=check_timeout)
+    return certify(inst, certificate_file, check_timeout=check_timeout, objectives=objectives)
 
 
 QUERY = Query(
@@ -1559,10 +1664,15 @@ QUERY = Query(
             Kind.SECONDS,
             f"Seconds each checker may take on one obligation (default {CHECK_TIMEOUT:g}).",
         ),
+        objectives_option(
+            "A command-line objective of the certificate, restated (default: the text the certificate stores).",
+            "A command-line objective of the certificate, restated (default: the text the certificate stores).",
+        ),
         json_option("catc.certify/1"),
     ),
     run=_run,
     to_json=certify_json,
     render=render,
     check=_check,
+    objective_texts=_stored_objectives,
 )
