@@ -468,6 +468,13 @@ def _labelled(inst: ir.Instance, horizon: int, sequential: bool, components: Seq
     return LabelledModel(inst, horizon, sequential=sequential, components=components)
 
 
+def _extended(inst: ir.Instance, horizon: int, components: Sequence[str] | None) -> int:
+    """The steps diagnose's labelled formula reaches past ``horizon`` (its ``horizon`` label)."""
+    from catc.smt.labelled import _extended_horizon
+
+    return _extended_horizon(inst, horizon, components)
+
+
 def _core_text(model: Any, inst: ir.Instance, enforced: Sequence[str], what: str) -> str:
     """The labelled formula diagnose asks (every label behind its indicator) with the
     indicators of ``enforced`` asserted."""
@@ -477,25 +484,81 @@ def _core_text(model: Any, inst: ir.Instance, enforced: Sequence[str], what: str
 
 
 def core_obligations(
-    inst: ir.Instance, core: Sequence[str], horizon: int, sequential: bool, components: Sequence[str] | None
+    inst: ir.Instance,
+    core: Sequence[str],
+    horizon: int,
+    sequential: bool,
+    components: Sequence[str] | None,
+    sat_for: Sequence[str] | None = None,
+    proof: str = "labelled",
 ) -> tuple[list[dict], dict[str, str]]:
-    """The core's UNSAT obligation, and for each member the text of "the core without it is
-    satisfiable" (used when no witness composition is at hand)."""
-    model = _labelled(inst, horizon, sequential, components)
-    unknown = [label for label in core if label not in model.indicator]
+    """The core's UNSAT obligation, and for each member of ``sat_for`` (default: all) the text
+    of "the core without it is satisfiable" (used when no witness composition is at hand).
+    ``proof``: the core's UNSAT over diagnose's labelled formula (``labelled``), or over the
+    consumption abstraction with the core's labels enforced (``consumption``: horizon-free,
+    so it proves more; :func:`consumption_core_text`)."""
+    from catc.ir.labels import label_index
+
+    asked = list(core if sat_for is None else sat_for)
+    lazy = proof == "consumption" and not asked and set(core) <= set(label_index(inst, horizon))
+    model = None if lazy else _labelled(inst, horizon, sequential, components)  # (its encoding takes a while)
+    unknown = [] if model is None else [label for label in core if label not in model.indicator]
     if unknown:
         raise InputError(f"the core names labels the model does not have: {', '.join(unknown)}", codes.BAD_CERTIFICATE)
-    unsat = _obligation(
-        "core",
-        f"the {len(core)} constructs of the core admit no composition (diagnose's labelled formula, "
-        f"horizon {horizon}, extended to {model.extended})",
-        _core_text(model, inst, core, "core: the core's labels together are unsat"),
-    )
+    if proof == "consumption":
+        unsat = _obligation(
+            "core",
+            f"the {len(core)} constructs of the core admit no composition of any length (the consumption "
+            "abstraction with the core's labels enforced: used components, first firings, total consumption)",
+            consumption_core_text(inst, core, components),
+        )
+    elif proof == "labelled" and model is not None:
+        unsat = _obligation(
+            "core",
+            f"the {len(core)} constructs of the core admit no composition (diagnose's labelled formula, "
+            f"horizon {horizon}, extended to {model.extended})",
+            _core_text(model, inst, core, "core: the core's labels together are unsat"),
+        )
+    else:
+        raise InputError(f"unknown proof of a core {proof!r}: labelled or consumption", codes.BAD_CERTIFICATE)
     sat = {
         label: _core_text(model, inst, [x for x in core if x != label], f"without {label} the core is satisfiable")
-        for label in core
+        for label in asked
+        if model is not None
     }
     return [unsat], sat
+
+
+def consumption_core_text(inst: ir.Instance, core: Sequence[str], components: Sequence[str] | None) -> str:
+    """The consumption abstraction (:class:`catc.smt.consumption.Consumption`, relative to
+    ``components``) with the indicators of the core's labels it has asserted and every other
+    indicator denied: every composition of any length meeting the core's labels gives a model
+    of it with the core's indicators true, and each indicator occurs *antitonically* — the
+    guard of an implication, a ``(not A)`` disjunct of a support, the condition of a
+    non-negative amount in an upper-bounded sum — so a model stays one with any other
+    indicator made false.  Unsat proves the core unsat at every horizon (a label it has no
+    indicator for is left out: weaker).  Denying them is what makes cvc5 quick (10× on a
+    100-component catalog): it need not search over the labels the core leaves free."""
+    from catc.smt.consumption import Consumption
+
+    a = Consumption(inst, components)
+    body = [*a.assertions, *(str(a.indicator[label]) for label in core if label in a.indicator)]
+    body += [f"(not {a.indicator[label]})" for label in a.labels if label not in set(core)]
+    return _script(
+        _header(inst, "core: the consumption abstraction with the core's labels enforced is unsat"),
+        [s.declaration() for s in a.declarations],
+        body,
+    )
+
+
+def _consumption_refutes_core(inst: ir.Instance, core: Sequence[str], components: Sequence[str] | None) -> bool:
+    """Whether the consumption abstraction with the core's labels enforced is unsat (z3, in
+    this process; the checkers decide it again)."""
+    from catc.smt.backend import Check
+    from catc.smt.consumption import Consumption
+
+    a = Consumption(inst, components)
+    return a.check(core)[0] is Check.UNSAT
 
 
 def core_certificate(inst: ir.Instance, diag: Any, sequential: bool, producer: str) -> dict:
@@ -509,31 +572,34 @@ def core_certificate(inst: ir.Instance, diag: Any, sequential: bool, producer: s
 
 
 def _core_document(inst: ir.Instance, diag: Any, core: list[str], sequential: bool, producer: str) -> dict:
-    from catc.semantics.plan import plan_to_json
     from catc.semantics.witness import witness_plan
 
     components = diag.relative_to
-    obligations, sat = core_obligations(inst, core, diag.horizon, sequential, components)
-    extended = _labelled(inst, diag.horizon, sequential, components).extended
+    extended = _extended(inst, diag.horizon, components)
+    witnesses = _quick_witnesses(inst, core, diag.horizon, extended) if components is None else {}
     for label in core:
+        if label in witnesses:
+            continue
         rest = frozenset(core) - {label}
         found = witness_plan(inst, rest, components, diag.horizon, extended)
-        if found is None:
+        if found is not None:
+            witnesses[label] = _witness(
+                label, found[0], {"free_initial_values": "1000000000" if found[1] else "as written"}
+            )
+        elif components is None:  # no composition fixed: solve the instance the rest leaves
+            steps = diag.horizon if ir.Label.horizon() in rest else extended
+            solved = _solved_witness(inst, rest, label, steps, sequential)
+            if solved is not None:
+                witnesses[label] = solved
+    proof = "consumption" if _consumption_refutes_core(inst, core, components) else "labelled"
+    missing = [label for label in core if label not in witnesses]
+    obligations, sat = core_obligations(inst, core, diag.horizon, sequential, components, missing, proof)
+    for label in core:
+        if label in witnesses:
+            obligations.append(witnesses[label])
+        else:
             o = _obligation(f"sat/{label}", f"the core without {label} is satisfiable", sat[label])
             obligations.append(o | {"expect": "sat", "producer": producer})
-            continue
-        plan, big = found
-        obligations.append(
-            {
-                "name": f"witness/{label}",
-                "proves": f"the core without {label} is satisfiable: this composition meets every other member",
-                "expect": "valid",
-                "checkers": [WITNESS],
-                "producer": "catc.witness",
-                "plan": plan_to_json(plan),
-                "free_initial_values": "1000000000" if big else "as written",
-            }
-        )
     doc: dict[str, Any] = {
         "schema": SCHEMA,
         "problem": inst.problem.name,
@@ -542,9 +608,111 @@ def _core_document(inst: ir.Instance, diag: Any, core: list[str], sequential: bo
     }
     doc |= {"answer": "core", "method": "core", "producer": producer, "horizon": diag.horizon}
     doc |= {"sequential": sequential, "components": None if components is None else list(components), "core": core}
+    doc["core_proof"] = proof
     for o in obligations:
         o.setdefault("producer", producer)
     return doc | {"obligations": obligations}
+
+
+def _witness(label: str, plan: Any, how: Mapping[str, Any]) -> dict:
+    """The obligation "this composition meets every member of the core but ``label``"."""
+    from catc.semantics.plan import plan_to_json
+
+    return {
+        "name": f"witness/{label}",
+        "proves": f"the core without {label} is satisfiable: this composition meets every other member",
+        "expect": "valid",
+        "checkers": [WITNESS],
+        "producer": "catc.witness",
+        "plan": plan_to_json(plan),
+        **how,
+    }
+
+
+def _quick_witnesses(inst: ir.Instance, core: Sequence[str], horizon: int, extended: int) -> dict[str, dict]:
+    """The witnesses diagnose's first try finds without a solver (issue 24's
+    :class:`~catc.queries.cores.QuickCores`: the least-cost bound's supports, replayed by the
+    validator on the instance the other members leave, *freed* as the labelled formula may
+    choose — a dropped decrease does not happen, a dropped Boolean or set initial value holds
+    every fact; ``"replay": "freed"``)."""
+    from catc.queries.cores import QuickCores
+
+    quick = QuickCores(inst, horizon, extended)
+    labels = [label for label in core if label in quick.bound.relevant]
+    if len(labels) != len(core):
+        return {}
+    quick.bound.focus(labels)
+    quick.irreducible(list(core))
+    return {
+        label: _witness(label, plan, {"free_initial_values": "1000000000" if big else "as written", "replay": "freed"})
+        for label, (plan, big) in quick.witnesses.items()
+    }
+
+
+#: Seconds :func:`_solved_witness` gives the solver per try (none found: a ``sat`` obligation).
+WITNESS_SECONDS = 5.0
+
+
+def _solved_witness(inst: ir.Instance, rest: frozenset, label: str, steps: int, sequential: bool) -> dict | None:
+    """A witness of "the core without ``label``" found by ``catc solve`` on the instance the
+    other members leave (:func:`witness_instance`): a dropped effect of the member removed
+    (it may or may not happen), a dropped Boolean initial value of the member flipped, free
+    numeric initial values as written, then at 10⁹.  None when solve finds none in time."""
+    from catc.queries.solve import solve
+
+    member = ir.Label.parse(label)
+    removed = [label] if member.kind is ir.LabelKind.EFF else []
+    initial: dict[str, bool] = {}
+    if member.kind is ir.LabelKind.INIT:
+        given = inst.problem.init.get(member.parts[0])
+        if given is not None and isinstance(given.value, ir.Const) and isinstance(given.value.value, bool):
+            initial[member.parts[0]] = not given.value.value
+    for big in (False, True):
+        how: dict[str, Any] = {"free_initial_values": "1000000000" if big else "as written"}
+        how |= {"initial_values": initial} if initial else {}
+        how |= {"without_effects": removed} if removed else {}
+        case = witness_instance(inst, rest, how)
+        if case is None:
+            return None
+        result = solve(case, horizon=steps, sequential=sequential, timeout=WITNESS_SECONDS)
+        if result.status.value == "sat" and result.plan is not None:
+            return _witness(label, result.plan, how)
+    return None
+
+
+def witness_instance(inst: ir.Instance, rest: frozenset, how: Mapping[str, Any]) -> ir.Instance | None:
+    """The instance a witness is replayed on: exactly the labels ``rest`` enforced
+    (:func:`catc.semantics.witness.restricted`), free numeric initial values as written or at
+    10⁹, and — each only where its label is not enforced, as the labelled formula leaves it
+    free — the Boolean initial values ``initial_values`` sets and the effects
+    ``without_effects`` removes (None when the witness asks for something ``rest`` enforces)."""
+    from catc.semantics.witness import restricted
+    from catgrammar.record import replace
+
+    initial, removed = how.get("initial_values") or {}, how.get("without_effects") or []
+    if not (isinstance(initial, dict) and isinstance(removed, list)):
+        return None
+    case = restricted(inst, rest, how.get("free_initial_values") == "1000000000")
+    if how.get("replay") == "freed":  # diagnose's own choice of what the dropped labels do
+        from catc.queries.cores import _freed
+
+        return None if initial or removed else _freed(case, rest)
+    init = dict(case.problem.init)
+    for name, value in initial.items():
+        given = init.get(name)
+        if given is None or given.label in rest or not isinstance(value, bool):
+            return None
+        if not (isinstance(given.value, ir.Const) and isinstance(given.value.value, bool)):
+            return None
+        init[name] = replace(given, value=ir.Const(value, given.value.sort))
+    morphisms = dict(case.domain.morphisms)
+    for label in removed:
+        owner = morphisms.get(label.split("/")[1]) if isinstance(label, str) and label.count("/") == 2 else None
+        if owner is None or label in rest or not any(e.label == label for e in owner.effects):
+            return None
+        morphisms[owner.name] = replace(owner, effects=tuple(e for e in owner.effects if e.label != label))
+    domain = replace(case.domain, morphisms=ir.frozen(morphisms))
+    return ir.Instance(domain, replace(case.problem, init=ir.frozen(init)), case.view)
 
 
 def _replay(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> tuple[str, float]:
@@ -559,17 +727,17 @@ def _replay_rest(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]
     other construct dropped): ``valid`` or ``invalid``."""
     from catc.semantics.plan import PlanFormatError, read_plan
     from catc.semantics.validate import validate
-    from catc.semantics.witness import restricted
 
     t0 = time.perf_counter()
     components = doc.get("components")
-    model = _labelled(inst, doc["horizon"], bool(doc.get("sequential")), components)
-    steps = doc["horizon"] if ir.Label.horizon() in rest else model.extended
+    steps = doc["horizon"] if ir.Label.horizon() in rest else _extended(inst, doc["horizon"], components)
     try:
         plan = read_plan(inst, o.get("plan"))
     except PlanFormatError:
         return "invalid", time.perf_counter() - t0
-    case = restricted(inst, rest, o.get("free_initial_values") == "1000000000")
+    case = witness_instance(inst, rest, o)
+    if case is None:  # a free value or a removed effect the enforced labels do not leave free
+        return "invalid", time.perf_counter() - t0
     ok = validate(case, plan, horizon=steps, sequential=bool(doc.get("sequential"))).ok
     if components is not None:  # relative to a composition: exactly its components are used
         ok = ok and {a.morphism for step in plan.steps for a in step} == set(components)
@@ -1432,8 +1600,14 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any], given: Sequence[ir.Obje
     elif method == "core":
         core = _labels(doc, "core", "a core certificate needs its core: a non-empty list of labels")
         components = _components(inst, doc)
-        built, sat = core_obligations(inst, core, horizon, bool(doc.get("sequential")), components)
-        return {o["name"]: o["smtlib"] for o in built} | {f"sat/{label}": text for label, text in sat.items()}
+        names = {o["name"] for o in doc["obligations"]}
+        asked = [label for label in core if f"sat/{label}" in names]  # only the texts a checker will read
+        proof = doc.get("core_proof", "labelled")
+        built, sat = core_obligations(inst, core, horizon, bool(doc.get("sequential")), components, asked, proof)
+        witnesses = {f"witness/{label}": "" for label in core}  # replayed by the validator
+        return (
+            {o["name"]: o["smtlib"] for o in built} | {f"sat/{label}": text for label, text in sat.items()} | witnesses
+        )
     else:
         raise InputError(f"unknown certificate method {method!r}", codes.BAD_CERTIFICATE)
     return {o["name"]: o["smtlib"] for o in built}
@@ -1521,7 +1695,7 @@ def certify(
         zip((id(o) for o in matching), _run_checkers(matching, seconds))
     )
     for o in doc["obligations"]:
-        if o.get("expect") == "valid" and doc.get("method") == "core" and f"sat/{o['name'][8:]}" in expected:
+        if o.get("expect") == "valid" and doc.get("method") == "core" and o["name"] in expected:
             answers[id(o)] = {WITNESS: _replay(inst, doc, o)}
         elif o.get("expect") == "valid" and doc.get("method") == "least" and o["name"] == "witness":
             answers[id(o)] = {WITNESS: _replay_least(inst, doc, o)}
