@@ -34,7 +34,7 @@ from __future__ import annotations
 import os
 import sys
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from fractions import Fraction
 from typing import Any
 
@@ -680,18 +680,29 @@ def _solved_witness(inst: ir.Instance, rest: frozenset, label: str, steps: int, 
     return None
 
 
-def witness_instance(inst: ir.Instance, rest: frozenset, how: Mapping[str, Any]) -> ir.Instance | None:
+def witness_instance(
+    inst: ir.Instance, rest: frozenset, how: Mapping[str, Any], only: Collection[str] | None = None
+) -> ir.Instance | None:
     """The instance a witness is replayed on: exactly the labels ``rest`` enforced
     (:func:`catc.semantics.witness.restricted`), free numeric initial values as written or at
     10⁹, and — each only where its label is not enforced, as the labelled formula leaves it
     free — the Boolean initial values ``initial_values`` sets and the effects
-    ``without_effects`` removes (None when the witness asks for something ``rest`` enforces)."""
+    ``without_effects`` removes (None when the witness asks for something ``rest`` enforces).
+    ``only``: keep just these morphisms (a replay's: the others never fire, and building the
+    instance is then quick)."""
     from catc.semantics.witness import restricted
     from catgrammar.record import replace
 
     initial, removed = how.get("initial_values") or {}, how.get("without_effects") or []
     if not (isinstance(initial, dict) and isinstance(removed, list)):
         return None
+    for label in removed:  # each an effect of the model that ``rest`` leaves free
+        owner = inst.morphisms.get(label.split("/")[1]) if isinstance(label, str) and label.count("/") == 2 else None
+        if owner is None or label in rest or not any(e.label == label for e in owner.effects):
+            return None
+    if only is not None:
+        kept = {m: x for m, x in inst.morphisms.items() if m in only}
+        inst = ir.Instance(replace(inst.domain, morphisms=ir.frozen(kept)), inst.problem, inst.view)
     case = restricted(inst, rest, how.get("free_initial_values") == "1000000000")
     if how.get("replay") == "freed":  # diagnose's own choice of what the dropped labels do
         from catc.queries.cores import _freed
@@ -707,10 +718,9 @@ def witness_instance(inst: ir.Instance, rest: frozenset, how: Mapping[str, Any])
         init[name] = replace(given, value=ir.Const(value, given.value.sort))
     morphisms = dict(case.domain.morphisms)
     for label in removed:
-        owner = morphisms.get(label.split("/")[1]) if isinstance(label, str) and label.count("/") == 2 else None
-        if owner is None or label in rest or not any(e.label == label for e in owner.effects):
-            return None
-        morphisms[owner.name] = replace(owner, effects=tuple(e for e in owner.effects if e.label != label))
+        owner = morphisms.get(label.split("/")[1])
+        if owner is not None:
+            morphisms[owner.name] = replace(owner, effects=tuple(e for e in owner.effects if e.label != label))
     domain = replace(case.domain, morphisms=ir.frozen(morphisms))
     return ir.Instance(domain, replace(case.problem, init=ir.frozen(init)), case.view)
 
@@ -735,7 +745,7 @@ def _replay_rest(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]
         plan = read_plan(inst, o.get("plan"))
     except PlanFormatError:
         return "invalid", time.perf_counter() - t0
-    case = witness_instance(inst, rest, o)
+    case = witness_instance(inst, rest, o, {a.morphism for step in plan.steps for a in step})
     if case is None:  # a free value or a removed effect the enforced labels do not leave free
         return "invalid", time.perf_counter() - t0
     ok = validate(case, plan, horizon=steps, sequential=bool(doc.get("sequential"))).ok
@@ -1691,20 +1701,13 @@ def certify(
     seconds = CHECK_TIMEOUT if check_timeout is None else check_timeout
     smt = [o for o in doc["obligations"] if o.get("expect", "unsat") != "valid"]
     matching = [o for o in smt if _matches(o, expected.get(o["name"]))]
-    answers: dict[int, Mapping[str, tuple[str, float]]] = dict(
-        zip((id(o) for o in matching), _run_checkers(matching, seconds))
-    )
-    for o in doc["obligations"]:
-        if o.get("expect") == "valid" and doc.get("method") == "core" and o["name"] in expected:
-            answers[id(o)] = {WITNESS: _replay(inst, doc, o)}
-        elif o.get("expect") == "valid" and doc.get("method") == "least" and o["name"] == "witness":
-            answers[id(o)] = {WITNESS: _replay_least(inst, doc, o)}
-        elif o.get("expect") == "valid" and doc.get("method") == "optimal" and o["name"] == "witness":
-            answers[id(o)] = {WITNESS: _replay_optimal(inst, doc, o, given)}
-        elif o.get("expect") == "valid" and doc.get("method") == "discrete" and o["name"] == "witness":
-            answers[id(o)] = {WITNESS: _replay_discrete(inst, doc, o)}
-        elif o.get("expect") == "valid" and doc.get("method") == "pareto" and o["name"] in expected:
-            answers[id(o)] = {WITNESS: _replay_point(inst, doc, o, given)}
+    from concurrent.futures import ThreadPoolExecutor
+
+    answers: dict[int, Mapping[str, tuple[str, float]]] = {}
+    with ThreadPoolExecutor(max_workers=1) as pool:  # the checkers' processes run while the validator replays
+        checked = pool.submit(_run_checkers, matching, seconds)
+        _replays(inst, doc, expected, given, answers)
+        answers |= dict(zip((id(o) for o in matching), checked.result()))
     rows = [_checked(o, expected.get(o["name"]), answers.get(id(o))) for o in doc["obligations"]]
     missing = sorted(_missing(doc, expected))
     rows += [
@@ -1737,6 +1740,27 @@ def certify(
     result = Certification(status, str(doc.get("method")), str(doc.get("producer")), rows)
     result.timings = {"total": time.perf_counter() - t0}
     return result
+
+
+def _replays(
+    inst: ir.Instance,
+    doc: Mapping[str, Any],
+    expected: Mapping[str, str],
+    given: Sequence[ir.Objective] | None,
+    answers: dict[int, Mapping[str, tuple[str, float]]],
+) -> None:
+    """The validator's answer on each composition the certificate holds (into ``answers``)."""
+    for o in doc["obligations"]:
+        if o.get("expect") == "valid" and doc.get("method") == "core" and o["name"] in expected:
+            answers[id(o)] = {WITNESS: _replay(inst, doc, o)}
+        elif o.get("expect") == "valid" and doc.get("method") == "least" and o["name"] == "witness":
+            answers[id(o)] = {WITNESS: _replay_least(inst, doc, o)}
+        elif o.get("expect") == "valid" and doc.get("method") == "optimal" and o["name"] == "witness":
+            answers[id(o)] = {WITNESS: _replay_optimal(inst, doc, o, given)}
+        elif o.get("expect") == "valid" and doc.get("method") == "discrete" and o["name"] == "witness":
+            answers[id(o)] = {WITNESS: _replay_discrete(inst, doc, o)}
+        elif o.get("expect") == "valid" and doc.get("method") == "pareto" and o["name"] in expected:
+            answers[id(o)] = {WITNESS: _replay_point(inst, doc, o, given)}
 
 
 def _missing(doc: Mapping[str, Any], expected: Mapping[str, str]) -> set[str]:
