@@ -1704,10 +1704,13 @@ def certify(
     from concurrent.futures import ThreadPoolExecutor
 
     answers: dict[int, Mapping[str, tuple[str, float]]] = {}
-    with ThreadPoolExecutor(max_workers=1) as pool:  # the checkers' processes run while the validator replays
-        checked = pool.submit(_run_checkers, matching, seconds)
-        _replays(inst, doc, expected, given, answers)
-        answers |= dict(zip((id(o) for o in matching), checked.result()))
+    if any(o.get("expect") == "valid" for o in doc["obligations"]):
+        with ThreadPoolExecutor(max_workers=1) as pool:  # the checkers' processes run while the validator replays
+            checked = pool.submit(_run_checkers, matching, seconds)
+            _replays(inst, doc, expected, given, answers)
+            answers |= dict(zip((id(o) for o in matching), checked.result()))
+    else:
+        answers |= dict(zip((id(o) for o in matching), _run_checkers(matching, seconds)))
     rows = [_checked(o, expected.get(o["name"]), answers.get(id(o))) for o in doc["obligations"]]
     missing = sorted(_missing(doc, expected))
     rows += [
