@@ -1271,19 +1271,7 @@ def write_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]
     """``--certificate FILE``: write ``result``'s certificate (E1304 when it has none)."""
     path = options["certificate"]
     try:
-        if result.query in ("optimize", "recompose"):
-            doc = optimal_certificate(inst, result, options)
-        elif result.query == "pareto":
-            doc = pareto_certificate(inst, result, options)
-        elif result.query == "relax" and getattr(result, "dropped", None):
-            doc = discrete_certificate(inst, result, options)
-        elif result.query == "relax":
-            doc = least_certificate(inst, result, options)
-        elif result.query == "diagnose":
-            producer = "catc.relaxed" if result.checks == 0 else str(options.get("backend", "z3"))
-            doc = core_certificate(inst, result, bool(options.get("sequential")), producer)
-        else:
-            doc = certificate(inst, result)
+        doc = certificate_of(inst, result, options)
     except NotCertifiable as exc:
         raise InputError(f"no certificate written: {exc}", codes.NOT_CERTIFIABLE) from None
     import json
@@ -1296,6 +1284,23 @@ def write_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]
         raise InputError(f"cannot write the certificate to {path}: {exc.strerror or exc}", codes.CANNOT_WRITE) from exc
     count = len(doc["obligations"]) + sum(len(m["obligations"]) for m in doc.get("more", []))
     return f"certificate ({counted(count, 'obligation')}) written to {path}; check it with: catc certify [DOMAIN] PROBLEM {path}"
+
+
+def certificate_of(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> dict:
+    """The catc.certificate/1 document of any query's answer (NotCertifiable when it has
+    none); ``options``: the query's (the semantics, the objectives, the composition)."""
+    if result.query in ("optimize", "recompose"):
+        return optimal_certificate(inst, result, options)
+    if result.query == "pareto":
+        return pareto_certificate(inst, result, options)
+    if result.query == "relax" and getattr(result, "dropped", None):
+        return discrete_certificate(inst, result, options)
+    if result.query == "relax":
+        return least_certificate(inst, result, options)
+    if result.query == "diagnose":
+        producer = "catc.relaxed" if result.checks == 0 else str(options.get("backend", "z3"))
+        return core_certificate(inst, result, bool(options.get("sequential")), producer)
+    return certificate(inst, result)
 
 
 def certificate_artifact(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> str:
