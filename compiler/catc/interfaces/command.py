@@ -208,12 +208,16 @@ def convert(query: Query, inst: ir.Instance, raw: Mapping[str, Any]) -> dict[str
             raise InputError(f"{option.flags[0]} must be a finite number of seconds, got {value}", codes.BAD_ARGUMENT)
         if option.kind is Kind.OBJECTIVES:
             values[option.name] = objectives(inst, value) if value else None
+            values["objective_source"] = list(value)  # their text, for a certificate (catc certify reads it)
         elif option.kind is Kind.COMPONENTS:
             values[option.name] = components(inst, value, option.none_word)
         elif option.kind is Kind.WEIGHTS:
             values[option.name] = weights(value) if value else None
         elif option.kind is Kind.PLAN_FILE:
             values[option.name] = read_plan_file(inst, value)
+    stored = query.objective_texts(values) if query.objective_texts is not None else ()
+    if stored:  # objective terms the query's input files carry: parsed here, as --minimize's
+        values["objectives"] = objectives(inst, stored)
     return values
 
 

@@ -303,18 +303,23 @@ class _Run:
             self._diagnosis(min(r.horizon, 2 * len(self.inst.morphisms) + 2))
         return self.result(Status.UNSOLVABLE_PROVEN if proven else Status.UNSOLVABLE_INCOMPLETELY)
 
-    def _certificate(self, r: SolveResult) -> None:
-        """The proof of an unsolvable answer in the log, for a second tool (issue 31): a
-        catc.certificate/1 document, or why there is none (catc.queries.certify)."""
+    def _certificate(self, r: Any, options: dict[str, Any] | None = None, scope: str = "") -> None:
+        """The proof of an unsolvable or optimal answer in the log, for a second tool (issue
+        31): a catc.certificate/1 document, or why there is none (catc.queries.certify).
+        ``scope``: what the certificate proves when it is less than the answer says (an
+        optimum within the horizon; the bound that makes it every length's is the log's)."""
         import json
 
         from catc.queries.registry import certificate_document
 
-        doc, why = certificate_document(self.inst, r)
+        doc, why = certificate_document(self.inst, r, options)
         if doc is None:
             self.say(f"catc certificate: none ({why})", LogLevel.DEBUG)
             return
-        self.say("catc certificate (check with catc.queries.certify.certify): " + json.dumps(doc), LogLevel.DEBUG)
+        said = f" ({scope})" if scope else ""
+        self.say(
+            f"catc certificate{said} (check with catc.queries.certify.certify): " + json.dumps(doc), LogLevel.DEBUG
+        )
 
     def _diagnosis(self, horizon: int) -> None:
         budget = DIAGNOSIS_TIME if self.remaining() is None else min(DIAGNOSIS_TIME, self.remaining() or 0.0)
@@ -353,6 +358,7 @@ class _Run:
             self.say(f"catc: optimal among plans of at most {horizon} actions (longer plans were not searched)")
         elif proven:
             self.say(f"catc: optimal (value {shown}) over every plan length")
+            self._certificate(r, {"sequential": True}, f"optimal among plans of at most {horizon} actions")
         else:
             self.say(f"catc: the best plan found before the time ran out ({r.status.value})")
         return self.result(Status.SOLVED_OPTIMALLY if proven else Status.SOLVED_SATISFICING, r.plan, _metric(shown))

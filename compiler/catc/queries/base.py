@@ -11,7 +11,7 @@ server its command.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from enum import Enum, IntEnum
 from typing import Any, ClassVar
 
@@ -346,7 +346,10 @@ class Query(Operation, Record):
     prints the human answer (``options``: every option's value, outputs included);
     ``artifacts(instance, result, options)`` writes the files the output options ask for
     (by default ``--diagram``: the composition as SVG) and returns what to tell the user.
-    Its failures are :class:`InputError` s."""
+    Its failures are :class:`InputError` s.  ``objective_texts(options)``: the ``(sense,
+    text)`` objective terms the query's input files carry (a certificate of ``--minimize``
+    objectives); the interface checks them against the model as it does ``--minimize``'s
+    and passes them to ``run`` as ``objectives`` (only the interfaces may parse text)."""
 
     __slots__ = (
         "name",
@@ -360,6 +363,7 @@ class Query(Operation, Record):
         "artifacts",
         "progress",
         "schema",
+        "objective_texts",
     )
     name: str
     summary: str
@@ -372,6 +376,7 @@ class Query(Operation, Record):
     artifacts: Callable[[ir.Instance, Any, Mapping[str, Any]], list[str]]
     progress: bool
     schema: str
+    objective_texts: Callable[[Mapping[str, Any]], Sequence[tuple[str, str]]] | None
 
     def __init__(
         self,
@@ -386,6 +391,7 @@ class Query(Operation, Record):
         check: Callable[[ir.Instance, Mapping[str, Any]], str | None] | None = None,
         artifacts: Callable[[ir.Instance, Any, Mapping[str, Any]], list[str]] | None = None,
         progress: bool = False,
+        objective_texts: Callable[[Mapping[str, Any]], Sequence[tuple[str, str]]] | None = None,
     ) -> None:
         set_field(self, "name", name)
         set_field(self, "summary", summary)
@@ -400,6 +406,7 @@ class Query(Operation, Record):
         set_field(self, "artifacts", artifacts or diagram_artifact)
         set_field(self, "progress", progress)
         set_field(self, "schema", f"catc.{name}/1")
+        set_field(self, "objective_texts", objective_texts)
 
 
 def diagram_artifact(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> list[str]:

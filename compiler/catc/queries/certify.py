@@ -34,14 +34,24 @@ from __future__ import annotations
 import os
 import sys
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from fractions import Fraction
 from typing import Any
 
 from catc import ir
 from catc.ir import SortKind
 from catc.present.console import Console, counted, escape
-from catc.queries.base import ExitCode, InputError, Kind, Option, Query, Result, Status, json_option
+from catc.queries.base import (
+    ExitCode,
+    InputError,
+    Kind,
+    Option,
+    Query,
+    Result,
+    Status,
+    json_option,
+    objectives_option,
+)
 from catgrammar import codes
 
 SCHEMA = "catc.certificate/1"
@@ -458,6 +468,13 @@ def _labelled(inst: ir.Instance, horizon: int, sequential: bool, components: Seq
     return LabelledModel(inst, horizon, sequential=sequential, components=components)
 
 
+def _extended(inst: ir.Instance, horizon: int, components: Sequence[str] | None) -> int:
+    """The steps diagnose's labelled formula reaches past ``horizon`` (its ``horizon`` label)."""
+    from catc.smt.labelled import _extended_horizon
+
+    return _extended_horizon(inst, horizon, components)
+
+
 def _core_text(model: Any, inst: ir.Instance, enforced: Sequence[str], what: str) -> str:
     """The labelled formula diagnose asks (every label behind its indicator) with the
     indicators of ``enforced`` asserted."""
@@ -467,25 +484,81 @@ def _core_text(model: Any, inst: ir.Instance, enforced: Sequence[str], what: str
 
 
 def core_obligations(
-    inst: ir.Instance, core: Sequence[str], horizon: int, sequential: bool, components: Sequence[str] | None
+    inst: ir.Instance,
+    core: Sequence[str],
+    horizon: int,
+    sequential: bool,
+    components: Sequence[str] | None,
+    sat_for: Sequence[str] | None = None,
+    proof: str = "labelled",
 ) -> tuple[list[dict], dict[str, str]]:
-    """The core's UNSAT obligation, and for each member the text of "the core without it is
-    satisfiable" (used when no witness composition is at hand)."""
-    model = _labelled(inst, horizon, sequential, components)
-    unknown = [label for label in core if label not in model.indicator]
+    """The core's UNSAT obligation, and for each member of ``sat_for`` (default: all) the text
+    of "the core without it is satisfiable" (used when no witness composition is at hand).
+    ``proof``: the core's UNSAT over diagnose's labelled formula (``labelled``), or over the
+    consumption abstraction with the core's labels enforced (``consumption``: horizon-free,
+    so it proves more; :func:`consumption_core_text`)."""
+    from catc.ir.labels import label_index
+
+    asked = list(core if sat_for is None else sat_for)
+    lazy = proof == "consumption" and not asked and set(core) <= set(label_index(inst, horizon))
+    model = None if lazy else _labelled(inst, horizon, sequential, components)  # (its encoding takes a while)
+    unknown = [] if model is None else [label for label in core if label not in model.indicator]
     if unknown:
         raise InputError(f"the core names labels the model does not have: {', '.join(unknown)}", codes.BAD_CERTIFICATE)
-    unsat = _obligation(
-        "core",
-        f"the {len(core)} constructs of the core admit no composition (diagnose's labelled formula, "
-        f"horizon {horizon}, extended to {model.extended})",
-        _core_text(model, inst, core, "core: the core's labels together are unsat"),
-    )
+    if proof == "consumption":
+        unsat = _obligation(
+            "core",
+            f"the {len(core)} constructs of the core admit no composition of any length (the consumption "
+            "abstraction with the core's labels enforced: used components, first firings, total consumption)",
+            consumption_core_text(inst, core, components),
+        )
+    elif proof == "labelled" and model is not None:
+        unsat = _obligation(
+            "core",
+            f"the {len(core)} constructs of the core admit no composition (diagnose's labelled formula, "
+            f"horizon {horizon}, extended to {model.extended})",
+            _core_text(model, inst, core, "core: the core's labels together are unsat"),
+        )
+    else:
+        raise InputError(f"unknown proof of a core {proof!r}: labelled or consumption", codes.BAD_CERTIFICATE)
     sat = {
         label: _core_text(model, inst, [x for x in core if x != label], f"without {label} the core is satisfiable")
-        for label in core
+        for label in asked
+        if model is not None
     }
     return [unsat], sat
+
+
+def consumption_core_text(inst: ir.Instance, core: Sequence[str], components: Sequence[str] | None) -> str:
+    """The consumption abstraction (:class:`catc.smt.consumption.Consumption`, relative to
+    ``components``) with the indicators of the core's labels it has asserted and every other
+    indicator denied: every composition of any length meeting the core's labels gives a model
+    of it with the core's indicators true, and each indicator occurs *antitonically* — the
+    guard of an implication, a ``(not A)`` disjunct of a support, the condition of a
+    non-negative amount in an upper-bounded sum — so a model stays one with any other
+    indicator made false.  Unsat proves the core unsat at every horizon (a label it has no
+    indicator for is left out: weaker).  Denying them is what makes cvc5 quick (10× on a
+    100-component catalog): it need not search over the labels the core leaves free."""
+    from catc.smt.consumption import Consumption
+
+    a = Consumption(inst, components)
+    body = [*a.assertions, *(str(a.indicator[label]) for label in core if label in a.indicator)]
+    body += [f"(not {a.indicator[label]})" for label in a.labels if label not in set(core)]
+    return _script(
+        _header(inst, "core: the consumption abstraction with the core's labels enforced is unsat"),
+        [s.declaration() for s in a.declarations],
+        body,
+    )
+
+
+def _consumption_refutes_core(inst: ir.Instance, core: Sequence[str], components: Sequence[str] | None) -> bool:
+    """Whether the consumption abstraction with the core's labels enforced is unsat (z3, in
+    this process; the checkers decide it again)."""
+    from catc.smt.backend import Check
+    from catc.smt.consumption import Consumption
+
+    a = Consumption(inst, components)
+    return a.check(core)[0] is Check.UNSAT
 
 
 def core_certificate(inst: ir.Instance, diag: Any, sequential: bool, producer: str) -> dict:
@@ -499,31 +572,34 @@ def core_certificate(inst: ir.Instance, diag: Any, sequential: bool, producer: s
 
 
 def _core_document(inst: ir.Instance, diag: Any, core: list[str], sequential: bool, producer: str) -> dict:
-    from catc.semantics.plan import plan_to_json
     from catc.semantics.witness import witness_plan
 
     components = diag.relative_to
-    obligations, sat = core_obligations(inst, core, diag.horizon, sequential, components)
-    extended = _labelled(inst, diag.horizon, sequential, components).extended
+    extended = _extended(inst, diag.horizon, components)
+    witnesses = _quick_witnesses(inst, core, diag.horizon, extended) if components is None else {}
     for label in core:
+        if label in witnesses:
+            continue
         rest = frozenset(core) - {label}
         found = witness_plan(inst, rest, components, diag.horizon, extended)
-        if found is None:
+        if found is not None:
+            witnesses[label] = _witness(
+                label, found[0], {"free_initial_values": "1000000000" if found[1] else "as written"}
+            )
+        elif components is None:  # no composition fixed: solve the instance the rest leaves
+            steps = diag.horizon if ir.Label.horizon() in rest else extended
+            solved = _solved_witness(inst, rest, label, steps, sequential)
+            if solved is not None:
+                witnesses[label] = solved
+    proof = "consumption" if _consumption_refutes_core(inst, core, components) else "labelled"
+    missing = [label for label in core if label not in witnesses]
+    obligations, sat = core_obligations(inst, core, diag.horizon, sequential, components, missing, proof)
+    for label in core:
+        if label in witnesses:
+            obligations.append(witnesses[label])
+        else:
             o = _obligation(f"sat/{label}", f"the core without {label} is satisfiable", sat[label])
             obligations.append(o | {"expect": "sat", "producer": producer})
-            continue
-        plan, big = found
-        obligations.append(
-            {
-                "name": f"witness/{label}",
-                "proves": f"the core without {label} is satisfiable: this composition meets every other member",
-                "expect": "valid",
-                "checkers": [WITNESS],
-                "producer": "catc.witness",
-                "plan": plan_to_json(plan),
-                "free_initial_values": "1000000000" if big else "as written",
-            }
-        )
     doc: dict[str, Any] = {
         "schema": SCHEMA,
         "problem": inst.problem.name,
@@ -532,9 +608,121 @@ def _core_document(inst: ir.Instance, diag: Any, core: list[str], sequential: bo
     }
     doc |= {"answer": "core", "method": "core", "producer": producer, "horizon": diag.horizon}
     doc |= {"sequential": sequential, "components": None if components is None else list(components), "core": core}
+    doc["core_proof"] = proof
     for o in obligations:
         o.setdefault("producer", producer)
     return doc | {"obligations": obligations}
+
+
+def _witness(label: str, plan: Any, how: Mapping[str, Any]) -> dict:
+    """The obligation "this composition meets every member of the core but ``label``"."""
+    from catc.semantics.plan import plan_to_json
+
+    return {
+        "name": f"witness/{label}",
+        "proves": f"the core without {label} is satisfiable: this composition meets every other member",
+        "expect": "valid",
+        "checkers": [WITNESS],
+        "producer": "catc.witness",
+        "plan": plan_to_json(plan),
+        **how,
+    }
+
+
+def _quick_witnesses(inst: ir.Instance, core: Sequence[str], horizon: int, extended: int) -> dict[str, dict]:
+    """The witnesses diagnose's first try finds without a solver (issue 24's
+    :class:`~catc.queries.cores.QuickCores`: the least-cost bound's supports, replayed by the
+    validator on the instance the other members leave, *freed* as the labelled formula may
+    choose — a dropped decrease does not happen, a dropped Boolean or set initial value holds
+    every fact; ``"replay": "freed"``)."""
+    from catc.queries.cores import QuickCores
+
+    quick = QuickCores(inst, horizon, extended)
+    labels = [label for label in core if label in quick.bound.relevant]
+    if len(labels) != len(core):
+        return {}
+    quick.bound.focus(labels)
+    quick.irreducible(list(core))
+    return {
+        label: _witness(label, plan, {"free_initial_values": "1000000000" if big else "as written", "replay": "freed"})
+        for label, (plan, big) in quick.witnesses.items()
+    }
+
+
+#: Seconds :func:`_solved_witness` gives the solver per try (none found: a ``sat`` obligation).
+WITNESS_SECONDS = 5.0
+
+
+def _solved_witness(inst: ir.Instance, rest: frozenset, label: str, steps: int, sequential: bool) -> dict | None:
+    """A witness of "the core without ``label``" found by ``catc solve`` on the instance the
+    other members leave (:func:`witness_instance`): a dropped effect of the member removed
+    (it may or may not happen), a dropped Boolean initial value of the member flipped, free
+    numeric initial values as written, then at 10⁹.  None when solve finds none in time."""
+    from catc.queries.solve import solve
+
+    member = ir.Label.parse(label)
+    removed = [label] if member.kind is ir.LabelKind.EFF else []
+    initial: dict[str, bool] = {}
+    if member.kind is ir.LabelKind.INIT:
+        given = inst.problem.init.get(member.parts[0])
+        if given is not None and isinstance(given.value, ir.Const) and isinstance(given.value.value, bool):
+            initial[member.parts[0]] = not given.value.value
+    for big in (False, True):
+        how: dict[str, Any] = {"free_initial_values": "1000000000" if big else "as written"}
+        how |= {"initial_values": initial} if initial else {}
+        how |= {"without_effects": removed} if removed else {}
+        case = witness_instance(inst, rest, how)
+        if case is None:
+            return None
+        result = solve(case, horizon=steps, sequential=sequential, timeout=WITNESS_SECONDS)
+        if result.status.value == "sat" and result.plan is not None:
+            return _witness(label, result.plan, how)
+    return None
+
+
+def witness_instance(
+    inst: ir.Instance, rest: frozenset, how: Mapping[str, Any], only: Collection[str] | None = None
+) -> ir.Instance | None:
+    """The instance a witness is replayed on: exactly the labels ``rest`` enforced
+    (:func:`catc.semantics.witness.restricted`), free numeric initial values as written or at
+    10⁹, and — each only where its label is not enforced, as the labelled formula leaves it
+    free — the Boolean initial values ``initial_values`` sets and the effects
+    ``without_effects`` removes (None when the witness asks for something ``rest`` enforces).
+    ``only``: keep just these morphisms (a replay's: the others never fire, and building the
+    instance is then quick)."""
+    from catc.semantics.witness import restricted
+    from catgrammar.record import replace
+
+    initial, removed = how.get("initial_values") or {}, how.get("without_effects") or []
+    if not (isinstance(initial, dict) and isinstance(removed, list)):
+        return None
+    for label in removed:  # each an effect of the model that ``rest`` leaves free
+        owner = inst.morphisms.get(label.split("/")[1]) if isinstance(label, str) and label.count("/") == 2 else None
+        if owner is None or label in rest or not any(e.label == label for e in owner.effects):
+            return None
+    if only is not None:
+        kept = {m: x for m, x in inst.morphisms.items() if m in only}
+        inst = ir.Instance(replace(inst.domain, morphisms=ir.frozen(kept)), inst.problem, inst.view)
+    case = restricted(inst, rest, how.get("free_initial_values") == "1000000000")
+    if how.get("replay") == "freed":  # diagnose's own choice of what the dropped labels do
+        from catc.queries.cores import _freed
+
+        return None if initial or removed else _freed(case, rest)
+    init = dict(case.problem.init)
+    for name, value in initial.items():
+        given = init.get(name)
+        if given is None or given.label in rest or not isinstance(value, bool):
+            return None
+        if not (isinstance(given.value, ir.Const) and isinstance(given.value.value, bool)):
+            return None
+        init[name] = replace(given, value=ir.Const(value, given.value.sort))
+    morphisms = dict(case.domain.morphisms)
+    for label in removed:
+        owner = morphisms.get(label.split("/")[1])
+        if owner is not None:
+            morphisms[owner.name] = replace(owner, effects=tuple(e for e in owner.effects if e.label != label))
+    domain = replace(case.domain, morphisms=ir.frozen(morphisms))
+    return ir.Instance(domain, replace(case.problem, init=ir.frozen(init)), case.view)
 
 
 def _replay(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> tuple[str, float]:
@@ -549,17 +737,17 @@ def _replay_rest(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]
     other construct dropped): ``valid`` or ``invalid``."""
     from catc.semantics.plan import PlanFormatError, read_plan
     from catc.semantics.validate import validate
-    from catc.semantics.witness import restricted
 
     t0 = time.perf_counter()
     components = doc.get("components")
-    model = _labelled(inst, doc["horizon"], bool(doc.get("sequential")), components)
-    steps = doc["horizon"] if ir.Label.horizon() in rest else model.extended
+    steps = doc["horizon"] if ir.Label.horizon() in rest else _extended(inst, doc["horizon"], components)
     try:
         plan = read_plan(inst, o.get("plan"))
     except PlanFormatError:
         return "invalid", time.perf_counter() - t0
-    case = restricted(inst, rest, o.get("free_initial_values") == "1000000000")
+    case = witness_instance(inst, rest, o, {a.morphism for step in plan.steps for a in step})
+    if case is None:  # a free value or a removed effect the enforced labels do not leave free
+        return "invalid", time.perf_counter() - t0
     ok = validate(case, plan, horizon=steps, sequential=bool(doc.get("sequential"))).ok
     if components is not None:  # relative to a composition: exactly its components are used
         ok = ok and {a.morphism for step in plan.steps for a in step} == set(components)
@@ -760,15 +948,78 @@ def _replay_least(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any
 # -- an optimum of catc optimize / catc recompose: the witness, and nothing better
 
 
-def _objectives(inst: ir.Instance, spec: Any) -> tuple[ir.Instance, list[ir.Objective], list[ir.Soft]]:
+#: The certificate's objectives when they were given on the command line (``--minimize``,
+#: ``--maximize``): their source text, which only an interface may parse (the frontend is not
+#: the queries' to import) — :func:`objective_texts` gives it, and the IR comes back as
+#: ``certify(..., objectives=...)``.
+COMMAND_LINE = "command-line"
+
+
+def command_line_spec(objectives: Sequence[ir.Objective], texts: Any) -> dict:
+    """The certificate's ``objectives`` entry for objectives given on the command line:
+    each one's sense and source text, in lexicographic order (NotCertifiable when the
+    interface did not keep the text)."""
+    pairs = list(texts or ())
+    if len(pairs) != len(objectives) or any(s != o.sense.value for (s, _), o in zip(pairs, objectives)):
+        raise NotCertifiable("the command-line objectives' text was not kept by the interface that asked")
+    return {"kind": COMMAND_LINE, "terms": [{"sense": s, "term": t} for s, t in pairs]}
+
+
+def objective_texts(doc: Mapping[str, Any]) -> list[tuple[str, str]]:
+    """The ``(sense, text)`` pairs a certificate of command-line objectives stores, in
+    lexicographic order ([] for the problem's own metric; E1302 when malformed)."""
+    spec = doc.get("objectives")
+    if not (isinstance(spec, dict) and spec.get("kind") == COMMAND_LINE):
+        return []
+    terms = spec.get("terms")
+    if not (isinstance(terms, list) and terms and all(_term_spec(t) for t in terms)):
+        raise InputError(
+            "a certificate of command-line objectives needs each one's sense and term", codes.BAD_CERTIFICATE
+        )
+    return [(t["sense"], t["term"]) for t in terms]
+
+
+def _term_spec(t: Any) -> bool:
+    return isinstance(t, dict) and t.get("sense") in ("minimize", "maximize") and isinstance(t.get("term"), str)
+
+
+def _given(spec: Mapping[str, Any], given: Sequence[ir.Objective] | None) -> list[ir.Objective]:
+    """The IR of a certificate's command-line objectives, as the interface parsed them (E1304
+    when none did: only an interface may parse text; E1303 when they are not the stored ones)."""
+    stored = objective_texts({"objectives": spec})
+    if given is None:
+        raise InputError(
+            "the certificate's objectives were given on the command line ("
+            + ", ".join(f"--{s} {t}" for s, t in stored)
+            + "): their text is read by catc certify (in Python: certify(..., objectives=[...]))",
+            codes.NOT_CERTIFIABLE,
+        )
+    if [o.sense.value for o in given] != [s for s, _ in stored]:
+        raise InputError(
+            "the objectives given are not the certificate's: " + ", ".join(f"{s} {t}" for s, t in stored),
+            codes.CERTIFICATE_MISMATCH,
+        )
+    return list(given)
+
+
+def _objectives(
+    inst: ir.Instance, spec: Any, given: Sequence[ir.Objective] | None = None
+) -> tuple[ir.Instance, list[ir.Objective], list[ir.Soft]]:
     """The model (with the certificate's deployed composition, for recompose), the objectives
-    in lexicographic order and the soft constraints an optimum is claimed for (E1302)."""
+    in lexicographic order and the soft constraints an optimum is claimed for (E1302);
+    ``given``: the IR of command-line objectives, parsed by the interface."""
     from dataclasses import replace
 
     from catc.queries.optimum import objectives_of
 
     kind = spec.get("kind") if isinstance(spec, dict) else None
-    if kind == "recompose" and spec.get("priority") in ("stability", "objective"):
+    if given is not None and kind != COMMAND_LINE:
+        raise InputError(
+            "objectives were given, but the certificate is for the problem's own objectives", codes.CERTIFICATE_MISMATCH
+        )
+    if kind == COMMAND_LINE:
+        objectives = _given(spec, given)
+    elif kind == "recompose" and spec.get("priority") in ("stability", "objective"):
         deployed = spec.get("deployed")
         if not (isinstance(deployed, list) and all(m in inst.morphisms for m in deployed)):
             raise InputError("the certificate's deployed composition is not of the model", codes.BAD_CERTIFICATE)
@@ -779,7 +1030,9 @@ def _objectives(inst: ir.Instance, spec: Any) -> tuple[ir.Instance, list[ir.Obje
     elif kind == "metric":
         objectives = objectives_of(inst)
     else:
-        raise InputError("the certificate's objectives are not known: metric or recompose", codes.BAD_CERTIFICATE)
+        raise InputError(
+            "the certificate's objectives are not known: metric, recompose or command-line", codes.BAD_CERTIFICATE
+        )
     softs = list(inst.problem.softs)
     if not objectives and softs:
         objectives = [ir.Objective(ir.Sense.MINIMIZE, ir.Const(Fraction(0), ir.REAL))]
@@ -824,18 +1077,19 @@ def optimal_certificate(inst: ir.Instance, result: Any, options: Mapping[str, An
     """The certificate of a proven optimum of optimize or recompose (NotCertifiable otherwise)."""
     from catc.semantics.plan import plan_to_json
 
-    if options.get("objectives"):
-        raise NotCertifiable("objectives given on the command line: a certificate states the problem's own metric")
+    given = options.get("objectives") or None
     if result.query == "recompose":
         spec: dict[str, Any] = {"kind": "recompose", "priority": result.priority, "deployed": list(result.deployed)}
         result = result.result
+    elif given is not None:
+        spec = command_line_spec(given, options.get("objective_source"))
     else:
         spec = {"kind": "metric"}
     values = [v.value for v in result.values]
     if result.status.value != "opt" or result.plan is None or not all(v.attained for v in result.values):
         raise NotCertifiable("only an optimum proven and attained carries a certificate")
     sequential = bool(options.get("sequential"))
-    model, objectives, softs = _objectives(inst, spec)
+    model, objectives, softs = _objectives(inst, spec, given)
     doc: dict[str, Any] = {
         "schema": SCHEMA,
         "problem": inst.problem.name,
@@ -897,10 +1151,9 @@ def pareto_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any
         raise NotCertifiable("only a complete Pareto front carries a certificate")
     if not all(p.attained for p in result.points):
         raise NotCertifiable("a point of the front is a bound no composition attains: not certified yet")
-    if options.get("objectives"):
-        raise NotCertifiable("objectives given on the command line: a certificate states the problem's own metric")
-    spec = {"kind": "metric"}
-    model, objectives = _pareto_objectives(inst, spec)
+    given = options.get("objectives") or None
+    spec = {"kind": "metric"} if given is None else command_line_spec(given, options.get("objective_source"))
+    model, objectives = _pareto_objectives(inst, spec, given)
     if [to_text(o.term) for o in objectives] != [to_text(o.term) for o in result.objectives]:
         raise NotCertifiable("the front's objectives are not the problem's metric")
     sequential = bool(options.get("sequential"))
@@ -923,11 +1176,15 @@ def pareto_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any
     return doc | {"obligations": [*witnesses, front]}
 
 
-def _pareto_objectives(inst: ir.Instance, spec: Any) -> tuple[ir.Instance, list[ir.Objective]]:
+def _pareto_objectives(
+    inst: ir.Instance, spec: Any, given: Sequence[ir.Objective] | None = None
+) -> tuple[ir.Instance, list[ir.Objective]]:
     """The objectives of a front (no soft penalties: pareto does not weigh them)."""
-    if not (isinstance(spec, dict) and spec.get("kind") == "metric"):
-        raise InputError("a Pareto certificate's objectives are the problem's metric", codes.BAD_CERTIFICATE)
-    model, objectives, _ = _objectives(inst, spec)
+    if not (isinstance(spec, dict) and spec.get("kind") in ("metric", COMMAND_LINE)):
+        raise InputError(
+            "a Pareto certificate's objectives are the problem's metric or the command line's", codes.BAD_CERTIFICATE
+        )
+    model, objectives, _ = _objectives(inst, spec, given)
     if len(objectives) < 2:
         raise InputError("a Pareto front needs at least two objectives", codes.BAD_CERTIFICATE)
     return model, objectives
@@ -944,7 +1201,9 @@ def _read_points(doc: Mapping[str, Any], width: int) -> list[list[Fraction]]:
     return out
 
 
-def _replay_point(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> tuple[str, float]:
+def _replay_point(
+    inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any], given: Sequence[ir.Objective] | None = None
+) -> tuple[str, float]:
     """A front point's composition replayed, its values recomputed (optimize's scoring
     without soft penalties) and equal to the point's; and no point dominates another."""
     from catc.queries.optimum import _scores
@@ -953,7 +1212,7 @@ def _replay_point(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any
     from catc.semantics.validate import validate
 
     t0 = time.perf_counter()
-    model, objectives = _pareto_objectives(inst, doc["objectives"])
+    model, objectives = _pareto_objectives(inst, doc["objectives"], given)
     points = _read_points(doc, len(objectives))
     try:
         index = int(str(o["name"]).split("/", 1)[1]) - 1
@@ -971,7 +1230,9 @@ def _replay_point(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any
     return ("valid" if scores == claimed else "invalid"), time.perf_counter() - t0
 
 
-def _replay_optimal(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> tuple[str, float]:
+def _replay_optimal(
+    inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any], given: Sequence[ir.Objective] | None = None
+) -> tuple[str, float]:
     """The optimum's composition replayed by the validator, its objective values recomputed
     exactly (the first with the soft penalties: optimize's own scoring) and compared with the
     claimed ones."""
@@ -980,7 +1241,7 @@ def _replay_optimal(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, A
     from catc.semantics.validate import validate
 
     t0 = time.perf_counter()
-    model, objectives, softs = _objectives(inst, doc["objectives"])
+    model, objectives, softs = _objectives(inst, doc["objectives"], given)
     try:
         claimed = [Fraction(str(v)) for v in doc["values"]]
         plan = read_plan(model, o.get("plan"))
@@ -1010,19 +1271,7 @@ def write_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]
     """``--certificate FILE``: write ``result``'s certificate (E1304 when it has none)."""
     path = options["certificate"]
     try:
-        if result.query in ("optimize", "recompose"):
-            doc = optimal_certificate(inst, result, options)
-        elif result.query == "pareto":
-            doc = pareto_certificate(inst, result, options)
-        elif result.query == "relax" and getattr(result, "dropped", None):
-            doc = discrete_certificate(inst, result, options)
-        elif result.query == "relax":
-            doc = least_certificate(inst, result, options)
-        elif result.query == "diagnose":
-            producer = "catc.relaxed" if result.checks == 0 else str(options.get("backend", "z3"))
-            doc = core_certificate(inst, result, bool(options.get("sequential")), producer)
-        else:
-            doc = certificate(inst, result)
+        doc = certificate_of(inst, result, options)
     except NotCertifiable as exc:
         raise InputError(f"no certificate written: {exc}", codes.NOT_CERTIFIABLE) from None
     import json
@@ -1035,6 +1284,23 @@ def write_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]
         raise InputError(f"cannot write the certificate to {path}: {exc.strerror or exc}", codes.CANNOT_WRITE) from exc
     count = len(doc["obligations"]) + sum(len(m["obligations"]) for m in doc.get("more", []))
     return f"certificate ({counted(count, 'obligation')}) written to {path}; check it with: catc certify [DOMAIN] PROBLEM {path}"
+
+
+def certificate_of(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> dict:
+    """The catc.certificate/1 document of any query's answer (NotCertifiable when it has
+    none); ``options``: the query's (the semantics, the objectives, the composition)."""
+    if result.query in ("optimize", "recompose"):
+        return optimal_certificate(inst, result, options)
+    if result.query == "pareto":
+        return pareto_certificate(inst, result, options)
+    if result.query == "relax" and getattr(result, "dropped", None):
+        return discrete_certificate(inst, result, options)
+    if result.query == "relax":
+        return least_certificate(inst, result, options)
+    if result.query == "diagnose":
+        producer = "catc.relaxed" if result.checks == 0 else str(options.get("backend", "z3"))
+        return core_certificate(inst, result, bool(options.get("sequential")), producer)
+    return certificate(inst, result)
 
 
 def certificate_artifact(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> str:
@@ -1294,8 +1560,9 @@ def _components(inst: ir.Instance, doc: Mapping[str, Any]) -> list[str] | None:
     return components
 
 
-def _expected(inst: ir.Instance, doc: Mapping[str, Any]) -> dict[str, str]:
-    """The obligations' text as the model and the certificate's claims give them."""
+def _expected(inst: ir.Instance, doc: Mapping[str, Any], given: Sequence[ir.Objective] | None = None) -> dict[str, str]:
+    """The obligations' text as the model and the certificate's claims give them (``given``:
+    the IR of command-line objectives, parsed by the interface)."""
     method, horizon = doc.get("method"), doc.get("horizon")
     if not isinstance(horizon, int) or horizon < 0:
         raise InputError("the certificate's horizon must be a whole number", codes.BAD_CERTIFICATE)
@@ -1317,7 +1584,7 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any]) -> dict[str, str]:
             raise InputError("a reachable-states certificate is for sequential steps", codes.BAD_CERTIFICATE)
         built = reachable_obligations(inst, _read_states(inst, doc.get("states")), horizon)
     elif method == "optimal":
-        model, objectives, softs = _objectives(inst, doc.get("objectives"))
+        model, objectives, softs = _objectives(inst, doc.get("objectives"), given)
         try:
             values = [Fraction(str(v)) for v in doc.get("values") or []]
         except (ValueError, ZeroDivisionError):
@@ -1327,7 +1594,7 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any]) -> dict[str, str]:
         built = [optimal_obligation(model, objectives, softs, horizon, bool(doc.get("sequential")), values)]
         return {o["name"]: o["smtlib"] for o in built} | {"witness": ""}
     elif method == "pareto":
-        model, objectives = _pareto_objectives(inst, doc.get("objectives"))
+        model, objectives = _pareto_objectives(inst, doc.get("objectives"), given)
         points = _read_points(doc, len(objectives))
         built = [pareto_obligation(model, objectives, horizon, bool(doc.get("sequential")), points)]
         return {o["name"]: o["smtlib"] for o in built} | {f"witness/{i + 1}": "" for i in range(len(points))}
@@ -1348,8 +1615,14 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any]) -> dict[str, str]:
     elif method == "core":
         core = _labels(doc, "core", "a core certificate needs its core: a non-empty list of labels")
         components = _components(inst, doc)
-        built, sat = core_obligations(inst, core, horizon, bool(doc.get("sequential")), components)
-        return {o["name"]: o["smtlib"] for o in built} | {f"sat/{label}": text for label, text in sat.items()}
+        names = {o["name"] for o in doc["obligations"]}
+        asked = [label for label in core if f"sat/{label}" in names]  # only the texts a checker will read
+        proof = doc.get("core_proof", "labelled")
+        built, sat = core_obligations(inst, core, horizon, bool(doc.get("sequential")), components, asked, proof)
+        witnesses = {f"witness/{label}": "" for label in core}  # replayed by the validator
+        return (
+            {o["name"]: o["smtlib"] for o in built} | {f"sat/{label}": text for label, text in sat.items()} | witnesses
+        )
     else:
         raise InputError(f"unknown certificate method {method!r}", codes.BAD_CERTIFICATE)
     return {o["name"]: o["smtlib"] for o in built}
@@ -1416,30 +1689,33 @@ def _same_problem(inst: ir.Instance, doc: Mapping[str, Any]) -> None:
 
 
 def certify(
-    inst: ir.Instance, certificate: str | Mapping[str, Any], *, check_timeout: float | None = None
+    inst: ir.Instance,
+    certificate: str | Mapping[str, Any],
+    *,
+    check_timeout: float | None = None,
+    objectives: Sequence[ir.Objective] | None = None,
 ) -> Certification:
-    """Check ``certificate`` (a file or a document) against ``inst`` (InputError: E1301–E1303)."""
+    """Check ``certificate`` (a file or a document) against ``inst`` (InputError: E1301–E1304).
+    ``objectives``: for a certificate of objectives given on the command line, their IR —
+    the interface parses the text the certificate stores (:func:`objective_texts`)."""
     doc = read_certificate(certificate) if isinstance(certificate, str) else dict(certificate)
     _same_problem(inst, doc)
     t0 = time.perf_counter()
-    expected = _expected(inst, doc)
+    given = list(objectives) if objectives else None
+    expected = _expected(inst, doc, given)
     seconds = CHECK_TIMEOUT if check_timeout is None else check_timeout
     smt = [o for o in doc["obligations"] if o.get("expect", "unsat") != "valid"]
     matching = [o for o in smt if _matches(o, expected.get(o["name"]))]
-    answers: dict[int, Mapping[str, tuple[str, float]]] = dict(
-        zip((id(o) for o in matching), _run_checkers(matching, seconds))
-    )
-    for o in doc["obligations"]:
-        if o.get("expect") == "valid" and doc.get("method") == "core" and f"sat/{o['name'][8:]}" in expected:
-            answers[id(o)] = {WITNESS: _replay(inst, doc, o)}
-        elif o.get("expect") == "valid" and doc.get("method") == "least" and o["name"] == "witness":
-            answers[id(o)] = {WITNESS: _replay_least(inst, doc, o)}
-        elif o.get("expect") == "valid" and doc.get("method") == "optimal" and o["name"] == "witness":
-            answers[id(o)] = {WITNESS: _replay_optimal(inst, doc, o)}
-        elif o.get("expect") == "valid" and doc.get("method") == "discrete" and o["name"] == "witness":
-            answers[id(o)] = {WITNESS: _replay_discrete(inst, doc, o)}
-        elif o.get("expect") == "valid" and doc.get("method") == "pareto" and o["name"] in expected:
-            answers[id(o)] = {WITNESS: _replay_point(inst, doc, o)}
+    from concurrent.futures import ThreadPoolExecutor
+
+    answers: dict[int, Mapping[str, tuple[str, float]]] = {}
+    if any(o.get("expect") == "valid" for o in doc["obligations"]):
+        with ThreadPoolExecutor(max_workers=1) as pool:  # the checkers' processes run while the validator replays
+            checked = pool.submit(_run_checkers, matching, seconds)
+            _replays(inst, doc, expected, given, answers)
+            answers |= dict(zip((id(o) for o in matching), checked.result()))
+    else:
+        answers |= dict(zip((id(o) for o in matching), _run_checkers(matching, seconds)))
     rows = [_checked(o, expected.get(o["name"]), answers.get(id(o))) for o in doc["obligations"]]
     missing = sorted(_missing(doc, expected))
     rows += [
@@ -1472,6 +1748,27 @@ def certify(
     result = Certification(status, str(doc.get("method")), str(doc.get("producer")), rows)
     result.timings = {"total": time.perf_counter() - t0}
     return result
+
+
+def _replays(
+    inst: ir.Instance,
+    doc: Mapping[str, Any],
+    expected: Mapping[str, str],
+    given: Sequence[ir.Objective] | None,
+    answers: dict[int, Mapping[str, tuple[str, float]]],
+) -> None:
+    """The validator's answer on each composition the certificate holds (into ``answers``)."""
+    for o in doc["obligations"]:
+        if o.get("expect") == "valid" and doc.get("method") == "core" and o["name"] in expected:
+            answers[id(o)] = {WITNESS: _replay(inst, doc, o)}
+        elif o.get("expect") == "valid" and doc.get("method") == "least" and o["name"] == "witness":
+            answers[id(o)] = {WITNESS: _replay_least(inst, doc, o)}
+        elif o.get("expect") == "valid" and doc.get("method") == "optimal" and o["name"] == "witness":
+            answers[id(o)] = {WITNESS: _replay_optimal(inst, doc, o, given)}
+        elif o.get("expect") == "valid" and doc.get("method") == "discrete" and o["name"] == "witness":
+            answers[id(o)] = {WITNESS: _replay_discrete(inst, doc, o)}
+        elif o.get("expect") == "valid" and doc.get("method") == "pareto" and o["name"] in expected:
+            answers[id(o)] = {WITNESS: _replay_point(inst, doc, o, given)}
 
 
 def _missing(doc: Mapping[str, Any], expected: Mapping[str, str]) -> set[str]:
@@ -1529,8 +1826,21 @@ def _check(inst: ir.Instance, options: Mapping[str, Any]) -> str | None:
         return "give the certificate: catc certify PROBLEM CERTIFICATE"
     doc = read_certificate(path)
     _same_problem(inst, doc)
-    _expected(inst, doc)
+    _expected(inst, doc, options.get("objectives") or None)
     return None
+
+
+def _stored_objectives(options: Mapping[str, Any]) -> list[tuple[str, str]]:
+    """The query's :attr:`~catc.queries.base.Query.objective_texts`: the command-line
+    objectives the certificate stores, for the interface to parse (none when ``--minimize``
+    or ``--maximize`` restate them, or the file cannot be read: ``check`` says why)."""
+    path = options.get("certificate_file")
+    if options.get("objectives") or not path:
+        return []
+    try:
+        return objective_texts(read_certificate(path))
+    except InputError:
+        return []
 
 
 def _run(
@@ -1539,9 +1849,10 @@ def _run(
     check_timeout: float | None = None,
     horizon: int | None = None,
     sequential: bool = False,
+    objectives: list[ir.Objective] | None = None,
 ) -> Certification:
     """The query's ``run`` (the horizon and the semantics are the certificate's own)."""
-    return certify(inst, certificate_file, check_timeout=check_timeout)
+    return certify(inst, certificate_file, check_timeout=check_timeout, objectives=objectives)
 
 
 QUERY = Query(
@@ -1559,10 +1870,15 @@ QUERY = Query(
             Kind.SECONDS,
             f"Seconds each checker may take on one obligation (default {CHECK_TIMEOUT:g}).",
         ),
+        objectives_option(
+            "A command-line objective of the certificate, restated (default: the text the certificate stores).",
+            "A command-line objective of the certificate, restated (default: the text the certificate stores).",
+        ),
         json_option("catc.certify/1"),
     ),
     run=_run,
     to_json=certify_json,
     render=render,
     check=_check,
+    objective_texts=_stored_objectives,
 )

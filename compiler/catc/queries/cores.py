@@ -484,6 +484,8 @@ class QuickCores:
         self.bound = LeastCost(inst)
         self.horizon, self.extended = horizon, extended
         self.witnessed = 0
+        self.replayed: tuple[Plan, bool] | None = None  # the last composition accepted, and its 10⁹ flag
+        self.witnesses: dict[str, tuple[Plan, bool]] = {}  # irreducible's: member → what showed it needed
 
     def core(self, labels: Sequence[str]) -> list[str] | None:
         """A core of ``labels`` irreducible for the bound, or None (it does not refute them)."""
@@ -521,6 +523,7 @@ class QuickCores:
             for big in (False, True):
                 if validate(_freed(_restricted(sub, enforced, big), enforced), candidate, horizon=steps).ok:
                     self.witnessed += 1
+                    self.replayed = (candidate, big)
                     return True
         return False
 
@@ -544,9 +547,11 @@ class QuickCores:
                 limits.check_time("diagnosing")
                 enforced = frozenset(rest)
                 if self._replay(enforced, bound.swapped(enforced, giver, order, position[m])):
+                    self.witnesses[label] = self.replayed  # type: ignore[assignment]
                     continue
             if not self.feasible(rest, m):
                 return False
+            self.witnesses[label] = self.replayed  # type: ignore[assignment]
         return True
 
 

@@ -72,10 +72,13 @@ def certificate_artifact(inst: ir.Instance, result: object, options: Mapping[str
     return artifact
 
 
-def certificate_document(inst: ir.Instance, result: object) -> tuple[dict[str, Any] | None, str]:
-    """The catc.certificate/1 document proving ``result``, or ``None`` and why there is none."""
+def certificate_document(
+    inst: ir.Instance, result: object, options: Mapping[str, Any] | None = None
+) -> tuple[dict[str, Any] | None, str]:
+    """The catc.certificate/1 document proving ``result`` (any query's answer; ``options``:
+    the query's, e.g. ``sequential``), or ``None`` and why there is none."""
     certify = REGISTRY.module("certify")
     try:
-        return certify.certificate(inst, result), ""
+        return certify.certificate_of(inst, result, options or {}), ""
     except certify.NotCertifiable as exc:
         return None, str(exc)
