@@ -19,6 +19,7 @@ from typing import Any, NamedTuple
 from catc import ir
 from catc.ir.numbers import number_text, ratio_text
 from catc.queries.base import ExitCode, Progress, Result, Status
+from catc.queries.churn_search import tightened
 from catc.queries.solve import SolveStatus, solve
 from catc.semantics.compositions import canonical_fresh, drop_idle_steps, prune_plan
 from catc.semantics.horizon import horizon_of
@@ -427,7 +428,7 @@ def _better_exists(
     if (
         tactics.counting_proofs
         and not softs
-        and better_refuted(inst, objectives, values, timeout=limits.for_check(deadline))
+        and better_refuted(tightened(inst), objectives, values, timeout=limits.for_check(deadline))
     ):
         timings["solve"] += time.perf_counter() - t0  # proved by counting activations (catc.smt.counting)
         return Check.UNSAT
