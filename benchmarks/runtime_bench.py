@@ -309,7 +309,7 @@ def question_child(args: argparse.Namespace) -> None:
         with connect(state) as rt:
             for event in mission:
                 if event["id"] == "IV-approved":
-                    rec.optimize = take  # type: ignore[assignment]
+                    rec.optimize = take
                     with contextlib.suppress(_Taken):
                         rt.submit(event)
                     break
@@ -321,9 +321,9 @@ def question_child(args: argparse.Namespace) -> None:
 
     def counted(self: object, *a: object, **k: object) -> object:
         checks.append(type(self.solver).__name__)  # type: ignore[attr-defined]
-        return check(self, *a, **k)  # type: ignore[arg-type]
+        return check(self, *a, **k)
 
-    z3b.Z3Backend.check = counted  # type: ignore[method-assign]
+    z3b.Z3Backend.check = counted
     out = []
     for name, values in QUESTIONS.items():
         start = dict(inst.problem.init)
