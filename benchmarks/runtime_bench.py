@@ -28,16 +28,27 @@ excluded, and prints each step's decision time and whole time side by side:
 
 ``--sar`` runs the search-and-rescue mission (mission-events.jsonl, each tree its own copy)
 that way instead.
+
+``question`` settles whether a step got slower by its question or by the optimizer: each
+tree runs the mission up to IV-approved, takes the query its recompose hands to
+``optimize`` (stability first: least churn, then the most budget), and answers it as asked
+on that tree and with the initial values another tree's IV-dark restoration leaves (at
+0970ded relax added watts to dollars: budget 21,020 and power 23, against budget 21,110
+now) — every tree's optimizer on every question, with its seconds and Z3 checks:
+
+    python benchmarks/runtime_bench.py question --against /tmp/rt4old /work/main [--rounds 2]
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import statistics
 import sys
 import tempfile
 import time
+from dataclasses import replace
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -261,7 +272,115 @@ def catalog(args: argparse.Namespace) -> int:
     return 0
 
 
+# ---------------------------------------------------------------- question: IV-approved's query, swapped
+
+#: IV-approved's question by the restoration before it: the initial values it changes.
+QUESTIONS = {
+    "budget 21110 (now)": {"budget": "21110"},
+    "budget 21020, power 23 (0970ded)": {"budget": "21020", "power": "23"},
+}
+
+
+class _Taken(BaseException):
+    """Raised by :func:`question_child`'s stand-in for ``optimize`` (past any ``except Exception``)."""
+
+
+def question_child(args: argparse.Namespace) -> None:
+    """The optimize call of IV-approved's recompose on this tree, then this tree's optimize
+    on each of :data:`QUESTIONS` (``--rounds`` times): seconds, Z3 checks, values (JSON)."""
+    from fractions import Fraction
+
+    import catc.queries.recompose as rec
+    import catc.smt.z3backend as z3b
+    from catc import ir
+    from catc.queries.optimize import optimize
+
+    taken: list[tuple] = []
+
+    def take(inst: object, order: object, **kw: object) -> object:
+        taken.append((inst, order, kw))
+        raise _Taken  # stop the step: only its question is wanted
+
+    folder = TREE / "examples" / "search-and-rescue"
+    mission = [json.loads(line) for line in (folder / "mission-events.jsonl").read_text().splitlines()]
+    with tempfile.TemporaryDirectory() as tmp:
+        state = Path(tmp) / "st"
+        init(state, str(folder / "mission.cat"))
+        with connect(state) as rt:
+            for event in mission:
+                if event["id"] == "IV-approved":
+                    rec.optimize = take
+                    with contextlib.suppress(_Taken):
+                        rt.submit(event)
+                    break
+                rt.submit(event)
+    rec.optimize = optimize
+    inst, order, kw = taken[0]
+    checks: list[str] = []
+    check = z3b.Z3Backend.check
+
+    def counted(self: object, *a: object, **k: object) -> object:
+        checks.append(type(self.solver).__name__)  # type: ignore[attr-defined]
+        return check(self, *a, **k)
+
+    z3b.Z3Backend.check = counted
+    out = []
+    for name, values in QUESTIONS.items():
+        start = dict(inst.problem.init)
+        for r, v in values.items():
+            iv = start[r]
+            start[r] = type(iv)(iv.resource, type(iv.value)(Fraction(v), iv.value.sort), iv.label, iv.span)
+        asked = ir.Instance(inst.domain, replace(inst.problem, init=start), inst.view)
+        for _ in range(args.rounds):
+            checks.clear()
+            t = time.perf_counter()
+            result = optimize(asked, order, **{k: v for k, v in kw.items() if k != "progress"})
+            took = time.perf_counter() - t
+            out.append({"question": name, "seconds": took, "checks": len(checks),
+                        "optimize_checks": checks.count("Optimize"), "status": result.status.name,
+                        "values": [str(v.value) for v in result.values]})  # fmt: skip
+    print(json.dumps(out))
+
+
+def question(args: argparse.Namespace) -> int:
+    """:func:`question_child` on this tree and each ``--against`` tree, side by side."""
+    import subprocess
+
+    trees = {"this tree": ROOT} | {f"--against {t}": Path(t).resolve() for t in args.against}
+    rows: dict[str, list[dict]] = {}
+    for name, tree in trees.items():
+        argv = [sys.executable, __file__, "question-child", "--tree", str(tree), "--rounds", str(args.rounds)]
+        done = subprocess.run(argv, capture_output=True, text=True, check=False, env={"PATH": "/usr/bin:/bin"})
+        if done.returncode != 0:
+            print(f"{name} ({tree}) failed:\n{done.stderr[-2000:]}", file=sys.stderr)
+            return 2
+        rows[name] = json.loads(done.stdout.splitlines()[-1])
+    print(f"`python benchmarks/runtime_bench.py question --against {' '.join(args.against)} "
+          f"--rounds {args.rounds}` on {machine()}\n")  # fmt: skip
+    print("| tree's optimizer | question (IV-dark's restoration) | answer (churn, budget) | seconds (median) "
+          "| Z3 checks (of them Optimize) |")  # fmt: skip
+    print("|---|---|---|---:|---:|")
+    for name, tree in trees.items():
+        for q in QUESTIONS:
+            rs = [r for r in rows[name] if r["question"] == q]
+            seconds = statistics.median(r["seconds"] for r in rs)
+            print(f"| {name} ({tree.name}) | {q} | {rs[0]['status']} ({', '.join(rs[0]['values'])}) | "
+                  f"{seconds:.2f} | {rs[0]['checks']} ({rs[0]['optimize_checks']}) |")  # fmt: skip
+    return 0
+
+
 def main() -> None:
+    if sys.argv[1:2] in (["question"], ["question-child"]):
+        ap = argparse.ArgumentParser(description="IV-approved's question on each tree's optimizer, and swapped")
+        ap.add_argument("mode", choices=["question", "question-child"])
+        ap.add_argument("--against", nargs="+", default=["/tmp/base"], help="other checkouts")
+        ap.add_argument("--tree", default=str(ROOT), help="(child) the tree whose code runs")
+        ap.add_argument("--rounds", type=int, default=2)
+        args = ap.parse_args()
+        if args.mode == "question-child":
+            question_child(args)
+            return
+        sys.exit(question(args))
     if sys.argv[1:2] in (["catalog"], ["catalog-child"]):
         ap = argparse.ArgumentParser(description="a mission on a generated catalog, side by side against another tree")
         ap.add_argument("mode", choices=["catalog", "catalog-child"])
