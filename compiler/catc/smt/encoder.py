@@ -268,27 +268,7 @@ class Encoder:
         for m in self.morphisms:
             limits.check_time("encoding")
             params = {p.name: theta[(m.name, p.name)] for p in m.params}
-            on: str = b[m.name]
-            for e in m.effects:
-                res = self.inst.resources[e.resource]
-                ctx = _Ctx(t, params, [])
-                value = self.term(e.value, ctx)
-                if e.kind in (ir.EffectKind.INCREASE, ir.EffectKind.DECREASE, ir.EffectKind.ASSIGN):
-                    value = self._as(value, e.value.sort, res.sort)
-                if ctx.guards:
-                    self.add(e.label, f"(=> {on} {_and(ctx.guards)})")
-                on = self.effect_guard(e, b[m.name])
-                zero = "0.0" if res.sort.kind is SortKind.REAL else "0"
-                if e.kind is ir.EffectKind.ASSIGN:
-                    assigns[e.resource].append((on, value))
-                elif e.kind is ir.EffectKind.INCREASE:
-                    deltas[e.resource].append(f"(ite {on} {value} {zero})")
-                elif e.kind is ir.EffectKind.DECREASE:
-                    deltas[e.resource].append(f"(ite {on} (- {value}) {zero})")
-                elif e.kind is ir.EffectKind.ADD:
-                    adds[e.resource].append((m.name, on, value))
-                else:
-                    removes[e.resource].append((m.name, on, value))
+            self._changes(m, t, params, None, b[m.name], assigns, deltas, adds, removes)
         if self.step_hook is not None:
             self.step_hook(t, b, assigns, deltas, adds, removes)
         for r in self.resources:
@@ -297,6 +277,42 @@ class Encoder:
                     r, s[r.name], nxt[r.name], assigns[r.name], deltas[r.name], adds[r.name], removes[r.name]
                 )
         self._interference(b, adds, removes)
+
+    def _changes(
+        self,
+        m: ir.Morphism,
+        t: int,
+        params: dict[str, Term],
+        state: dict[str, Term] | None,
+        active: Symbol,
+        assigns: dict[str, Assigns],
+        deltas: dict[str, Deltas],
+        adds: dict[str, SetChanges],
+        removes: dict[str, SetChanges],
+    ) -> None:
+        """Collect what ``m``'s effects do to each resource when ``active`` (its values read on
+        ``state``, else on state ``t``): "increments are summed, then an assignment overrides
+        them" is applied by :meth:`_successor` to what is collected here."""
+        for e in m.effects:
+            res = self.inst.resources[e.resource]
+            ctx = _Ctx(t, params, [], state)
+            value = self.term(e.value, ctx)
+            if e.kind in (ir.EffectKind.INCREASE, ir.EffectKind.DECREASE, ir.EffectKind.ASSIGN):
+                value = self._as(value, e.value.sort, res.sort)
+            if ctx.guards:
+                self.add(e.label, f"(=> {active} {_and(ctx.guards)})")
+            on = self.effect_guard(e, active)
+            zero = "0.0" if res.sort.kind is SortKind.REAL else "0"
+            if e.kind is ir.EffectKind.ASSIGN:
+                assigns[e.resource].append((on, value))
+            elif e.kind is ir.EffectKind.INCREASE:
+                deltas[e.resource].append(f"(ite {on} {value} {zero})")
+            elif e.kind is ir.EffectKind.DECREASE:
+                deltas[e.resource].append(f"(ite {on} (- {value}) {zero})")
+            elif e.kind is ir.EffectKind.ADD:
+                adds[e.resource].append((m.name, on, value))
+            else:
+                removes[e.resource].append((m.name, on, value))
 
     def _exists_step(
         self,
@@ -318,7 +334,6 @@ class Encoder:
         construction, each precondition read where it applies."""
         assert self.step_hook is None, "∃-step steps have no hook (catc synthesize encodes ∀-steps)"
         cur = dict(s)
-        zero = {SortKind.REAL: "0.0"}
         for i, m in enumerate(self.morphisms):
             limits.check_time("encoding")
             params = {p.name: theta[(m.name, p.name)] for p in m.params}
@@ -330,26 +345,7 @@ class Encoder:
             deltas: dict[str, Deltas] = defaultdict(list)
             adds: dict[str, SetChanges] = defaultdict(list)
             removes: dict[str, SetChanges] = defaultdict(list)
-            for e in m.effects:
-                res = self.inst.resources[e.resource]
-                ctx = _Ctx(t, params, [], cur)
-                value = self.term(e.value, ctx)
-                if e.kind in (ir.EffectKind.INCREASE, ir.EffectKind.DECREASE, ir.EffectKind.ASSIGN):
-                    value = self._as(value, e.value.sort, res.sort)
-                if ctx.guards:
-                    self.add(e.label, f"(=> {b[m.name]} {_and(ctx.guards)})")
-                on = self.effect_guard(e, b[m.name])
-                z = zero.get(res.sort.kind, "0")
-                if e.kind is ir.EffectKind.ASSIGN:
-                    assigns[e.resource].append((on, value))
-                elif e.kind is ir.EffectKind.INCREASE:
-                    deltas[e.resource].append(f"(ite {on} {value} {z})")
-                elif e.kind is ir.EffectKind.DECREASE:
-                    deltas[e.resource].append(f"(ite {on} (- {value}) {z})")
-                elif e.kind is ir.EffectKind.ADD:
-                    adds[e.resource].append((m.name, on, value))
-                else:
-                    removes[e.resource].append((m.name, on, value))
+            self._changes(m, t, params, cur, b[m.name], assigns, deltas, adds, removes)
             after = dict(cur)
             for name in dict.fromkeys(e.resource for e in m.effects):
                 r = self.inst.resources[name]
