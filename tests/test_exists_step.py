@@ -32,15 +32,7 @@ def _apply(morphs, state, i):
     if not all(lit.holds(bools, c) for lit in m.pre):
         return None
     new_b = list(bools)
-    for e in m.effects:
-        if e.kind == "set":
-            new_b[e.target] = True
-        elif e.kind == "clear":
-            new_b[e.target] = False
-        elif e.kind == "inc":
-            c += 1
-        else:
-            c -= 1
+    c = m.apply(new_b, c)
     if not 0 <= c <= COUNTER_MAX:
         return None
     return tuple(new_b), c, tuple(u + (k == i) for k, u in enumerate(used))

@@ -72,6 +72,17 @@ class Morph:
     effects: tuple[Eff, ...]
     uses: int | None
 
+    def apply(self, bools: list[bool], c: int) -> int:
+        """Do the effects to ``bools`` (in place); the counter after them."""
+        for e in self.effects:
+            if e.kind == "set":
+                bools[e.target] = True
+            elif e.kind == "clear":
+                bools[e.target] = False
+            else:
+                c += 1 if e.kind == "inc" else -1
+        return c
+
 
 @st.composite
 def domains(draw):
@@ -140,15 +151,7 @@ def successors(morphs, state):
                 continue
             new_b, new_c = list(bools), c
             for m in ms:
-                for e in m.effects:
-                    if e.kind == "set":
-                        new_b[e.target] = True
-                    elif e.kind == "clear":
-                        new_b[e.target] = False
-                    elif e.kind == "inc":
-                        new_c += 1
-                    else:
-                        new_c -= 1
+                new_c = m.apply(new_b, new_c)
             if 0 <= new_c <= COUNTER_MAX:
                 yield tuple(new_b), new_c, tuple(u + (1 if i in combo else 0) for i, u in enumerate(used))
 
