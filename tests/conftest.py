@@ -77,6 +77,18 @@ def run_catc(*args: str, cwd: Path | None = None, via_click: bool = False) -> Re
     return Result(res.exit_code, res.stdout, res.stderr)
 
 
+def answer_document(*args: str) -> dict:
+    """The JSON answer of ``catc ARGS`` (which must exit 0), without its timings: two runs
+    of one question compare equal."""
+    import json
+
+    res = run_catc(*args)
+    assert res.exit_code == 0, res.output
+    doc = json.loads(res.stdout)
+    doc.pop("timings", None)
+    return doc
+
+
 def run_catc_process(*args: str, timeout: float = 120, input: bytes | None = None) -> Result:
     """Run ``python -m catc`` in a fresh process (for end-to-end behaviour)."""
     proc = subprocess.run(

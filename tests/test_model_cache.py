@@ -6,14 +6,13 @@ during the check is not kept; a damaged entry is a miss."""
 
 from __future__ import annotations
 
-import json
 import os
 import shutil
 import time
 from pathlib import Path
 
 import pytest
-from conftest import ROOT, run_catc
+from conftest import ROOT, answer_document
 
 from catc.frontend import session, workspace
 from catc.frontend.session import load_checked
@@ -152,25 +151,17 @@ def test_a_damaged_entry_is_a_miss(model, tmp_path, monkeypatch):
     assert _load(tmp_path / "c") == first and checks.runs == 2
 
 
-def _answer(*args: str) -> dict:
-    res = run_catc(*args)
-    assert res.exit_code == 0, res.output
-    doc = json.loads(res.stdout)
-    doc.pop("timings", None)
-    return doc
-
-
 def test_the_command_line_answers_alike_with_and_without_it(tmp_path, monkeypatch):
     folder = tmp_path / "lifelong"
     shutil.copytree(ROOT / "examples/lifelong", folder)
     _age(folder)
     monkeypatch.setenv("CATC_CACHE", "off")
     budget = str(folder / "budget-cut.cat")
-    without = [_answer(q, budget, "--json") for q in ("diagnose", "relax")]
+    without = [answer_document(q, budget, "--json") for q in ("diagnose", "relax")]
     monkeypatch.setenv("CATC_CACHE", str(tmp_path / "c"))
-    filling = [_answer(q, budget, "--json") for q in ("diagnose", "relax")]
+    filling = [answer_document(q, budget, "--json") for q in ("diagnose", "relax")]
     assert len(list((tmp_path / "c/models").iterdir())) == 1  # one model, one entry
-    hit = [_answer(q, budget, "--json") for q in ("diagnose", "relax")]
+    hit = [answer_document(q, budget, "--json") for q in ("diagnose", "relax")]
     assert without == filling == hit
 
 

@@ -5,10 +5,9 @@ code — changes the key; a damaged file is a miss."""
 
 from __future__ import annotations
 
-import json
 import shutil
 
-from conftest import ROOT, run_catc
+from conftest import ROOT, answer_document
 
 from catc.frontend.stdlib_cache import StdlibCache
 from catc.frontend.workspace import Workspace, stdlib_dir
@@ -52,23 +51,15 @@ def test_a_damaged_file_is_a_miss(tmp_path):
     assert again == first and any("robot-base.cat" in f for f in ws.files)
 
 
-def _answer(*args: str) -> dict:
-    res = run_catc(*args)
-    assert res.exit_code == 0, res.output
-    doc = json.loads(res.stdout)
-    doc.pop("timings", None)
-    return doc
-
-
 def test_the_command_line_answers_alike_with_and_without_it(tmp_path, monkeypatch):
     monkeypatch.setenv("CATC_CACHE", "off")
-    without = _answer("solve", str(PERSON), "--json")
+    without = answer_document("solve", str(PERSON), "--json")
     assert not (tmp_path / "stdlib").exists()
     monkeypatch.setenv("CATC_CACHE", str(tmp_path))
-    filling = _answer("solve", str(PERSON), "--json")
+    filling = answer_document("solve", str(PERSON), "--json")
     assert len(list((tmp_path / "stdlib").iterdir())) == 5
-    hit = _answer("solve", str(PERSON), "--json")
+    hit = answer_document("solve", str(PERSON), "--json")
     assert without == filling == hit and without["status"] == "sat"
-    diagnose = _answer("diagnose", str(ROOT / "examples/lifelong/budget-cut.cat"), "--json")
+    diagnose = answer_document("diagnose", str(ROOT / "examples/lifelong/budget-cut.cat"), "--json")
     monkeypatch.setenv("CATC_CACHE", "off")
-    assert _answer("diagnose", str(ROOT / "examples/lifelong/budget-cut.cat"), "--json") == diagnose
+    assert answer_document("diagnose", str(ROOT / "examples/lifelong/budget-cut.cat"), "--json") == diagnose
