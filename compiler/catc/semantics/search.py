@@ -7,9 +7,11 @@ goal conditions) is inadmissible and claims nothing about length; its plan is sh
 its neighbourhood (:func:`_improve`), and A* below that length (:func:`_astar`) either finds a
 shorter composition or proves that there is none. The rest of this docstring is about A*.
 
-For numeric tasks A*'s heuristic is the larger of h^max (below) and an operator-counting bound
-(:class:`_Counting`: a linear program over how often each morphism fires, solved exactly),
-both read against the bounds every reachable state keeps — declared, or inferred from the
+For numeric tasks A*'s heuristic is the largest of h^max (below), a goal-achiever bound read
+off h^max's layers (:meth:`_Task._achiever_bound`: a goal fact's achiever cannot fire before
+its layer, and the achievers of goal facts independent of it are further steps) and an
+operator-counting bound (:class:`_Counting`: a linear program over how often each morphism
+fires, solved exactly), all read against the bounds every reachable state keeps — declared, or inferred from the
 preconditions that guard every change of a number (:func:`infer_bounds`).
 
 For ground instances (morphisms without parameters, as :mod:`catc.frontend.up_import` makes
@@ -478,6 +480,70 @@ class _Task:
             for (lo, hi), (ilo, ihi) in zip(self.bounds, infer_bounds(inst, self))
         ]
         self.counting: _Counting | None = None
+        self._achievers(inst)
+
+    def _achievers(self, inst: ir.Instance) -> None:
+        """The Boolean goal facts (``goal_facts``: resource, value), for each the morphisms
+        that may make it true (``achievers``: those assigning the resource that value or a
+        value that is not a constant — more than the true ones loses no soundness below) and
+        its independent goal facts (``independent``) for :meth:`_achiever_bound`.
+
+        R_g, the resources relevant to g: those the preconditions of g's achievers read,
+        closed under every morphism that writes one of them (its precondition's and effects'
+        reads join). A goal fact g′ ≠ g is independent of g when none of its achievers writes
+        a resource of R_g and none of them is an achiever of g."""
+        self.goal_facts: list[tuple[int, Any]] = []
+        todo = [lit.expr for lit in inst.problem.goal]
+        while todo:
+            e = todo.pop()
+            if isinstance(e, ir.BoolOp) and e.op is BoolOpKind.AND:
+                todo.extend(e.args)
+            elif isinstance(e, ir.ResourceRef) and self.kinds[self.index[e.name]] == "bool":
+                self.goal_facts.append((self.index[e.name], True))
+            elif (
+                isinstance(e, ir.BoolOp)
+                and e.op is BoolOpKind.NOT
+                and isinstance(e.args[0], ir.ResourceRef)
+                and self.kinds[self.index[e.args[0].name]] == "bool"
+            ):
+                self.goal_facts.append((self.index[e.args[0].name], False))
+        self.goal_facts = list(dict.fromkeys(self.goal_facts))
+        morphisms = list(inst.domain.morphisms.values())
+        writes = [{self.index[e.resource] for e in m.effects} for m in morphisms]
+        reads_pre = [{self.index[n] for lit in m.pre for n in _reads(lit.expr)} for m in morphisms]
+        reads_all = [
+            reads_pre[a] | {self.index[n] for e in m.effects for n in _reads(e.value)} for a, m in enumerate(morphisms)
+        ]
+        self.achievers: list[set[int]] = []
+        for i, value in self.goal_facts:
+            name = self.names[i]
+            self.achievers.append(
+                {
+                    a
+                    for a, m in enumerate(morphisms)
+                    for e in m.effects
+                    if e.resource == name
+                    and e.kind is EffectKind.ASSIGN
+                    and (_constant(e.value) is None or _constant(e.value) == value)
+                }
+            )
+        self.independent: list[list[int]] = []
+        for g, ach in enumerate(self.achievers):
+            relevant: set[int] = set().union(*(reads_pre[a] for a in ach)) if ach else set()
+            grew = True
+            while grew:
+                grew = False
+                for a, w in enumerate(writes):
+                    if w & relevant and not reads_all[a] <= relevant:
+                        relevant |= reads_all[a]
+                        grew = True
+            self.independent.append(
+                [
+                    k
+                    for k, other in enumerate(self.achievers)
+                    if k != g and not other & ach and all(not writes[a] & relevant for a in other)
+                ]
+            )
 
     def valid(self, s: list[Any]) -> bool:
         for i in self.bounded:
@@ -519,11 +585,18 @@ class _Task:
             return False
 
     def h(self, s: State, cap: int) -> int | None:
-        """The larger of two admissible and consistent bounds (so itself both): h^max
-        (:meth:`hmax`) and, where the task has numeric conditions, the operator-counting bound
-        (:class:`_Counting`); None for a dead end either proves."""
-        h = self.hmax(s, cap)
-        if h is None or self.counting is None or h >= cap:
+        """The largest of three admissible bounds: h^max (:meth:`hmax`, consistent), the
+        goal-achiever bound read off the same layers (:meth:`_achiever_bound`) and, where the
+        task has numeric conditions, the operator-counting bound (:class:`_Counting`,
+        consistent); None for a dead end any of them proves. A* needs admissibility only
+        (:func:`_astar`)."""
+        first: list[int] | None = [-1] * len(self.actions) if self.goal_facts else None
+        h = self._hmax(s, cap, first)
+        if h is None or h >= cap:
+            return h
+        if first is not None:
+            h = min(max(h, self._achiever_bound(s, first)), cap)
+        if self.counting is None or h >= cap:
             return h
         c = self.counting.h(s)
         return None if c is None else min(max(h, c), cap)
@@ -532,21 +605,70 @@ class _Task:
         """Layers of the interval relaxation until the goal can hold: None for a proven dead
         end, ``cap`` when the goal cannot hold within ``cap - 1`` layers (and the widened
         relaxation, :meth:`_dead`, cannot prove it never will)."""
+        return self._hmax(s, cap, None)
+
+    def _hmax(self, s: State, cap: int, first: list[int] | None) -> int | None:
+        """:meth:`hmax`; with ``first``, also the first layer in which each morphism may
+        fire (−1: not before the goal's layer)."""
         r: list[Any] = [_point(v, k) for v, k in zip(s, self.kinds)]
         fired: set[int] = set()
         for layer in range(cap):
             rt = tuple(r)
             if all(f(rt)[0] for f in self.rgoal):
                 return layer
-            new = self._layer(rt, fired)
+            new = self._layer(rt, fired, first, layer)
             if new is None:
                 return None
             r = new
         return None if self._dead(r) else cap
 
-    def _layer(self, rt: Relaxed, fired: set[int]) -> list[Any] | None:
+    def _achiever_bound(self, s: State, first: list[int]) -> int:
+        """A lower bound on the steps from ``s`` to the goal, from its Boolean goal facts: for
+        a goal fact g false in ``s``, e_g + 1 + m_g, the largest over such g (0 if none), where
+        e_g is the first layer in which an achiever of g may fire (``first``, from the layers
+        of :meth:`_hmax`) and m_g the number of goal facts false in ``s`` among g's independent
+        ones (:meth:`_achievers`), or 1 if some two of those share an achiever.
+
+        Admissible. Take any composition π from ``s`` to the goal and the last step t of π
+        that fires an achiever a of g (g is false in ``s`` and true at the end, so there is
+        one). (1) The steps before t include at least e_g steps relevant to g (writing a
+        resource of R_g, :meth:`_achievers`): drop the others and the resources of R_g take the
+        same values along the relevant steps — the dropped ones write none of them, and the
+        relevant ones read only resources of R_g — so, by the relaxation's induction (each
+        relevant step's precondition holds on values inside the current layer, its effects land
+        inside the next one; a step that writes nothing of R_g keeps the values where they
+        were, and layers only grow), after j relevant steps the values of R_g lie inside layer
+        j; a's precondition, which reads only R_g, holds before t, so j ≥ e_g. (2) Step t
+        itself. (3) Each independent goal fact g′ false in ``s`` needs a step firing one of its
+        achievers; these write nothing of R_g (so they are not among (1)) and none of them
+        achieves g (so none is step t); where no two of them share an achiever, the m_g facts
+        need m_g distinct steps, else at least one. So π has at least e_g + 1 + m_g steps.
+
+        Not consistent in general (a step achieving g drops g's term), so A* keeps the
+        estimates admissible by other means (:func:`_astar`)."""
+        best = 0
+        for g, (i, value) in enumerate(self.goal_facts):
+            if s[i] == value:
+                continue
+            e = min((first[a] for a in self.achievers[g] if first[a] >= 0), default=-1)
+            if e < 0:
+                continue
+            unmet = [k for k in self.independent[g] if s[self.goal_facts[k][0]] != self.goal_facts[k][1]]
+            m = len(unmet)
+            if m > 1:
+                seen: set[int] = set()
+                for k in unmet:
+                    if seen & self.achievers[k]:
+                        m = 1
+                        break
+                    seen |= self.achievers[k]
+            best = max(best, e + 1 + m)
+        return best
+
+    def _layer(self, rt: Relaxed, fired: set[int], first: list[int] | None = None, layer: int = 0) -> list[Any] | None:
         """The next layer: every morphism that may fire in ``rt`` applied (relaxed, joined);
-        None when nothing changes (a fixpoint)."""
+        None when nothing changes (a fixpoint). With ``first``, a morphism seen to fire for
+        the first time is marked with ``layer``."""
         changed = False
         new = list(rt)
         for a_i, a in enumerate(self.actions):
@@ -554,6 +676,8 @@ class _Task:
                 continue
             if not all(f(rt)[0] for f in a.rpre):
                 continue
+            if first is not None and first[a_i] < 0:
+                first[a_i] = layer
             if a.constant:
                 fired.add(a_i)
             for i, mode, terms in a.reffects:
@@ -1414,9 +1538,12 @@ def _astar(task: Any, horizon: int, deadline: float | None) -> SearchResult:
     cut = h0 > horizon  # some state was cut by the horizon: no proof for longer plans
     if cut:
         return SearchResult(SearchStatus.NONE, reason=f"no composition within {horizon} steps (h^max)")
-    # lazy A*: a state enters the queue with its parent's h − 1 (a lower bound, the heuristic
-    # being consistent) and is evaluated only when it comes out; if its f then grows it goes
-    # back in. Most generated states are never evaluated.
+    # lazy A*: a state enters the queue with its parent's h − 1 and is evaluated only when it
+    # comes out; if its f then grows it goes back in. Most generated states are never
+    # evaluated. The heuristic need only be admissible: h(parent) ≤ h*(parent) ≤ 1 + h*(t)
+    # for every successor t, so the estimate h(parent) − 1 is admissible for t too; every f in
+    # the queue is a lower bound, a state reached more cheaply is queued again (no closed
+    # set), and a goal comes out at its g (its estimate ≤ h* = 0): the first is shortest.
     g_of: dict[Any, int] = {start: 0}
     parent: dict[Any, tuple[Any, int] | None] = {start: None}
     tie = itertools.count()
