@@ -463,3 +463,18 @@ def test_the_goal_achiever_bound_never_exceeds_the_true_distance(teleport):
     assert dist[task.init] == (2 if teleport else 8)
     if not teleport:
         assert task.h(task.init, 100) == 8
+
+
+def test_hydropower_is_answered_shortest_where_the_greedy_order_misleads(tmp_path):
+    """IPC 2023 hydropower's actions on the corpus script's demand curve (price 1 at t0, 2 in
+    between, 10 at the last of 6 hours; its generator argues 2·units + T − 1 = 9 by hand):
+    h_add prefers selling at any hour, so the greedy search wanders; A*, taking turns with it,
+    answers with the shortest plan, replayed by the validator."""
+    mod = _corpus_script()
+    (tmp_path / "d.pddl").write_text(mod.HYDROPOWER)
+    (tmp_path / "p.pddl").write_text(mod.hydropower(6, 2))
+    inst, _ = up_to_instance(_read(tmp_path / "d.pddl", tmp_path / "p.pddl"))
+    r = search(inst, 200)
+    assert r.status is SearchStatus.PLAN and r.length == 9 and r.shortest
+    via = solve(inst, horizon=200, sequential=True, strategy="search")  # validated inside
+    assert via.status is SolveStatus.SAT and via.plan is not None and len(via.plan.steps) == 9

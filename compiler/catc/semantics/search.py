@@ -45,7 +45,7 @@ import heapq
 import itertools
 import operator
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Generator
 from enum import Enum
 from fractions import Fraction
 from typing import Any
@@ -1412,10 +1412,11 @@ def search(
     """A composition of at most ``horizon`` steps, or a proof that there is none; ``deadline``
     is a ``time.monotonic()`` instant.
 
-    With ``greedy`` a greedy best-first search guided by h_add finds a composition first
-    (fast, not necessarily shortest; given at most half the time left); with ``prove`` A*
-    then looks for a shorter one, and when it finds none the greedy one is proven shortest.
-    When the time runs out first the greedy composition is the answer, ``shortest`` False.
+    With ``greedy`` a greedy best-first search guided by h_add looks for a composition (fast,
+    not necessarily shortest) taking turns with A* (with ``prove``); if A* answers first, its
+    answer is the answer; if the greedy search does, A* goes on below its composition's length,
+    and when it finds none shorter the greedy one is proven shortest. When the time runs out
+    first the greedy composition is the answer, ``shortest`` False.
     Without ``greedy``, A* alone (the shortest composition); without ``prove``, the greedy
     search alone (A* only when it found nothing)."""
     task: Any
@@ -1440,12 +1441,54 @@ def search(
     hadd: Callable[[Any], Any] = task.hadd if atoms is None else atoms.hadd
     if atoms is not None and task.counting is not None:
         hadd = _counting_first(task.counting, atoms.hadd)
-    share = None if deadline is None else time.monotonic() + (deadline - time.monotonic()) / (2 if prove else 1)
-    found = _greedy(task, hadd, horizon, share)
+    found: SearchResult | None
+    if not prove:
+        found = _greedy(task, hadd, horizon, deadline)
+        if found.status is SearchStatus.NONE and found.final:
+            return found
+        if found.status is not SearchStatus.PLAN:
+            r = _astar(task, horizon, deadline)
+            r.expanded += found.expanded
+            if r.status is SearchStatus.PLAN:
+                r.first_plan = time.monotonic() - t0
+            return r
+        assert found.plan is not None
+        found.first_plan = time.monotonic() - t0
+        if len(found.plan.steps) > 1:
+            until = None if deadline is None else time.monotonic() + (deadline - time.monotonic()) / 4
+            found.plan = _improve(task, found.plan, until)
+            found.length = len(found.plan.steps)
+        if found.length:
+            found.shortest = False
+            found.reason = "the greedy search's composition (no proof that it is shortest was sought)"
+        return found
+    # the greedy search and A* take turns (SLICE expansions each) until one of them answers:
+    # A* on its own finds the shortest composition where the greedy search's order misleads
+    # it (hydropower: h_add prefers selling at any hour); a greedy plan first lowers A*'s
+    # bound to one below its length, so that A* only has to prove nothing shorter exists
+    bound = [horizon]
+    greedy_run, astar_run = _greedy_run(task, hadd, horizon, deadline), _astar_run(task, horizon, deadline, bound)
+    found = None
+    better: SearchResult | None = None
+    while found is None and better is None:
+        try:
+            next(greedy_run)
+        except StopIteration as done:
+            found = done.value
+            break
+        try:
+            next(astar_run)
+        except StopIteration as done:
+            better = done.value
+    if better is not None:  # A* answered first: the shortest composition, or a proof of none
+        if better.status is SearchStatus.PLAN:
+            better.first_plan = time.monotonic() - t0
+        return better
+    assert found is not None
     if found.status is SearchStatus.NONE and found.final:
         return found  # every reachable state seen, none cut by the horizon
     if found.status is not SearchStatus.PLAN:
-        r = _astar(task, horizon, deadline)
+        r = _finish(astar_run)
         r.expanded += found.expanded
         if r.status is SearchStatus.PLAN:
             r.first_plan = time.monotonic() - t0
@@ -1459,11 +1502,8 @@ def search(
     length = len(found.plan.steps)
     if length == 0:
         return found
-    if not prove:
-        found.shortest = False
-        found.reason = "the greedy search's composition (no proof that it is shortest was sought)"
-        return found
-    better = _astar(task, length - 1, deadline)  # a shorter one, or a proof that there is none
+    bound[0] = min(bound[0], length - 1)  # a shorter one, or a proof that there is none
+    better = _finish(astar_run)
     better.expanded += found.expanded
     if better.status is SearchStatus.PLAN:
         better.first_plan = found.first_plan
@@ -1491,10 +1531,31 @@ def _counting_first(counting: _Counting, hadd: Callable[[State], int]) -> Callab
     return key
 
 
+#: Expansions between two turns of the interleaved searches (:func:`search`).
+SLICE = 16
+
+Run = Generator[None, None, SearchResult]
+
+
+def _finish(run: Run) -> SearchResult:
+    """Drive a search to its end (its result)."""
+    while True:
+        try:
+            next(run)
+        except StopIteration as done:
+            return done.value  # type: ignore[no-any-return]
+
+
 def _greedy(task: Any, hadd: Callable[[Any], Any], horizon: int, deadline: float | None) -> SearchResult:
+    """:func:`_greedy_run` to its end."""
+    return _finish(_greedy_run(task, hadd, horizon, deadline))
+
+
+def _greedy_run(task: Any, hadd: Callable[[Any], Any], horizon: int, deadline: float | None) -> Run:
     """Greedy best-first search on h_add (ties: the state generated first), every state once;
     the goal tested when a state is generated. Exhausting the states without cutting any at
-    the horizon proves that there is no composition."""
+    the horizon proves that there is no composition. A generator: it yields every ``SLICE``
+    expansions (a turn of :func:`search`'s interleaving) and returns its result."""
     start = task.init
     if task.is_goal(start):
         return SearchResult(SearchStatus.PLAN, Plan([]))
@@ -1507,6 +1568,8 @@ def _greedy(task: Any, hadd: Callable[[Any], Any], horizon: int, deadline: float
     while heap:
         _, _, s = heapq.heappop(heap)
         expanded += 1
+        if expanded % SLICE == 0:
+            yield
         if len(g_of) > GREEDY_STATES or (deadline is not None and expanded % 64 == 0 and time.monotonic() >= deadline):
             return SearchResult(SearchStatus.STOPPED, expanded=expanded, reason="the greedy search's share")
         g2 = g_of[s] + 1
@@ -1529,7 +1592,16 @@ def _greedy(task: Any, hadd: Callable[[Any], Any], horizon: int, deadline: float
 
 
 def _astar(task: Any, horizon: int, deadline: float | None) -> SearchResult:
-    """A* for the shortest composition of at most ``horizon`` steps (module docstring)."""
+    """:func:`_astar_run` to its end."""
+    return _finish(_astar_run(task, horizon, deadline, [horizon]))
+
+
+def _astar_run(task: Any, horizon: int, deadline: float | None, bound: list[int]) -> Run:
+    """A* for the shortest composition of at most ``bound[0]`` (≤ ``horizon``) steps (module
+    docstring). ``bound`` may be lowered while it runs (a composition of ``bound[0] + 1`` steps
+    found meanwhile, :func:`search`): states beyond it are cut from then on, and once the least
+    f in the queue exceeds it there is none within ``bound[0]`` (every f is a lower bound). A
+    generator: it yields every ``SLICE`` expansions and returns its result."""
     start = task.init
     cap = horizon + 1
     h0 = task.h(start, cap)
@@ -1551,13 +1623,15 @@ def _astar(task: Any, horizon: int, deadline: float | None) -> SearchResult:
     expanded = alive = 0
     while heap:
         f, h, _, g, s, evaluated = heapq.heappop(heap)
+        if f > bound[0]:  # every entry left has f > bound: no composition within it
+            return SearchResult(SearchStatus.NONE, expanded=expanded, reason=f"no composition within {bound[0]} steps")
         if g > g_of[s]:
             continue  # a stale entry: s was reached more cheaply since
         if not evaluated:
             h2 = task.h(s, cap - g)
             if h2 is None:
                 continue  # a proven dead end
-            if g + h2 > horizon:
+            if g + h2 > bound[0]:
                 cut = True
                 continue
             alive += 1
@@ -1570,6 +1644,8 @@ def _astar(task: Any, horizon: int, deadline: float | None) -> SearchResult:
         if task.is_goal(s):
             return SearchResult(SearchStatus.PLAN, _plan(task, parent, s), expanded=expanded)
         expanded += 1
+        if expanded % SLICE == 0:
+            yield
         if deadline is not None and time.monotonic() >= deadline:
             return SearchResult(SearchStatus.STOPPED, expanded=expanded, reason="timeout")
         g2, est = g + 1, max(h - 1, 0)
@@ -1581,7 +1657,7 @@ def _astar(task: Any, horizon: int, deadline: float | None) -> SearchResult:
             parent[t] = (s, a_i)
             heapq.heappush(heap, (g2 + est, est, next(tie), g2, t, False))
     if cut:
-        return SearchResult(SearchStatus.NONE, expanded=expanded, reason=f"no composition within {horizon} steps")
+        return SearchResult(SearchStatus.NONE, expanded=expanded, reason=f"no composition within {bound[0]} steps")
     return SearchResult(
         SearchStatus.NONE,
         final=True,
