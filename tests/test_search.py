@@ -474,6 +474,11 @@ def test_hydropower_is_answered_shortest_where_the_greedy_order_misleads(tmp_pat
     (tmp_path / "d.pddl").write_text(mod.HYDROPOWER)
     (tmp_path / "p.pddl").write_text(mod.hydropower(6, 2))
     inst, _ = up_to_instance(_read(tmp_path / "d.pddl", tmp_path / "p.pddl"))
+    from catc.semantics.search import _Atoms, _inline_statics, _Task
+
+    folded = _inline_statics(inst)  # UP leaves pump's price as (* 1.05 1): folded, a constant change
+    task = _Task(folded)
+    assert _Atoms(task, folded).varying == []
     r = search(inst, 200)
     assert r.status is SearchStatus.PLAN and r.length == 9 and r.shortest
     via = solve(inst, horizon=200, sequential=True, strategy="search")  # validated inside

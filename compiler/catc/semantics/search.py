@@ -1401,6 +1401,57 @@ class _Strips:
         return acts
 
 
+def _inline_statics(inst: ir.Instance) -> ir.Instance:
+    """``inst`` with every numeric resource that no morphism writes replaced, in the
+    preconditions, effects and goal, by its initial value, and the constant parts folded (the
+    same states, steps and goal: such a resource holds its initial value in every state). A
+    PDDL function that only the initial state sets (hydropower's ``value``, sailing's ``d``,
+    counters' ``max_int``) becomes a constant, so a change by it is a constant change (h_add's
+    rates, the counting bound, the bounds inferred from guards) and the relaxation evaluates
+    less. Constant subexpressions are folded whether or not there is such a resource (UP's
+    import leaves ``(* 1.05 1)``). ``inst`` itself where folding fails (a zero divisor)."""
+    import dataclasses
+
+    from catc.ir.fold import FoldError, fold
+    from catc.semantics.validate import initial_state
+
+    d, p = inst.domain, inst.problem
+    written = {e.resource for m in d.morphisms.values() for e in m.effects}
+    init = initial_state(inst)
+    static = {
+        n: ir.Const(Fraction(init[n]), r.sort)  # type: ignore[call-overload]
+        for n, r in d.resources.items()
+        if _kind(r.sort) == "number" and n not in written and n in init
+    }
+
+    def sub(e: ir.Expr) -> ir.Expr:
+        if isinstance(e, ir.ResourceRef):
+            return static.get(e.name, e)
+        if isinstance(e, ir.Arith):
+            return ir.Arith(e.op, tuple(sub(a) for a in e.args), e.sort, e.span)
+        if isinstance(e, ir.Compare):
+            return ir.Compare(e.op, sub(e.left), sub(e.right), e.span)
+        if isinstance(e, ir.BoolOp):
+            return ir.BoolOp(e.op, tuple(sub(a) for a in e.args), e.span)
+        if isinstance(e, ir.Ite):
+            return ir.Ite(sub(e.cond), sub(e.then), sub(e.orelse), e.sort, e.span)
+        return e
+
+    try:
+        morphisms = {
+            name: dataclasses.replace(
+                m,
+                pre=tuple(dataclasses.replace(lit, expr=fold(sub(lit.expr))) for lit in m.pre),
+                effects=tuple(dataclasses.replace(e, value=fold(sub(e.value))) for e in m.effects),
+            )
+            for name, m in d.morphisms.items()
+        }
+        goal = tuple(dataclasses.replace(lit, expr=fold(sub(lit.expr))) for lit in p.goal)
+    except FoldError:
+        return inst
+    return ir.Instance(dataclasses.replace(d, morphisms=morphisms), dataclasses.replace(p, goal=goal), inst.view)
+
+
 def search(
     inst: ir.Instance,
     horizon: int,
@@ -1424,6 +1475,7 @@ def search(
         task = _Strips(inst)
     except _Unsupported:
         try:
+            inst = _inline_statics(inst)
             task = _Task(inst)
         except _Unsupported as why:
             return SearchResult(SearchStatus.UNSUPPORTED, reason=str(why))
