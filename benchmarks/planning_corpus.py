@@ -27,9 +27,11 @@ lengths from ~5 to ~50; the optimal lengths argued by hand in each generator):
   own, profit 8u): T − 1 + 2u (:func:`hydropower`).
 
 For each task: ``catc import pddl`` (timed), ``catc solve --sequential --strategy search`` (forward
-greedy search on a numeric h_add for a first plan, then A* with numeric h^max below its length:
-a shortest plan proven, or the greedy plan marked not proven shortest when the time runs out;
-exact; the SMT search where it does not apply), optionally the SMT search
+greedy search on a numeric h_add taking turns with A*, whose admissible heuristic is the largest
+of numeric h^max, a goal-achiever bound and an operator-counting bound; once the greedy search
+has a plan, A* goes on below its length: a shortest plan proven, or the greedy plan marked not
+proven shortest when the time runs out; exact; the SMT search where it does not apply),
+optionally the SMT search
 alone (``--smt``), ENHSP ``-planner opt-hrmax`` (A* with h^max: optimal, the like-for-like
 baseline) in its own process under the same timeout; both plans replayed by unified-planning's
 ``SequentialPlanValidator`` on the original PDDL. Prints a markdown table and the command.
