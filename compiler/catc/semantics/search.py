@@ -1493,50 +1493,36 @@ def search(
     hadd: Callable[[Any], Any] = task.hadd if atoms is None else atoms.hadd
     if atoms is not None and task.counting is not None:
         hadd = _counting_first(task.counting, atoms.hadd)
-    found: SearchResult | None
     if not prove:
+        bound = [horizon]
         found = _greedy(task, hadd, horizon, deadline)
-        if found.status is SearchStatus.NONE and found.final:
-            return found
-        if found.status is not SearchStatus.PLAN:
-            r = _astar(task, horizon, deadline)
-            r.expanded += found.expanded
-            if r.status is SearchStatus.PLAN:
-                r.first_plan = time.monotonic() - t0
-            return r
-        assert found.plan is not None
-        found.first_plan = time.monotonic() - t0
-        if len(found.plan.steps) > 1:
-            until = None if deadline is None else time.monotonic() + (deadline - time.monotonic()) / 4
-            found.plan = _improve(task, found.plan, until)
-            found.length = len(found.plan.steps)
-        if found.length:
-            found.shortest = False
-            found.reason = "the greedy search's composition (no proof that it is shortest was sought)"
-        return found
+        return _after_greedy(task, found, _astar_run(task, horizon, deadline, bound), bound, deadline, t0, prove)
     # the greedy search and A* take turns (SLICE expansions each) until one of them answers:
     # A* on its own finds the shortest composition where the greedy search's order misleads
     # it (hydropower: h_add prefers selling at any hour); a greedy plan first lowers A*'s
     # bound to one below its length, so that A* only has to prove nothing shorter exists
     bound = [horizon]
     greedy_run, astar_run = _greedy_run(task, hadd, horizon, deadline), _astar_run(task, horizon, deadline, bound)
-    found = None
-    better: SearchResult | None = None
-    while found is None and better is None:
+    while True:
         try:
             next(greedy_run)
         except StopIteration as done:
-            found = done.value
-            break
+            return _after_greedy(task, done.value, astar_run, bound, deadline, t0, prove)
         try:
             next(astar_run)
-        except StopIteration as done:
-            better = done.value
-    if better is not None:  # A* answered first: the shortest composition, or a proof of none
-        if better.status is SearchStatus.PLAN:
-            better.first_plan = time.monotonic() - t0
-        return better
-    assert found is not None
+        except StopIteration as done:  # A* answered first: the shortest composition, or a proof of none
+            better: SearchResult = done.value
+            if better.status is SearchStatus.PLAN:
+                better.first_plan = time.monotonic() - t0
+            return better
+
+
+def _after_greedy(
+    task: Any, found: SearchResult, astar_run: Run, bound: list[int], deadline: float | None, t0: float, prove: bool
+) -> SearchResult:
+    """The answer once the greedy search has answered (``found``): A* (``astar_run``, under
+    ``bound``) to its end where the greedy search has no plan and no proof; the greedy plan,
+    shortened through its neighbourhood, and with ``prove`` A* below its length."""
     if found.status is SearchStatus.NONE and found.final:
         return found  # every reachable state seen, none cut by the horizon
     if found.status is not SearchStatus.PLAN:
@@ -1553,6 +1539,10 @@ def search(
         found.length = len(found.plan.steps)
     length = len(found.plan.steps)
     if length == 0:
+        return found
+    if not prove:
+        found.shortest = False
+        found.reason = "the greedy search's composition (no proof that it is shortest was sought)"
         return found
     bound[0] = min(bound[0], length - 1)  # a shorter one, or a proof that there is none
     better = _finish(astar_run)
