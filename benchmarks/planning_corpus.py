@@ -21,12 +21,17 @@ lengths from ~5 to ~50; the optimal lengths argued by hand in each generator):
   reachable states can), counters-tight-n (max_int = n − 2: n strictly increasing values do not
   fit; the relaxation cannot tell), farmland-short-n (n − 1 workers for n farms).
 
-Not here (yet): IPC 2023 rover and hydropower (no generator on this machine; not written).
+* rover-k (numeric, IPC 2023 rover's actions on a line of k + 1 waypoints, soil and rock at
+  the far end, energy 40): 2k + 4 + ⌈(16k − 32)/20⌉ (:func:`rover`).
+* hydropower-T-u (numeric, IPC 2023 hydropower's actions, T hours on a demand curve of our
+  own, profit 8u): T − 1 + 2u (:func:`hydropower`).
 
 For each task: ``catc import pddl`` (timed), ``catc solve --sequential --strategy search`` (forward
-greedy search on a numeric h_add for a first plan, then A* with numeric h^max below its length:
-a shortest plan proven, or the greedy plan marked not proven shortest when the time runs out;
-exact; the SMT search where it does not apply), optionally the SMT search
+greedy search on a numeric h_add taking turns with A*, whose admissible heuristic is the largest
+of numeric h^max, a goal-achiever bound and an operator-counting bound; once the greedy search
+has a plan, A* goes on below its length: a shortest plan proven, or the greedy plan marked not
+proven shortest when the time runs out; exact; the SMT search where it does not apply),
+optionally the SMT search
 alone (``--smt``), ENHSP ``-planner opt-hrmax`` (A* with h^max: optimal, the like-for-like
 baseline) in its own process under the same timeout; both plans replayed by unified-planning's
 ``SequentialPlanValidator`` on the original PDDL. Prints a markdown table and the command.
@@ -173,6 +178,123 @@ def sailing_far(q: int) -> str:
     )
 
 
+ROVER = """(define (domain rover)
+ (:requirements :typing :numeric-fluents)
+ (:types rover waypoint store lander)
+ (:predicates (at ?x - rover ?y - waypoint) (at_lander ?l - lander ?y - waypoint)
+  (can_traverse ?r - rover ?x - waypoint ?y - waypoint) (visible ?x - waypoint ?y - waypoint)
+  (in_sun ?w - waypoint) (store_of ?s - store ?r - rover) (empty ?s - store) (full ?s - store)
+  (equipped_for_soil_analysis ?r - rover) (equipped_for_rock_analysis ?r - rover)
+  (at_soil_sample ?w - waypoint) (at_rock_sample ?w - waypoint)
+  (have_soil_analysis ?r - rover ?w - waypoint) (have_rock_analysis ?r - rover ?w - waypoint)
+  (communicated_soil_data ?w - waypoint) (communicated_rock_data ?w - waypoint))
+ (:functions (energy ?r - rover) (recharges))
+ (:action navigate :parameters (?x - rover ?y - waypoint ?z - waypoint)
+  :precondition (and (can_traverse ?x ?y ?z) (at ?x ?y) (visible ?y ?z) (>= (energy ?x) 8))
+  :effect (and (decrease (energy ?x) 8) (not (at ?x ?y)) (at ?x ?z)))
+ (:action recharge :parameters (?x - rover ?w - waypoint)
+  :precondition (and (at ?x ?w) (in_sun ?w) (<= (energy ?x) 80))
+  :effect (and (increase (energy ?x) 20) (increase (recharges) 1)))
+ (:action sample_soil :parameters (?x - rover ?s - store ?p - waypoint)
+  :precondition (and (at ?x ?p) (>= (energy ?x) 3) (at_soil_sample ?p) (equipped_for_soil_analysis ?x)
+   (store_of ?s ?x) (empty ?s))
+  :effect (and (not (empty ?s)) (full ?s) (have_soil_analysis ?x ?p) (not (at_soil_sample ?p))
+   (decrease (energy ?x) 3)))
+ (:action sample_rock :parameters (?x - rover ?s - store ?p - waypoint)
+  :precondition (and (at ?x ?p) (>= (energy ?x) 5) (at_rock_sample ?p) (equipped_for_rock_analysis ?x)
+   (store_of ?s ?x) (empty ?s))
+  :effect (and (not (empty ?s)) (full ?s) (have_rock_analysis ?x ?p) (not (at_rock_sample ?p))
+   (decrease (energy ?x) 5)))
+ (:action drop :parameters (?x - rover ?y - store)
+  :precondition (and (store_of ?y ?x) (full ?y))
+  :effect (and (not (full ?y)) (empty ?y)))
+ (:action communicate_soil_data :parameters (?r - rover ?l - lander ?p - waypoint ?x - waypoint ?y - waypoint)
+  :precondition (and (at ?r ?x) (at_lander ?l ?y) (have_soil_analysis ?r ?p) (visible ?x ?y) (>= (energy ?r) 4))
+  :effect (and (communicated_soil_data ?p) (decrease (energy ?r) 4)))
+ (:action communicate_rock_data :parameters (?r - rover ?l - lander ?p - waypoint ?x - waypoint ?y - waypoint)
+  :precondition (and (at ?r ?x) (at_lander ?l ?y) (have_rock_analysis ?r ?p) (visible ?x ?y) (>= (energy ?r) 4))
+  :effect (and (communicated_rock_data ?p) (decrease (energy ?r) 4))))
+"""
+
+
+def rover(k: int, energy: int = 40) -> str:
+    """IPC 2023 numeric rover's actions (IPC 2002 Rovers with energy: navigate 8, sample soil 3,
+    rock 5, communicate 4, recharge +20 in the sun at energy ≤ 80; the cameras left out, and
+    the ``available``/``channel_free`` pair that the IPC 2023 encoding deletes and adds again
+    in one effect left out too: ENHSP does not apply PDDL's delete-before-add rule to it), one
+    rover at w0 of a line w0 … wk (all in the sun), the lander at w0 seen from w1 only, soil
+    and rock at wk, one store.
+
+    Shortest plan, by hand: the rover must reach wk (k navigates) and then a waypoint the
+    lander is seen from, w1 (k − 1 more); both samples, and a drop between them (the one store
+    is full after the first sample, and only a drop empties it); both communications. That
+    takes 16k + 8 energy (8 a navigate, 3 + 5 + 4 + 4), and only a recharge adds any, 20 each:
+    r = ⌈(16k + 8 − energy)/20⌉ recharges at least (0 if negative). So 2k + 4 + r actions, and
+    that many suffice: recharging whenever the next action costs more than is left (then
+    energy < 8 ≤ 80, so the recharge may fire) recharges at most r times (after its last
+    recharge less than 20 + that action's cost was left for the actions still to come)."""
+    ws = [f"w{i}" for i in range(k + 1)]
+    edges = " ".join(
+        f"(can_traverse r0 w{i} w{i + 1}) (can_traverse r0 w{i + 1} w{i}) (visible w{i} w{i + 1}) (visible w{i + 1} w{i})"
+        for i in range(k)
+    )
+    sun = " ".join(f"(in_sun {w})" for w in ws)
+    return (
+        f"(define (problem rover-{k}) (:domain rover)\n (:objects r0 - rover {' '.join(ws)} - waypoint s0 - store"
+        f" l0 - lander)\n (:init (at r0 w0) (at_lander l0 w0) {edges} {sun} (store_of s0 r0) (empty s0)"
+        f" (equipped_for_soil_analysis r0) (equipped_for_rock_analysis r0) (at_soil_sample w{k})"
+        f" (at_rock_sample w{k}) (= (energy r0) {energy}) (= (recharges) 0))\n"
+        f" (:goal (and (communicated_soil_data w{k}) (communicated_rock_data w{k}))))\n"
+    )
+
+
+def rover_optimal(k: int, energy: int = 40) -> int:
+    return 2 * k + 4 + max(0, -((energy - 16 * k - 8) // 20))
+
+
+HYDROPOWER = """(define (domain hydropower)
+ (:requirements :typing :numeric-fluents)
+ (:types time turnvalue)
+ (:predicates (timenow ?t - time) (before ?t1 - time ?t2 - time) (demand ?t - time ?n - turnvalue))
+ (:functions (funds) (stored_units) (stored_capacity) (value ?n - turnvalue))
+ (:action advance_time :parameters (?t1 - time ?t2 - time)
+  :precondition (and (timenow ?t1) (before ?t1 ?t2))
+  :effect (and (timenow ?t2) (not (timenow ?t1))))
+ (:action pump_water_up :parameters (?t1 - time ?n1 - turnvalue)
+  :precondition (and (timenow ?t1) (>= (funds) (* 1.05 (value ?n1))) (>= (stored_capacity) 1) (demand ?t1 ?n1))
+  :effect (and (increase (stored_units) 1) (decrease (stored_capacity) 1) (decrease (funds) (* 1.05 (value ?n1)))))
+ (:action generate :parameters (?t1 - time ?n1 - turnvalue)
+  :precondition (and (timenow ?t1) (>= (stored_units) 1) (demand ?t1 ?n1))
+  :effect (and (decrease (stored_units) 1) (increase (stored_capacity) 1) (increase (funds) (value ?n1)))))
+"""
+
+
+def hydropower(times: int, units: int) -> str:
+    """IPC 2023 hydropower's actions (Coles, Fox & Long 2013: pump water up at 1.05 times the
+    hour's price, generate at the price, advance the clock along ``before``) on a demand curve
+    of our own: price 1 at t0, 2 in between, 10 at the last hour t(T−1); capacity ``units``,
+    funds 100, the goal funds ≥ 100 + 8·units.
+
+    Shortest plan, by hand: 2·units + T − 1. Every generate spends a unit pumped before it
+    (none stored at first), each pump costs at least 1.05, so a plan's profit is at most
+    Σ over its generates of (price − 1.05): 8.95 each at the last hour, 0.95 elsewhere. A plan
+    that never reaches the last hour (T − 1 advances, one hour each) needs ⌈8·units/0.95⌉ >
+    8·units generates and as many pumps, longer; one that does needs ⌈8·units/8.95⌉ = units
+    generates (units ≤ 9) and as many pumps: units pumps at t0, T − 1 advances, units generates
+    at the last hour reach it."""
+    ts = [f"t{i}" for i in range(times)]
+    price = [1] + [2] * (times - 2) + [10]
+    demand = " ".join(f"(demand t{i} n{p})" for i, p in enumerate(price))
+    before = " ".join(f"(before t{i} t{i + 1})" for i in range(times - 1))
+    return (
+        f"(define (problem hydropower-{times}-{units}) (:domain hydropower)\n"
+        f" (:objects n1 n2 n10 - turnvalue {' '.join(ts)} - time)\n"
+        f" (:init (= (value n1) 1) (= (value n2) 2) (= (value n10) 10) {demand} (timenow t0) {before}"
+        f" (= (stored_units) 0) (= (stored_capacity) {units}) (= (funds) 100))\n"
+        f" (:goal (and (>= (funds) {100 + 8 * units}))))\n"
+    )
+
+
 def counters_tight(n: int) -> str:
     text = corpus.counters_problem(n)
     import re
@@ -207,6 +329,14 @@ def tasks() -> list[Task]:
     sailing_domain = (wheel / "sailing" / "domain.pddl").read_text()
     for q in (2, 4, 7, 10, 14, 19, 24):
         out.append(Task(f"sailing-far-{q}", "sailing", sailing_domain, sailing_far(q), 2 * q + 2))
+    for k in (2, 4, 6, 8, 10, 14, 16):
+        out.append(Task(f"rover-{k}", "rover", ROVER, rover(k), rover_optimal(k)))
+    for times, units in ((6, 2), (10, 3), (16, 4), (24, 4), (30, 5), (36, 6)):
+        out.append(
+            Task(
+                f"hydropower-{times}-{units}", "hydropower", HYDROPOWER, hydropower(times, units), times - 1 + 2 * units
+            )
+        )
     for n in (3, 4, 5, 6):
         out.append(Task(f"blocks-cycle-{n}", "unsolvable", BLOCKS, blocks(n, cycle=True), None))
     for n in (4, 6, 8):

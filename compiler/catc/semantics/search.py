@@ -7,9 +7,11 @@ goal conditions) is inadmissible and claims nothing about length; its plan is sh
 its neighbourhood (:func:`_improve`), and A* below that length (:func:`_astar`) either finds a
 shorter composition or proves that there is none. The rest of this docstring is about A*.
 
-For numeric tasks A*'s heuristic is the larger of h^max (below) and an operator-counting bound
-(:class:`_Counting`: a linear program over how often each morphism fires, solved exactly),
-both read against the bounds every reachable state keeps — declared, or inferred from the
+For numeric tasks A*'s heuristic is the largest of h^max (below), a goal-achiever bound read
+off h^max's layers (:meth:`_Task._achiever_bound`: a goal fact's achiever cannot fire before
+its layer, and the achievers of goal facts independent of it are further steps) and an
+operator-counting bound (:class:`_Counting`: a linear program over how often each morphism
+fires, solved exactly), all read against the bounds every reachable state keeps — declared, or inferred from the
 preconditions that guard every change of a number (:func:`infer_bounds`).
 
 For ground instances (morphisms without parameters, as :mod:`catc.frontend.up_import` makes
@@ -43,7 +45,7 @@ import heapq
 import itertools
 import operator
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Generator
 from enum import Enum
 from fractions import Fraction
 from typing import Any
@@ -478,6 +480,70 @@ class _Task:
             for (lo, hi), (ilo, ihi) in zip(self.bounds, infer_bounds(inst, self))
         ]
         self.counting: _Counting | None = None
+        self._achievers(inst)
+
+    def _achievers(self, inst: ir.Instance) -> None:
+        """The Boolean goal facts (``goal_facts``: resource, value), for each the morphisms
+        that may make it true (``achievers``: those assigning the resource that value or a
+        value that is not a constant — more than the true ones loses no soundness below) and
+        its independent goal facts (``independent``) for :meth:`_achiever_bound`.
+
+        R_g, the resources relevant to g: those the preconditions of g's achievers read,
+        closed under every morphism that writes one of them (its precondition's and effects'
+        reads join). A goal fact g′ ≠ g is independent of g when none of its achievers writes
+        a resource of R_g and none of them is an achiever of g."""
+        self.goal_facts: list[tuple[int, Any]] = []
+        todo = [lit.expr for lit in inst.problem.goal]
+        while todo:
+            e = todo.pop()
+            if isinstance(e, ir.BoolOp) and e.op is BoolOpKind.AND:
+                todo.extend(e.args)
+            elif isinstance(e, ir.ResourceRef) and self.kinds[self.index[e.name]] == "bool":
+                self.goal_facts.append((self.index[e.name], True))
+            elif (
+                isinstance(e, ir.BoolOp)
+                and e.op is BoolOpKind.NOT
+                and isinstance(e.args[0], ir.ResourceRef)
+                and self.kinds[self.index[e.args[0].name]] == "bool"
+            ):
+                self.goal_facts.append((self.index[e.args[0].name], False))
+        self.goal_facts = list(dict.fromkeys(self.goal_facts))
+        morphisms = list(inst.domain.morphisms.values())
+        writes = [{self.index[e.resource] for e in m.effects} for m in morphisms]
+        reads_pre = [{self.index[n] for lit in m.pre for n in _reads(lit.expr)} for m in morphisms]
+        reads_all = [
+            reads_pre[a] | {self.index[n] for e in m.effects for n in _reads(e.value)} for a, m in enumerate(morphisms)
+        ]
+        self.achievers: list[set[int]] = []
+        for i, value in self.goal_facts:
+            name = self.names[i]
+            self.achievers.append(
+                {
+                    a
+                    for a, m in enumerate(morphisms)
+                    for e in m.effects
+                    if e.resource == name
+                    and e.kind is EffectKind.ASSIGN
+                    and (_constant(e.value) is None or _constant(e.value) == value)
+                }
+            )
+        self.independent: list[list[int]] = []
+        for g, ach in enumerate(self.achievers):
+            relevant: set[int] = set().union(*(reads_pre[a] for a in ach)) if ach else set()
+            grew = True
+            while grew:
+                grew = False
+                for a, w in enumerate(writes):
+                    if w & relevant and not reads_all[a] <= relevant:
+                        relevant |= reads_all[a]
+                        grew = True
+            self.independent.append(
+                [
+                    k
+                    for k, other in enumerate(self.achievers)
+                    if k != g and not other & ach and all(not writes[a] & relevant for a in other)
+                ]
+            )
 
     def valid(self, s: list[Any]) -> bool:
         for i in self.bounded:
@@ -519,11 +585,18 @@ class _Task:
             return False
 
     def h(self, s: State, cap: int) -> int | None:
-        """The larger of two admissible and consistent bounds (so itself both): h^max
-        (:meth:`hmax`) and, where the task has numeric conditions, the operator-counting bound
-        (:class:`_Counting`); None for a dead end either proves."""
-        h = self.hmax(s, cap)
-        if h is None or self.counting is None or h >= cap:
+        """The largest of three admissible bounds: h^max (:meth:`hmax`, consistent), the
+        goal-achiever bound read off the same layers (:meth:`_achiever_bound`) and, where the
+        task has numeric conditions, the operator-counting bound (:class:`_Counting`,
+        consistent); None for a dead end any of them proves. A* needs admissibility only
+        (:func:`_astar`)."""
+        first: list[int] | None = [-1] * len(self.actions) if self.goal_facts else None
+        h = self._hmax(s, cap, first)
+        if h is None or h >= cap:
+            return h
+        if first is not None:
+            h = min(max(h, self._achiever_bound(s, first)), cap)
+        if self.counting is None or h >= cap:
             return h
         c = self.counting.h(s)
         return None if c is None else min(max(h, c), cap)
@@ -532,21 +605,70 @@ class _Task:
         """Layers of the interval relaxation until the goal can hold: None for a proven dead
         end, ``cap`` when the goal cannot hold within ``cap - 1`` layers (and the widened
         relaxation, :meth:`_dead`, cannot prove it never will)."""
+        return self._hmax(s, cap, None)
+
+    def _hmax(self, s: State, cap: int, first: list[int] | None) -> int | None:
+        """:meth:`hmax`; with ``first``, also the first layer in which each morphism may
+        fire (−1: not before the goal's layer)."""
         r: list[Any] = [_point(v, k) for v, k in zip(s, self.kinds)]
         fired: set[int] = set()
         for layer in range(cap):
             rt = tuple(r)
             if all(f(rt)[0] for f in self.rgoal):
                 return layer
-            new = self._layer(rt, fired)
+            new = self._layer(rt, fired, first, layer)
             if new is None:
                 return None
             r = new
         return None if self._dead(r) else cap
 
-    def _layer(self, rt: Relaxed, fired: set[int]) -> list[Any] | None:
+    def _achiever_bound(self, s: State, first: list[int]) -> int:
+        """A lower bound on the steps from ``s`` to the goal, from its Boolean goal facts: for
+        a goal fact g false in ``s``, e_g + 1 + m_g, the largest over such g (0 if none), where
+        e_g is the first layer in which an achiever of g may fire (``first``, from the layers
+        of :meth:`_hmax`) and m_g the number of goal facts false in ``s`` among g's independent
+        ones (:meth:`_achievers`), or 1 if some two of those share an achiever.
+
+        Admissible. Take any composition π from ``s`` to the goal and the last step t of π
+        that fires an achiever a of g (g is false in ``s`` and true at the end, so there is
+        one). (1) The steps before t include at least e_g steps relevant to g (writing a
+        resource of R_g, :meth:`_achievers`): drop the others and the resources of R_g take the
+        same values along the relevant steps — the dropped ones write none of them, and the
+        relevant ones read only resources of R_g — so, by the relaxation's induction (each
+        relevant step's precondition holds on values inside the current layer, its effects land
+        inside the next one; a step that writes nothing of R_g keeps the values where they
+        were, and layers only grow), after j relevant steps the values of R_g lie inside layer
+        j; a's precondition, which reads only R_g, holds before t, so j ≥ e_g. (2) Step t
+        itself. (3) Each independent goal fact g′ false in ``s`` needs a step firing one of its
+        achievers; these write nothing of R_g (so they are not among (1)) and none of them
+        achieves g (so none is step t); where no two of them share an achiever, the m_g facts
+        need m_g distinct steps, else at least one. So π has at least e_g + 1 + m_g steps.
+
+        Not consistent in general (a step achieving g drops g's term), so A* keeps the
+        estimates admissible by other means (:func:`_astar`)."""
+        best = 0
+        for g, (i, value) in enumerate(self.goal_facts):
+            if s[i] == value:
+                continue
+            e = min((first[a] for a in self.achievers[g] if first[a] >= 0), default=-1)
+            if e < 0:
+                continue
+            unmet = [k for k in self.independent[g] if s[self.goal_facts[k][0]] != self.goal_facts[k][1]]
+            m = len(unmet)
+            if m > 1:
+                seen: set[int] = set()
+                for k in unmet:
+                    if seen & self.achievers[k]:
+                        m = 1
+                        break
+                    seen |= self.achievers[k]
+            best = max(best, e + 1 + m)
+        return best
+
+    def _layer(self, rt: Relaxed, fired: set[int], first: list[int] | None = None, layer: int = 0) -> list[Any] | None:
         """The next layer: every morphism that may fire in ``rt`` applied (relaxed, joined);
-        None when nothing changes (a fixpoint)."""
+        None when nothing changes (a fixpoint). With ``first``, a morphism seen to fire for
+        the first time is marked with ``layer``."""
         changed = False
         new = list(rt)
         for a_i, a in enumerate(self.actions):
@@ -554,6 +676,8 @@ class _Task:
                 continue
             if not all(f(rt)[0] for f in a.rpre):
                 continue
+            if first is not None and first[a_i] < 0:
+                first[a_i] = layer
             if a.constant:
                 fired.add(a_i)
             for i, mode, terms in a.reffects:
@@ -1277,6 +1401,57 @@ class _Strips:
         return acts
 
 
+def _inline_statics(inst: ir.Instance) -> ir.Instance:
+    """``inst`` with every numeric resource that no morphism writes replaced, in the
+    preconditions, effects and goal, by its initial value, and the constant parts folded (the
+    same states, steps and goal: such a resource holds its initial value in every state). A
+    PDDL function that only the initial state sets (hydropower's ``value``, sailing's ``d``,
+    counters' ``max_int``) becomes a constant, so a change by it is a constant change (h_add's
+    rates, the counting bound, the bounds inferred from guards) and the relaxation evaluates
+    less. Constant subexpressions are folded whether or not there is such a resource (UP's
+    import leaves ``(* 1.05 1)``). ``inst`` itself where folding fails (a zero divisor)."""
+    import dataclasses
+
+    from catc.ir.fold import FoldError, fold
+    from catc.semantics.validate import initial_state
+
+    d, p = inst.domain, inst.problem
+    written = {e.resource for m in d.morphisms.values() for e in m.effects}
+    init = initial_state(inst)
+    static = {
+        n: ir.Const(Fraction(init[n]), r.sort)  # type: ignore[call-overload]
+        for n, r in d.resources.items()
+        if _kind(r.sort) == "number" and n not in written and n in init
+    }
+
+    def sub(e: ir.Expr) -> ir.Expr:
+        if isinstance(e, ir.ResourceRef):
+            return static.get(e.name, e)
+        if isinstance(e, ir.Arith):
+            return ir.Arith(e.op, tuple(sub(a) for a in e.args), e.sort, e.span)
+        if isinstance(e, ir.Compare):
+            return ir.Compare(e.op, sub(e.left), sub(e.right), e.span)
+        if isinstance(e, ir.BoolOp):
+            return ir.BoolOp(e.op, tuple(sub(a) for a in e.args), e.span)
+        if isinstance(e, ir.Ite):
+            return ir.Ite(sub(e.cond), sub(e.then), sub(e.orelse), e.sort, e.span)
+        return e
+
+    try:
+        morphisms = {
+            name: dataclasses.replace(
+                m,
+                pre=tuple(dataclasses.replace(lit, expr=fold(sub(lit.expr))) for lit in m.pre),
+                effects=tuple(dataclasses.replace(e, value=fold(sub(e.value))) for e in m.effects),
+            )
+            for name, m in d.morphisms.items()
+        }
+        goal = tuple(dataclasses.replace(lit, expr=fold(sub(lit.expr))) for lit in p.goal)
+    except FoldError:
+        return inst
+    return ir.Instance(dataclasses.replace(d, morphisms=morphisms), dataclasses.replace(p, goal=goal), inst.view)
+
+
 def search(
     inst: ir.Instance,
     horizon: int,
@@ -1288,10 +1463,11 @@ def search(
     """A composition of at most ``horizon`` steps, or a proof that there is none; ``deadline``
     is a ``time.monotonic()`` instant.
 
-    With ``greedy`` a greedy best-first search guided by h_add finds a composition first
-    (fast, not necessarily shortest; given at most half the time left); with ``prove`` A*
-    then looks for a shorter one, and when it finds none the greedy one is proven shortest.
-    When the time runs out first the greedy composition is the answer, ``shortest`` False.
+    With ``greedy`` a greedy best-first search guided by h_add looks for a composition (fast,
+    not necessarily shortest) taking turns with A* (with ``prove``); if A* answers first, its
+    answer is the answer; if the greedy search does, A* goes on below its composition's length,
+    and when it finds none shorter the greedy one is proven shortest. When the time runs out
+    first the greedy composition is the answer, ``shortest`` False.
     Without ``greedy``, A* alone (the shortest composition); without ``prove``, the greedy
     search alone (A* only when it found nothing)."""
     task: Any
@@ -1299,6 +1475,7 @@ def search(
         task = _Strips(inst)
     except _Unsupported:
         try:
+            inst = _inline_statics(inst)
             task = _Task(inst)
         except _Unsupported as why:
             return SearchResult(SearchStatus.UNSUPPORTED, reason=str(why))
@@ -1316,12 +1493,40 @@ def search(
     hadd: Callable[[Any], Any] = task.hadd if atoms is None else atoms.hadd
     if atoms is not None and task.counting is not None:
         hadd = _counting_first(task.counting, atoms.hadd)
-    share = None if deadline is None else time.monotonic() + (deadline - time.monotonic()) / (2 if prove else 1)
-    found = _greedy(task, hadd, horizon, share)
+    if not prove:
+        bound = [horizon]
+        found = _greedy(task, hadd, horizon, deadline)
+        return _after_greedy(task, found, _astar_run(task, horizon, deadline, bound), bound, deadline, t0, prove)
+    # the greedy search and A* take turns (SLICE expansions each) until one of them answers:
+    # A* on its own finds the shortest composition where the greedy search's order misleads
+    # it (hydropower: h_add prefers selling at any hour); a greedy plan first lowers A*'s
+    # bound to one below its length, so that A* only has to prove nothing shorter exists
+    bound = [horizon]
+    greedy_run, astar_run = _greedy_run(task, hadd, horizon, deadline), _astar_run(task, horizon, deadline, bound)
+    while True:
+        try:
+            next(greedy_run)
+        except StopIteration as done:
+            return _after_greedy(task, done.value, astar_run, bound, deadline, t0, prove)
+        try:
+            next(astar_run)
+        except StopIteration as done:  # A* answered first: the shortest composition, or a proof of none
+            better: SearchResult = done.value
+            if better.status is SearchStatus.PLAN:
+                better.first_plan = time.monotonic() - t0
+            return better
+
+
+def _after_greedy(
+    task: Any, found: SearchResult, astar_run: Run, bound: list[int], deadline: float | None, t0: float, prove: bool
+) -> SearchResult:
+    """The answer once the greedy search has answered (``found``): A* (``astar_run``, under
+    ``bound``) to its end where the greedy search has no plan and no proof; the greedy plan,
+    shortened through its neighbourhood, and with ``prove`` A* below its length."""
     if found.status is SearchStatus.NONE and found.final:
         return found  # every reachable state seen, none cut by the horizon
     if found.status is not SearchStatus.PLAN:
-        r = _astar(task, horizon, deadline)
+        r = _finish(astar_run)
         r.expanded += found.expanded
         if r.status is SearchStatus.PLAN:
             r.first_plan = time.monotonic() - t0
@@ -1339,7 +1544,8 @@ def search(
         found.shortest = False
         found.reason = "the greedy search's composition (no proof that it is shortest was sought)"
         return found
-    better = _astar(task, length - 1, deadline)  # a shorter one, or a proof that there is none
+    bound[0] = min(bound[0], length - 1)  # a shorter one, or a proof that there is none
+    better = _finish(astar_run)
     better.expanded += found.expanded
     if better.status is SearchStatus.PLAN:
         better.first_plan = found.first_plan
@@ -1367,10 +1573,31 @@ def _counting_first(counting: _Counting, hadd: Callable[[State], int]) -> Callab
     return key
 
 
+#: Expansions between two turns of the interleaved searches (:func:`search`).
+SLICE = 16
+
+Run = Generator[None, None, SearchResult]
+
+
+def _finish(run: Run) -> SearchResult:
+    """Drive a search to its end (its result)."""
+    while True:
+        try:
+            next(run)
+        except StopIteration as done:
+            return done.value  # type: ignore[no-any-return]
+
+
 def _greedy(task: Any, hadd: Callable[[Any], Any], horizon: int, deadline: float | None) -> SearchResult:
+    """:func:`_greedy_run` to its end."""
+    return _finish(_greedy_run(task, hadd, horizon, deadline))
+
+
+def _greedy_run(task: Any, hadd: Callable[[Any], Any], horizon: int, deadline: float | None) -> Run:
     """Greedy best-first search on h_add (ties: the state generated first), every state once;
     the goal tested when a state is generated. Exhausting the states without cutting any at
-    the horizon proves that there is no composition."""
+    the horizon proves that there is no composition. A generator: it yields every ``SLICE``
+    expansions (a turn of :func:`search`'s interleaving) and returns its result."""
     start = task.init
     if task.is_goal(start):
         return SearchResult(SearchStatus.PLAN, Plan([]))
@@ -1383,6 +1610,8 @@ def _greedy(task: Any, hadd: Callable[[Any], Any], horizon: int, deadline: float
     while heap:
         _, _, s = heapq.heappop(heap)
         expanded += 1
+        if expanded % SLICE == 0:
+            yield
         if len(g_of) > GREEDY_STATES or (deadline is not None and expanded % 64 == 0 and time.monotonic() >= deadline):
             return SearchResult(SearchStatus.STOPPED, expanded=expanded, reason="the greedy search's share")
         g2 = g_of[s] + 1
@@ -1405,7 +1634,16 @@ def _greedy(task: Any, hadd: Callable[[Any], Any], horizon: int, deadline: float
 
 
 def _astar(task: Any, horizon: int, deadline: float | None) -> SearchResult:
-    """A* for the shortest composition of at most ``horizon`` steps (module docstring)."""
+    """:func:`_astar_run` to its end."""
+    return _finish(_astar_run(task, horizon, deadline, [horizon]))
+
+
+def _astar_run(task: Any, horizon: int, deadline: float | None, bound: list[int]) -> Run:
+    """A* for the shortest composition of at most ``bound[0]`` (≤ ``horizon``) steps (module
+    docstring). ``bound`` may be lowered while it runs (a composition of ``bound[0] + 1`` steps
+    found meanwhile, :func:`search`): states beyond it are cut from then on, and once the least
+    f in the queue exceeds it there is none within ``bound[0]`` (every f is a lower bound). A
+    generator: it yields every ``SLICE`` expansions and returns its result."""
     start = task.init
     cap = horizon + 1
     h0 = task.h(start, cap)
@@ -1414,9 +1652,12 @@ def _astar(task: Any, horizon: int, deadline: float | None) -> SearchResult:
     cut = h0 > horizon  # some state was cut by the horizon: no proof for longer plans
     if cut:
         return SearchResult(SearchStatus.NONE, reason=f"no composition within {horizon} steps (h^max)")
-    # lazy A*: a state enters the queue with its parent's h − 1 (a lower bound, the heuristic
-    # being consistent) and is evaluated only when it comes out; if its f then grows it goes
-    # back in. Most generated states are never evaluated.
+    # lazy A*: a state enters the queue with its parent's h − 1 and is evaluated only when it
+    # comes out; if its f then grows it goes back in. Most generated states are never
+    # evaluated. The heuristic need only be admissible: h(parent) ≤ h*(parent) ≤ 1 + h*(t)
+    # for every successor t, so the estimate h(parent) − 1 is admissible for t too; every f in
+    # the queue is a lower bound, a state reached more cheaply is queued again (no closed
+    # set), and a goal comes out at its g (its estimate ≤ h* = 0): the first is shortest.
     g_of: dict[Any, int] = {start: 0}
     parent: dict[Any, tuple[Any, int] | None] = {start: None}
     tie = itertools.count()
@@ -1424,13 +1665,15 @@ def _astar(task: Any, horizon: int, deadline: float | None) -> SearchResult:
     expanded = alive = 0
     while heap:
         f, h, _, g, s, evaluated = heapq.heappop(heap)
+        if f > bound[0]:  # every entry left has f > bound: no composition within it
+            return SearchResult(SearchStatus.NONE, expanded=expanded, reason=f"no composition within {bound[0]} steps")
         if g > g_of[s]:
             continue  # a stale entry: s was reached more cheaply since
         if not evaluated:
             h2 = task.h(s, cap - g)
             if h2 is None:
                 continue  # a proven dead end
-            if g + h2 > horizon:
+            if g + h2 > bound[0]:
                 cut = True
                 continue
             alive += 1
@@ -1443,6 +1686,8 @@ def _astar(task: Any, horizon: int, deadline: float | None) -> SearchResult:
         if task.is_goal(s):
             return SearchResult(SearchStatus.PLAN, _plan(task, parent, s), expanded=expanded)
         expanded += 1
+        if expanded % SLICE == 0:
+            yield
         if deadline is not None and time.monotonic() >= deadline:
             return SearchResult(SearchStatus.STOPPED, expanded=expanded, reason="timeout")
         g2, est = g + 1, max(h - 1, 0)
@@ -1454,7 +1699,7 @@ def _astar(task: Any, horizon: int, deadline: float | None) -> SearchResult:
             parent[t] = (s, a_i)
             heapq.heappush(heap, (g2 + est, est, next(tie), g2, t, False))
     if cut:
-        return SearchResult(SearchStatus.NONE, expanded=expanded, reason=f"no composition within {horizon} steps")
+        return SearchResult(SearchStatus.NONE, expanded=expanded, reason=f"no composition within {bound[0]} steps")
     return SearchResult(
         SearchStatus.NONE,
         final=True,
