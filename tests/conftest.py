@@ -24,21 +24,6 @@ ROOT = Path(__file__).resolve().parent.parent
 _PINT_CACHE = tempfile.mkdtemp(prefix="catc-pint-cache-")
 os.environ["CATC_PINT_CACHE"] = _PINT_CACHE
 atexit.register(shutil.rmtree, _PINT_CACHE, True)
-
-# Bytecode (issue 28: the default run's CPU time).  With PYTHONDONTWRITEBYTECODE set (as on the
-# machines the suite was measured on) every xdist worker and every `python -m catc`/`catrt` a
-# test starts compiled catc, and pytest rewrote each test module, from source again: hundreds
-# of processes, about 0.3 s of CPU each.  Then the run writes its bytecode to a folder of its
-# own (PYTHONPYCACHEPREFIX), made here by the first process and removed at its end — never into
-# the tree, which is what the setting asked for — and its workers and their children read it.
-# A run that writes bytecode already, or names a prefix of its own, is left as it is.
-if sys.dont_write_bytecode and sys.pycache_prefix is None and "PYTHONPYCACHEPREFIX" not in os.environ:
-    _PYCACHE = tempfile.mkdtemp(prefix="catc-test-pycache-")
-    os.environ["PYTHONPYCACHEPREFIX"] = _PYCACHE
-    os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
-    sys.pycache_prefix = _PYCACHE
-    sys.dont_write_bytecode = False
-    atexit.register(shutil.rmtree, _PYCACHE, True)
 FIXTURES = Path(__file__).resolve().parent / "fixtures"
 
 
