@@ -12,7 +12,8 @@ import pytest
 from conftest import ROOT
 
 try:
-    import pytest_asyncio  # noqa: F401  (a pytest-lsp dependency)
+    import _lsp_session
+    import pytest_asyncio  # (a pytest-lsp dependency)
     import pytest_lsp
     from lsprotocol import types
     from pygls.lsp.server import LanguageServer  # noqa: F401
@@ -26,7 +27,7 @@ except ImportError as exc:  # the lsp extra or pytest-lsp is missing
     LanguageClient = object  # only in annotations of skipped tests
 else:
     MISSING = None
-    needs_lsp = pytest.mark.asyncio
+    needs_lsp = pytest.mark.asyncio(loop_scope="module")  # the module's server lives in the module's loop
 
 EXAMPLE = ROOT / "tests" / "fixtures" / "lsp" / "detection"  # examples/detection, every resource its own
 DOMAIN = EXAMPLE / "domain.cat"
@@ -34,9 +35,9 @@ PROBLEM = EXAMPLE / "person.cat"
 
 
 if MISSING is None:
-
-    @pytest_lsp.fixture(config=ClientServerConfig(server_command=[sys.executable, "-m", "catc", "lsp"]))
-    async def client(lsp_client: LanguageClient):
+    # one server for the module's tests (issue 28), reset after each: tests/_lsp_session.py
+    @pytest_lsp.fixture(config=ClientServerConfig(server_command=[sys.executable, "-m", "catc", "lsp"]), scope="module")
+    async def server(lsp_client: LanguageClient):
         await lsp_client.initialize_session(
             types.InitializeParams(
                 capabilities=pytest_lsp.client_capabilities("visual-studio-code"),
@@ -45,6 +46,11 @@ if MISSING is None:
         )
         yield
         await lsp_client.shutdown_session()
+
+    @pytest_asyncio.fixture(loop_scope="module")
+    async def client(server: LanguageClient):
+        yield server
+        await _lsp_session.reset(server)
 
 
 def _open(client: LanguageClient, path: Path, text: str | None = None) -> str:
@@ -56,7 +62,7 @@ def _open(client: LanguageClient, path: Path, text: str | None = None) -> str:
             )
         )
     )
-    return uri
+    return _lsp_session.opened(client, uri)
 
 
 async def _diagnostics(client: LanguageClient, uri: str):
@@ -349,7 +355,9 @@ async def test_positions_are_utf16_after_characters_beyond_the_bmp(client: Langu
 
 if MISSING is None:
 
-    @pytest_lsp.fixture(config=ClientServerConfig(server_command=[sys.executable, "-m", "catc", "lsp"]))
+    @pytest_lsp.fixture(
+        config=ClientServerConfig(server_command=[sys.executable, "-m", "catc", "lsp"]), loop_scope="module"
+    )
     async def client_utf8(lsp_client: LanguageClient):
         capabilities = pytest_lsp.client_capabilities("visual-studio-code")
         capabilities.general.position_encodings = [types.PositionEncodingKind.Utf8, types.PositionEncodingKind.Utf16]

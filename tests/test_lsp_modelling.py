@@ -16,7 +16,8 @@ import pytest
 from conftest import ROOT, word_uses
 
 try:
-    import pytest_asyncio  # noqa: F401  (a pytest-lsp dependency)
+    import _lsp_session
+    import pytest_asyncio  # (a pytest-lsp dependency)
     import pytest_lsp
     from lsprotocol import types
     from pytest_lsp import ClientServerConfig, LanguageClient
@@ -26,20 +27,25 @@ except ImportError as exc:  # the lsp extra or pytest-lsp is missing
     LanguageClient = object  # only in annotations of skipped tests
 else:
     MISSING = None
-    needs_lsp = pytest.mark.asyncio
+    needs_lsp = pytest.mark.asyncio(loop_scope="module")  # the module's server lives in the module's loop
 
 DETECTION = ROOT / "tests" / "fixtures" / "lsp" / "detection"  # examples/detection, every resource its own
 
 if MISSING is None:
-
-    @pytest_lsp.fixture(config=ClientServerConfig(server_command=[sys.executable, "-m", "catc", "lsp"]))
-    async def client(lsp_client: LanguageClient):
+    # one server for the module's tests (issue 28), reset after each: tests/_lsp_session.py
+    @pytest_lsp.fixture(config=ClientServerConfig(server_command=[sys.executable, "-m", "catc", "lsp"]), scope="module")
+    async def server(lsp_client: LanguageClient):
         result = await lsp_client.initialize_session(
             types.InitializeParams(capabilities=pytest_lsp.client_capabilities("visual-studio-code"))
         )
         lsp_client.capabilities_of_server = result.capabilities  # type: ignore[attr-defined]
         yield
         await lsp_client.shutdown_session()
+
+    @pytest_asyncio.fixture(loop_scope="module")
+    async def client(server: LanguageClient):
+        yield server
+        await _lsp_session.reset(server)
 
 
 @pytest.fixture
@@ -56,7 +62,7 @@ def _open(client: LanguageClient, path: Path, text: str | None = None) -> str:
     client.text_document_did_open(
         types.DidOpenTextDocumentParams(types.TextDocumentItem(uri=uri, language_id="cat", version=1, text=text))
     )
-    return uri
+    return _lsp_session.opened(client, uri)
 
 
 def _change(client: LanguageClient, uri: str, version: int, text: str) -> None:
@@ -457,6 +463,7 @@ async def test_no_request_fails_on_a_half_written_text(client: LanguageClient, m
     """Random edits of the domain, and every request at a few places of each: each is
     answered with a result, never an error (a traceback would come back as one), and no
     handler had to swallow an exception (it would have logged it)."""
+    logged = len(client.log_messages)  # the module's server: what earlier tests logged is not this test's
     domain = model / "domain.cat"
     uri = _open(client, domain)
     await _diagnostics(client, uri)
@@ -488,7 +495,7 @@ async def test_no_request_fails_on_a_half_written_text(client: LanguageClient, m
             await client.text_document_completion_async(types.CompletionParams(doc, at))
             await client.text_document_definition_async(types.DefinitionParams(doc, at))
     # the handlers catch what they did not foresee and log it: nothing was logged
-    assert [m.message for m in client.log_messages if m.type == types.MessageType.Error] == []
+    assert [m.message for m in client.log_messages[logged:] if m.type == types.MessageType.Error] == []
 
 
 @pytest.mark.skipif(MISSING is not None, reason=str(MISSING))

@@ -24,13 +24,26 @@ DB = "catrt.sqlite"
 INTERNAL_ERROR = 70
 
 
-@pytest.fixture
-def state(tmp_path: Path) -> Path:
-    """A store whose first decision is made (so that an event's transaction is the next)."""
-    folder = tmp_path / "st"
+@pytest.fixture(scope="session")
+def state_template(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A store whose first decision is made (so that an event's transaction is the next):
+    made once a test process — ``catrt init`` and ``run`` are two processes, about 1 s of CPU
+    (issue 28) — and never handed to a test itself."""
+    folder = tmp_path_factory.mktemp("store-template") / "st"
     assert catrt("init", folder, DETECTION).returncode == 0
     res = catrt("run", folder, "--events", "-", stdin=lines({"id": "e1", "set": {"ram": 8}}))
     assert res.returncode == 0, res.stderr
+    return folder
+
+
+@pytest.fixture
+def state(tmp_path: Path, state_template: Path) -> Path:
+    """The test's own copy of :func:`state_template`, which its faults are injected into
+    (``current`` stays a relative link; the console token keeps its mode).  Only the journal's
+    record of the dry enactment names the template's folder: a record of what ran, which
+    ``verify`` and ``replay`` pass on a copy as on the original."""
+    folder = tmp_path / "st"
+    shutil.copytree(state_template, folder, symlinks=True)
     return folder
 
 
