@@ -178,3 +178,34 @@ def test_a_path_with_a_nul_is_no_traceback() -> None:
     published = [m for m in messages if m.get("method") == "textDocument/publishDiagnostics"]
     assert published and published[-1]["params"]["diagnostics"], messages
     assert code == 0
+
+
+def test_a_request_about_a_document_not_opened_reads_nothing() -> None:
+    """Finding 6 for the document requests: each one about a document the client has not
+    opened answers null with a line in the client's log -- it neither reads the file a
+    ``file:`` URI names (the workspace's own model here, which would have symbols) nor
+    ``./Untitled-1`` for ``untitled:Untitled-1`` (a FileNotFoundError before)."""
+    at = {"line": 0, "character": 1}
+    whole = {"start": {"line": 0, "character": 0}, "end": {"line": 0, "character": 1}}
+    methods = {
+        "textDocument/hover": {"position": at},
+        "textDocument/definition": {"position": at},
+        "textDocument/completion": {"position": at},
+        "textDocument/documentSymbol": {},
+        "textDocument/references": {"position": at, "context": {"includeDeclaration": True}},
+        "textDocument/prepareRename": {"position": at},
+        "textDocument/rename": {"position": at, "newName": "x"},
+        "textDocument/formatting": {"options": {"tabSize": 2, "insertSpaces": True}},
+        "textDocument/codeAction": {"range": whole, "context": {"diagnostics": []}},
+        "textDocument/semanticTokens/full": {},
+        "textDocument/inlayHint": {"range": whole},
+        "textDocument/signatureHelp": {"position": at},
+    }
+    for uri in (PROBLEM.resolve().as_uri(), "untitled:Untitled-1"):
+        asked = [request(20 + i, m, {"textDocument": {"uri": uri}, **p}) for i, (m, p) in enumerate(methods.items())]
+        code, messages = talk(frame(INIT), frame(INITIALIZED), *map(frame, asked), wait=tuple(a["id"] for a in asked))
+        for a in asked:
+            assert answer(messages, a["id"]) == {"jsonrpc": "2.0", "id": a["id"], "result": None}, a["method"]
+        logged = [m["params"]["message"] for m in messages if m.get("method") == "window/logMessage"]
+        assert sum("not an open document" in line for line in logged) == len(methods), logged
+        assert code == 0

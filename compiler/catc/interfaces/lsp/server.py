@@ -294,6 +294,35 @@ def _schedule(ls: Any, types: Any, uri: str, cascade: bool = True) -> None:
     ls.checks.tasks[uri] = asyncio.ensure_future(_refresh(ls, types, uri, generation, text, cascade))
 
 
+def _request(server: Any, method: str, *options: Any) -> Any:
+    """``server.feature(method, ...)`` for a request about one document: one the client has
+    not opened gets no answer (null) and a line in the client's log, never a read of the path
+    its URI names (``./Untitled-1`` for ``untitled:Untitled-1``, any file a URI names: issue 28,
+    finding 6) or a traceback."""
+    import functools
+
+    def register(handler: Any) -> Any:
+        @functools.wraps(handler)
+        async def answer(ls: Any, params: Any) -> Any:
+            uri = params.text_document.uri
+            if uri not in ls.workspace.text_documents:
+                from lsprotocol import types
+
+                note = f"catc: {method} about {uri}, which is not an open document: no answer"
+                ls.window_log_message(types.LogMessageParams(types.MessageType.Warning, note))
+                return None
+            return await handler(ls, params)
+
+        return server.feature(method, *options)(answer)
+
+    return register
+
+
+def _opened_text(ls: Any, uri: str) -> str:
+    """The text of the open document ``uri`` (a :func:`_request` handler's: opened)."""
+    return str(ls.workspace.text_documents[uri].source)
+
+
 async def _current(ls: Any, types: Any, uri: str) -> Analysis:
     """The document's latest analysis; until it has one, its check under way is waited for
     (a request that comes right after the document was opened)."""
@@ -415,14 +444,14 @@ def _register_navigation(server: Any, types: Any) -> None:
 
     async def name_at(ls: Any, params: Any) -> tuple[Analysis, str | None]:
         a = await _current(ls, types, params.text_document.uri)
-        text = ls.workspace.get_text_document(params.text_document.uri).source
+        text = _opened_text(ls, params.text_document.uri)
         line, character = params.position.line, params.position.character
         lines = text.split("\n")
         if not 0 <= line < len(lines):
             return a, None
         return a, word_at(text, line, server_column(lines[line], character, _encoding(ls)))
 
-    @server.feature(types.TEXT_DOCUMENT_HOVER)
+    @_request(server, types.TEXT_DOCUMENT_HOVER)
     async def hover(ls: Any, params: Any) -> Any:
         a = await _current(ls, types, params.text_document.uri)
         found = _word(ls, a, params.position)
@@ -438,7 +467,7 @@ def _register_navigation(server: Any, types: Any) -> None:
             return None
         return types.Hover(contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value=text))
 
-    @server.feature(types.TEXT_DOCUMENT_DEFINITION)
+    @_request(server, types.TEXT_DOCUMENT_DEFINITION)
     async def definition(ls: Any, params: Any) -> Any:
         a, name = await name_at(ls, params)
         defs = lookup(a, name) if name else []
@@ -447,7 +476,8 @@ def _register_navigation(server: Any, types: Any) -> None:
         lines = _lines(ls, a)
         return [types.Location(path_to_uri(d.span.file), lines.range(types, d.span)) for d in defs]
 
-    @server.feature(
+    @_request(
+        server,
         types.TEXT_DOCUMENT_COMPLETION,
         types.CompletionOptions(trigger_characters=[":", "("]),
     )
@@ -481,7 +511,7 @@ _SYMBOL_KINDS = {
 
 
 def _register_symbols(server: Any, types: Any) -> None:
-    @server.feature(types.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
+    @_request(server, types.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
     async def document_symbol(ls: Any, params: Any) -> Any:
         a = await _current(ls, types, params.text_document.uri)
         lines = _lines(ls, a)
@@ -524,7 +554,7 @@ def _register_editing(server: Any, types: Any) -> None:
 
     import catc.interfaces.lsp.tools as tools
 
-    @server.feature(types.TEXT_DOCUMENT_REFERENCES)
+    @_request(server, types.TEXT_DOCUMENT_REFERENCES)
     async def references(ls: Any, params: Any) -> Any:
         a = await _fresh(ls, types, params.text_document.uri)
         found = _word(ls, a, params.position)
@@ -539,7 +569,7 @@ def _register_editing(server: Any, types: Any) -> None:
         lines = Lines(_encoding(ls), files)
         return [types.Location(path_to_uri(s.file), lines.range(types, s)) for s in spans]
 
-    @server.feature(types.TEXT_DOCUMENT_PREPARE_RENAME)
+    @_request(server, types.TEXT_DOCUMENT_PREPARE_RENAME)
     async def prepare_rename(ls: Any, params: Any) -> Any:
         a = await _fresh(ls, types, params.text_document.uri)
         found = _word(ls, a, params.position)
@@ -552,7 +582,7 @@ def _register_editing(server: Any, types: Any) -> None:
         lines = Lines(_encoding(ls), {a.path: _doc_text(ls, a)})
         return types.PrepareRenamePlaceholder(range=lines.range(types, found[1]), placeholder=found[0])
 
-    @server.feature(types.TEXT_DOCUMENT_RENAME, types.RenameOptions(prepare_provider=True))
+    @_request(server, types.TEXT_DOCUMENT_RENAME, types.RenameOptions(prepare_provider=True))
     async def rename(ls: Any, params: Any) -> Any:
         a = await _fresh(ls, types, params.text_document.uri)
         found = _word(ls, a, params.position)
@@ -578,9 +608,9 @@ def _register_fixes(server: Any, types: Any) -> None:
 
     import catc.interfaces.lsp.tools as tools
 
-    @server.feature(types.TEXT_DOCUMENT_FORMATTING)
+    @_request(server, types.TEXT_DOCUMENT_FORMATTING)
     async def formatting(ls: Any, params: Any) -> Any:
-        text = ls.workspace.get_text_document(params.text_document.uri).source
+        text = _opened_text(ls, params.text_document.uri)
         try:
             new = await asyncio.to_thread(tools.formatted, text)  # seconds for a huge file: off the loop
         except Exception as exc:  # never a traceback for a half-written model
@@ -590,7 +620,8 @@ def _register_fixes(server: Any, types: Any) -> None:
             return []  # a file that does not parse is left alone
         return [types.TextEdit(types.Range(types.Position(0, 0), _end(types, text, _encoding(ls))), new)]
 
-    @server.feature(
+    @_request(
+        server,
         types.TEXT_DOCUMENT_CODE_ACTION,
         types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix]),
     )
@@ -641,7 +672,8 @@ def _register_display(server: Any, types: Any) -> None:
         token_types=list(tools.TOKEN_TYPES), token_modifiers=list(tools.TOKEN_MODIFIERS)
     )
 
-    @server.feature(
+    @_request(
+        server,
         types.TEXT_DOCUMENT_SEMANTIC_TOKENS_FULL,
         types.SemanticTokensRegistrationOptions(legend=legend, full=True),
     )
@@ -673,7 +705,7 @@ def _register_display(server: Any, types: Any) -> None:
             last_line, last_start = line, start
         return types.SemanticTokens(data=data)
 
-    @server.feature(types.TEXT_DOCUMENT_INLAY_HINT)
+    @_request(server, types.TEXT_DOCUMENT_INLAY_HINT)
     async def inlay_hints(ls: Any, params: Any) -> Any:
         a = await _fresh(ls, types, params.text_document.uri)
         lines = _lines(ls, a)
@@ -704,12 +736,13 @@ def _register_signature_help(server: Any, types: Any) -> None:
     """The options of the form under the cursor."""
     import catc.interfaces.lsp.tools as tools
 
-    @server.feature(
+    @_request(
+        server,
         types.TEXT_DOCUMENT_SIGNATURE_HELP,
         types.SignatureHelpOptions(trigger_characters=[":", " ", "("], retrigger_characters=[" "]),
     )
     async def signature_help(ls: Any, params: Any) -> Any:
-        text = ls.workspace.get_text_document(params.text_document.uri).source
+        text = _opened_text(ls, params.text_document.uri)
         try:
             sig = tools.signature_at(text, _offset(text, params.position, _encoding(ls)))
         except Exception as exc:  # never a traceback for a half-written model
