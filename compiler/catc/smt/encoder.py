@@ -256,10 +256,7 @@ class Encoder:
         for m in self.morphisms:
             limits.check_time("encoding")  # a step of thousands of morphisms takes seconds (issue 28)
             params = {p.name: theta[(m.name, p.name)] for p in m.params}
-            for lit in m.pre:
-                ctx = _Ctx(t, params, [])
-                body = self._literal(lit, ctx)
-                self.add(lit.label, f"(=> {b[m.name]} {_and([body] + ctx.guards)})")
+            self._preconditions(m, t, params, None, b[m.name])
 
         assigns: dict[str, Assigns] = defaultdict(list)
         deltas: dict[str, Deltas] = defaultdict(list)
@@ -277,6 +274,15 @@ class Encoder:
                     r, s[r.name], nxt[r.name], assigns[r.name], deltas[r.name], adds[r.name], removes[r.name]
                 )
         self._interference(b, adds, removes)
+
+    def _preconditions(
+        self, m: ir.Morphism, t: int, params: dict[str, Term], state: dict[str, Term] | None, active: Symbol
+    ) -> None:
+        """``active`` implies each of ``m``'s preconditions, read on ``state`` (else state ``t``)."""
+        for lit in m.pre:
+            ctx = _Ctx(t, params, [], state)
+            body = self._literal(lit, ctx)
+            self.add(lit.label, f"(=> {active} {_and([body] + ctx.guards)})")
 
     def _changes(
         self,
@@ -337,10 +343,7 @@ class Encoder:
         for i, m in enumerate(self.morphisms):
             limits.check_time("encoding")
             params = {p.name: theta[(m.name, p.name)] for p in m.params}
-            for lit in m.pre:
-                ctx = _Ctx(t, params, [], cur)
-                body = self._literal(lit, ctx)
-                self.add(lit.label, f"(=> {b[m.name]} {_and([body] + ctx.guards)})")
+            self._preconditions(m, t, params, cur, b[m.name])
             assigns: dict[str, Assigns] = defaultdict(list)
             deltas: dict[str, Deltas] = defaultdict(list)
             adds: dict[str, SetChanges] = defaultdict(list)
