@@ -433,22 +433,35 @@ class _SlackSearch:
         # a lower bound from counting activations (catc.smt.counting): a restoration that
         # reaches it is least without refuting every cheaper ordering
         self.lower: Fraction | bool | None = None
+        #: the consumption bound's arguments while it is not computed yet (see :meth:`_stronger`)
+        self._consumption: tuple[ir.Instance, list[Requirement], tuple[str, ...] | None] | None = None
         if counting:
-            # the consumption bound sees budget sums over competing alternatives (issue 24)
-            mine = consumption_bound(inst, reqs, components)
-            self.lower = False
-            if mine is not False:
-                self.lower = slack_lower_bound(
-                    inst,
-                    [(r.label, r.kind, r.weight) for r in reqs],
-                    components,
-                    timeout=_remaining(limits.deadline_at()),
-                    # the search's context: one Z3 context less (~7 ms); the consumption
-                    # bound keeps its own, as sharing that one changes which least
-                    # restoration the search returns on two golden examples
-                    share_with=self.feas.backend,
-                )
-                self.lower = stronger_bound(self.lower, mine)
+            self.lower = slack_lower_bound(
+                inst,
+                [(r.label, r.kind, r.weight) for r in reqs],
+                components,
+                timeout=_remaining(limits.deadline_at()),
+                # the search's context: one Z3 context less (~7 ms); the consumption
+                # bound keeps its own, as sharing that one changes which least
+                # restoration the search returns on two golden examples
+                share_with=self.feas.backend,
+            )
+            if self.lower is not False:
+                self._consumption = (inst, reqs, components)
+
+    def _stronger(self) -> Fraction | bool | None:
+        """The lower bound with the consumption bound (issue 24: it sees budget sums over
+        competing alternatives) taken in, computed on first use: only when the counting bound
+        alone does not prove the restoration found least.  It has a Z3 context of its own
+        (~8 ms to make), which a restoration meeting the counting bound — most of them, as
+        ``catc relax examples/lifelong/budget-cut.cat`` — never needs.  Computing it later
+        changes no answer: its context is not the search's, and where it is False (no
+        restoration) the search's first check is UNSAT as well, the same answer."""
+        if self._consumption is not None:
+            inst, reqs, components = self._consumption
+            self._consumption = None
+            self.lower = stronger_bound(self.lower, consumption_bound(inst, reqs, components))
+        return self.lower
 
     def run(self, deadline: float | None, say: Callable[[str], None]) -> tuple[_Found | None, bool, bool]:
         """The best relaxation found, whether it is proven least, and whether the search space
@@ -475,14 +488,15 @@ class _SlackSearch:
                 best = found
             if best.attained and best.infimum == 0:
                 return best, True, False
-            if best.attained and _is_bound(self.lower) and best.infimum <= self.lower:
+            if best.attained and self._meets(best.infimum):
                 say(
                     f"best restoration so far: weighted total {best.infimum}; least: it meets the lower bound "
                     "from counting activations"
                 )
                 return best, True, False
-            if not jumped and best.attained and _is_bound(self.lower) and self.lower > 0:
-                jumped, at_bound = True, self._at_bound(self.lower, deadline)
+            lower = self._stronger() if not jumped and best.attained else None
+            if _is_bound(lower) and lower > 0:
+                jumped, at_bound = True, self._at_bound(lower, deadline)
                 if at_bound is not None:  # instead of descending one restoration at a time
                     say(f"restoration of weighted total {at_bound.infimum}: least, it meets the lower bound")
                     return at_bound, True, False
@@ -494,6 +508,15 @@ class _SlackSearch:
                 feas.assert_term(le(self.feas_cost, best.infimum))
             if not found.attained:
                 feas.assert_term(not_(and_(*skeleton)) if skeleton else False)
+
+    def _meets(self, total: Fraction) -> bool:
+        """Whether ``total`` is at the lower bound: first against the counting bound alone (a
+        total at or below it is at the stronger bound too, both being sound), then with the
+        consumption bound taken in."""
+        if _is_bound(self.lower) and total <= self.lower:
+            return True
+        lower = self._stronger()
+        return _is_bound(lower) and total <= lower
 
     def _at_bound(self, lower: Fraction, deadline: float | None) -> _Found | None:
         """A restoration of weighted total ``lower`` (the proven lower bound), or None."""
