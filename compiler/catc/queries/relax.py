@@ -11,9 +11,8 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Any, TypeGuard
+from typing import Any, NamedTuple, TypeGuard
 
 from catc import ir
 from catc.ir.labels import LabelInfo, label_index
@@ -48,10 +47,10 @@ from catc.smt.readback import read_plan
 from catc.smt.script import SmtSort, Symbol, and_text, int_literal
 from catc.smt.terms import Term, and_, eq, ge, gt, ite, le, lt, minus, not_, plus, times, to_real, to_text
 from catgrammar import limits
+from catgrammar.record import replace
 
 
-@dataclass
-class Requirement:
+class Requirement(NamedTuple):  # (not a dataclass: `catc relax` does not import dataclasses)
     label: str
     kind: str  # "initial value" | "precondition" | "goal"
     resources: frozenset[str]
@@ -59,8 +58,7 @@ class Requirement:
     integral: bool
 
 
-@dataclass
-class Relaxation:
+class Relaxation(NamedTuple):
     label: str
     kind: str
     delta: Fraction  # signed for initial values; ≥ 0 (the weakening) for comparisons
@@ -74,25 +72,65 @@ class RelaxStatus(Status):
     UNKNOWN = "unknown", ExitCode.UNKNOWN
 
 
-@dataclass
 class RelaxResult(Result):
+    """The answer of :func:`relax`; filled in as the search goes."""
+
     query = "relax"
+    __slots__ = (
+        "status",
+        "proven",
+        "relaxations",
+        "dropped",
+        "cost",
+        "infimum",
+        "attained",
+        "plan",
+        "states",
+        "relaxed_instance",
+        "eligible",
+        "horizon",
+        "timings",
+        "reason",
+    )
     status: RelaxStatus
-    proven: bool = True  # False: the best relaxation found before the time limit
-    relaxations: list[Relaxation] = field(default_factory=list)
-    dropped: list[str] = field(default_factory=list)  # discrete variant
-    cost: Fraction | None = None  # the weighted total of the relaxations shown
-    #: the least weighted total: ``cost`` when ``attained``; otherwise approached by ever
-    #: smaller relaxations but reached by none (e.g. a goal ``(> x 5)`` from ``x = 5``)
-    infimum: Fraction | None = None
-    attained: bool = True
-    plan: Plan | None = None
-    states: tuple = ()
-    relaxed_instance: ir.Instance | None = None
-    eligible: list[Requirement] = field(default_factory=list)
-    horizon: int = 0
-    timings: dict[str, float] = field(default_factory=dict)
-    reason: str | None = None  # why the search stopped early: "timeout" or "interrupted"
+
+    def __init__(
+        self,
+        status: RelaxStatus,
+        proven: bool = True,  # False: the best relaxation found before the time limit
+        relaxations: list[Relaxation] | None = None,
+        dropped: list[str] | None = None,  # discrete variant
+        cost: Fraction | None = None,  # the weighted total of the relaxations shown
+        #: the least weighted total: ``cost`` when ``attained``; otherwise approached by ever
+        #: smaller relaxations but reached by none (e.g. a goal ``(> x 5)`` from ``x = 5``)
+        infimum: Fraction | None = None,
+        attained: bool = True,
+        plan: Plan | None = None,
+        states: tuple = (),
+        relaxed_instance: ir.Instance | None = None,
+        eligible: list[Requirement] | None = None,
+        horizon: int = 0,
+        timings: dict[str, float] | None = None,
+        reason: str | None = None,  # why the search stopped early: "timeout" or "interrupted"
+    ) -> None:
+        self.status = status
+        self.proven = proven
+        self.relaxations: list[Relaxation] = [] if relaxations is None else relaxations
+        self.dropped: list[str] = [] if dropped is None else dropped
+        self.cost = cost
+        self.infimum = infimum
+        self.attained = attained
+        self.plan = plan
+        self.states = states
+        self.relaxed_instance = relaxed_instance
+        self.eligible: list[Requirement] = [] if eligible is None else eligible
+        self.horizon = horizon
+        self.timings: dict[str, float] = {} if timings is None else timings
+        self.reason = reason
+
+    def __repr__(self) -> str:
+        fields = ", ".join(f"{name}={getattr(self, name)!r}" for name in self.__slots__)
+        return f"RelaxResult({fields})"
 
     @property
     def settled(self) -> bool:
@@ -561,8 +599,7 @@ def _is_bound(lower: Fraction | bool | None) -> TypeGuard[Fraction]:
     return isinstance(lower, Fraction)
 
 
-@dataclass
-class _Found:
+class _Found(NamedTuple):
     """One skeleton's least slack: ``cost`` is the weighted total of the restoration shown
     (``values``, ``plan``); ``infimum`` the least total over the skeleton, ``attained``
     whether some restoration reaches it (then ``cost == infimum``)."""
