@@ -111,7 +111,14 @@ def recompose(
                     timeout = max(timeout - (time.perf_counter() - t0), 0.1)
     if result is None:
         result = optimize(
-            inst, order, horizon=horizon, sequential=sequential, timeout=timeout, progress=progress, tactics=tactics
+            inst,
+            order,
+            horizon=horizon,
+            sequential=sequential,
+            timeout=timeout,
+            progress=progress,
+            tactics=tactics,
+            known=_deployed_plan(inst),
         )
         if result.plan is None and fallback is not None:
             result = fallback
@@ -218,6 +225,16 @@ def _replayed(
     if not report.ok:
         return None
     return _scores(inst, plan, objectives, [], k, sequential, report), plan
+
+
+def _deployed_plan(inst: ir.Instance) -> list[Plan]:
+    """The deployed composition as it is written — its components one a step, in the order of
+    ``(:deployed ...)``, θ at their lower bounds — for :func:`optimize` to compare its first
+    composition with (``known``; the validator decides whether it is one)."""
+    bounds = frozenset(m.bound_label(p.name) for m in inst.morphisms.values() for p in m.params)
+    deployed = [m for m in inst.problem.deployed if m in inst.morphisms]
+    plan = _candidate(inst, bounds, deployed, deployed) if deployed else None
+    return [] if plan is None else [plan]
 
 
 def _best_by_search(
