@@ -10,10 +10,9 @@ from __future__ import annotations
 
 import time
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from itertools import combinations
-from typing import Any
+from typing import Any, NamedTuple
 
 from catc import ir
 from catc.present.console import Console, Table, counted
@@ -39,23 +38,35 @@ from catc.semantics.plan import Plan
 from catc.semantics.validate import validate
 from catc.semantics.witness import _candidate
 from catc.smt.consumption import FixedSet, init_value
+from catgrammar.record import replace
 
 
-@dataclass
-class ChurnItem:
+class ChurnItem(NamedTuple):  # (not a dataclass: `catc recompose` does not import dataclasses)
     morphism: str
     change: str  # "added" | "removed"
     weight: Fraction
 
 
-@dataclass
 class Recomposition(Result):
     query = "recompose"
-    result: OptResult  # the lexicographic optimisation
-    deployed: tuple[str, ...]
-    priority: str  # "stability" (churn first) | "objective"
-    churn: Fraction | None = None
-    items: list[ChurnItem] = field(default_factory=list)
+    __slots__ = ("result", "deployed", "priority", "churn", "items")
+
+    def __init__(
+        self,
+        result: OptResult,  # the lexicographic optimisation
+        deployed: tuple[str, ...],
+        priority: str,  # "stability" (churn first) | "objective"
+        churn: Fraction | None = None,
+        items: list[ChurnItem] | None = None,
+    ) -> None:
+        self.result, self.deployed, self.priority, self.churn = result, deployed, priority, churn
+        self.items: list[ChurnItem] = [] if items is None else items
+
+    def __repr__(self) -> str:
+        return (
+            f"Recomposition(result={self.result!r}, deployed={self.deployed!r}, priority={self.priority!r}, "
+            f"churn={self.churn!r}, items={self.items!r})"
+        )
 
     @property
     def status(self) -> OptStatus:  # type: ignore[override]
