@@ -118,7 +118,7 @@ def main() -> None:
             }
             for side, tree in trees.items()
         }
-        if args.against and not args.no_compile:
+        if args.against:  # whatever --no-compile says of this tree: its folder is new each run
             # compiled as this tree is, else every module whose source is newer than its
             # __pycache__ entry would be compiled again in each run (PYTHONDONTWRITEBYTECODE)
             # and counted against it; the bytecode goes to a private folder, not its checkout.
