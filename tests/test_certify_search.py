@@ -14,7 +14,6 @@ import pytest
 from conftest import ROOT
 
 from catc.api import loads
-from catc.queries import certify as certify_module
 from catc.queries.certify import (
     CertifyStatus,
     NotCertifiable,
@@ -24,6 +23,8 @@ from catc.queries.certify import (
     cvc5_command,
     z3_command,
 )
+from catc.queries.certify import checkers as checkers_module
+from catc.queries.certify import unsat as unsat_module
 from catc.queries.solve import solve
 
 sys.path.insert(0, str(ROOT / "benchmarks"))
@@ -144,7 +145,7 @@ def test_a_dropped_state_is_refuted_at_consecution():
     inst, doc = searched()
     bad = copy.deepcopy(doc)
     bad["states"]["values"] = [s for s in bad["states"]["values"] if s != [True, False, "0"]]
-    bad["obligations"] = certify_module.reachable_obligations(inst, bad["states"], bad["horizon"])
+    bad["obligations"] = unsat_module.reachable_obligations(inst, bad["states"], bad["horizon"])
     for o in bad["obligations"]:
         o["producer"] = "catc.search"
     result = certify(inst, bad)
@@ -157,7 +158,7 @@ def test_a_goal_state_in_the_set_is_refuted_at_the_goal():
     inst, doc = searched()
     bad = copy.deepcopy(doc)
     bad["states"]["values"].append([True, True, "0"])
-    bad["obligations"] = certify_module.reachable_obligations(inst, bad["states"], bad["horizon"])
+    bad["obligations"] = unsat_module.reachable_obligations(inst, bad["states"], bad["horizon"])
     for o in bad["obligations"]:
         o["producer"] = "catc.search"
     assert {r["name"]: r["status"] for r in certify(inst, bad).obligations}["goal"] == "refuted"
@@ -173,7 +174,7 @@ def test_a_state_set_edited_after_the_obligations_were_written_does_not_match():
 
 
 def test_more_reachable_states_than_the_limit_are_not_certified(monkeypatch):
-    monkeypatch.setattr(certify_module, "STATE_LIMIT", 5)
+    monkeypatch.setattr(unsat_module, "STATE_LIMIT", 5)
     inst = toggle()
     with pytest.raises(NotCertifiable, match="more than 5"):
         certificate(inst, solve(inst, strategy="search", sequential=True))
@@ -212,7 +213,7 @@ def test_one_process_per_checker_keeps_obligations_apart(tmp_path, checker):
     for i, text in enumerate(texts):
         paths.append(str(tmp_path / f"{i}.smt2"))
         (tmp_path / f"{i}.smt2").write_text(text)
-    answers = [a for a, _ in certify_module.run_batch(checker, paths, 30.0)]
+    answers = [a for a, _ in checkers_module.run_batch(checker, paths, 30.0)]
     assert answers == ["sat", "sat", "error", "unsat"]
 
 
@@ -225,7 +226,7 @@ def test_many_obligations_split_over_processes_keep_their_answers():
     obligations = [
         {"smtlib": (sat if i % 2 == 0 else unsat).format(i=i), "checkers": ["z3", "cvc5"]} for i in range(12)
     ]
-    answers = certify_module._run_checkers(obligations, 30.0)
+    answers = checkers_module._run_checkers(obligations, 30.0)
     expected = ["sat" if i % 2 == 0 else "unsat" for i in range(12)]
     assert [a["z3"][0] for a in answers] == expected
     assert [a["cvc5"][0] for a in answers] == expected
@@ -245,8 +246,8 @@ def test_an_undecided_obligation_in_a_batch_is_unknown_and_the_next_is_answered(
     for i, text in enumerate(texts):
         paths.append(str(tmp_path / f"{i}.smt2"))
         (tmp_path / f"{i}.smt2").write_text(text)
-    monkeypatch.setattr(certify_module, "run_checker", lambda *args: ("run again alone", 0.0))
-    assert [a for a, _ in certify_module.run_batch(checker, paths, 1.0)] == ["unknown", "unsat"]
+    monkeypatch.setattr(checkers_module, "run_checker", lambda *args: ("run again alone", 0.0))
+    assert [a for a, _ in checkers_module.run_batch(checker, paths, 1.0)] == ["unknown", "unsat"]
 
 
 # ---------------------------------------------------------------- a Pareto front
@@ -269,7 +270,8 @@ def front():
 def with_points(inst, doc, points, witnesses):
     """``doc`` claiming ``points`` (exact strings), the witnesses renumbered, its front
     obligation rebuilt for them (so that only the solvers can object)."""
-    from catc.queries.certify import _pareto_objectives, pareto_obligation
+    from catc.queries.certify import pareto_obligation
+    from catc.queries.certify.optimal import _pareto_objectives
 
     model, objectives = _pareto_objectives(inst, doc["objectives"])
     exact = [[Fraction(v) for v in p] for p in points]
@@ -297,7 +299,7 @@ def test_a_front_missing_a_point_is_refuted_by_the_solvers():
 
 
 def test_a_better_point_than_its_witness_reaches_is_refuted():
-    from catc.queries.certify import _pareto_objectives
+    from catc.queries.certify.optimal import _pareto_objectives
 
     inst, doc = front()
     _, objectives = _pareto_objectives(inst, doc["objectives"])
@@ -313,7 +315,7 @@ def test_a_better_point_than_its_witness_reaches_is_refuted():
 def test_a_front_with_a_dominated_point_is_refuted():
     """A valid composition whose values another point dominates, claimed as a point of the
     front (its witness replays, its values are its own): not Pareto-optimal, refuted."""
-    from catc.queries.certify import _pareto_objectives
+    from catc.queries.certify.optimal import _pareto_objectives
     from catc.queries.optimum import _scores
     from catc.queries.pareto import dominates
     from catc.semantics.plan import plan_to_json, read_plan
