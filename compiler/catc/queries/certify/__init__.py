@@ -40,9 +40,9 @@ from catc.queries.certify.check import Certification as Certification
 
 # what the package offers (the registry, the interfaces, the tests): each from its module
 from catc.queries.certify.check import CertifyStatus as CertifyStatus
-from catc.queries.certify.check import _expected
 from catc.queries.certify.check import certify as certify
 from catc.queries.certify.check import certify_json as certify_json
+from catc.queries.certify.check import prepared
 from catc.queries.certify.check import render as render
 from catc.queries.certify.checkers import cvc5_command as cvc5_command
 from catc.queries.certify.checkers import run_checker as run_checker
@@ -56,7 +56,6 @@ from catc.queries.certify.cores import witness_instance as witness_instance
 from catc.queries.certify.document import CHECK_TIMEOUT as CHECK_TIMEOUT
 from catc.queries.certify.document import SCHEMA as SCHEMA
 from catc.queries.certify.document import NotCertifiable as NotCertifiable
-from catc.queries.certify.document import _same_problem
 from catc.queries.certify.document import read_certificate as read_certificate
 from catc.queries.certify.optimal import least_certificate as least_certificate
 from catc.queries.certify.optimal import least_obligation as least_obligation
@@ -80,9 +79,7 @@ def _check(inst: ir.Instance, options: Mapping[str, Any]) -> str | None:
     path = options.get("certificate_file")
     if not path:
         return "give the certificate: catc certify PROBLEM CERTIFICATE"
-    doc = read_certificate(path)
-    _same_problem(inst, doc)
-    _expected(inst, doc, options.get("objectives") or None)
+    prepared(inst, path, options.get("objectives") or None)  # run finds it done
     return None
 
 
