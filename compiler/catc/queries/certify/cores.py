@@ -3,6 +3,7 @@ cannot lose) and of ``catc relax --discrete``'s least set of dropped constraints
 
 from __future__ import annotations
 
+import re
 import time
 from collections.abc import Collection, Mapping, Sequence
 from typing import Any
@@ -139,8 +140,17 @@ def _vacuous(text: str, denied: Collection[str]) -> bool:
     return any(term in denied for term in conjuncts)
 
 
+_ATOM_END = re.compile(r"[\s()]")
+
+
 def _first_term(text: str, start: int) -> str:
     """The s-expression term of ``text`` that begins at ``start`` ("" when none does)."""
+    if text[start : start + 1] == "|":  # a quoted symbol
+        end = text.find("|", start + 1)
+        return text[start:] if end < 0 else text[start : end + 1]
+    if text[start : start + 1] != "(":  # a plain symbol or literal
+        found = _ATOM_END.search(text, start)
+        return text[start : found.start() if found else len(text)]
     depth, quoted = 0, False
     for i in range(start, len(text)):
         c = text[i]
