@@ -21,6 +21,7 @@ from catc.queries.certify import (
     certify,
     consumption_obligations,
     cvc5_command,
+    state_bounded_obligations,
     z3_command,
 )
 from catc.queries.certify import checkers as checkers_module
@@ -187,12 +188,50 @@ def test_both_new_kinds_follow_the_schema():
     inst = catalog("budget")
     for doc in (
         certificate(inst, solve(inst)),
+        certificate(toggle(), solve(toggle(), horizon=15)),  # state-bounded
         searched()[1],
         front()[1],
         two_cores()[1],
         discrete(loads({"two.cat": TWO}, "two.cat").instance),
     ):
         jsonschema.validate(json.loads(json.dumps(doc)), schema)
+
+
+# ---------------------------------------------------------------- the reachable-state bound (SMT route)
+# toggle's states: a, b Boolean and n in 0..3, so at most 2 · 2 · 4 = 16 — by hand, not by catc
+
+
+def test_an_unsat_made_final_by_the_state_count_is_certified_at_n_minus_1():
+    inst = toggle()
+    result = solve(inst, horizon=15)  # parallel steps: the SMT route, not the forward search
+    assert result.status.value == "unsat" and result.final and not result.sequential
+    doc = certificate(inst, result)
+    assert (doc["method"], doc["state_count"], doc["horizon"]) == ("state-bounded", 16, 15)
+    assert [o["name"] for o in doc["obligations"]] == ["bounded"]
+    row = certify(inst, doc).obligations[0]
+    assert {c: a["answer"] for c, a in row["checkers"].items()} == {"z3": "unsat", "cvc5": "unsat"}
+    assert row["proved_by"] == ["cvc5"]  # z3 produced the answer: only cvc5 counts
+
+
+def test_a_state_count_the_model_does_not_give_or_a_short_horizon_does_not_match():
+    inst = toggle()
+    doc = certificate(inst, solve(inst, horizon=15))
+    fewer = {**doc, "state_count": 12, "horizon": 11}  # claims 12 states: a shorter horizon would do
+    fewer["obligations"] = [o | {"producer": "z3"} for o in state_bounded_obligations(inst, 11, False)]
+    assert certify(inst, fewer).status is CertifyStatus.REFUTED
+    assert {r["status"] for r in certify(inst, fewer).obligations} >= {"mismatch"}
+
+
+def test_a_state_bounded_no_for_a_feasible_problem_is_refuted_by_the_solvers():
+    inst = loads({"toggle.cat": TOGGLE.replace("(:goal (and a b))", "(:goal (and a (= n 2)))")}, "toggle.cat").instance
+    doc = {"schema": "catc.certificate/1", "problem": "both-on", "domain": "toggle", "view": None}
+    doc |= {"answer": "unsat", "method": "state-bounded", "producer": "z3", "horizon": 15, "sequential": False}
+    doc |= {
+        "state_count": 16,
+        "obligations": [o | {"producer": "z3"} for o in state_bounded_obligations(inst, 15, False)],
+    }
+    rows = certify(inst, doc).obligations
+    assert rows[0]["status"] == "refuted" and rows[0]["checkers"]["cvc5"]["answer"] == "sat"
 
 
 # ---------------------------------------------------------------- one checker process for all

@@ -72,6 +72,7 @@ from catc.queries.certify.unsat import certificate as certificate
 from catc.queries.certify.unsat import consumption_obligations as consumption_obligations
 from catc.queries.certify.unsat import invariant_obligations as invariant_obligations
 from catc.queries.certify.unsat import reachable_obligations as reachable_obligations
+from catc.queries.certify.unsat import state_bounded_obligations as state_bounded_obligations
 
 
 def _check(inst: ir.Instance, options: Mapping[str, Any]) -> str | None:

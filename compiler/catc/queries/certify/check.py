@@ -48,6 +48,7 @@ from catc.queries.certify.unsat import (
     consumption_obligations,
     invariant_obligations,
     reachable_obligations,
+    state_bounded_obligations,
 )
 from catgrammar import codes
 
@@ -110,6 +111,13 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any], given: Sequence[ir.Obje
         if bound is None or horizon < bound:
             return {}  # the horizon is not complete for this model: nothing matches
         built = bounded_obligations(inst, horizon, bool(doc.get("sequential")))
+    elif method == "state-bounded":
+        from catc.semantics.horizon import state_bound
+
+        states = state_bound(inst, horizon + 1)
+        if states is None or doc.get("state_count") != states or horizon < states - 1:
+            return {}  # the model does not have that few states: the horizon is not complete
+        built = state_bounded_obligations(inst, horizon, bool(doc.get("sequential")))
     elif method == "consumption":
         if not _claims_hold(inst, doc.get("bounds", [])):
             return {}  # a claimed bound the model does not give: nothing matches

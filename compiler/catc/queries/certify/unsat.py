@@ -307,10 +307,27 @@ def bounded_obligations(inst: ir.Instance, horizon: int, sequential: bool) -> li
     ]
 
 
+def state_bounded_obligations(inst: ir.Instance, horizon: int, sequential: bool) -> list[dict]:
+    """The bounded problem at ``horizon`` = N − 1, N the model's count of states
+    (:func:`catc.semantics.horizon.state_bound`).  Its completeness — some shortest
+    composition visits no state twice, and at most N states exist — is not an SMT
+    obligation: ``catc certify`` counts N again from the model (docs/semantics.md)."""
+    from catc.smt.smtlib import emit_smt2
+
+    return [
+        _obligation(
+            "bounded",
+            f"no composition of at most {horizon} steps exists (the step encoding at horizon {horizon}; the model "
+            f"has at most {horizon + 1} states, so a shortest composition has at most {horizon} steps)",
+            emit_smt2(inst, horizon, sequential=sequential),
+        )
+    ]
+
+
 def certificate(inst: ir.Instance, result: Any) -> dict:
     """The certificate of ``result``, a final "no" of ``catc solve`` (NotCertifiable
     otherwise)."""
-    from catc.semantics.horizon import use_bound
+    from catc.semantics.horizon import state_bound, use_bound
     from catc.semantics.relaxed import RelaxedAnalysis
 
     if getattr(result, "status", None) is None or result.status.value != "unsat":
@@ -354,6 +371,13 @@ def certificate(inst: ir.Instance, result: Any) -> dict:
                 "written): their invariant is not certified"
             )
         return found
+    states = state_bound(inst, result.horizon + 1)
+    if states is not None and result.horizon >= states - 1:  # the reachable-state bound made it final
+        horizon = max(states - 1, 0)
+        doc |= {"answer": "unsat", "method": "state-bounded", "producer": result.backend, "horizon": horizon}
+        doc |= {"sequential": bool(result.sequential), "state_count": states}
+        doc["obligations"] = state_bounded_obligations(inst, horizon, bool(result.sequential))
+        return _produced(doc, result.backend)
     raise NotCertifiable(
         "this UNSAT was proven neither by relaxed reachability at its fixpoint, nor by the step encoding at a "
         "complete horizon, nor by the consumption abstraction or the forward search: no certificate yet"
