@@ -64,6 +64,7 @@ from catc.queries.certify.optimal import optimal_certificate as optimal_certific
 from catc.queries.certify.optimal import optimal_obligation as optimal_obligation
 from catc.queries.certify.optimal import pareto_certificate as pareto_certificate
 from catc.queries.certify.optimal import pareto_obligation as pareto_obligation
+from catc.queries.certify.optimal import shortest_certificate as shortest_certificate
 from catc.queries.certify.produce import certificate_artifact as certificate_artifact
 from catc.queries.certify.produce import certificate_of as certificate_of
 from catc.queries.certify.produce import write_certificate as write_certificate

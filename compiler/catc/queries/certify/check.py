@@ -36,9 +36,11 @@ from catc.queries.certify.optimal import (
     _replay_least,
     _replay_optimal,
     _replay_point,
+    _replay_shortest,
     least_obligation,
     optimal_obligation,
     pareto_obligation,
+    shortest_obligations,
 )
 from catc.queries.certify.unsat import (
     _claims_hold,
@@ -118,6 +120,9 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any], given: Sequence[ir.Obje
         if states is None or doc.get("state_count") != states or horizon < states - 1:
             return {}  # the model does not have that few states: the horizon is not complete
         built = state_bounded_obligations(inst, horizon, bool(doc.get("sequential")))
+    elif method == "shortest":
+        built = shortest_obligations(inst, horizon, bool(doc.get("sequential")))
+        return {o["name"]: o["smtlib"] for o in built} | {"witness": ""}
     elif method == "consumption":
         if not _claims_hold(inst, doc.get("bounds", [])):
             return {}  # a claimed bound the model does not give: nothing matches
@@ -287,6 +292,8 @@ def _replays(
             answers[id(o)] = {WITNESS: _replay_optimal(inst, doc, o, given)}
         elif o.get("expect") == "valid" and doc.get("method") == "discrete" and o["name"] == "witness":
             answers[id(o)] = {WITNESS: _replay_discrete(inst, doc, o)}
+        elif o.get("expect") == "valid" and doc.get("method") == "shortest" and o["name"] == "witness":
+            answers[id(o)] = {WITNESS: _replay_shortest(inst, doc, o)}
         elif o.get("expect") == "valid" and doc.get("method") == "pareto" and o["name"] in expected:
             answers[id(o)] = {WITNESS: _replay_point(inst, doc, o, given)}
 

@@ -14,7 +14,17 @@ from catc.ir import SortKind
 from catc.queries.base import (
     InputError,
 )
-from catc.queries.certify.document import SCHEMA, WITNESS, NotCertifiable, _header, _number, _obligation, _pair, _script
+from catc.queries.certify.document import (
+    SCHEMA,
+    SEARCH,
+    WITNESS,
+    NotCertifiable,
+    _header,
+    _number,
+    _obligation,
+    _pair,
+    _script,
+)
 from catgrammar import codes
 
 # -- a least restoration of catc relax: the witness, and nothing cheaper
@@ -447,3 +457,64 @@ def _replay_optimal(
         return "invalid", time.perf_counter() - t0
     scores = _scores(model, plan, list(objectives), list(softs), horizon, sequential, report=rep)
     return ("valid" if scores == claimed else "invalid"), time.perf_counter() - t0
+
+
+# -- a shortest composition (the unified-planning engine's SOLVED_OPTIMALLY for plan length)
+
+
+def shortest_obligations(inst: ir.Instance, length: int, sequential: bool) -> list[dict]:
+    """ "No composition of fewer than ``length`` steps": the bounded problem at ``length`` − 1
+    (``catc compile``'s SMT-LIB2), unsat; none when ``length`` is 0 (nothing is shorter)."""
+    from catc.smt.smtlib import emit_smt2
+
+    if length == 0:
+        return []
+    return [
+        _obligation(
+            "shorter",
+            f"no composition of at most {length - 1} steps exists (the step encoding at horizon {length - 1})",
+            emit_smt2(inst, length - 1, sequential=sequential),
+        )
+    ]
+
+
+def shortest_certificate(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -> dict:
+    """The certificate of a composition proven shortest (a ``catc solve`` answer whose plan is
+    shortest): the witness, replayed by the validator with exactly ``length`` steps, and the
+    bounded problem one step shorter, unsat."""
+    from catc.semantics.plan import plan_to_json
+
+    if result.status.value != "sat" or result.plan is None or not getattr(result, "shortest", False):
+        raise NotCertifiable("only a composition proven shortest carries a certificate of its length")
+    sequential = bool(options.get("sequential", result.sequential))
+    length = len(result.plan.steps)
+    producer = str(options.get("producer", SEARCH))  # the engine's: A* over the forward search
+    doc: dict[str, Any] = {"schema": SCHEMA, "problem": inst.problem.name, "domain": inst.domain.name}
+    doc |= {"view": inst.view, "answer": "shortest", "method": "shortest", "producer": producer, "horizon": length}
+    doc["sequential"] = sequential
+    witness = {
+        "name": "witness",
+        "proves": f"this composition of {length} steps reaches the goal",
+        "expect": "valid",
+        "checkers": [WITNESS],
+        "producer": producer,
+        "plan": plan_to_json(result.plan),
+    }
+    shorter = [o | {"producer": producer} for o in shortest_obligations(inst, length, sequential)]
+    return doc | {"obligations": [witness, *shorter]}
+
+
+def _replay_shortest(inst: ir.Instance, doc: Mapping[str, Any], o: Mapping[str, Any]) -> tuple[str, float]:
+    """The witness of a shortest composition: valid on the model, with exactly the
+    certificate's ``horizon`` steps."""
+    from catc.semantics.plan import PlanFormatError, read_plan
+    from catc.semantics.validate import validate
+
+    t0 = time.perf_counter()
+    try:
+        plan = read_plan(inst, o.get("plan"))
+    except PlanFormatError:
+        return "invalid", time.perf_counter() - t0
+    length, sequential = doc["horizon"], bool(doc.get("sequential"))
+    ok = len(plan.steps) == length and validate(inst, plan, horizon=length, sequential=sequential).ok
+    return ("valid" if ok else "invalid"), time.perf_counter() - t0

@@ -13,7 +13,12 @@ from catc.queries.base import (
 )
 from catc.queries.certify.cores import core_certificate, discrete_certificate
 from catc.queries.certify.document import NotCertifiable
-from catc.queries.certify.optimal import least_certificate, optimal_certificate, pareto_certificate
+from catc.queries.certify.optimal import (
+    least_certificate,
+    optimal_certificate,
+    pareto_certificate,
+    shortest_certificate,
+)
 from catc.queries.certify.unsat import certificate
 from catgrammar import codes
 
@@ -51,6 +56,8 @@ def certificate_of(inst: ir.Instance, result: Any, options: Mapping[str, Any]) -
     if result.query == "diagnose":
         producer = "catc.relaxed" if result.checks == 0 else str(options.get("backend", "z3"))
         return core_certificate(inst, result, bool(options.get("sequential")), producer)
+    if result.query == "solve" and options.get("shortest"):  # the engine's SOLVED_OPTIMALLY for plan length
+        return shortest_certificate(inst, result, options)
     return certificate(inst, result)
 
 
