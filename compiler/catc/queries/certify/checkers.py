@@ -210,32 +210,23 @@ IN_PROCESS = 64_000
 
 
 def _cvc5_here(paths: Sequence[str], seconds: float) -> list[tuple[str, float]] | None:
-    """cvc5's answer on each file through its Python API in this process (a fresh solver per
-    file, as :data:`_CVC5_BATCH`; its own per-query time limit); an obligation it errs on is
-    run again alone in a process of its own (:func:`run_checker`).  None when cvc5 is not
-    installed."""
+    """cvc5's answer on each file through its Python API in this process
+    (:func:`catc.smt.cvc5backend.answer_file`: cvc5's parser, a fresh solver per file, its own
+    per-query time limit); an obligation it errs on is run again alone in a process of its
+    own (:func:`run_checker`).  None when cvc5 is not installed."""
+    from catc.smt.backend import BackendError
+
     try:
-        import cvc5
-    except ImportError:
+        from catc.smt import cvc5backend
+
+        manager = cvc5backend.term_manager()
+    except (BackendError, ImportError):
         return None
-    tm = cvc5.TermManager()
     out = []
     for path in paths:
         t0 = time.perf_counter()
-        answer = "error"
         try:
-            slv = cvc5.Solver(tm)
-            slv.setOption("tlimit-per", str(max(1, int(seconds * 1000))))
-            sm = cvc5.SymbolManager(tm)
-            parser = cvc5.InputParser(slv, sm)
-            parser.setFileInput(cvc5.InputLanguage.SMT_LIB_2_6, path)
-            while True:
-                cmd = parser.nextCommand()
-                if cmd.isNull():
-                    break
-                said = cmd.invoke(slv, sm).split()  # "unknown (TIMEOUT)": the first word
-                if said and said[0] in ("sat", "unsat", "unknown"):
-                    answer = said[0]
+            answer = cvc5backend.answer_file(path, int(seconds * 1000), manager)
         except Exception:
             answer = "error"
         took = time.perf_counter() - t0
