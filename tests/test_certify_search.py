@@ -213,6 +213,19 @@ def test_an_unsat_made_final_by_the_state_count_is_certified_at_n_minus_1():
     assert row["proved_by"] == ["cvc5"]  # z3 produced the answer: only cvc5 counts
 
 
+def test_a_not_final_unsat_at_n_minus_1_is_certified_too():
+    """The unified-planning engine's "at most N states" UNSOLVABLE_PROVEN: an UNSAT the answer
+    does not call final, at a horizon of N − 1 or more; below it, no certificate."""
+    from catc.queries.solve import SolveResult, SolveStatus
+
+    inst = toggle()
+    doc = certificate(inst, SolveResult(SolveStatus.UNSAT, 17, final=False))
+    assert (doc["method"], doc["horizon"]) == ("state-bounded", 15)
+    assert certify(inst, doc).status is CertifyStatus.CERTIFIED
+    with pytest.raises(NotCertifiable):
+        certificate(inst, SolveResult(SolveStatus.UNSAT, 14, final=False))
+
+
 def test_a_state_count_the_model_does_not_give_or_a_short_horizon_does_not_match():
     inst = toggle()
     doc = certificate(inst, solve(inst, horizon=15))

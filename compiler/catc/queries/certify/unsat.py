@@ -327,7 +327,7 @@ def state_bounded_obligations(inst: ir.Instance, horizon: int, sequential: bool)
 def certificate(inst: ir.Instance, result: Any) -> dict:
     """The certificate of ``result``, a final "no" of ``catc solve`` (NotCertifiable
     otherwise)."""
-    from catc.semantics.horizon import state_bound, use_bound
+    from catc.semantics.horizon import use_bound
     from catc.semantics.relaxed import RelaxedAnalysis
 
     if getattr(result, "status", None) is None or result.status.value != "unsat":
@@ -340,6 +340,7 @@ def certificate(inst: ir.Instance, result: Any) -> dict:
     }
     if not result.final:  # a bounded no: a certificate only when the reachable states are few and goal-free
         found = _reachable(inst, doc, result) if result.sequential else None
+        found = _state_bounded(inst, doc, result) if found is None else found
         if found is None:
             raise NotCertifiable("only a final UNSAT answer (no composition of any length) carries a certificate")
         return found
@@ -371,13 +372,9 @@ def certificate(inst: ir.Instance, result: Any) -> dict:
                 "written): their invariant is not certified"
             )
         return found
-    states = state_bound(inst, result.horizon + 1)
-    if states is not None and result.horizon >= states - 1:  # the reachable-state bound made it final
-        horizon = max(states - 1, 0)
-        doc |= {"answer": "unsat", "method": "state-bounded", "producer": result.backend, "horizon": horizon}
-        doc |= {"sequential": bool(result.sequential), "state_count": states}
-        doc["obligations"] = state_bounded_obligations(inst, horizon, bool(result.sequential))
-        return _produced(doc, result.backend)
+    found = _state_bounded(inst, doc, result)
+    if found is not None:
+        return found
     raise NotCertifiable(
         "this UNSAT was proven neither by relaxed reachability at its fixpoint, nor by the step encoding at a "
         "complete horizon, nor by the consumption abstraction or the forward search: no certificate yet"
@@ -396,6 +393,22 @@ def _reachable(inst: ir.Instance, doc: dict[str, Any], result: Any) -> dict | No
     doc = doc | {"answer": "unsat", "method": "reachable", "producer": SEARCH, "horizon": result.horizon}
     doc |= {"sequential": True, "states": spec, "obligations": reachable_obligations(inst, spec, result.horizon)}
     return _produced(doc, SEARCH)
+
+
+def _state_bounded(inst: ir.Instance, doc: dict[str, Any], result: Any) -> dict | None:
+    """The reachable-state bound's certificate: the model has at most N states and the
+    answer's horizon reaches N − 1 (a shortest composition visits no state twice); None
+    otherwise."""
+    from catc.semantics.horizon import state_bound
+
+    states = state_bound(inst, result.horizon + 1)
+    if states is None or result.horizon < states - 1:
+        return None
+    horizon = max(states - 1, 0)
+    doc = doc | {"answer": "unsat", "method": "state-bounded", "producer": result.backend, "horizon": horizon}
+    doc |= {"sequential": bool(result.sequential), "state_count": states}
+    doc["obligations"] = state_bounded_obligations(inst, horizon, bool(result.sequential))
+    return _produced(doc, result.backend)
 
 
 def _abstraction_refutes(inst: ir.Instance) -> bool:
