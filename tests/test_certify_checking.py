@@ -20,7 +20,7 @@ import catalog_gen as gen  # noqa: E402
 from catc.api import load, loads  # noqa: E402
 from catc.queries.certify import CertifyStatus, certificate, certify, cvc5_command, z3_command  # noqa: E402
 from catc.queries.certify.check import prepared  # noqa: E402
-from catc.queries.certify.checkers import _cvc5_here  # noqa: E402
+from catc.queries.certify.checkers import _here  # noqa: E402
 from catc.queries.certify.cores import _vacuous, consumption_core_text  # noqa: E402
 from catc.queries.solve import solve  # noqa: E402
 from catc.smt.consumption import Consumption  # noqa: E402
@@ -84,8 +84,9 @@ def smt_files(tmp_path):
     return paths
 
 
-def test_cvc5_in_catc_s_process_answers_each_file_and_an_error_is_no_answer(smt_files):
-    answers = _cvc5_here([smt_files["unsat"], smt_files["sat"], smt_files["broken"]], 10.0)
+@pytest.mark.parametrize("checker", ["z3", "cvc5"])
+def test_a_checker_in_catc_s_process_answers_each_file_and_an_error_is_no_answer(smt_files, checker):
+    answers = _here(checker, [smt_files["unsat"], smt_files["sat"], smt_files["broken"]], 10.0)
     assert answers is not None
     assert [a for a, _ in answers] == ["unsat", "sat", "error"]  # the broken one run again alone: still an error
 

@@ -187,8 +187,8 @@ def _run_checkers(obligations: Sequence[dict], seconds: float) -> list[dict[str,
         def check(chunk: tuple[str, list[int]]) -> list[tuple[str, float]]:
             checker, ids = chunk
             files = [paths[i] for i in ids]
-            if checker == "cvc5" and sum(len(obligations[i]["smtlib"]) for i in ids) <= IN_PROCESS:
-                here = _cvc5_here(files, seconds)
+            if sum(len(obligations[i]["smtlib"]) for i in ids) <= IN_PROCESS:
+                here = _here(checker, files, seconds)
                 if here is not None:
                     return here
             return run_batch(checker, files, seconds)
@@ -202,33 +202,41 @@ def _run_checkers(obligations: Sequence[dict], seconds: float) -> list[dict[str,
     return out
 
 
-#: The most SMT-LIB2 text (characters, all of a checker's obligations) cvc5 checks inside
-#: catc's own process: a few small obligations, where a fresh interpreter's start-up would be
-#: most of the time (the examples' certificates); more goes to processes of their own, where
-#: a crash or a runaway cannot take catc with it and the batch's time limit kills.
+#: The most SMT-LIB2 text (characters, all of a checker's obligations) a checker decides inside
+#: catc's own process: a few small obligations, where a fresh process's start-up would be most
+#: of the time (the examples' certificates); more goes to processes of their own, where a
+#: crash or a runaway cannot take catc with it and the batch's time limit kills.
 IN_PROCESS = 64_000
 
 
-def _cvc5_here(paths: Sequence[str], seconds: float) -> list[tuple[str, float]] | None:
-    """cvc5's answer on each file through its Python API in this process
-    (:func:`catc.smt.cvc5backend.answer_file`: cvc5's parser, a fresh solver per file, its own
-    per-query time limit); an obligation it errs on is run again alone in a process of its
-    own (:func:`run_checker`).  None when cvc5 is not installed."""
+def _here(checker: str, paths: Sequence[str], seconds: float) -> list[tuple[str, float]] | None:
+    """``checker``'s answer on each file through its Python API in this process (cvc5:
+    :func:`catc.smt.cvc5backend.answer_file`, its parser and a fresh solver per file; z3:
+    :func:`catc.smt.z3backend.answer_file`, a fresh context per file; each its own time
+    limit); an obligation it errs on is run again alone in a process of its own
+    (:func:`run_checker`).  None when the checker is not installed."""
+    import functools
+
     from catc.smt.backend import BackendError
 
     try:
-        from catc.smt import cvc5backend
+        if checker == "cvc5":
+            from catc.smt import cvc5backend
 
-        manager = cvc5backend.term_manager()
+            answer_file: Any = functools.partial(cvc5backend.answer_file, manager=cvc5backend.term_manager())
+        else:
+            from catc.smt import z3backend
+
+            answer_file = z3backend.answer_file
     except (BackendError, ImportError):
         return None
     out = []
     for path in paths:
         t0 = time.perf_counter()
         try:
-            answer = cvc5backend.answer_file(path, int(seconds * 1000), manager)
+            answer = answer_file(path, int(seconds * 1000))
         except Exception:
             answer = "error"
         took = time.perf_counter() - t0
-        out.append((answer, took) if answer != "error" else run_checker("cvc5", path, seconds))
+        out.append((answer, took) if answer in ("sat", "unsat", "unknown") else run_checker(checker, path, seconds))
     return out
