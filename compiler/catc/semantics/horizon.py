@@ -76,7 +76,7 @@ def state_bound(inst: ir.Instance, most: int) -> int | None:
     decrease by c, or assignment of c) stays on the lattice v₀ + q·ℤ (v₀ its initial value,
     q the greatest common divisor of the changes and of c − v₀ for the assignments), within
     its bounds — the declared ones narrowed by those inferred from the guards of its changes
-    (:func:`catc.semantics.search.infer_bounds`, which every reachable state keeps): the
+    (:func:`catc.semantics.bounds.numeric_ranges`, which every reachable state keeps): the
     lattice points within them. Any other number counts only as an int with both bounds
     declared (its integers within them); else there is no bound.
 
@@ -120,7 +120,7 @@ def state_bound(inst: ir.Instance, most: int) -> int | None:
             return None
     if not numbers:
         return size
-    # the inferred bounds (and the forward search's module, ~70 ms to import) only where needed
+    # the inferred bounds only where needed
     from catc.semantics.validate import initial_state
 
     init = initial_state(inst)
@@ -147,22 +147,12 @@ def _constant_changes(inst: ir.Instance, name: str) -> bool:
 
 
 def _inferred_bounds(inst: ir.Instance, init: dict[str, Any]) -> dict[str, tuple[Any, Any]]:
-    """The bounds :func:`catc.semantics.search.infer_bounds` gives each numeric resource
-    (none where the model has what that analysis does not read)."""
-    from types import SimpleNamespace
+    """The ranges :func:`catc.semantics.bounds.numeric_ranges` gives each numeric resource
+    with an initial value (a number without one is no number to it: no bound, never static)."""
+    from catc.semantics.bounds import numeric_ranges
 
-    from catc.semantics.search import _Unsupported, infer_bounds
-
-    names = list(inst.resources)
-    # a number without an initial value is no number to the analysis: no bound, never static
-    kinds = ["number" if inst.resources[n].sort.is_numeric and init.get(n) is not None else "other" for n in names]
-    values = [init.get(n) if k == "number" else None for n, k in zip(names, kinds)]
-    task = SimpleNamespace(index={n: i for i, n in enumerate(names)}, init=values, kinds=kinds)
-    try:
-        bounds = infer_bounds(inst, task)  # type: ignore[arg-type]  # reads index, init and kinds only
-    except _Unsupported:  # a construct the analysis does not read (a set compared)
-        return {}
-    return dict(zip(names, bounds))
+    numbers = {n: init.get(n) for n, r in inst.resources.items() if r.sort.is_numeric and init.get(n) is not None}
+    return numeric_ranges(inst, numbers)
 
 
 def _number_values(inst: ir.Instance, r: ir.Resource, v0: Any, inferred: tuple[Any, Any]) -> int | None:
