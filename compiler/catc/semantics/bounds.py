@@ -94,6 +94,14 @@ def numeric_ranges(inst: ir.Instance, numbers: Mapping[str, Any]) -> dict[str, t
     return {n: (lo[n], hi[n]) for n in numbers}
 
 
+def ranges(inst: ir.Instance, init: Mapping[str, Any]) -> dict[str, tuple[Any, Any]]:
+    """:func:`numeric_ranges` over every numeric resource with a value in ``init`` (the initial
+    state, :func:`catc.semantics.validate.initial_state`): a number without one is no number
+    here (no bound, never static)."""
+    numbers = {n: init.get(n) for n, r in inst.resources.items() if r.sort.is_numeric and init.get(n) is not None}
+    return numeric_ranges(inst, numbers)
+
+
 def guard_bounds(m: ir.Morphism, numbers: Mapping[str, Any], static: Mapping[str, Any]) -> dict[str, list[Any]]:
     """The bounds ``m``'s precondition puts on single numeric resources: each conjunct that is
     linear over one resource of ``numbers`` not in ``static`` (the static ones replaced by

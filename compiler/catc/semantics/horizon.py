@@ -121,11 +121,12 @@ def state_bound(inst: ir.Instance, most: int) -> int | None:
     if not numbers:
         return size
     # the inferred bounds only where needed
+    from catc.semantics.bounds import ranges
     from catc.semantics.validate import initial_state
 
     init = initial_state(inst)
     needs = any(r.lower is None or r.upper is None for r in numbers)
-    inferred = _inferred_bounds(inst, init) if needs else {}
+    inferred = ranges(inst, init) if needs else {}
     for r in numbers:
         n_or_none = _number_values(inst, r, init.get(r.name), inferred.get(r.name, (None, None)))
         if n_or_none is None:
@@ -144,15 +145,6 @@ def _constant_changes(inst: ir.Instance, name: str) -> bool:
         for e in m.effects
         if e.resource == name
     )
-
-
-def _inferred_bounds(inst: ir.Instance, init: dict[str, Any]) -> dict[str, tuple[Any, Any]]:
-    """The ranges :func:`catc.semantics.bounds.numeric_ranges` gives each numeric resource
-    with an initial value (a number without one is no number to it: no bound, never static)."""
-    from catc.semantics.bounds import numeric_ranges
-
-    numbers = {n: init.get(n) for n, r in inst.resources.items() if r.sort.is_numeric and init.get(n) is not None}
-    return numeric_ranges(inst, numbers)
 
 
 def _number_values(inst: ir.Instance, r: ir.Resource, v0: Any, inferred: tuple[Any, Any]) -> int | None:
