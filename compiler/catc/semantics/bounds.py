@@ -192,3 +192,142 @@ def whole(v: Any) -> Any:
     if isinstance(v, Fraction) and v.denominator == 1:
         return int(v.numerator)
     return v
+
+
+def conserved_sums(inst: ir.Instance, numbers: Mapping[str, Any]) -> list[tuple[tuple[str, ...], Fraction, int]]:
+    """Sums of numbers that never grow or never shrink: ``(S, c, sign)`` says Σ_{x∈S} x ≤ c
+    in every reachable state when ``sign`` is −1, ≥ c when +1 (c: the initial Σ).
+
+    S is a group of resources of ``numbers`` that morphisms move between (linked when one
+    morphism changes both), every change of which is an ``increase``/``decrease`` by a
+    constant (a group with any other change of a member is left out), with more than one
+    member (a single one is a range, :func:`numeric_ranges`), less the members no morphism
+    moves the other way (for a sum that never grows, those only raised). Let Δ_S(m) be the sum of
+    morphism m's changes of S's members: when Δ_S(m) ≤ 0 for every m, no step raises Σ_S
+    (by induction over the steps, as in :func:`numeric_ranges`; parallel steps are the
+    sequential executions of their activations), so it stays ≤ its initial value; when
+    Δ_S(m) ≥ 0 for every m, symmetrically ≥. Workers moved between farms, some lost on the
+    way, are such a group: their total never grows."""
+    parent = {n: n for n in numbers}
+
+    def root(n: str) -> str:
+        while parent[n] != n:
+            parent[n] = parent[parent[n]]
+            n = parent[n]
+        return n
+
+    bad: set[str] = set()
+    deltas: list[dict[str, Fraction]] = []
+    for m in inst.domain.morphisms.values():
+        delta: dict[str, Fraction] = {}
+        for e in m.effects:
+            if e.resource not in numbers:
+                continue
+            c = e.value.value if isinstance(e.value, ir.Const) else None
+            if e.kind is EffectKind.ASSIGN or not isinstance(c, Fraction | int) or isinstance(c, bool):
+                bad.add(e.resource)
+                continue
+            delta[e.resource] = delta.get(e.resource, Fraction(0)) + (
+                -Fraction(c) if e.kind is EffectKind.DECREASE else Fraction(c)
+            )
+        names = list(delta)
+        for a in names[1:]:
+            parent[root(a)] = root(names[0])
+        deltas.append(delta)
+    groups: dict[str, list[str]] = {}
+    for n in numbers:
+        groups.setdefault(root(n), []).append(n)
+    out: list[tuple[tuple[str, ...], Fraction, int]] = []
+    for group in groups.values():
+        if any(n in bad or numbers[n] is None for n in group):
+            continue
+        for sign in (-1, 1):
+            # a member no morphism lowers (for a sum that should never grow; raises, for one that
+            # should never shrink) is left out: that only moves each Δ_S(m) the wanted way
+            members = [n for n in group if any(d.get(n, 0) * sign > 0 for d in deltas)]
+            if len(members) < 2:
+                continue
+            nets = [sum((d.get(n, Fraction(0)) for n in members), Fraction(0)) for d in deltas]
+            if all(x * sign >= 0 for x in nets):
+                total = sum((Fraction(numbers[n]) for n in members), Fraction(0))
+                out.append((tuple(members), total, sign))
+    return out
+
+
+def sum_refutation(inst: ir.Instance, init: Mapping[str, Any]) -> str | None:
+    """Why no reachable state satisfies the goal, by a conserved sum (:func:`conserved_sums`),
+    or None: the goal's conjuncts that bound one member of a group from below (above, for a
+    sum that never shrinks), each member otherwise at the lower end of its range (declared, or
+    :func:`ranges`), add up past what the sum can be. Sound: every reachable state keeps the
+    ranges and the sums, and a goal state would have each member at least its bound."""
+    numbers = {n: init.get(n) for n, r in inst.resources.items() if r.sort.is_numeric and init.get(n) is not None}
+    sums = conserved_sums(inst, numbers)
+    if not sums:
+        return None
+    rng = numeric_ranges(inst, numbers)
+    # the goal's single-resource linear bounds: name → [lo, lo strict, hi, hi strict]
+    goal: dict[str, list[Any]] = {}
+    todo = [lit.expr for lit in inst.problem.goal]
+    while todo:
+        e = todo.pop()
+        if isinstance(e, ir.BoolOp) and e.op is BoolOpKind.AND:
+            todo.extend(e.args)
+            continue
+        if not isinstance(e, ir.Compare) or not e.left.sort.is_numeric or e.op not in _ORDER:
+            continue
+        left, right = linear(e.left), linear(e.right)
+        if left is None or right is None:
+            continue
+        strict = e.op in (CmpOp.LT, CmpOp.GT)
+        forms = []
+        if e.op in (CmpOp.LE, CmpOp.LT, CmpOp.EQ):
+            forms.append(_minus(right, left))  # right − left ≥ 0 (> 0 when strict)
+        if e.op in (CmpOp.GE, CmpOp.GT, CmpOp.EQ):
+            forms.append(_minus(left, right))
+        for w, k in forms:
+            rest = {n: c for n, c in w.items() if c != 0}
+            if len(rest) != 1:
+                continue
+            ((n, c),) = rest.items()
+            b = -k / c
+            cur = goal.setdefault(n, [None, False, None, False])
+            if c > 0 and (cur[0] is None or b > cur[0] or (b == cur[0] and strict)):
+                cur[0], cur[1] = b, strict  # x ≥ b (x > b)
+            elif c < 0 and (cur[2] is None or b < cur[2] or (b == cur[2] and strict)):
+                cur[2], cur[3] = b, strict  # x ≤ b (x < b)
+    for members, total, sign in sums:
+        least, strict = Fraction(0), False
+        for n in members:
+            res = inst.resources[n]
+            if sign < 0:  # the least each member can be in a goal state
+                g, g_strict, declared, inferred = *goal.get(n, [None, False])[:2], res.lower, rng[n][0]
+            else:  # the most
+                g, g_strict, declared, inferred = *goal.get(n, [None, False, None, False])[2:], res.upper, rng[n][1]
+            options = [
+                (Fraction(v), s) for v, s in ((g, g_strict), (declared, False), (inferred, False)) if v is not None
+            ]
+            if not options:
+                break
+            v, s = max(options) if sign < 0 else min(options, key=lambda o: (o[0], not o[1]))
+            least += v
+            strict = strict or s
+        else:
+            past = (
+                least > total or (least == total and strict)
+                if sign < 0
+                else least < total or (least == total and strict)
+            )
+            if past:
+                side, what = ("at least", "never grows") if sign < 0 else ("at most", "never shrinks")
+                return (
+                    f"the goal needs {' + '.join(members)} to be {side} {_fmt(least)}, but that sum {what} "
+                    f"from its initial {_fmt(total)}"
+                )
+    return None
+
+
+_ORDER = (CmpOp.LE, CmpOp.LT, CmpOp.GE, CmpOp.GT, CmpOp.EQ)
+
+
+def _fmt(v: Fraction) -> str:
+    return str(v.numerator) if v.denominator == 1 else f"{v.numerator}/{v.denominator}"
