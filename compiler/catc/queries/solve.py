@@ -152,9 +152,9 @@ def solve(
     values and goal is answered on the same solver, whose initial values and goals sit behind
     assumption literals; any other change (the domain, its objects, the horizon, the
     semantics, the backend) encodes afresh.  The answers are the same as without it.
-    ``exists_step`` (``sequential``, no ``warm``): ∃-steps in the SMT search (:func:`_deepen`)."""
-    if strategy not in STRATEGIES or (exists_step and (not sequential or warm is not None)):
-        raise ValueError(f"unknown strategy {strategy!r}; expected one of {', '.join(STRATEGIES)}")
+    ``exists_step`` (no ``warm``): ∃-steps in the SMT search (:func:`_deepen`), whose
+    compositions are sequential ones (``sequential`` is implied: ``catc solve --exists-step``)."""
+    sequential = _sequential(strategy, sequential, exists_step, warm)
     start = time.perf_counter()
     with limits.deadline(timeout):
         k = horizon_of(inst, horizon)
@@ -207,6 +207,16 @@ def solve(
     return result
 
 
+def _sequential(strategy: str, sequential: bool, exists_step: bool, warm: WarmStart | None) -> bool:
+    """Whether the steps are sequential (∃-steps stand for sequential compositions); a
+    ValueError for an unknown strategy, or ∃-steps with a warm start."""
+    if strategy not in STRATEGIES:
+        raise ValueError(f"unknown strategy {strategy!r}; expected one of {', '.join(STRATEGIES)}")
+    if exists_step and warm is not None:
+        raise ValueError("∃-steps (exists_step) keep no warm start")
+    return sequential or exists_step
+
+
 def _deepen(
     inst: ir.Instance,
     search: _Search,
@@ -246,6 +256,7 @@ def _deepen(
         assert result.plan is not None
         result.plan = linearised(result.plan)
         result.shortest = False
+        result.reason = "found with ∃-steps (--exists-step), each of which may fire several morphisms"
     return result
 
 
@@ -811,6 +822,15 @@ QUERY = Query(
             ("--no-prune",),
             Kind.NO_FLAG,
             "Keep activations the composition does not need (as the solver found them).",
+        ),
+        Option(
+            "exists_step",
+            ("--exists-step",),
+            Kind.FLAG,
+            "Search with ∃-step parallel steps (a step fires its morphisms in a fixed order, each on the state "
+            "the earlier ones left) and answer the sequential composition they stand for: reaches longer "
+            "compositions in fewer horizons, not proven shortest; implies --sequential (docs/benchmarks.md).",
+            default=False,
         ),
         backend_option(),
         presolve_option(),
