@@ -143,3 +143,39 @@ def test_a_later_morphism_reads_what_an_earlier_one_of_its_step_left(tmp_path):
     r = solve(inst, sequential=True, exists_step=True, presolve=False)
     assert r.status is SolveStatus.SAT and r.horizons_tried == 3  # horizons 0, 1 and 2
     assert [s[0].morphism for s in r.plan.steps] == ["m1", "m0"]
+
+
+def test_the_command_line_flag_answers_as_the_default_with_a_plan_the_validator_accepts(tmp_path):
+    """``catc solve --exists-step`` (the solve query's registry option, so the CLI, the API
+    and docs/cli-reference get it together): on the detection example the same status as the
+    default (SAT; UNSAT on the navigation example's coarse map, final both ways), its plan
+    marked not proven shortest and replayed by the independent validator (the command says
+    so), and the API's plan (model.query) the same and valid for catc.semantics.validate. Without
+    --sequential: ∃-step compositions are sequential ones."""
+    import json
+
+    from conftest import ROOT, run_catc
+
+    from catc.api import load
+    from catc.semantics.validate import validate
+
+    det = ROOT / "examples" / "detection"
+    args = (str(det / "domain.cat"), str(det / "person.cat"), "--no-presolve")
+    default = run_catc("solve", *args, "--json")
+    exists = run_catc("solve", *args, "--json", "--exists-step")
+    assert default.exit_code == exists.exit_code == 0, exists.output
+    a, b = json.loads(default.stdout), json.loads(exists.stdout)
+    assert a["status"] == b["status"] == "sat"
+    assert b["sequential"] is True and b["shortest"] is False
+    assert all(len(step) == 1 for step in b["steps"])
+    model = load(det / "domain.cat", det / "person.cat")
+    r = model.query("solve", exists_step=True, presolve=False)  # the API, through the same registry
+    assert r.status is SolveStatus.SAT and not r.shortest and r.plan is not None
+    assert [a.morphism for step in r.plan.steps for a in step] == [a["morphism"] for step in b["steps"] for a in step]
+    assert validate(model.instance, r.plan, horizon=len(r.plan), sequential=True).ok
+    text = run_catc("solve", *args, "--exists-step")
+    assert "validated by independent replay" in text.stdout and "not proven shortest" in text.stdout
+    coarse = ROOT / "examples" / "navigation" / "coarse.cat"
+    for extra in ((), ("--exists-step",)):
+        res = run_catc("solve", str(coarse), "--no-presolve", *extra)
+        assert res.exit_code == 1 and "this is final" in res.stdout, res.output

@@ -53,11 +53,15 @@ def test_a_budget_each_purchase_checks_is_bounded_and_a_dark_camera_never_fires(
     assert inst.resources["budget"].lower is None and inst.morphisms["c"].uses == 1  # inst unchanged
 
 
-def test_no_bound_when_a_decrease_is_unguarded_or_something_increases():
+def test_no_bound_when_a_decrease_is_unguarded_or_by_a_non_constant():
     unguarded = SHOP.replace(":precondition (>= budget 300)", ":precondition (>= stock 0)")
     assert tightened(_inst(unguarded)).resources["budget"].lower is None
+    # an increase keeps a lower bound (x only grows): c still leaves stock ≥ 1 − 1 = 0, the
+    # initial 3 is above it, b's +2 never lowers it — the bound is min(3, 0) = 0
     refund = SHOP.replace("(assign b-done true)", "(assign b-done true) (increase stock 2)")
-    assert tightened(_inst(refund)).resources["stock"].lower is None
+    assert tightened(_inst(refund)).resources["stock"].lower == 0
+    unguarded_stock = refund.replace("(and (= light bright) (>= stock 1))", "(= light bright)")
+    assert tightened(_inst(unguarded_stock)).resources["stock"].lower is None
     by_amount = SHOP.replace("(decrease budget 300)", "(decrease budget stock)")
     assert tightened(_inst(by_amount)).resources["budget"].lower is None
     bright = SHOP.replace("(= light dark)", "(= light bright)")

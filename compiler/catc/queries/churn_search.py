@@ -44,7 +44,7 @@ from collections.abc import Collection, Iterable, Sequence
 from fractions import Fraction
 
 from catc import ir
-from catc.ir import EffectKind
+from catc.semantics.bounds import ranges
 from catc.semantics.validate import EvaluationError, evaluate, initial_state
 from catc.smt.consumption import Atom, FixedSet, _givers, _holds, init_value, overdrawing
 from catgrammar.record import replace
@@ -436,13 +436,11 @@ def tightened(inst: ir.Instance) -> ir.Instance:
     compositions are valid in both (the relaxations of the result are still relaxations of
     ``inst``):
 
-    * a lower bound on each numeric resource that declares none but that its morphisms keep
-      above one: it starts at a constant ``v₀``, only ``decrease`` effects of a constant
-      ``d ≥ 0`` change it (one per morphism), and each such morphism has a precondition
-      ``r ≥ c``.  Then ``min(v₀, min (c − d))`` bounds it in every state: a firing needs
-      ``r ≥ c`` before and leaves ``r ≥ c − d``, nothing else changes it, and no two of them
-      share a step (each reads what the other updates: they interfere).  The budget of a
-      model whose every purchase checks the price first is such a resource (bounded by 0);
+    * a lower bound on each written numeric resource that declares none, where the ranges
+      every reachable state keeps (:func:`catc.semantics.bounds.numeric_ranges`, from the
+      guards of its changes, its constant changes and initial value; sound over sequential
+      and parallel steps alike) give one.  The budget of a model whose every purchase checks
+      the price first is such a resource (bounded by 0);
     * ``:uses 0`` on a morphism with a precondition literal false in the initial state that
       reads only resources no morphism changes (and no parameter): it never fires — as a
       camera driver needing ``(= ambient bright)`` in the dark.
@@ -451,27 +449,14 @@ def tightened(inst: ir.Instance) -> ir.Instance:
     ``catc synthesize`` fills one, with an encoding of its own.)"""
     written = {e.resource for m in inst.morphisms.values() for e in m.effects}
     resources = dict(inst.resources)
-    for name, res in inst.resources.items():
-        init = inst.problem.init.get(name)
-        if res.lower is not None or not res.sort.is_numeric or init is None or not isinstance(init.value, ir.Const):
-            continue
-        bound: Fraction | None = Fraction(init.value.value)
-        changed = False
-        for m in inst.morphisms.values():
-            effects = [e for e in m.effects if e.resource == name]
-            if not effects:
-                continue
-            amount = _constant(effects[0].value) if len(effects) == 1 else None
-            guard = _guard(m, name)
-            if effects[0].kind is not EffectKind.DECREASE or amount is None or amount < 0 or guard is None:
-                bound = None
-                break
-            changed = True
-            bound = min(bound, guard - amount)  # type: ignore[type-var]
-        if changed and bound is not None:
-            resources[name] = replace(res, lower=bound)
-    morphisms = dict(inst.morphisms)
     start: dict[str, object] | None = None
+    if any(r.lower is None and r.sort.is_numeric and r.name in written for r in inst.resources.values()):
+        start = initial_state(inst)
+        for name, (lo, _hi) in ranges(inst, start).items():
+            res = inst.resources[name]
+            if res.lower is None and name in written and lo is not None:
+                resources[name] = replace(res, lower=Fraction(lo))
+    morphisms = dict(inst.morphisms)
     for m in inst.morphisms.values():
         if m.uses == 0:
             continue
@@ -491,30 +476,6 @@ def tightened(inst: ir.Instance) -> ir.Instance:
         return inst
     domain = replace(inst.domain, resources=resources, morphisms=morphisms)
     return ir.Instance(domain, inst.problem, inst.view)
-
-
-def _constant(e: ir.Expr) -> Fraction | None:
-    if isinstance(e, ir.Const) and isinstance(e.value, Fraction | int) and not isinstance(e.value, bool):
-        return Fraction(e.value)
-    return None
-
-
-def _guard(m: ir.Morphism, name: str) -> Fraction | None:
-    """The greatest ``c`` of a precondition literal ``name ≥ c`` (or ``c ≤ name``) of ``m``."""
-    out: Fraction | None = None
-    for lit in m.pre:
-        e = lit.expr
-        if not isinstance(e, ir.Compare):
-            continue
-        if e.op is ir.CmpOp.GE and isinstance(e.left, ir.ResourceRef) and e.left.name == name:
-            c = _constant(e.right)
-        elif e.op is ir.CmpOp.LE and isinstance(e.right, ir.ResourceRef) and e.right.name == name:
-            c = _constant(e.left)
-        else:
-            continue
-        if c is not None and (out is None or c > out):
-            out = c
-    return out
 
 
 def _landmarks(

@@ -152,9 +152,9 @@ def solve(
     values and goal is answered on the same solver, whose initial values and goals sit behind
     assumption literals; any other change (the domain, its objects, the horizon, the
     semantics, the backend) encodes afresh.  The answers are the same as without it.
-    ``exists_step`` (``sequential``, no ``warm``): ∃-steps in the SMT search (:func:`_deepen`)."""
-    if strategy not in STRATEGIES or (exists_step and (not sequential or warm is not None)):
-        raise ValueError(f"unknown strategy {strategy!r}; expected one of {', '.join(STRATEGIES)}")
+    ``exists_step`` (no ``warm``): ∃-steps in the SMT search (:func:`_deepen`), whose
+    compositions are sequential ones (``sequential`` is implied: ``catc solve --exists-step``)."""
+    sequential = _sequential(strategy, sequential, exists_step, warm)
     start = time.perf_counter()
     with limits.deadline(timeout):
         k = horizon_of(inst, horizon)
@@ -207,6 +207,16 @@ def solve(
     return result
 
 
+def _sequential(strategy: str, sequential: bool, exists_step: bool, warm: WarmStart | None) -> bool:
+    """Whether the steps are sequential (∃-steps stand for sequential compositions); a
+    ValueError for an unknown strategy, or ∃-steps with a warm start."""
+    if strategy not in STRATEGIES:
+        raise ValueError(f"unknown strategy {strategy!r}; expected one of {', '.join(STRATEGIES)}")
+    if exists_step and warm is not None:
+        raise ValueError("∃-steps (exists_step) keep no warm start")
+    return sequential or exists_step
+
+
 def _deepen(
     inst: ir.Instance,
     search: _Search,
@@ -226,12 +236,19 @@ def _deepen(
     compositions are reached, but the composition is not proven shortest (``shortest`` is
     False). An UNSAT at horizon h still says that no sequential composition of at most h
     steps exists (each of its steps is an ∃-step of one activation)."""
+    why = _sum_refuted(inst)
+    if why is not None:  # no reachable state satisfies the goal: nothing to deepen
+        result = SolveResult(SolveStatus.UNSAT, k, final=True, length_bound=use_bound(inst))
+        result.reason = why
+        return result
     most = _state_steps(inst, k)  # every state within this many steps: deepen no further
     if strategy == "single":
         horizons: range | tuple[int, ...] = (k,)
     else:
         horizons = range((k if most is None else most) + 1)
-    result = search.run(horizons, progress, phase)
+    # without a state bound, each UNSAT horizon also asks for a path visiting no state twice
+    loops = most is None and strategy != "single" and not isinstance(search, _WarmSearch)
+    result = search.run(horizons, progress, phase, loops=loops)
     if result.status is SolveStatus.UNSAT and most is not None and not result.final:
         result.final = True
         result.reason = _states_reason(most)
@@ -239,6 +256,7 @@ def _deepen(
         assert result.plan is not None
         result.plan = linearised(result.plan)
         result.shortest = False
+        result.reason = "found with ∃-steps (--exists-step), each of which may fire several morphisms"
     return result
 
 
@@ -246,6 +264,25 @@ def linearised(plan: Plan) -> Plan:
     """A composition of ∃-steps as the sequential one it stands for: each step's activations
     one per step, in the order the step fires them (the encoder's, which the plan keeps)."""
     return Plan(tuple((a,) for step in plan.steps for a in step), plan.fresh)
+
+
+def _loop_check_at(t: int) -> bool:
+    """The horizons after whose UNSAT the search asks for a path visiting no state twice:
+    the powers of two from 8 — few checks (their number logarithmic in the horizon, none
+    on the shortest tasks), the first that succeeds within twice the least horizon that
+    would, or 8."""
+    return t >= 8 and t & (t - 1) == 0
+
+
+def _sum_refuted(inst: ir.Instance) -> str | None:
+    """Why no reachable state satisfies the goal by a sum of numbers that never grows (or
+    never shrinks): :func:`catc.semantics.bounds.sum_refutation`; None when none shows it."""
+    from catc.semantics.bounds import sum_refutation
+    from catc.semantics.validate import initial_state
+
+    if inst.domain.holes:
+        return None
+    return sum_refutation(inst, initial_state(inst))
 
 
 def _state_steps(inst: ir.Instance, k: int) -> int | None:
@@ -398,9 +435,18 @@ class _Search:
         self.solver.add(*self.enc.script.take())
         self.timings["start"] = t2 - t1
         self.timings["encode"] += (t1 - t0) + (time.perf_counter() - t2)
+        self.backend = backend
+        self.loop_solver: Any = None  # the solver of :meth:`_no_simple_path`, once needed
+        self.fed = (0, 0)  # how many of the encoding's declarations and assertions it has
+        self.distinct = 0  # its states 0..distinct are pairwise distinct
 
-    def run(self, horizons: range | tuple[int, ...], progress: Progress | None, phase: str) -> SolveResult:
-        """Check the goal at each horizon in turn; the first SAT or UNKNOWN answers."""
+    def run(
+        self, horizons: range | tuple[int, ...], progress: Progress | None, phase: str, loops: bool = False
+    ) -> SolveResult:
+        """Check the goal at each horizon in turn; the first SAT or UNKNOWN answers.
+        ``loops``: after an UNSAT at some horizons t (:func:`_loop_check_at`), also ask
+        whether any path of t steps visits no state twice (:meth:`_no_simple_path`); when
+        none does, the UNSAT is final."""
         for t in horizons:
             if progress is not None:
                 progress(f"{phase}: horizon {t} of {self.k}")
@@ -413,6 +459,12 @@ class _Search:
             elif r is Check.UNKNOWN:
                 result = self._unknown()
             self._end_check()
+            if result is None and loops and _loop_check_at(t) and self._no_simple_path(t):
+                result = SolveResult(SolveStatus.UNSAT, self.k, final=True, length_bound=self.bound)
+                result.reason = (
+                    f"no path of {counted(t, 'step')} visits no state twice, so some shortest composition, "
+                    f"if any, has fewer steps, and none within {counted(t - 1, 'step')} exists"
+                )
             if result is not None:
                 break
         else:  # UNSAT at every horizon tried
@@ -420,6 +472,34 @@ class _Search:
             result = SolveResult(SolveStatus.UNSAT, self.k, final=final, length_bound=self.bound)
         result.horizons_tried = self.tried
         return result
+
+    def _no_simple_path(self, t: int) -> bool:
+        """No path of ``t`` steps from the initial state visits no state twice (the solver's
+        UNSAT; anything else, a timeout included, is no claim). Then every composition of
+        t or more steps visits some state twice, and cutting the steps between two visits
+        leaves a shorter one (its steps fire from the same states, use no morphism more
+        often and end in the same state): some shortest composition, if any, has fewer than
+        t steps. The same holds of parallel steps, between which the states are those a
+        composition visits. States are compared on the resources some morphism writes (the
+        others are one variable in every state); a non-idle step never repeats a state
+        here, so an idle step (only at the end) fails the test as a repeat would."""
+        t0 = time.perf_counter()
+        if self.loop_solver is None:  # a solver of its own: the main one's goal checks slow
+            self.loop_solver = open_backend(self.backend)  # down after a check with these constraints
+        script = self.enc.script
+        decls, asserts = script.decls[self.fed[0] :], script.asserts[self.fed[1] :]
+        self.fed = (len(script.decls), len(script.asserts))
+        distinct = [
+            (None, to_text(not_(self.enc.same_state(i, j)))) for j in range(self.distinct + 1, t + 1) for i in range(j)
+        ]
+        self.distinct = max(self.distinct, t)  # states 0..distinct pairwise distinct, for every later t too
+        self.loop_solver.add(decls, [*asserts, *distinct])
+        self.timings["encode"] += time.perf_counter() - t0
+        self.loop_solver.set_timeout(limits.for_check())
+        t0 = time.perf_counter()
+        r = self.loop_solver.check([])
+        self.timings["solve"] += time.perf_counter() - t0
+        return r is Check.UNSAT
 
     def _grow(self, t: int) -> None:
         """Encode up to step ``t``."""
@@ -742,6 +822,15 @@ QUERY = Query(
             ("--no-prune",),
             Kind.NO_FLAG,
             "Keep activations the composition does not need (as the solver found them).",
+        ),
+        Option(
+            "exists_step",
+            ("--exists-step",),
+            Kind.FLAG,
+            "Search with ∃-step parallel steps (a step fires its morphisms in a fixed order, each on the state "
+            "the earlier ones left) and answer the sequential composition they stand for: reaches longer "
+            "compositions in fewer horizons, not proven shortest; implies --sequential (docs/benchmarks.md).",
+            default=False,
         ),
         backend_option(),
         presolve_option(),

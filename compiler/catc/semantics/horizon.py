@@ -76,7 +76,7 @@ def state_bound(inst: ir.Instance, most: int) -> int | None:
     decrease by c, or assignment of c) stays on the lattice v₀ + q·ℤ (v₀ its initial value,
     q the greatest common divisor of the changes and of c − v₀ for the assignments), within
     its bounds — the declared ones narrowed by those inferred from the guards of its changes
-    (:func:`catc.semantics.search.infer_bounds`, which every reachable state keeps): the
+    (:func:`catc.semantics.bounds.numeric_ranges`, which every reachable state keeps): the
     lattice points within them. Any other number counts only as an int with both bounds
     declared (its integers within them); else there is no bound.
 
@@ -120,12 +120,13 @@ def state_bound(inst: ir.Instance, most: int) -> int | None:
             return None
     if not numbers:
         return size
-    # the inferred bounds (and the forward search's module, ~70 ms to import) only where needed
+    # the inferred bounds only where needed
+    from catc.semantics.bounds import ranges
     from catc.semantics.validate import initial_state
 
     init = initial_state(inst)
     needs = any(r.lower is None or r.upper is None for r in numbers)
-    inferred = _inferred_bounds(inst, init) if needs else {}
+    inferred = ranges(inst, init) if needs else {}
     for r in numbers:
         n_or_none = _number_values(inst, r, init.get(r.name), inferred.get(r.name, (None, None)))
         if n_or_none is None:
@@ -144,25 +145,6 @@ def _constant_changes(inst: ir.Instance, name: str) -> bool:
         for e in m.effects
         if e.resource == name
     )
-
-
-def _inferred_bounds(inst: ir.Instance, init: dict[str, Any]) -> dict[str, tuple[Any, Any]]:
-    """The bounds :func:`catc.semantics.search.infer_bounds` gives each numeric resource
-    (none where the model has what that analysis does not read)."""
-    from types import SimpleNamespace
-
-    from catc.semantics.search import _Unsupported, infer_bounds
-
-    names = list(inst.resources)
-    # a number without an initial value is no number to the analysis: no bound, never static
-    kinds = ["number" if inst.resources[n].sort.is_numeric and init.get(n) is not None else "other" for n in names]
-    values = [init.get(n) if k == "number" else None for n, k in zip(names, kinds)]
-    task = SimpleNamespace(index={n: i for i, n in enumerate(names)}, init=values, kinds=kinds)
-    try:
-        bounds = infer_bounds(inst, task)  # type: ignore[arg-type]  # reads index, init and kinds only
-    except _Unsupported:  # a construct the analysis does not read (a set compared)
-        return {}
-    return dict(zip(names, bounds))
 
 
 def _number_values(inst: ir.Instance, r: ir.Resource, v0: Any, inferred: tuple[Any, Any]) -> int | None:

@@ -626,6 +626,17 @@ class Encoder:
             return "true" if a == b else "false"
         return f"(= {a} {b})"
 
+    def same_state(self, i: int, j: int) -> str:
+        """States ``i`` and ``j`` are equal: on every written resource (the others are one
+        variable in every state)."""
+        return _and(
+            [
+                self._equal(self.states[i][r.name], self.states[j][r.name])
+                for r in self.resources
+                if r.name in self.written
+            ]
+        )
+
     def _equal(self, a: Term, b: Term) -> str:
         if isinstance(a, dict):
             assert isinstance(b, dict)  # both sides are sets
