@@ -3,12 +3,13 @@ the greedy search."""
 
 from __future__ import annotations
 
+import heapq
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any
 
 from catc import ir
 from catc.ir import BoolOpKind, CmpOp, EffectKind
-from catc.semantics.search.common import _FAR, Fn, State, _constant, _linear, _minus, _reads
+from catc.semantics.search.common import _FAR, Fn, State, _constant, _linear, _minus, _num, _reads
 from catc.semantics.search.terms import _concrete, _kind
 
 if TYPE_CHECKING:
@@ -133,52 +134,94 @@ class _Atoms:
         self.tests.append((atom, _concrete(e, task.index)))
         return [atom]
 
+    def _prepare(self) -> None:
+        """What :meth:`hadd` reads, built once: the linear forms and rates with whole numbers
+        as ints (exact, and much faster than Fractions of denominator 1), the linear atoms,
+        and for each atom the morphisms whose precondition names it (once per mention)."""
+        self._lin = [([(i, _num(c)) for i, c in terms], _num(k)) for terms, k, _strict in self.linear]
+        self._strict = [strict for _terms, _k, strict in self.linear]
+        self._lin_atoms = [(atom, j) for atom, (what, j) in enumerate(self.kind) if what == "linear"]
+        self._rates = [[(q, j, _num(rate)) for q, j, rate in rs] for rs in self.rates]
+        self._watch: list[list[int]] = [[] for _ in self.kind]
+        for a_i, pre in enumerate(self.pre):
+            for q in pre:
+                self._watch[q].append(a_i)
+        self._free = [a_i for a_i, pre in enumerate(self.pre) if not pre]
+
     def hadd(self, s: State) -> int:
-        cost: list[Any] = [_FAR] * len(self.kind)
+        """h_add: each atom's cost the least, over the morphisms that make it true, of 1 plus
+        the sum of the morphism's precondition costs (a linear atom: the repetitions its rate
+        needs, less one, added); the goal's, the sum of its atoms'. The least fixpoint of these
+        equations, computed as Fast Downward does, by Dijkstra's order (Knuth's generalisation:
+        a morphism's cost exceeds each of its preconditions', so an atom is final when it leaves
+        the queue) with a counter of unmet preconditions per morphism: each morphism is
+        evaluated once, when its last precondition becomes final. An atom no morphism reaches
+        costs ``_FAR``."""
+        if not hasattr(self, "_lin"):
+            self._prepare()
+        n = len(self.kind)
+        cost: list[Any] = [_FAR] * n
         values = []
-        for terms, k, _strict in self.linear:
+        for terms, k in self._lin:
             v: Any = k
             for i, w in terms:
                 v += w * s[i]
             values.append(v)
-        for atom, (what, j) in enumerate(self.kind):
-            if what == "linear":
-                v = values[j]
-                if v > 0 or (v == 0 and not self.linear[j][2]):
-                    cost[atom] = 0
+        strict = self._strict
+        for atom, j in self._lin_atoms:
+            v = values[j]
+            if v > 0 or (v == 0 and not strict[j]):
+                cost[atom] = 0
         for atom, test in self.tests:
             try:
                 if test(s):
                     cost[atom] = 0
             except ArithmeticError:
                 pass
-        rates = self.rates
+        rates = self._rates
         if self.varying:  # the change of a number in this state
             rates = list(rates)
             for a_i in self.varying:
-                rates[a_i] = self._rates_at(a_i, s)
-        changed = True
-        while changed:
-            changed = False
-            for a_i, pre in enumerate(self.pre):
-                c = 1
-                for q in pre:
-                    c += cost[q]
-                if c >= _FAR:
+                rates[a_i] = [(q, j, _num(rate)) for q, j, rate in self._rates_at(a_i, s)]
+        adds, watch = self.adds, self._watch
+        unmet = [len(pre) for pre in self.pre]
+        total = [1] * len(self.pre)  # 1 + the precondition costs seen so far
+        heap = [(0, q) for q in range(n) if cost[q] == 0]
+        done = [False] * n
+        goal = set(self.goal)
+        left = len(goal)
+
+        def fire(a_i: int, c: int) -> None:
+            if c >= _FAR:
+                return
+            for q in adds[a_i]:
+                if c < cost[q]:
+                    cost[q] = c
+                    heapq.heappush(heap, (c, q))
+            for q, j, rate in rates[a_i]:
+                if cost[q] == 0:
                     continue
-                for q in self.adds[a_i]:
-                    if c < cost[q]:
-                        cost[q] = c
-                        changed = True
-                for q, j, rate in rates[a_i]:
-                    if cost[q] == 0:
-                        continue
-                    need = -values[j]
-                    reps = need // rate + 1 if self.linear[j][2] else -(-need // rate)
-                    r = c - 1 + max(int(reps), 1)
-                    if r < cost[q]:
-                        cost[q] = r
-                        changed = True
+                need = -values[j]
+                reps = need // rate + 1 if strict[j] else -(-need // rate)
+                r = c - 1 + max(int(reps), 1)
+                if r < cost[q]:
+                    cost[q] = r
+                    heapq.heappush(heap, (r, q))
+
+        for a_i in self._free:
+            fire(a_i, 1)
+        while heap and left:
+            c, q = heapq.heappop(heap)
+            if done[q] or c > cost[q]:
+                continue
+            done[q] = True
+            if q in goal:
+                left -= 1
+            for a_i in watch[q]:
+                total[a_i] += c
+                unmet[a_i] -= 1
+                if not unmet[a_i]:
+                    fire(a_i, total[a_i])
         return int(min(sum(cost[q] for q in self.goal), _FAR))
 
     def _rates_at(self, a_i: int, s: State) -> list[tuple[int, int, Fraction]]:

@@ -19,7 +19,7 @@ if TYPE_CHECKING:
 
 
 class _Action:
-    __slots__ = ("name", "pre", "effects", "rpre", "reffects", "constant")
+    __slots__ = ("name", "pre", "effects", "rpre", "reffects", "constant", "rreads", "ereads")
 
     def __init__(self, m: ir.Morphism, index: dict[str, int]) -> None:
         if m.params or m.uses is not None:
@@ -35,6 +35,11 @@ class _Action:
         self.effects: list[tuple[int, str, list[tuple[int, Fn]]]] = []
         self.reffects: list[tuple[int, str, list[tuple[int, Callable[[Relaxed], Any]]]]] = []
         self.constant = True  # every effect assigns a constant: once fired, firing again adds nothing
+        #: the resources the relaxed precondition reads, and those the relaxed effects' values
+        #: depend on (what they read; a changed resource its own old value): a layer re-tests
+        #: and re-applies a morphism only when one of these changed (:meth:`_Task._layer`)
+        self.rreads = {index[n] for lit in m.pre for n in _reads(lit.expr)}
+        self.ereads: set[int] = set()
         for i, group in by_res.items():
             assigns = [e for e in group if e.kind is EffectKind.ASSIGN]
             if assigns and len(group) > 1:
@@ -45,6 +50,9 @@ class _Action:
             self.reffects.append((i, mode, [(sign, _relaxed(e.value, index)) for sign, e in terms]))
             if mode == "step" or not isinstance(group[0].value, ir.Const):
                 self.constant = False
+            self.ereads |= {index[n] for e in group for n in _reads(e.value)}
+            if mode == "step":
+                self.ereads.add(i)
 
 
 class _Task:
@@ -79,6 +87,13 @@ class _Task:
             for (lo, hi), (ilo, ihi) in zip(self.bounds, infer_bounds(inst, self))
         ]
         self.counting: _Counting | None = None
+        self.pre_watch: list[list[int]] = [[] for _ in self.names]  # resource → morphisms whose
+        self.eff_watch: list[list[int]] = [[] for _ in self.names]  # precondition / effects read it
+        for a_i, a in enumerate(self.actions):
+            for i in a.rreads:
+                self.pre_watch[i].append(a_i)
+            for i in a.ereads:
+                self.eff_watch[i].append(a_i)
         self._achievers(inst)
 
     def _achievers(self, inst: ir.Instance) -> None:
@@ -211,14 +226,16 @@ class _Task:
         fire (−1: not before the goal's layer)."""
         r: list[Any] = [_point(v, k) for v, k in zip(s, self.kinds)]
         fired: set[int] = set()
+        enabled = [False] * len(self.actions)
+        dirty: set[int] | None = None
         for layer in range(cap):
             rt = tuple(r)
             if all(f(rt)[0] for f in self.rgoal):
                 return layer
-            new = self._layer(rt, fired, first, layer)
-            if new is None:
+            step = self._layer(rt, fired, first, layer, enabled, dirty)
+            if step is None:
                 return None
-            r = new
+            r, dirty = step
         return None if self._dead(r) else cap
 
     def _achiever_bound(self, s: State, first: list[int]) -> int:
@@ -264,19 +281,53 @@ class _Task:
             best = max(best, e + 1 + m)
         return best
 
-    def _layer(self, rt: Relaxed, fired: set[int], first: list[int] | None = None, layer: int = 0) -> list[Any] | None:
-        """The next layer: every morphism that may fire in ``rt`` applied (relaxed, joined);
-        None when nothing changes (a fixpoint). With ``first``, a morphism seen to fire for
-        the first time is marked with ``layer``."""
-        changed = False
+    def _layer(
+        self,
+        rt: Relaxed,
+        fired: set[int],
+        first: list[int] | None,
+        layer: int,
+        enabled: list[bool],
+        dirty: set[int] | None,
+    ) -> tuple[list[Any], set[int]] | None:
+        """The next layer: every morphism that may fire in ``rt`` applied (relaxed, joined),
+        and the resources whose values changed; None when nothing changes (a fixpoint). With
+        ``first``, a morphism seen to fire for the first time is marked with ``layer``.
+
+        Incremental (as Fast Downward's h^max counts preconditions): ``enabled`` marks the
+        morphisms whose precondition held in an earlier layer — layers only grow and a relaxed
+        test's "can hold" only grows with them, so it holds now too — and ``dirty`` the
+        resources that changed from the previous layer (None: all, the first layer). A morphism
+        not yet enabled is tested only when a resource its precondition reads changed; an
+        enabled one re-applied only when a resource its effects read changed: otherwise its
+        effects are those it had in the previous layer, already joined into ``rt``, and
+        joining them again changes nothing. The layer is the same as testing and applying
+        every morphism."""
+        changed: set[int] = set()
         new = list(rt)
-        for a_i, a in enumerate(self.actions):
+        if dirty is None:
+            todo: Any = range(len(self.actions))
+        else:
+            cand: set[int] = set()
+            for i in dirty:
+                for a_i in self.pre_watch[i]:
+                    if not enabled[a_i]:
+                        cand.add(a_i)
+                for a_i in self.eff_watch[i]:
+                    if enabled[a_i]:
+                        cand.add(a_i)
+            todo = sorted(cand)
+        actions = self.actions
+        for a_i in todo:
             if a_i in fired:
                 continue
-            if not all(f(rt)[0] for f in a.rpre):
-                continue
-            if first is not None and first[a_i] < 0:
-                first[a_i] = layer
+            a = actions[a_i]
+            if not enabled[a_i]:
+                if not all(f(rt)[0] for f in a.rpre):
+                    continue
+                enabled[a_i] = True
+                if first is not None and first[a_i] < 0:
+                    first[a_i] = layer
             if a.constant:
                 fired.add(a_i)
             for i, mode, terms in a.reffects:
@@ -296,21 +347,24 @@ class _Task:
                 joined = _join(new[i], post, kind)
                 if joined != new[i]:
                     new[i] = joined
-                    changed = True
-        return new if changed else None
+                    changed.add(i)
+        return (new, changed) if changed else None
 
     def _dead(self, r: list[Any]) -> bool:
         """The goal can never hold from layer ``r``: the relaxation run to a fixpoint, each
         number bound that still moves widened to infinity (then cut by the resource's bounds),
         so that it ends; a goal that cannot hold there cannot hold in any later layer."""
         fired: set[int] = set()
+        enabled = [False] * len(self.actions)
+        dirty: set[int] | None = None
         while True:  # ends: each number bound widens once, Boolean and symbol sets only grow
             rt = tuple(r)
             if all(f(rt)[0] for f in self.rgoal):
                 return False
-            new = self._layer(rt, fired)
-            if new is None:
+            step = self._layer(rt, fired, None, 0, enabled, dirty)
+            if step is None:
                 return True
+            new, dirty = step
             for i, kind in enumerate(self.kinds):
                 if kind == "number" and new[i] != rt[i]:
                     lo = None if new[i][0] != rt[i][0] else new[i][0]
