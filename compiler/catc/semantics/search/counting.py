@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any
@@ -133,40 +134,60 @@ class _Dual:
     def __init__(self, matrix: list[list[Fraction]], n: int) -> None:
         m = len(matrix)
         self.n, self.m = n, m
+        # each row of the tableau as whole numerators over one positive denominator (N, D):
+        # exact as Fractions, but a pivot is a few int operations per entry and one gcd
         self.rows = [
-            list(row) + [Fraction(int(i == k)) for k in range(m)] + [Fraction(1)] for i, row in enumerate(matrix)
+            _ints(list(row) + [Fraction(int(i == k)) for k in range(m)] + [Fraction(1)]) for i, row in enumerate(matrix)
         ]
         self.basis = [n + i for i in range(m)]
 
     def solve(self, r: list[Fraction], pivots: int) -> Fraction | None:
         n, m, rows, basis = self.n, self.m, self.rows, self.basis
         cost = list(r) + [Fraction(0)] * m
-        z = [-c for c in cost] + [Fraction(0)]
+        z, dz = _ints([-c for c in cost] + [Fraction(0)])
         for i, b in enumerate(basis):  # the reduced costs in the kept basis: −c + Σ c_B·row
-            cb = cost[b]
+            cb = Fraction(cost[b])
             if cb:
-                z = [x + cb * y for x, y in zip(z, rows[i])]
+                row, d = rows[i]
+                p, q = cb.numerator, cb.denominator * d  # z + (p/q)·row
+                z, dz = _reduce([x * q + p * y * dz for x, y in zip(z, row)], dz * q)
         for _ in range(pivots):
             j = next((j for j in range(n + m) if z[j] < 0), None)
             if j is None:
                 break
             best: tuple[Fraction, int, int] | None = None
-            for i, row in enumerate(rows):
+            for i, (row, _d) in enumerate(rows):
                 if row[j] > 0:
-                    key = (row[-1] / row[j], basis[i], i)
+                    key = (Fraction(row[-1], row[j]), basis[i], i)
                     if best is None or key < best:
                         best = key
             if best is None:
                 return None  # unbounded
             i = best[2]
-            p = rows[i][j]
-            prow = [x / p for x in rows[i]]
-            rows[i] = prow
-            for k, row in enumerate(rows):
+            prow = rows[i][0]
+            p = prow[j]  # the pivot row divided by its entry j: prow / p
+            rows[i] = _reduce(list(prow), p)
+            for k, (row, d) in enumerate(rows):
                 f = row[j]
-                if k != i and f:
-                    rows[k] = [x - f * y for x, y in zip(row, prow)]
+                if k != i and f:  # row/d − (f/d)·prow/p = (p·row − f·prow) / (d·p)
+                    rows[k] = _reduce([p * x - f * y for x, y in zip(row, prow)], d * p)
             f = z[j]
-            z = [x - f * y for x, y in zip(z, prow)]
+            z, dz = _reduce([p * x - f * y for x, y in zip(z, prow)], dz * p)
             basis[i] = j
-        return z[-1]
+        return Fraction(z[-1], dz)
+
+
+def _ints(row: list[Fraction]) -> tuple[list[int], int]:
+    """A row of Fractions as whole numerators over their least common denominator."""
+    d = math.lcm(*(x.denominator for x in row)) if row else 1
+    return [x.numerator * (d // x.denominator) for x in row], d
+
+
+def _reduce(row: list[int], d: int) -> tuple[list[int], int]:
+    """row / d with a positive denominator and no common factor."""
+    g = math.gcd(d, *row)
+    if d < 0:
+        g = -g
+    if g != 1:
+        return [x // g for x in row], d // g
+    return row, d
