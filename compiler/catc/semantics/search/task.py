@@ -4,6 +4,7 @@ counting bound); and the folding of static numbers into it (:func:`_inline_stati
 
 from __future__ import annotations
 
+import bisect
 from collections.abc import Callable
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any
@@ -19,7 +20,7 @@ if TYPE_CHECKING:
 
 
 class _Action:
-    __slots__ = ("name", "pre", "effects", "rpre", "reffects", "constant", "rreads", "ereads")
+    __slots__ = ("name", "pre", "effects", "rpre", "reffects", "constant", "rreads", "ereads", "shifts")
 
     def __init__(self, m: ir.Morphism, index: dict[str, int]) -> None:
         if m.params or m.uses is not None:
@@ -40,6 +41,10 @@ class _Action:
         #: and re-applies a morphism only when one of these changed (:meth:`_Task._layer`)
         self.rreads = {index[n] for lit in m.pre for n in _reads(lit.expr)}
         self.ereads: set[int] = set()
+        #: the changes of a number by constants only (resource, the sum of the constants),
+        #: which the relaxation applies per resource, not per morphism (:meth:`_Task._layer`);
+        #: ``reffects`` and ``ereads`` hold the other effects
+        self.shifts: list[tuple[int, Any]] = []
         for i, group in by_res.items():
             assigns = [e for e in group if e.kind is EffectKind.ASSIGN]
             if assigns and len(group) > 1:
@@ -47,9 +52,13 @@ class _Action:
             mode = "assign" if assigns else "step"
             terms = [(-1 if e.kind is EffectKind.DECREASE else 1, e) for e in group]
             self.effects.append((i, mode, [(sign, _concrete(e.value, index)) for sign, e in terms]))
-            self.reffects.append((i, mode, [(sign, _relaxed(e.value, index)) for sign, e in terms]))
             if mode == "step" or not isinstance(group[0].value, ir.Const):
                 self.constant = False
+            if mode == "step" and all(isinstance(e.value, ir.Const) for e in group):
+                delta = sum((sign * Fraction(e.value.value) for sign, e in terms), Fraction(0))  # type: ignore[attr-defined]
+                self.shifts.append((i, _num(delta)))
+                continue
+            self.reffects.append((i, mode, [(sign, _relaxed(e.value, index)) for sign, e in terms]))
             self.ereads |= {index[n] for e in group for n in _reads(e.value)}
             if mode == "step":
                 self.ereads.add(i)
@@ -228,11 +237,12 @@ class _Task:
         fired: set[int] = set()
         enabled = [False] * len(self.actions)
         dirty: set[int] | None = None
+        shifts: dict[int, list[Any]] = {}
         for layer in range(cap):
             rt = tuple(r)
             if all(f(rt)[0] for f in self.rgoal):
                 return layer
-            step = self._layer(rt, fired, first, layer, enabled, dirty)
+            step = self._layer(rt, fired, first, layer, enabled, dirty, shifts)
             if step is None:
                 return None
             r, dirty = step
@@ -289,6 +299,7 @@ class _Task:
         layer: int,
         enabled: list[bool],
         dirty: set[int] | None,
+        shifts: dict[int, list[Any]],
     ) -> tuple[list[Any], set[int]] | None:
         """The next layer: every morphism that may fire in ``rt`` applied (relaxed, joined),
         and the resources whose values changed; None when nothing changes (a fixpoint). With
@@ -302,8 +313,16 @@ class _Task:
         enabled one re-applied only when a resource its effects read changed: otherwise its
         effects are those it had in the previous layer, already joined into ``rt``, and
         joining them again changes nothing. The layer is the same as testing and applying
-        every morphism."""
+        every morphism.
+
+        Changes of a number x by a constant d (``_Action.shifts``) are applied per resource:
+        ``shifts[x]`` holds the sorted d of the enabled morphisms (with repetitions). Each d
+        gives the interval [lo + d, hi + d], cut by x's bounds [L, H] and skipped when the cut
+        is empty, which is when d > H − lo or d < L − hi; the cut ends grow with d, so the hull
+        of all of them is that of the least and the greatest d within [L − hi, H − lo] — the
+        same join as applying each morphism."""
         changed: set[int] = set()
+        moved: set[int] = set(shifts) if dirty is None else {i for i in dirty if i in shifts}
         new = list(rt)
         if dirty is None:
             todo: Any = range(len(self.actions))
@@ -328,6 +347,9 @@ class _Task:
                 enabled[a_i] = True
                 if first is not None and first[a_i] < 0:
                     first[a_i] = layer
+                for i, d in a.shifts:
+                    bisect.insort(shifts.setdefault(i, []), d)
+                    moved.add(i)
             if a.constant:
                 fired.add(a_i)
             for i, mode, terms in a.reffects:
@@ -348,6 +370,25 @@ class _Task:
                 if joined != new[i]:
                     new[i] = joined
                     changed.add(i)
+        for i in moved:
+            ds = shifts[i]
+            lo, hi = rt[i]
+            bound_lo, bound_hi = self.bounds[i]
+            if bound_lo is not None and bound_hi is not None and bound_lo > bound_hi:
+                continue
+            first_d = 0 if bound_lo is None or hi is None else bisect.bisect_left(ds, bound_lo - hi)
+            last_d = len(ds) if bound_hi is None or lo is None else bisect.bisect_right(ds, bound_hi - lo)
+            if first_d >= last_d:
+                continue  # every cut is empty
+            low = self._cut(i, (None if lo is None else lo + ds[first_d], None if hi is None else hi + ds[first_d]))
+            high = self._cut(
+                i, (None if lo is None else lo + ds[last_d - 1], None if hi is None else hi + ds[last_d - 1])
+            )
+            assert low is not None and high is not None
+            joined = _join(new[i], (low[0], high[1]), "number")
+            if joined != new[i]:
+                new[i] = joined
+                changed.add(i)
         return (new, changed) if changed else None
 
     def _dead(self, r: list[Any]) -> bool:
@@ -357,11 +398,12 @@ class _Task:
         fired: set[int] = set()
         enabled = [False] * len(self.actions)
         dirty: set[int] | None = None
+        shifts: dict[int, list[Any]] = {}
         while True:  # ends: each number bound widens once, Boolean and symbol sets only grow
             rt = tuple(r)
             if all(f(rt)[0] for f in self.rgoal):
                 return False
-            step = self._layer(rt, fired, None, 0, enabled, dirty)
+            step = self._layer(rt, fired, None, 0, enabled, dirty, shifts)
             if step is None:
                 return True
             new, dirty = step
