@@ -54,8 +54,9 @@ class _Action:
             self.effects.append((i, mode, [(sign, _concrete(e.value, index)) for sign, e in terms]))
             if mode == "step" or not isinstance(group[0].value, ir.Const):
                 self.constant = False
-            if mode == "step" and all(isinstance(e.value, ir.Const) for e in group):
-                delta = sum((sign * Fraction(e.value.value) for sign, e in terms), Fraction(0))  # type: ignore[attr-defined]
+            consts = [(sign, e.value.value) for sign, e in terms if isinstance(e.value, ir.Const)]
+            if mode == "step" and len(consts) == len(terms):
+                delta = sum((sign * Fraction(c) for sign, c in consts), Fraction(0))
                 self.shifts.append((i, _num(delta)))
                 continue
             self.reffects.append((i, mode, [(sign, _relaxed(e.value, index)) for sign, e in terms]))
