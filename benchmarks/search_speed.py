@@ -98,7 +98,7 @@ def main(argv: list[str] | None = None) -> int:
                     raise SystemExit(f"{name} on {tree} failed")
                 r = json.loads(proc.stdout.strip().splitlines()[-1])
                 assert r["catc"] == tree, (r["catc"], tree)
-                if which not in best or r["cpu"] < best[which]["cpu"]:  # type: ignore[operator]
+                if which not in best or r["cpu"] < best[which]["cpu"]:
                     best[which] = r
                 print(f"{name} {which}: {r}", file=sys.stderr, flush=True)
         b, a = best["before"], best["after"]
