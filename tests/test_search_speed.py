@@ -218,7 +218,7 @@ def _layers_equal(task: _Task, s: tuple[Any, ...], depth: int) -> None:
     r: list[Any] = [_point(v, k) for v, k in zip(s, task.kinds)]
     fired: set[int] = set()
     ref_fired: set[int] = set()
-    enabled = [False] * len(task.actions)
+    enabled = [0] * len(task.actions)
     dirty: set[int] | None = None
     shifts: dict[int, list[Any]] = {}
     for layer in range(depth):

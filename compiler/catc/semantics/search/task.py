@@ -21,6 +21,7 @@ if TYPE_CHECKING:
 
 class _Action:
     __slots__ = ("name", "pre", "effects", "rpre", "reffects", "constant", "rreads", "ereads", "shifts")
+    #: ``rreads``: per test of ``rpre``, the resources it reads
 
     def __init__(self, m: ir.Morphism, index: dict[str, int]) -> None:
         if m.params or m.uses is not None:
@@ -39,7 +40,9 @@ class _Action:
         #: the resources the relaxed precondition reads, and those the relaxed effects' values
         #: depend on (what they read; a changed resource its own old value): a layer re-tests
         #: and re-applies a morphism only when one of these changed (:meth:`_Task._layer`)
-        self.rreads = {index[n] for lit in m.pre for n in _reads(lit.expr)}
+        every = {index[n] for lit in m.pre for n in _reads(lit.expr)}
+        self.rreads = [{index[n] for n in _reads(lit.expr)} for lit in m.pre]
+        self.rreads += [every] * (len(self.rpre) - len(m.pre))  # the sums: at most what all read
         self.ereads: set[int] = set()
         #: the changes of a number by constants only (resource, the sum of the constants),
         #: which the relaxation applies per resource, not per morphism (:meth:`_Task._layer`);
@@ -97,11 +100,14 @@ class _Task:
             for (lo, hi), (ilo, ihi) in zip(self.bounds, infer_bounds(inst, self))
         ]
         self.counting: _Counting | None = None
-        self.pre_watch: list[list[int]] = [[] for _ in self.names]  # resource → morphisms whose
-        self.eff_watch: list[list[int]] = [[] for _ in self.names]  # precondition / effects read it
+        #: resource → (morphism, k) for the k-th test of the morphism's relaxed precondition
+        #: that reads it; resource → morphisms whose effects read it
+        self.pre_watch: list[list[tuple[int, int]]] = [[] for _ in self.names]
+        self.eff_watch: list[list[int]] = [[] for _ in self.names]
         for a_i, a in enumerate(self.actions):
-            for i in a.rreads:
-                self.pre_watch[i].append(a_i)
+            for k, reads in enumerate(a.rreads):
+                for i in reads:
+                    self.pre_watch[i].append((a_i, k))
             for i in a.ereads:
                 self.eff_watch[i].append(a_i)
         self._achievers(inst)
@@ -236,7 +242,7 @@ class _Task:
         fire (−1: not before the goal's layer)."""
         r: list[Any] = [_point(v, k) for v, k in zip(s, self.kinds)]
         fired: set[int] = set()
-        enabled = [False] * len(self.actions)
+        enabled = [0] * len(self.actions)
         dirty: set[int] | None = None
         shifts: dict[int, list[Any]] = {}
         for layer in range(cap):
@@ -298,7 +304,7 @@ class _Task:
         fired: set[int],
         first: list[int] | None,
         layer: int,
-        enabled: list[bool],
+        enabled: list[int],
         dirty: set[int] | None,
         shifts: dict[int, list[Any]],
     ) -> tuple[list[Any], set[int]] | None:
@@ -306,12 +312,14 @@ class _Task:
         and the resources whose values changed; None when nothing changes (a fixpoint). With
         ``first``, a morphism seen to fire for the first time is marked with ``layer``.
 
-        Incremental (as Fast Downward's h^max counts preconditions): ``enabled`` marks the
-        morphisms whose precondition held in an earlier layer — layers only grow and a relaxed
-        test's "can hold" only grows with them, so it holds now too — and ``dirty`` the
-        resources that changed from the previous layer (None: all, the first layer). A morphism
-        not yet enabled is tested only when a resource its precondition reads changed; an
-        enabled one re-applied only when a resource its effects read changed: otherwise its
+        Incremental (as Fast Downward's h^max counts preconditions): ``enabled[a]`` is the
+        number of a's relaxed precondition tests (``rpre``, a conjunction) seen to hold, in
+        order — layers only grow and a relaxed test's "can hold" only grows with them, so a
+        test that held holds now too; −1 once all of them held: a is enabled — and ``dirty`` the resources
+        that changed from the previous layer (None: all, the first layer). A morphism not yet
+        enabled is tested again, from its first test not seen to hold, only when a resource
+        that test reads changed (the others' outcome is known or not needed yet); an enabled
+        one re-applied only when a resource its effects read changed: otherwise its
         effects are those it had in the previous layer, already joined into ``rt``, and
         joining them again changes nothing. The layer is the same as testing and applying
         every morphism.
@@ -329,12 +337,13 @@ class _Task:
             todo: Any = range(len(self.actions))
         else:
             cand: set[int] = set()
+            actions = self.actions
             for i in dirty:
-                for a_i in self.pre_watch[i]:
-                    if not enabled[a_i]:
+                for a_i, k in self.pre_watch[i]:
+                    if enabled[a_i] == k:
                         cand.add(a_i)
                 for a_i in self.eff_watch[i]:
-                    if enabled[a_i]:
+                    if enabled[a_i] < 0:
                         cand.add(a_i)
             todo = sorted(cand)
         actions = self.actions
@@ -342,10 +351,14 @@ class _Task:
             if a_i in fired:
                 continue
             a = actions[a_i]
-            if not enabled[a_i]:
-                if not all(f(rt)[0] for f in a.rpre):
+            k, tests = enabled[a_i], a.rpre
+            if k >= 0:
+                while k < len(tests) and tests[k](rt)[0]:
+                    k += 1
+                if k < len(tests):
+                    enabled[a_i] = k
                     continue
-                enabled[a_i] = True
+                enabled[a_i] = -1
                 if first is not None and first[a_i] < 0:
                     first[a_i] = layer
                 for i, d in a.shifts:
@@ -397,7 +410,7 @@ class _Task:
         number bound that still moves widened to infinity (then cut by the resource's bounds),
         so that it ends; a goal that cannot hold there cannot hold in any later layer."""
         fired: set[int] = set()
-        enabled = [False] * len(self.actions)
+        enabled = [0] * len(self.actions)
         dirty: set[int] | None = None
         shifts: dict[int, list[Any]] = {}
         while True:  # ends: each number bound widens once, Boolean and symbol sets only grow
