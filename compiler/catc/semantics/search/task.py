@@ -333,19 +333,7 @@ class _Task:
         changed: set[int] = set()
         moved: set[int] = set(shifts) if dirty is None else {i for i in dirty if i in shifts}
         new = list(rt)
-        if dirty is None:
-            todo: Any = range(len(self.actions))
-        else:
-            cand: set[int] = set()
-            actions = self.actions
-            for i in dirty:
-                for a_i, k in self.pre_watch[i]:
-                    if enabled[a_i] == k:
-                        cand.add(a_i)
-                for a_i in self.eff_watch[i]:
-                    if enabled[a_i] < 0:
-                        cand.add(a_i)
-            todo = sorted(cand)
+        todo = range(len(self.actions)) if dirty is None else self._candidates(dirty, enabled)
         actions = self.actions
         for a_i in todo:
             if a_i in fired:
@@ -384,6 +372,27 @@ class _Task:
                 if joined != new[i]:
                     new[i] = joined
                     changed.add(i)
+        self._shift(rt, new, changed, moved, shifts)
+        return (new, changed) if changed else None
+
+    def _candidates(self, dirty: set[int], enabled: list[int]) -> list[int]:
+        """The morphisms :meth:`_layer` looks at after the resources ``dirty`` changed: those
+        not enabled whose first test not seen to hold reads one of them, and the enabled ones
+        whose effects read one."""
+        cand: set[int] = set()
+        for i in dirty:
+            for a_i, k in self.pre_watch[i]:
+                if enabled[a_i] == k:
+                    cand.add(a_i)
+            for a_i in self.eff_watch[i]:
+                if enabled[a_i] < 0:
+                    cand.add(a_i)
+        return sorted(cand)
+
+    def _shift(
+        self, rt: Relaxed, new: list[Any], changed: set[int], moved: set[int], shifts: dict[int, list[Any]]
+    ) -> None:
+        """The constant shifts of the resources ``moved`` (:meth:`_layer`) joined into ``new``."""
         for i in moved:
             ds = shifts[i]
             lo, hi = rt[i]
@@ -403,7 +412,6 @@ class _Task:
             if joined != new[i]:
                 new[i] = joined
                 changed.add(i)
-        return (new, changed) if changed else None
 
     def _dead(self, r: list[Any]) -> bool:
         """The goal can never hold from layer ``r``: the relaxation run to a fixpoint, each
