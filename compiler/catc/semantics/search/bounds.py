@@ -5,15 +5,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from fractions import Fraction
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from catc import ir
 from catc.ir import BoolOpKind, CmpOp, EffectKind
-from catc.semantics.search.common import _linear, _minus, _num
+from catc.semantics.search.common import _linear, _minus, _num, _TaskShape
 from catc.semantics.search.terms import _kind
-
-if TYPE_CHECKING:
-    from catc.semantics.search.task import _Task
 
 
 def _tighter(a: Any, b: Any, pick: Callable[[Any, Any], Any]) -> Any:
@@ -57,7 +54,7 @@ def _pre_bounds(m: ir.Morphism, index: dict[str, int], static: dict[int, Any]) -
     return out
 
 
-def infer_bounds(inst: ir.Instance, task: _Task) -> list[tuple[Any, Any]]:
+def infer_bounds(inst: ir.Instance, task: _TaskShape) -> list[tuple[Any, Any]]:
     """Bounds (lo, hi; None: none) that every reachable state keeps on each numeric resource,
     inferred from the task where PDDL declares none (imported numbers are unbounded reals).
 

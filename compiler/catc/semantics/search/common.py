@@ -6,7 +6,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from enum import Enum
 from fractions import Fraction
-from typing import Any
+from typing import Any, Protocol
 
 from catc import ir
 from catc.ir import ArithOp
@@ -70,6 +70,22 @@ def _arith(op: ArithOp, values: list[Any]) -> Any:
 
 
 State = tuple[Any, ...]
+
+
+class _TaskShape(Protocol):
+    """What :func:`~catc.semantics.search.bounds.infer_bounds` reads of a ground task."""
+
+    index: dict[str, int]
+    init: State
+    kinds: list[str]
+
+
+class _Bound(Protocol):
+    """A lower bound on the steps to the goal (None: a dead end), as the counting bound."""
+
+    def h(self, s: State) -> int | None: ...
+
+
 Fn = Callable[[State], Any]
 
 _FAR = 1 << 40  # "not reached" in h_add: larger than any sum of reached costs

@@ -7,16 +7,13 @@ from __future__ import annotations
 import bisect
 from collections.abc import Callable
 from fractions import Fraction
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from catc import ir
 from catc.ir import BoolOpKind, EffectKind, SortKind
 from catc.semantics.search.bounds import _tighter, infer_bounds
-from catc.semantics.search.common import Fn, State, _constant, _num, _reads, _Unsupported
+from catc.semantics.search.common import Fn, State, _Bound, _constant, _num, _reads, _Unsupported
 from catc.semantics.search.terms import Relaxed, _concrete, _join, _kind, _lo_add, _point, _redundant, _relaxed
-
-if TYPE_CHECKING:
-    from catc.semantics.search.counting import _Counting
 
 
 class _Action:
@@ -99,7 +96,7 @@ class _Task:
             (_tighter(lo, ilo, max), _tighter(hi, ihi, min))
             for (lo, hi), (ilo, ihi) in zip(self.bounds, infer_bounds(inst, self))
         ]
-        self.counting: _Counting | None = None
+        self.counting: _Bound | None = None  # the counting bound, set by the caller
         #: resource → (morphism, k) for the k-th test of the morphism's relaxed precondition
         #: that reads it; resource → morphisms whose effects read it
         self.pre_watch: list[list[tuple[int, int]]] = [[] for _ in self.names]
