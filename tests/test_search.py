@@ -216,9 +216,9 @@ def test_the_consumption_bound_runs_only_where_the_forward_search_does_not(monke
 def test_a_greedy_search_past_its_share_gives_way_to_a_star(monkeypatch):
     """With room for one state only, the greedy phase stops at once and A* alone answers: the
     parity task is still proven unsolvable, by A*'s dead ends (x = 0, 2, 4, 6 expanded)."""
-    import catc.semantics.search as search_mod
+    import catc.semantics.search.algorithms as algorithms
 
-    monkeypatch.setattr(search_mod, "GREEDY_STATES", 0)
+    monkeypatch.setattr(algorithms, "GREEDY_STATES", 0)
     inst, _ = up_to_instance(_parity())
     r = search(inst, 200)
     assert r.status is SearchStatus.NONE and r.final and "(4)" in r.reason
