@@ -480,6 +480,7 @@ class _Task:
             for (lo, hi), (ilo, ihi) in zip(self.bounds, infer_bounds(inst, self))
         ]
         self.counting: _Counting | None = None
+        self.landmarks: Any = None
         self._achievers(inst)
 
     def _achievers(self, inst: ir.Instance) -> None:
@@ -596,10 +597,14 @@ class _Task:
             return h
         if first is not None:
             h = min(max(h, self._achiever_bound(s, first)), cap)
-        if self.counting is None or h >= cap:
-            return h
-        c = self.counting.h(s)
-        return None if c is None else min(max(h, c), cap)
+        for bound in (self.counting, self.landmarks):  # landmarks: catc.semantics.landmarks
+            if bound is None or h >= cap:
+                continue
+            c = bound.h(s)
+            if c is None:
+                return None
+            h = min(max(h, c), cap)
+        return h
 
     def hmax(self, s: State, cap: int) -> int | None:
         """Layers of the interval relaxation until the goal can hold: None for a proven dead
@@ -1482,6 +1487,9 @@ def search(
     atoms = None if isinstance(task, _Strips) else _Atoms(task, inst)
     if atoms is not None:
         task.counting = _Counting.build(task, atoms, inst)
+        from catc.semantics.landmarks import LandmarkCounting
+
+        task.landmarks = LandmarkCounting.build(task, atoms, inst)
     t0 = time.monotonic()
     h0 = task.h(task.init, horizon + 1)
     if h0 is None:
