@@ -215,7 +215,9 @@ class LandmarkCounting:
         # of R_p, the resources p's achievers' preconditions read, closed under writers
         writes = [{task.index[e.resource] for e in m.effects} for m in morphisms]
         reads_pre = [{task.index[x] for lit in m.pre for x in _reads(lit.expr)} for m in morphisms]
-        reads_all = [reads_pre[a] | {task.index[x] for e in m.effects for x in _reads(e.value)} for a, m in enumerate(morphisms)]
+        reads_all = [
+            reads_pre[a] | {task.index[x] for e in m.effects for x in _reads(e.value)} for a, m in enumerate(morphisms)
+        ]
         self.relevant: dict[int, list[int]] = {}
         for p in self.facts:
             ach = self.adders[p]
@@ -257,7 +259,15 @@ class LandmarkCounting:
         if not ENABLED:
             return None
         lm = cls(task, atoms, inst)
-        return lm if lm.columns and (lm.facts or lm.numeric) else None
+        if not lm.columns or not (lm.facts or lm.numeric):
+            return None
+        # kept only where it raises the initial estimate above the other bounds (``task.h``
+        # before the hook): on rover it does not, and costs a program per state for nothing
+        before = task.h(task.init, LAYERS)
+        if before is None:
+            return None
+        mine = lm.h(task.init)
+        return lm if mine is None or mine > before else None
 
     def _holds(self, p: int, s: State) -> bool:
         i, v = self.fact_of[p]
