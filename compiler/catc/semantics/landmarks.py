@@ -54,12 +54,17 @@ ENABLED = True
 
 #: Simplex pivots per program and state (a capped run still gives a lower bound).
 PIVOTS = 200
-#: Gate facts tried per state (each costs two more programs).
-GATES = 2
+#: Gate facts tried per state (each costs two more programs; the one reached last first).
+GATES = 1
 #: Layers of the interval relaxation read for e_p.
 LAYERS = 200
 
 Column = list[tuple[int, Fraction]]  # the non-zero coefficients (action, c) of one primal row
+
+
+def _assigned(e: ir.Expr) -> Any:
+    """The constant an assignment writes (a Boolean or a symbol), None when not a constant."""
+    return e.value if isinstance(e, ir.Const) else _constant(e)
 
 
 class _Simplex:
@@ -201,8 +206,8 @@ class LandmarkCounting:
                 if any(
                     e.resource == name
                     and e.kind is EffectKind.ASSIGN
-                    and (c := _constant(e.value)) is not None
-                    and c != v
+                    and (to := _assigned(e.value)) is not None
+                    and to != v
                     for e in morphisms[a].effects
                 )
             ]
@@ -231,9 +236,18 @@ class LandmarkCounting:
                         grew = True
             self.relevant[p] = sorted({a for a, w in enumerate(writes) if w & rel} | set(ach))
         # --- the fact rows: landmark, relevance (per landmark), net change
+        # only facts that may be landmarks of some state get rows: the goal facts and, backwards,
+        # the facts all achievers of one of them require (a superset of every state's landmarks)
+        self.candidates = set(self.goal_facts)
+        todo = list(self.candidates)
+        while todo:
+            for p in shared[todo.pop()]:
+                if p not in self.candidates:
+                    self.candidates.add(p)
+                    todo.append(p)
         self.landmark_row: dict[int, int] = {}
         self.relevance_row: dict[int, int] = {}
-        for p in self.facts:
+        for p in sorted(self.candidates):
             self.landmark_row[p] = len(self.columns)
             self.columns.append([(a, Fraction(1)) for a in self.adders[p]])
             self.relevance_row[p] = len(self.columns)
@@ -252,7 +266,7 @@ class LandmarkCounting:
         acts = sorted({a for col in self.columns for a, _ in col})
         self.acts = acts
         self.base = _Program(self.columns, acts)
-        self.gates: dict[int, tuple[_Program, _Program]] = {}
+        self.gates: dict[int, tuple[_Program, _Program]] = {}  # fact → the two programs of its split
 
     @classmethod
     def build(cls, task: _Task, atoms: _Atoms, inst: ir.Instance) -> LandmarkCounting | None:
@@ -291,6 +305,11 @@ class LandmarkCounting:
         """For each fact of ``want``: e_p + 1, e_p the first layer of the interval relaxation
         from ``s`` in which an achiever of p may fire (LAYERS + 1 when none within LAYERS; a
         large number when none ever)."""
+        never = 1 << 30
+        out = {p: never for p in want if not self.adders[p]}  # nothing makes p true
+        want = {p for p in want if self.adders[p]}
+        if not want:
+            return out
         task = self.task
         first = [-1] * len(task.actions)
         fired: set[int] = set()
@@ -306,8 +325,6 @@ class LandmarkCounting:
             layer += 1
             if all(any(first[a] >= 0 for a in self.adders[p]) for p in want):
                 break
-        out = {}
-        never = 1 << 30
         for p in want:
             e = min((first[a] for a in self.adders[p] if first[a] >= 0), default=-1)
             out[p] = e + 1 if e >= 0 else (never if fixpoint else layer + 1)
@@ -341,16 +358,12 @@ class LandmarkCounting:
         if not gates:
             return best
         e = self._first_layers(s, set(gates))
-        gates.sort(key=lambda p: -e[p])
+        gates.sort(key=lambda p: (e[p] >= 1 << 30, -e[p]))  # reached last first, unreachable ones after
         for p in gates[:GATES]:
             without, with_p = self._gate(p)
             a_value = without.value(r)
-            if e[p] >= 1 << 30:
-                b_value = None  # p is unreachable: only the first case
-            else:
-                r2 = list(r)
-                r2[self.relevance_row[p]] = Fraction(e[p])
-                b_value = with_p.value(r2)
+            # p unreachable: only the first case; else the base rows and p's relevance row
+            b_value = None if e[p] >= 1 << 30 else with_p.value(r + [Fraction(e[p])])
             if a_value is None and b_value is None:
                 return None
             split = min(v for v in (a_value, b_value) if v is not None)
@@ -359,11 +372,12 @@ class LandmarkCounting:
 
     def _gate(self, p: int) -> tuple[_Program, _Program]:
         """The two programs of the case split on ``p``: without the morphisms that require p,
-        and the base program (whose relevance row of p then gets its right-hand side)."""
+        and the base program with p's relevance row (its right-hand side e_p + 1 in the state)."""
         if p not in self.gates:
             banned = set(self.needs[p])
+            relevance = [(a, Fraction(1)) for a in self.relevant[p]]
             self.gates[p] = (
                 _Program(self.columns, [a for a in self.acts if a not in banned]),
-                _Program(self.columns, list(self.acts)),
+                _Program([*self.columns, relevance], sorted(set(self.acts) | set(self.relevant[p]))),
             )
         return self.gates[p]
