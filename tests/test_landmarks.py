@@ -152,9 +152,31 @@ def test_hydropower_start_is_the_hand_count(tmp_path, times, units):
     """T − 1 + 2·units (the generator's hand argument): the clock's advances (the relevance
     row of the last hour, in the case that reaches it) plus the pumps and generates (the
     counting rows); without the last hour every trade earns 0.95 at most, far more trades."""
-    task, lm = _parts(_hydropower(tmp_path, times, units))
+    inst = _hydropower(tmp_path, times, units)
+    task, lm = _parts(inst)
     assert lm.h(task.init) == times - 1 + 2 * units
     assert (task.h(task.init, 100) or 0) < times - 1 + 2 * units  # the other bounds see less
+    # so A* takes it (search() builds it the same way), and its start is the optimum
+    folded = _inline_statics(inst)
+    task = _Task(folded)
+    atoms = _Atoms(task, folded)
+    task.counting = _Counting.build(task, atoms, folded)
+    task.landmarks = LandmarkCounting.build(task, atoms, folded)
+    assert task.landmarks is not None and task.h(task.init, 100) == times - 1 + 2 * units
+
+
+def test_without_numeric_goals_a_star_does_not_take_it():
+    text = """
+(define (domain d) (:requirements :numeric)
+  (:resources (b0 bool) (b1 bool) (x int :bounds (0 3)))
+  (:morphism inc :precondition (<= x 2) :effect (increase x 1))
+  (:morphism m0 :precondition (>= x 2) :effect (assign b0 true))
+  (:morphism m1 :precondition b0 :effect (assign b1 true)))
+(define (problem p) (:domain d) (:init (= x 0)) (:goal b1) (:horizon 12))
+"""
+    inst = _inline_statics(loads({"d.cat": text}, "d.cat").instance)
+    task = _Task(inst)
+    assert LandmarkCounting.build(task, _Atoms(task, inst), inst) is None
 
 
 def test_hydropower_states_near_the_start_are_bounded_by_their_distance(tmp_path):
