@@ -97,7 +97,7 @@ def main(argv: list[str] | None = None) -> int:
                 valid.append(pc.corpus.up_validates(up_problem, steps))
             lm.ENABLED = True
             h, plan, cpu, exp = cells["h"], cells["plan"], cells["cpu"], cells["exp"]
-            ok = "yes" if valid and all(valid) else "NO"
+            ok = "-" if not valid else "yes" if all(valid) else "NO"
             print(
                 f"| {t.name} | {t.optimal} | {h[0]} | {h[1]} | {plan[0]} | {plan[1]} | {cpu[0]} | {cpu[1]} | {exp[0]} | {exp[1]} | {ok} |",
                 flush=True,
