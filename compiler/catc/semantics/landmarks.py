@@ -45,7 +45,10 @@ from typing import Any
 
 from catc import ir
 from catc.ir import EffectKind
-from catc.semantics.search import State, _Atoms, _constant, _point, _reads, _Task
+
+# catc.semantics.search builds this bound, so nothing here imports it (no cycle): the task
+# (search._Task) and its atoms (search._Atoms) come in as arguments
+State = tuple[Any, ...]
 
 __all__ = ["LandmarkCounting"]
 
@@ -66,8 +69,43 @@ Column = list[tuple[int, Fraction]]  # the non-zero coefficients (action, c) of 
 
 
 def _assigned(e: ir.Expr) -> Any:
-    """The constant an assignment writes (a Boolean or a symbol), None when not a constant."""
-    return e.value if isinstance(e, ir.Const) else _constant(e)
+    """The constant an assignment writes (a Boolean or a symbol), None when not a constant
+    (a Boolean folded as search._constant folds it: UP's add-after-delete gives ``true ∨ …``)."""
+    if isinstance(e, ir.Const):
+        return e.value
+    from catc.ir.fold import FoldError, fold_constant
+
+    try:
+        v = fold_constant(e)
+    except FoldError:
+        return None
+    return v.value if isinstance(v, ir.Const) and isinstance(v.value, bool) else None
+
+
+def _reads(e: ir.Expr) -> set[str]:
+    """The resources ``e`` reads (as search._reads)."""
+    out: set[str] = set()
+    todo = [e]
+    while todo:
+        x = todo.pop()
+        if isinstance(x, ir.ResourceRef):
+            out.add(x.name)
+        elif isinstance(x, (ir.Arith, ir.BoolOp)):
+            todo.extend(x.args)
+        elif isinstance(x, ir.Compare):
+            todo += [x.left, x.right]
+        elif isinstance(x, ir.Ite):
+            todo += [x.cond, x.then, x.orelse]
+    return out
+
+
+def _point(v: Any, kind: str) -> Any:
+    """A value as a layer of the interval relaxation holds it (as search._point)."""
+    if kind == "bool":
+        return (v, not v)
+    if kind == "symbol":
+        return frozenset({v})
+    return (v, v)
 
 
 class _Simplex:
@@ -147,11 +185,24 @@ class _Program:
 class LandmarkCounting:
     """The heuristic of the module docstring for one task (:meth:`h`)."""
 
-    def __init__(self, task: _Task, atoms: _Atoms, inst: ir.Instance) -> None:
+    def __init__(self, task: Any, atoms: Any, inst: ir.Instance) -> None:
         self.task = task
-        n = len(task.actions)
         morphisms = list(inst.domain.morphisms.values())
-        # --- the numeric state equation (as _Counting.build)
+        self.columns: list[Column] = []
+        self.numeric: list[Callable[[State], Any]] = []
+        self._numeric_rows(atoms, morphisms)
+        self._facts(atoms, morphisms)
+        self._fact_rows()
+        acts = sorted({a for col in self.columns for a, _ in col})
+        self.acts = acts
+        self.base = _Program(self.columns, acts)
+        self.gates: dict[int, tuple[_Program, _Program]] = {}  # fact → the two programs of its split
+        self.pivots = PIVOTS
+
+    def _numeric_rows(self, atoms: Any, morphisms: list[ir.Morphism]) -> None:
+        """The numeric state equation (as search._Counting.build)."""
+        task = self.task
+        n = len(task.actions)
         deltas: list[dict[int, Fraction]] = [{} for _ in range(n)]
         counted = [k == "number" for k in task.kinds]
         for a, m in enumerate(morphisms):
@@ -176,8 +227,6 @@ class LandmarkCounting:
         def rhs(w: list[tuple[int, Fraction]], k: Any) -> Callable[[State], Any]:
             return lambda s: -k - sum((wi * s[i] for i, wi in w), 0)
 
-        self.columns: list[Column] = []
-        self.numeric: list[Callable[[State], Any]] = []
         for atom in atoms.goal:
             what, j = atoms.kind[atom]
             if what == "linear":
@@ -193,14 +242,20 @@ class LandmarkCounting:
             if counted[i] and hi is not None:
                 self.columns.append(column([(i, Fraction(-1))]))
                 self.numeric.append(rhs([(i, Fraction(-1))], hi))
-        # --- facts: achievers, consumers, the facts each morphism requires
+
+    def _facts(self, atoms: Any, morphisms: list[ir.Morphism]) -> None:
+        """The facts: achievers, consumers, what each morphism requires, the facts all
+        achievers of one require (``shared``), and the morphisms relevant to each."""
+        task = self.task
+        n = len(task.actions)
         self.facts = [atom for atom, (what, _) in enumerate(atoms.kind) if what == "fact"]
         self.fact_of = {atom: f for f, atom in atoms.facts.items()}
         self.goal_facts = {p for p in atoms.goal if atoms.kind[p][0] == "fact"}
         self.requires = [{p for p in atoms.pre[a] if atoms.kind[p][0] == "fact"} for a in range(n)]
         self.adders = {p: [a for a in range(n) if p in atoms.adds[a]] for p in self.facts}
         self.needs = {p: [a for a in range(n) if p in self.requires[a]] for p in self.facts}
-        consumers: dict[int, list[int]] = {}
+        self.consumers: dict[int, list[int]] = {}
+        consumers = self.consumers
         for p in self.facts:
             i, v = self.fact_of[p]
             name = task.names[i]
@@ -239,7 +294,10 @@ class LandmarkCounting:
                         rel |= reads_all[a]
                         grew = True
             self.relevant[p] = sorted({a for a, w in enumerate(writes) if w & rel} | set(ach))
-        # --- the fact rows: landmark, relevance (per landmark), net change
+
+    def _fact_rows(self) -> None:
+        """The fact rows: landmark and relevance (per landmark candidate), net change."""
+        shared, consumers = self.shared, self.consumers
         # only facts that may be landmarks of some state get rows: the goal facts and, backwards,
         # the facts all achievers of one of them require (a superset of every state's landmarks)
         self.candidates = set(self.goal_facts)
@@ -267,14 +325,9 @@ class LandmarkCounting:
                 coeffs[a] = coeffs.get(a, Fraction(0)) - 1
             self.flow.append((p, len(self.columns)))
             self.columns.append([(a, c) for a, c in coeffs.items() if c])
-        acts = sorted({a for col in self.columns for a, _ in col})
-        self.acts = acts
-        self.base = _Program(self.columns, acts)
-        self.gates: dict[int, tuple[_Program, _Program]] = {}  # fact → the two programs of its split
-        self.pivots = PIVOTS
 
     @classmethod
-    def build(cls, task: _Task, atoms: _Atoms, inst: ir.Instance) -> LandmarkCounting | None:
+    def build(cls, task: Any, atoms: Any, inst: ir.Instance) -> LandmarkCounting | None:
         if not ENABLED:
             return None
         lm = cls(task, atoms, inst)
