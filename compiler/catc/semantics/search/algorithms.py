@@ -10,6 +10,7 @@ from collections.abc import Callable, Generator
 from typing import Any
 
 from catc import ir
+from catc.semantics.landmarks import LandmarkCounting
 from catc.semantics.plan import Activation, Plan
 from catc.semantics.search.atoms import _Atoms
 from catc.semantics.search.common import _FAR, SearchResult, SearchStatus, State, _Unsupported
@@ -29,6 +30,7 @@ def search(
     deadline: float | None = None,
     greedy: bool = True,
     prove: bool = True,
+    landmarks: bool = True,
 ) -> SearchResult:
     """A composition of at most ``horizon`` steps, or a proof that there is none; ``deadline``
     is a ``time.monotonic()`` instant.
@@ -39,7 +41,8 @@ def search(
     and when it finds none shorter the greedy one is proven shortest. When the time runs out
     first the greedy composition is the answer, ``shortest`` False.
     Without ``greedy``, A* alone (the shortest composition); without ``prove``, the greedy
-    search alone (A* only when it found nothing)."""
+    search alone (A* only when it found nothing). Without ``landmarks``, A*'s heuristic leaves
+    out the counting-plus-landmarks bound (:mod:`catc.semantics.landmarks`; for measurements)."""
     task: Any
     try:
         task = _Strips(inst)
@@ -52,6 +55,7 @@ def search(
     atoms = None if isinstance(task, _Strips) else _Atoms(task, inst)
     if atoms is not None:
         task.counting = _Counting.build(task, atoms, inst)
+        task.landmarks = LandmarkCounting.build(task, atoms, inst) if landmarks else None
     t0 = time.monotonic()
     h0 = task.h(task.init, horizon + 1)
     if h0 is None:

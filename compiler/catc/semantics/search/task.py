@@ -97,6 +97,7 @@ class _Task:
             for (lo, hi), (ilo, ihi) in zip(self.bounds, infer_bounds(inst, self))
         ]
         self.counting: _Bound | None = None  # the counting bound, set by the caller
+        self.landmarks: _Bound | None = None  # counting plus landmarks, set by the caller
         #: resource → (morphism, k) for the k-th test of the morphism's relaxed precondition
         #: that reads it; resource → morphisms whose effects read it
         self.pre_watch: list[list[tuple[int, int]]] = [[] for _ in self.names]
@@ -216,17 +217,22 @@ class _Task:
         goal-achiever bound read off the same layers (:meth:`_achiever_bound`) and, where the
         task has numeric conditions, the operator-counting bound (:class:`_Counting`,
         consistent); None for a dead end any of them proves. A* needs admissibility only
-        (:func:`_astar`)."""
+        (:func:`_astar`). A fourth, ``landmarks`` (:mod:`catc.semantics.landmarks`: counting
+        plus landmarks, with a case split on a gate fact), where :func:`search` builds one."""
         first: list[int] | None = [-1] * len(self.actions) if self.goal_facts else None
         h = self._hmax(s, cap, first)
         if h is None or h >= cap:
             return h
         if first is not None:
             h = min(max(h, self._achiever_bound(s, first)), cap)
-        if self.counting is None or h >= cap:
-            return h
-        c = self.counting.h(s)
-        return None if c is None else min(max(h, c), cap)
+        for bound in (self.counting, self.landmarks):
+            if bound is None or h >= cap:
+                continue
+            c = bound.h(s)
+            if c is None:
+                return None
+            h = min(max(h, c), cap)
+        return h
 
     def hmax(self, s: State, cap: int) -> int | None:
         """Layers of the interval relaxation until the goal can hold: None for a proven dead
