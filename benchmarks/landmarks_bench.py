@@ -1,5 +1,5 @@
 """The forward search's A* with and without the counting-plus-landmarks bound
-(:mod:`catc.semantics.landmarks`), side by side on tasks of benchmarks/planning_corpus.py.
+(:mod:`catc.semantics.search.landmarks`), side by side on tasks of benchmarks/planning_corpus.py.
 
     python benchmarks/landmarks_bench.py [--timeout 60] [--only NAME ...]
 
@@ -38,7 +38,7 @@ DEFAULT = [
 def _h0(inst, horizon: int, landmarks: bool) -> str:
     """A*'s heuristic at the initial state, as :func:`catc.semantics.search.search` builds it
     ("strips": a classical task, searched on bitmasks without the numeric bounds)."""
-    import catc.semantics.landmarks as lm
+    import catc.semantics.search.landmarks as lm
     from catc.semantics import search as se
 
     try:

@@ -1,4 +1,4 @@
-"""The counting-plus-landmarks bound of A* (:mod:`catc.semantics.landmarks`): never above the
+"""The counting-plus-landmarks bound of A* (:mod:`catc.semantics.search.landmarks`): never above the
 true distance to the goal (breadth first over the explicit state graph, an independent count)
 on random small tasks and on hydropower, and the hydropower optimum (T − 1 + 2·units, argued
 by hand in benchmarks/planning_corpus.py) at the start where h^max and the counting bound
@@ -14,8 +14,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from catc.api import loads
-from catc.semantics.landmarks import LandmarkCounting
 from catc.semantics.search import _Atoms, _Counting, _inline_statics, _Task
+from catc.semantics.search.landmarks import LandmarkCounting
 
 
 def _parts(inst: Any) -> tuple[_Task, LandmarkCounting]:

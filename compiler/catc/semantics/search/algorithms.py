@@ -10,11 +10,11 @@ from collections.abc import Callable, Generator
 from typing import Any
 
 from catc import ir
-from catc.semantics.landmarks import LandmarkCounting
 from catc.semantics.plan import Activation, Plan
 from catc.semantics.search.atoms import _Atoms
 from catc.semantics.search.common import _FAR, SearchResult, SearchStatus, State, _Unsupported
 from catc.semantics.search.counting import _Counting
+from catc.semantics.search.landmarks import LandmarkCounting
 from catc.semantics.search.strips import _Strips
 from catc.semantics.search.task import _inline_statics, _Task
 
@@ -42,7 +42,7 @@ def search(
     first the greedy composition is the answer, ``shortest`` False.
     Without ``greedy``, A* alone (the shortest composition); without ``prove``, the greedy
     search alone (A* only when it found nothing). Without ``landmarks``, A*'s heuristic leaves
-    out the counting-plus-landmarks bound (:mod:`catc.semantics.landmarks`; for measurements)."""
+    out the counting-plus-landmarks bound (:mod:`catc.semantics.search.landmarks`; for measurements)."""
     task: Any
     try:
         task = _Strips(inst)

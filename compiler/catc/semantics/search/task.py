@@ -217,7 +217,7 @@ class _Task:
         goal-achiever bound read off the same layers (:meth:`_achiever_bound`) and, where the
         task has numeric conditions, the operator-counting bound (:class:`_Counting`,
         consistent); None for a dead end any of them proves. A* needs admissibility only
-        (:func:`_astar`). A fourth, ``landmarks`` (:mod:`catc.semantics.landmarks`: counting
+        (:func:`_astar`). A fourth, ``landmarks`` (:mod:`catc.semantics.search.landmarks`: counting
         plus landmarks, with a case split on a gate fact), where :func:`search` builds one."""
         first: list[int] | None = [-1] * len(self.actions) if self.goal_facts else None
         h = self._hmax(s, cap, first)

@@ -45,6 +45,8 @@ from typing import Any
 
 from catc import ir
 from catc.ir import EffectKind
+from catc.semantics.search.common import _constant, _reads
+from catc.semantics.search.terms import _point
 
 # catc.semantics.search builds this bound, so nothing here imports it (no cycle): the task
 # (search._Task) and its atoms (search._Atoms) come in as arguments
@@ -67,42 +69,8 @@ Column = list[tuple[int, Fraction]]  # the non-zero coefficients (action, c) of 
 
 def _assigned(e: ir.Expr) -> Any:
     """The constant an assignment writes (a Boolean or a symbol), None when not a constant
-    (a Boolean folded as search._constant folds it: UP's add-after-delete gives ``true ∨ …``)."""
-    if isinstance(e, ir.Const):
-        return e.value
-    from catc.ir.fold import FoldError, fold_constant
-
-    try:
-        v = fold_constant(e)
-    except FoldError:
-        return None
-    return v.value if isinstance(v, ir.Const) and isinstance(v.value, bool) else None
-
-
-def _reads(e: ir.Expr) -> set[str]:
-    """The resources ``e`` reads (as search._reads)."""
-    out: set[str] = set()
-    todo = [e]
-    while todo:
-        x = todo.pop()
-        if isinstance(x, ir.ResourceRef):
-            out.add(x.name)
-        elif isinstance(x, (ir.Arith, ir.BoolOp)):
-            todo.extend(x.args)
-        elif isinstance(x, ir.Compare):
-            todo += [x.left, x.right]
-        elif isinstance(x, ir.Ite):
-            todo += [x.cond, x.then, x.orelse]
-    return out
-
-
-def _point(v: Any, kind: str) -> Any:
-    """A value as a layer of the interval relaxation holds it (as search._point)."""
-    if kind == "bool":
-        return (v, not v)
-    if kind == "symbol":
-        return frozenset({v})
-    return (v, v)
+    (a Boolean folded as :func:`~catc.semantics.search.common._constant` folds it)."""
+    return e.value if isinstance(e, ir.Const) else _constant(e)
 
 
 class _Simplex:
