@@ -1,6 +1,6 @@
 """Planning tasks of growing plan length, catc beside ENHSP, every plan checked by UP's validator.
 
-    python benchmarks/planning_corpus.py [--timeout 60] [--only NAME ...] [--smt] [--no-enhsp]
+    python benchmarks/planning_corpus.py [--timeout 60] [--only NAME ...] [--smt] [--no-enhsp] [--no-catc] [--second]
 
 Families, written here by their textbook definitions (IPC encodings, sizes chosen for plan
 lengths from ~5 to ~50; the optimal lengths argued by hand in each generator):
@@ -438,7 +438,17 @@ def _second(row: Row, up_problem, d: Path, p: Path, timeout: float) -> None:
         row.second_len, row.second_valid = len(steps), corpus.up_validates(up_problem, steps)
 
 
-def run(task: Task, work: Path, timeout: float, *, smt: bool, enhsp: bool, horizon: int, second: bool = False) -> Row:
+def run(
+    task: Task,
+    work: Path,
+    timeout: float,
+    *,
+    smt: bool,
+    enhsp: bool,
+    horizon: int,
+    second: bool = False,
+    catc: bool = True,
+) -> Row:
     from unified_planning.io import PDDLReader
 
     from catc.frontend.up_import import up_to_instance
@@ -452,15 +462,16 @@ def run(task: Task, work: Path, timeout: float, *, smt: bool, enhsp: bool, horiz
     up_problem = PDDLReader().parse_problem(str(d), str(p))
     inst, report = up_to_instance(up_problem, timeout=timeout)
     row.imported = time.perf_counter() - t0
-    t0, c0 = time.perf_counter(), time.process_time()
-    r = solve(inst, horizon=horizon, sequential=True, strategy="search", timeout=timeout)
-    row.catc_time, row.catc_cpu = time.perf_counter() - t0, time.process_time() - c0
-    row.catc = r.status.value + (" (final)" if r.status is SolveStatus.UNSAT and r.final else "")
-    row.catc_first = r.timings.get("first_plan")
-    if r.plan is not None:
-        row.catc_shortest = r.shortest
-        steps = _pddl_steps(r.plan, report)
-        row.catc_len, row.catc_valid = len(steps), corpus.up_validates(up_problem, steps)
+    if catc:
+        t0, c0 = time.perf_counter(), time.process_time()
+        r = solve(inst, horizon=horizon, sequential=True, strategy="search", timeout=timeout)
+        row.catc_time, row.catc_cpu = time.perf_counter() - t0, time.process_time() - c0
+        row.catc = r.status.value + (" (final)" if r.status is SolveStatus.UNSAT and r.final else "")
+        row.catc_first = r.timings.get("first_plan")
+        if r.plan is not None:
+            row.catc_shortest = r.shortest
+            steps = _pddl_steps(r.plan, report)
+            row.catc_len, row.catc_valid = len(steps), corpus.up_validates(up_problem, steps)
     if smt:
         t0 = time.perf_counter()
         s = solve(inst, horizon=horizon, sequential=True, timeout=timeout)
@@ -576,6 +587,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--smt", action="store_true", help="also the SMT search alone (slow past ~12 actions)")
     ap.add_argument("--no-enhsp", action="store_true")
     ap.add_argument(
+        "--no-catc", action="store_true", help="leave catc's search out (e.g. to run only the second planner)"
+    )
+    ap.add_argument(
         "--second", action="store_true", help="also pyperplan A*/LM-cut (classical) or TAMER (numeric), if installed"
     )
     ap.add_argument("--child", nargs=3, help=argparse.SUPPRESS)
@@ -597,6 +611,7 @@ def main(argv: list[str] | None = None) -> int:
                 enhsp=not args.no_enhsp,
                 horizon=args.horizon,
                 second=args.second,
+                catc=not args.no_catc,
             )
             print(
                 f"{t.name}: catc {row.catc} {row.catc_len} {_t(row.catc_time)}s (cpu {_t(row.catc_cpu)}); ENHSP "

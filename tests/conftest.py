@@ -24,6 +24,13 @@ ROOT = Path(__file__).resolve().parent.parent
 _PINT_CACHE = tempfile.mkdtemp(prefix="catc-pint-cache-")
 os.environ["CATC_PINT_CACHE"] = _PINT_CACHE
 atexit.register(shutil.rmtree, _PINT_CACHE, True)
+# Likewise catc's own cache of checked standard-library domains and models ($CATC_CACHE,
+# catc.interfaces.command.stdlib_cache): without this every command a test runs — in-process
+# or as a child process, which inherits the variable — wrote into the user's ~/.cache/catc.
+# Set here, on import, so that it holds from collection on in every test process.
+CATC_CACHE = tempfile.mkdtemp(prefix="catc-cache-")
+os.environ["CATC_CACHE"] = CATC_CACHE
+atexit.register(shutil.rmtree, CATC_CACHE, True)
 FIXTURES = Path(__file__).resolve().parent / "fixtures"
 
 

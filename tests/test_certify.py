@@ -360,7 +360,8 @@ def optimal_certificate_of(path, query="optimize", **options):
 
 
 def claiming_values(inst, doc, values):
-    from catc.queries.certify import _objectives, optimal_obligation
+    from catc.queries.certify import optimal_obligation
+    from catc.queries.certify.optimal import _objectives
 
     model, objectives, softs = _objectives(inst, doc["objectives"])
     best = optimal_obligation(model, objectives, softs, doc["horizon"], False, [Fraction(v) for v in values])

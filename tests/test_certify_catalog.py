@@ -135,7 +135,7 @@ def test_the_consumption_core_text_asserts_the_core_and_denies_the_rest():
 def test_a_witness_solve_finds_is_replayed_too(budget_core):
     # the fallback when diagnose's solver-free try has none: catc solve on the instance the
     # other members leave — an effect member removed, a Boolean initial value flipped
-    from catc.queries.certify import _extended, _solved_witness
+    from catc.queries.certify.cores import _extended, _solved_witness
 
     inst, doc = budget_core
     steps = _extended(inst, doc["horizon"], None)

@@ -14,7 +14,6 @@ import pytest
 from conftest import ROOT
 
 from catc.api import loads
-from catc.queries import certify as certify_module
 from catc.queries.certify import (
     CertifyStatus,
     NotCertifiable,
@@ -22,8 +21,11 @@ from catc.queries.certify import (
     certify,
     consumption_obligations,
     cvc5_command,
+    state_bounded_obligations,
     z3_command,
 )
+from catc.queries.certify import checkers as checkers_module
+from catc.queries.certify import unsat as unsat_module
 from catc.queries.solve import solve
 
 sys.path.insert(0, str(ROOT / "benchmarks"))
@@ -144,7 +146,7 @@ def test_a_dropped_state_is_refuted_at_consecution():
     inst, doc = searched()
     bad = copy.deepcopy(doc)
     bad["states"]["values"] = [s for s in bad["states"]["values"] if s != [True, False, "0"]]
-    bad["obligations"] = certify_module.reachable_obligations(inst, bad["states"], bad["horizon"])
+    bad["obligations"] = unsat_module.reachable_obligations(inst, bad["states"], bad["horizon"])
     for o in bad["obligations"]:
         o["producer"] = "catc.search"
     result = certify(inst, bad)
@@ -157,7 +159,7 @@ def test_a_goal_state_in_the_set_is_refuted_at_the_goal():
     inst, doc = searched()
     bad = copy.deepcopy(doc)
     bad["states"]["values"].append([True, True, "0"])
-    bad["obligations"] = certify_module.reachable_obligations(inst, bad["states"], bad["horizon"])
+    bad["obligations"] = unsat_module.reachable_obligations(inst, bad["states"], bad["horizon"])
     for o in bad["obligations"]:
         o["producer"] = "catc.search"
     assert {r["name"]: r["status"] for r in certify(inst, bad).obligations}["goal"] == "refuted"
@@ -173,7 +175,7 @@ def test_a_state_set_edited_after_the_obligations_were_written_does_not_match():
 
 
 def test_more_reachable_states_than_the_limit_are_not_certified(monkeypatch):
-    monkeypatch.setattr(certify_module, "STATE_LIMIT", 5)
+    monkeypatch.setattr(unsat_module, "STATE_LIMIT", 5)
     inst = toggle()
     with pytest.raises(NotCertifiable, match="more than 5"):
         certificate(inst, solve(inst, strategy="search", sequential=True))
@@ -186,12 +188,63 @@ def test_both_new_kinds_follow_the_schema():
     inst = catalog("budget")
     for doc in (
         certificate(inst, solve(inst)),
+        certificate(toggle(), solve(toggle(), horizon=15)),  # state-bounded
         searched()[1],
         front()[1],
         two_cores()[1],
         discrete(loads({"two.cat": TWO}, "two.cat").instance),
     ):
         jsonschema.validate(json.loads(json.dumps(doc)), schema)
+
+
+# ---------------------------------------------------------------- the reachable-state bound (SMT route)
+# toggle's states: a, b Boolean and n in 0..3, so at most 2 · 2 · 4 = 16 — by hand, not by catc
+
+
+def test_an_unsat_made_final_by_the_state_count_is_certified_at_n_minus_1():
+    inst = toggle()
+    result = solve(inst, horizon=15)  # parallel steps: the SMT route, not the forward search
+    assert result.status.value == "unsat" and result.final and not result.sequential
+    doc = certificate(inst, result)
+    assert (doc["method"], doc["state_count"], doc["horizon"]) == ("state-bounded", 16, 15)
+    assert [o["name"] for o in doc["obligations"]] == ["bounded"]
+    row = certify(inst, doc).obligations[0]
+    assert {c: a["answer"] for c, a in row["checkers"].items()} == {"z3": "unsat", "cvc5": "unsat"}
+    assert row["proved_by"] == ["cvc5"]  # z3 produced the answer: only cvc5 counts
+
+
+def test_a_not_final_unsat_at_n_minus_1_is_certified_too():
+    """The unified-planning engine's "at most N states" UNSOLVABLE_PROVEN: an UNSAT the answer
+    does not call final, at a horizon of N − 1 or more; below it, no certificate."""
+    from catc.queries.solve import SolveResult, SolveStatus
+
+    inst = toggle()
+    doc = certificate(inst, SolveResult(SolveStatus.UNSAT, 17, final=False))
+    assert (doc["method"], doc["horizon"]) == ("state-bounded", 15)
+    assert certify(inst, doc).status is CertifyStatus.CERTIFIED
+    with pytest.raises(NotCertifiable):
+        certificate(inst, SolveResult(SolveStatus.UNSAT, 14, final=False))
+
+
+def test_a_state_count_the_model_does_not_give_or_a_short_horizon_does_not_match():
+    inst = toggle()
+    doc = certificate(inst, solve(inst, horizon=15))
+    fewer = {**doc, "state_count": 12, "horizon": 11}  # claims 12 states: a shorter horizon would do
+    fewer["obligations"] = [o | {"producer": "z3"} for o in state_bounded_obligations(inst, 11, False)]
+    assert certify(inst, fewer).status is CertifyStatus.REFUTED
+    assert {r["status"] for r in certify(inst, fewer).obligations} >= {"mismatch"}
+
+
+def test_a_state_bounded_no_for_a_feasible_problem_is_refuted_by_the_solvers():
+    inst = loads({"toggle.cat": TOGGLE.replace("(:goal (and a b))", "(:goal (and a (= n 2)))")}, "toggle.cat").instance
+    doc = {"schema": "catc.certificate/1", "problem": "both-on", "domain": "toggle", "view": None}
+    doc |= {"answer": "unsat", "method": "state-bounded", "producer": "z3", "horizon": 15, "sequential": False}
+    doc |= {
+        "state_count": 16,
+        "obligations": [o | {"producer": "z3"} for o in state_bounded_obligations(inst, 15, False)],
+    }
+    rows = certify(inst, doc).obligations
+    assert rows[0]["status"] == "refuted" and rows[0]["checkers"]["cvc5"]["answer"] == "sat"
 
 
 # ---------------------------------------------------------------- one checker process for all
@@ -212,7 +265,7 @@ def test_one_process_per_checker_keeps_obligations_apart(tmp_path, checker):
     for i, text in enumerate(texts):
         paths.append(str(tmp_path / f"{i}.smt2"))
         (tmp_path / f"{i}.smt2").write_text(text)
-    answers = [a for a, _ in certify_module.run_batch(checker, paths, 30.0)]
+    answers = [a for a, _ in checkers_module.run_batch(checker, paths, 30.0)]
     assert answers == ["sat", "sat", "error", "unsat"]
 
 
@@ -225,7 +278,7 @@ def test_many_obligations_split_over_processes_keep_their_answers():
     obligations = [
         {"smtlib": (sat if i % 2 == 0 else unsat).format(i=i), "checkers": ["z3", "cvc5"]} for i in range(12)
     ]
-    answers = certify_module._run_checkers(obligations, 30.0)
+    answers = checkers_module._run_checkers(obligations, 30.0)
     expected = ["sat" if i % 2 == 0 else "unsat" for i in range(12)]
     assert [a["z3"][0] for a in answers] == expected
     assert [a["cvc5"][0] for a in answers] == expected
@@ -245,8 +298,8 @@ def test_an_undecided_obligation_in_a_batch_is_unknown_and_the_next_is_answered(
     for i, text in enumerate(texts):
         paths.append(str(tmp_path / f"{i}.smt2"))
         (tmp_path / f"{i}.smt2").write_text(text)
-    monkeypatch.setattr(certify_module, "run_checker", lambda *args: ("run again alone", 0.0))
-    assert [a for a, _ in certify_module.run_batch(checker, paths, 1.0)] == ["unknown", "unsat"]
+    monkeypatch.setattr(checkers_module, "run_checker", lambda *args: ("run again alone", 0.0))
+    assert [a for a, _ in checkers_module.run_batch(checker, paths, 1.0)] == ["unknown", "unsat"]
 
 
 # ---------------------------------------------------------------- a Pareto front
@@ -269,7 +322,8 @@ def front():
 def with_points(inst, doc, points, witnesses):
     """``doc`` claiming ``points`` (exact strings), the witnesses renumbered, its front
     obligation rebuilt for them (so that only the solvers can object)."""
-    from catc.queries.certify import _pareto_objectives, pareto_obligation
+    from catc.queries.certify import pareto_obligation
+    from catc.queries.certify.optimal import _pareto_objectives
 
     model, objectives = _pareto_objectives(inst, doc["objectives"])
     exact = [[Fraction(v) for v in p] for p in points]
@@ -297,7 +351,7 @@ def test_a_front_missing_a_point_is_refuted_by_the_solvers():
 
 
 def test_a_better_point_than_its_witness_reaches_is_refuted():
-    from catc.queries.certify import _pareto_objectives
+    from catc.queries.certify.optimal import _pareto_objectives
 
     inst, doc = front()
     _, objectives = _pareto_objectives(inst, doc["objectives"])
@@ -313,7 +367,7 @@ def test_a_better_point_than_its_witness_reaches_is_refuted():
 def test_a_front_with_a_dominated_point_is_refuted():
     """A valid composition whose values another point dominates, claimed as a point of the
     front (its witness replays, its values are its own): not Pareto-optimal, refuted."""
-    from catc.queries.certify import _pareto_objectives
+    from catc.queries.certify.optimal import _pareto_objectives
     from catc.queries.optimum import _scores
     from catc.queries.pareto import dominates
     from catc.semantics.plan import plan_to_json, read_plan

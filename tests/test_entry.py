@@ -235,7 +235,13 @@ def test_interrupt_and_internal_errors_are_reported_as_click_does(monkeypatch):
 
 @pytest.mark.parametrize(
     ("query", "example", "status"),
-    [("solve", "detection/person.cat", "sat"), ("optimize", "gpu-allocation/max-confidence.cat", "opt")],
+    [
+        ("solve", "detection/person.cat", "sat"),
+        ("optimize", "gpu-allocation/max-confidence.cat", "opt"),
+        ("relax", "lifelong/budget-cut.cat", "relaxed"),
+        ("recompose", "lifelong/cheaper-camera.cat", "opt"),
+        ("pareto", "pareto-design/design.cat", "front"),
+    ],
 )
 def test_a_plain_solve_or_optimize_imports_neither_click_nor_dataclasses(query, example, status):
     """Nor pint: the examples' units are all in the generated index (catc.frontend.units)."""

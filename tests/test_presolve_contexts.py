@@ -107,6 +107,18 @@ def test_a_plain_solve_makes_one_z3_context():
 
 
 def test_relax_shares_its_search_context_with_the_counting_bound():
-    """relax on lifelong/budget-cut: the search's context (its two solvers), and the
-    consumption bound's; the counting bound's solver shares the search's (3 before)."""
-    assert _contexts("relax", "examples/lifelong/budget-cut.cat", "--json") == 2
+    """relax on lifelong/budget-cut: the search's context (its two solvers) only; the counting
+    bound's solver shares it (3 before), and the consumption bound, which has a context of its
+    own, is not needed: the first restoration meets the counting bound (2 before).  On
+    navigation/coarse the counting bound does not prove the first restoration least, and the
+    consumption bound is made, as before (3: with the at-bound restoration's)."""
+    assert _contexts("relax", "examples/lifelong/budget-cut.cat", "--json") == 1
+    assert _contexts("relax", "examples/navigation/coarse.cat", "--json") == 3
+
+
+def test_recompose_spares_the_refutation_its_deployed_composition_answers():
+    """recompose on lifelong/cheaper-camera: the first composition (churn 4) is beaten by the
+    deployed one (churn 0), so no refutation of "anything better than the first?" is tried;
+    left are the deepening solve's context, the optimiser's over the first length, and the
+    counting proof that nothing within the horizon beats its optimum (6 before)."""
+    assert _contexts("recompose", "examples/lifelong/cheaper-camera.cat", "--json") == 3

@@ -5,9 +5,11 @@ code — changes the key; a damaged file is a miss."""
 
 from __future__ import annotations
 
+import os
 import shutil
+from pathlib import Path
 
-from conftest import ROOT, answer_document
+from conftest import CATC_CACHE, ROOT, answer_document
 
 from catc.frontend.stdlib_cache import StdlibCache
 from catc.frontend.workspace import Workspace, stdlib_dir
@@ -63,3 +65,49 @@ def test_the_command_line_answers_alike_with_and_without_it(tmp_path, monkeypatc
     diagnose = answer_document("diagnose", str(ROOT / "examples/lifelong/budget-cut.cat"), "--json")
     monkeypatch.setenv("CATC_CACHE", "off")
     assert answer_document("diagnose", str(ROOT / "examples/lifelong/budget-cut.cat"), "--json") == diagnose
+
+
+def test_entries_made_under_another_key_stay(tmp_path):
+    """Two checkouts sharing one cache folder (their keys differ: other paths) each find their
+    own entries after the other wrote (put used to delete every other key's entry of a name)."""
+    _, domain = _robot_base(None)
+    libs = []
+    for name in ("a", "b"):
+        libs.append(tmp_path / name)
+        shutil.copytree(stdlib_dir(), libs[-1])
+    a, b = (StdlibCache(tmp_path / "c", lib) for lib in libs)
+    assert a.key != b.key
+    a.put("robot-base", domain)
+    b.put("robot-base", domain)
+    assert StdlibCache(tmp_path / "c", libs[0]).get("robot-base") == domain
+    assert StdlibCache(tmp_path / "c", libs[1]).get("robot-base") == domain
+    assert len(list((tmp_path / "c").iterdir())) == 2
+
+
+def test_the_folder_keeps_the_most_recent_entries_only(tmp_path, monkeypatch):
+    from catc.frontend import stdlib_cache
+
+    monkeypatch.setattr(stdlib_cache, "KEPT", 2)
+    folder = tmp_path / "c"
+    folder.mkdir()
+    for i in range(3):  # entries of other keys, written long ago, oldest first
+        (folder / f"compute-0000000{i}.pickle").write_bytes(b"x")
+        os.utime(folder / f"compute-0000000{i}.pickle", (1000 + i, 1000 + i))
+    _, domain = _robot_base(None)
+    cache = StdlibCache(folder, stdlib_dir())
+    cache.put("robot-base", domain)
+    left = sorted(p.name for p in folder.iterdir())
+    assert len(left) == 2 and "compute-00000002.pickle" in left, left
+    assert cache.get("robot-base") == domain  # the new entry is one of those kept
+
+
+def test_the_tests_keep_their_own_cache(monkeypatch):
+    """The test processes (and the commands they start) use a private cache folder
+    (tests/conftest.py), never the user's ~/.cache/catc."""
+    from catc.interfaces.command import stdlib_cache
+
+    assert os.environ["CATC_CACHE"] == CATC_CACHE and os.path.isdir(CATC_CACHE)
+    used = stdlib_cache()
+    assert used is not None and used.parent == Path(CATC_CACHE)
+    monkeypatch.delenv("CATC_CACHE")
+    assert stdlib_cache() != used  # the user's default folder is another

@@ -31,14 +31,15 @@ def _module_name(path: Path, base: Path) -> str:
 
 
 def defining(folder: Path, base: Path, name: str) -> set[str]:
-    """The modules directly in ``folder`` that assign ``name`` at module level."""
+    """The modules directly in ``folder`` (a subpackage: its ``__init__``) that assign ``name``
+    at module level."""
     found = set()
-    for path in sorted(folder.glob("*.py")):
+    for path in sorted([*folder.glob("*.py"), *folder.glob("*/__init__.py")]):
         tree = ast.parse(path.read_text(), str(path))
         for node in tree.body:
             targets_ = node.targets if isinstance(node, ast.Assign) else [getattr(node, "target", None)]
             if any(isinstance(t, ast.Name) and t.id == name for t in targets_):
-                found.add(_module_name(path, base))
+                found.add(_module_name(path.parent if path.name == "__init__.py" else path, base))
     return found
 
 

@@ -87,7 +87,7 @@ def certificate_table(rows: list[dict[str, Any]], runs: int) -> list[str]:
         "### Certificates of the no-answers",
         "",
         f"Every final UNSAT of the examples: `catc solve --certificate` (the answer and its certificate) and "
-        f"`catc certify` (the z3 binary and cvc5 on every obligation, one process per checker), wall seconds "
+        f"`catc certify` (z3 and cvc5 on every obligation: in catc's process for a small certificate, else one process per checker), wall seconds "
         f"of each process, median of {runs} interleaved trial(s); the ratio is certify over answer (target ≤ 2).",
         "",
         "| problem | method (producer) | obligations | status | proved by | answer wall (s) | certify wall (s) | ratio |",

@@ -23,7 +23,6 @@ folder); the library never caches on its own.
 
 from __future__ import annotations
 
-import contextlib
 import io
 import os
 import pickle
@@ -33,7 +32,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from catc import ir
-from catc.frontend.stdlib_cache import StdlibCache, dump
+from catc.frontend.stdlib_cache import StdlibCache, dump, prune
 from catgrammar import limits
 
 if TYPE_CHECKING:
@@ -154,10 +153,4 @@ class ModelCache:
     def _prune(self) -> None:
         """Keep at most :data:`KEPT` entries, dropping the least recently written: every folder
         a user runs catc in adds its own, and nothing else would ever remove them."""
-        try:
-            entries = [(e.stat().st_mtime_ns, e.path) for e in os.scandir(self.folder) if e.name.startswith("model-")]
-        except OSError:
-            return
-        for _, path in sorted(entries)[: max(0, len(entries) - KEPT)]:
-            with contextlib.suppress(OSError):  # another process removed it first
-                os.unlink(path)
+        prune(self.folder, KEPT, "model-")

@@ -10,11 +10,14 @@ and their data) of the front end, the IR and the language (``catc/frontend``, ``
 not by a digest: the file name carries a CRC of it only to keep entries apart), so an edit
 to any of them is a miss.  A file that cannot be read, written or unpickled is a miss; the
 domain is then checked as usual.  Only a domain whose check reported nothing is stored, so
-a hit reports nothing either.  (No hashlib: loading OpenSSL costs a command ~3 ms.)
+a hit reports nothing either.  Entries made under other keys are kept — two checkouts or
+Python versions sharing the folder would otherwise replace each other's on every run — up to
+:data:`KEPT` in all, the most recently written.  (No hashlib: loading OpenSSL costs a command ~3 ms.)
 """
 
 from __future__ import annotations
 
+import contextlib
 import io
 import os
 import sys
@@ -104,8 +107,29 @@ class StdlibCache:
             part = path.with_name(f"{path.name}.{os.getpid()}.part")
             part.write_bytes(buffer.getvalue())
             os.replace(part, path)  # whole or not at all, whoever reads it at the same time
-            for stale in self.folder.glob(f"{name}-*.pickle"):  # made under another key
-                if stale != path and stale.name[len(name) + 1 : -len(".pickle")].isalnum():
-                    stale.unlink(missing_ok=True)
         except (OSError, pickle.PicklingError, TypeError, AttributeError, RecursionError):
             return
+        # entries made under other keys stay: two checkouts (or Python versions) sharing the
+        # folder would otherwise replace each other's on every run; the folder keeps at most
+        # KEPT, the most recently written
+        prune(self.folder, KEPT)
+
+
+#: How many entries a cache folder keeps (the most recently written), as the model cache.
+KEPT = 200
+
+
+def prune(folder: Path, kept: int, prefix: str = "") -> None:
+    """Keep at most ``kept`` finished entries (``PREFIX*.pickle``) in ``folder``, dropping the
+    least recently written: nothing else ever removes an entry whose key is gone."""
+    try:
+        entries = [
+            (e.stat().st_mtime_ns, e.path)
+            for e in os.scandir(folder)
+            if e.name.startswith(prefix) and e.name.endswith(".pickle")
+        ]
+    except OSError:
+        return
+    for _, path in sorted(entries)[: max(0, len(entries) - kept)]:
+        with contextlib.suppress(OSError):  # another process removed it first
+            os.unlink(path)

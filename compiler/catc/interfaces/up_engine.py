@@ -344,6 +344,8 @@ class _Run:
             return self.result(Status.SOLVED_SATISFICING, first, _metric(_length(first)))
         if kind == "length":
             self.say(f"catc: a shortest plan ({_length(first)} actions): optimal for plan length")
+            found = SolveResult(SolveStatus.SAT, _length(first), plan=first, sequential=True)
+            self._certificate(found, {"sequential": True, "shortest": True})  # nothing shorter (issue 31)
             return self.result(Status.SOLVED_OPTIMALLY, first, _metric(_length(first)))
         r = optimize(self.inst, horizon=horizon, sequential=True, timeout=self.remaining())
         if r.plan is None:  # the time ran out (or the solver gave up) before anything was settled

@@ -13,6 +13,7 @@ validator's, and it must equal the solver's (else: internal error).
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any, NamedTuple
 
@@ -138,6 +139,7 @@ def optimize(
     deepen_from: int | None = None,
     progress: Progress | None = None,
     tactics: Tactics = DEFAULT_TACTICS,
+    known: Sequence[Plan] = (),
 ) -> OptResult:
     """The optimum over every composition of at most ``horizon`` steps.
 
@@ -151,7 +153,10 @@ def optimize(
     strategies give the same optimum.  Below ``deepen_from`` steps of horizon (default
     :data:`DEEPEN_FROM`) ``deepen`` uses the single encoding, which is then as cheap.
     ``progress(message)`` is told what is being tried as it starts; ``tactics`` chooses
-    encodings and proofs (:class:`Tactics`)."""
+    encodings and proofs (:class:`Tactics`).  ``known``: compositions the caller already has
+    (recompose: the deployed one); when the validator accepts one and it is better than the
+    first composition found, ``deepen`` skips the refutation that could only fail — the
+    answer is the same, as that refutation's failure leads to the very next step either way."""
     say = progress or (lambda message: None)
     objectives = objectives_of(inst) if objectives is None else objectives
     softs = list(inst.problem.softs)
@@ -169,7 +174,8 @@ def optimize(
                 say(f"optimising over {k} steps")
                 at = _optimize_at(inst, objectives, softs, k, sequential, limits.deadline_at(), prune, tactics)
                 return _done(at, start)
-            return _done(_Deepening(inst, objectives, softs, k, sequential, prune, say, tactics).run(), start)
+            deepening = _Deepening(inst, objectives, softs, k, sequential, prune, say, tactics, known)
+            return _done(deepening.run(), start)
         except limits.Stopped as stop:  # encoding or validating when the time ran out
             return _done(OptResult(OptStatus.UNKNOWN, k, reason=stop.reason), start)
 
@@ -188,9 +194,11 @@ class _Deepening:
         prune: bool,
         say: Progress,
         tactics: Tactics,
+        known: Sequence[Plan] = (),
     ) -> None:
         self.inst, self.objectives, self.softs, self.k = inst, objectives, softs, k
         self.sequential, self.prune, self.say, self.tactics = sequential, prune, say, tactics
+        self.known = known
         self.start = time.perf_counter()
         self.deadline = limits.deadline_at()
         self.timings: dict[str, float] = {}
@@ -281,12 +289,25 @@ class _Deepening:
             return False
         self.values0 = scores
         self.say(f"first composition: {k0} steps; is there a better one within {self.k} steps?")
+        if any(self._better_than(plan, values0) for plan in self.known):
+            return False  # a better one is known: a refutation cannot succeed (and costs a solver)
         budget0 = max(0.25, time.perf_counter() - self.start)
         limit = _sooner(self.deadline, budget0)
         r = _better_exists(
             self.inst, self.objectives, self.softs, values0, self.k, self.sequential, limit, self.timings, self.tactics
         )
         return r is Check.UNSAT
+
+    def _better_than(self, plan: Plan, values: list[Fraction]) -> bool:
+        """Whether ``plan`` is a composition of at most ``k`` steps that the validator accepts
+        and that is lexicographically better than ``values``."""
+        if len(plan.steps) > self.k:
+            return False
+        report = validate(self.inst, plan, horizon=self.k, sequential=self.sequential)
+        if not report.ok:
+            return False
+        scores = _scores(self.inst, plan, self.objectives, self.softs, self.k, self.sequential, report)
+        return None not in scores and scores != values and _not_worse(scores, values, self.objectives)
 
     def _first_plan(self, status: OptStatus, reason: str | None = None) -> OptResult:
         """The first composition as the answer (no solver bound to compare its values with)."""

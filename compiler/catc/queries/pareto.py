@@ -18,9 +18,8 @@ from __future__ import annotations
 
 import time
 from collections.abc import Mapping
-from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Any
+from typing import Any, NamedTuple
 
 from catc import ir
 from catc.ir.numbers import decimal_text
@@ -53,8 +52,7 @@ from catc.smt.terms import App, and_, better, or_
 from catgrammar import codes, limits
 
 
-@dataclass
-class ParetoPoint:
+class ParetoPoint(NamedTuple):  # (not a dataclass: `catc pareto` does not import dataclasses)
     values: tuple[Fraction, ...]
     plan: Plan
     states: tuple = ()
@@ -69,19 +67,35 @@ class ParetoStatus(Status):
     UNKNOWN = "unknown", ExitCode.UNKNOWN
 
 
-@dataclass
 class ParetoResult(Result):
+    """The answer of :func:`pareto`; filled in as the front is found."""
+
     query = "pareto"
+    __slots__ = ("status", "objectives", "points", "complete", "horizon", "checks", "timings", "reason")
     status: ParetoStatus
-    objectives: list[ir.Objective]
-    points: list[ParetoPoint] = field(default_factory=list)
-    complete: bool = True
-    horizon: int = 0
-    checks: int = 0
-    timings: dict[str, float] = field(default_factory=dict)
-    #: why the front is incomplete: "max-points", "timeout", "interrupted", "unbounded" or
-    #: the solver's reason; None when complete
-    reason: str | None = None
+
+    def __init__(
+        self,
+        status: ParetoStatus,
+        objectives: list[ir.Objective],
+        points: list[ParetoPoint] | None = None,
+        complete: bool = True,
+        horizon: int = 0,
+        checks: int = 0,
+        timings: dict[str, float] | None = None,
+        #: why the front is incomplete: "max-points", "timeout", "interrupted", "unbounded" or
+        #: the solver's reason; None when complete
+        reason: str | None = None,
+    ) -> None:
+        self.status, self.objectives = status, objectives
+        self.points: list[ParetoPoint] = [] if points is None else points
+        self.complete, self.horizon, self.checks = complete, horizon, checks
+        self.timings: dict[str, float] = {} if timings is None else timings
+        self.reason = reason
+
+    def __repr__(self) -> str:
+        fields = ", ".join(f"{name}={getattr(self, name)!r}" for name in self.__slots__)
+        return f"ParetoResult({fields})"
 
     @property
     def settled(self) -> bool:
@@ -275,8 +289,7 @@ class _Guided:
         return _Found(tuple(b.value for b in bounds), plan, attained=False)
 
 
-@dataclass
-class _Found:
+class _Found(NamedTuple):
     values: tuple[Fraction, ...]
     plan: Plan
     attained: bool = True

@@ -10,10 +10,9 @@ from __future__ import annotations
 
 import time
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from itertools import combinations
-from typing import Any
+from typing import Any, NamedTuple
 
 from catc import ir
 from catc.present.console import Console, Table, counted
@@ -39,23 +38,35 @@ from catc.semantics.plan import Plan
 from catc.semantics.validate import validate
 from catc.semantics.witness import _candidate
 from catc.smt.consumption import FixedSet, init_value
+from catgrammar.record import replace
 
 
-@dataclass
-class ChurnItem:
+class ChurnItem(NamedTuple):  # (not a dataclass: `catc recompose` does not import dataclasses)
     morphism: str
     change: str  # "added" | "removed"
     weight: Fraction
 
 
-@dataclass
 class Recomposition(Result):
     query = "recompose"
-    result: OptResult  # the lexicographic optimisation
-    deployed: tuple[str, ...]
-    priority: str  # "stability" (churn first) | "objective"
-    churn: Fraction | None = None
-    items: list[ChurnItem] = field(default_factory=list)
+    __slots__ = ("result", "deployed", "priority", "churn", "items")
+
+    def __init__(
+        self,
+        result: OptResult,  # the lexicographic optimisation
+        deployed: tuple[str, ...],
+        priority: str,  # "stability" (churn first) | "objective"
+        churn: Fraction | None = None,
+        items: list[ChurnItem] | None = None,
+    ) -> None:
+        self.result, self.deployed, self.priority, self.churn = result, deployed, priority, churn
+        self.items: list[ChurnItem] = [] if items is None else items
+
+    def __repr__(self) -> str:
+        return (
+            f"Recomposition(result={self.result!r}, deployed={self.deployed!r}, priority={self.priority!r}, "
+            f"churn={self.churn!r}, items={self.items!r})"
+        )
 
     @property
     def status(self) -> OptStatus:  # type: ignore[override]
@@ -111,7 +122,14 @@ def recompose(
                     timeout = max(timeout - (time.perf_counter() - t0), 0.1)
     if result is None:
         result = optimize(
-            inst, order, horizon=horizon, sequential=sequential, timeout=timeout, progress=progress, tactics=tactics
+            inst,
+            order,
+            horizon=horizon,
+            sequential=sequential,
+            timeout=timeout,
+            progress=progress,
+            tactics=tactics,
+            known=_deployed_plan(inst),
         )
         if result.plan is None and fallback is not None:
             result = fallback
@@ -218,6 +236,16 @@ def _replayed(
     if not report.ok:
         return None
     return _scores(inst, plan, objectives, [], k, sequential, report), plan
+
+
+def _deployed_plan(inst: ir.Instance) -> list[Plan]:
+    """The deployed composition as it is written — its components one a step, in the order of
+    ``(:deployed ...)``, θ at their lower bounds — for :func:`optimize` to compare its first
+    composition with (``known``; the validator decides whether it is one)."""
+    bounds = frozenset(m.bound_label(p.name) for m in inst.morphisms.values() for p in m.params)
+    deployed = [m for m in inst.problem.deployed if m in inst.morphisms]
+    plan = _candidate(inst, bounds, deployed, deployed) if deployed else None
+    return [] if plan is None else [plan]
 
 
 def _best_by_search(

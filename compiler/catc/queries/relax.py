@@ -11,9 +11,8 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Any, TypeGuard
+from typing import Any, NamedTuple, TypeGuard
 
 from catc import ir
 from catc.ir.labels import LabelInfo, label_index
@@ -48,10 +47,10 @@ from catc.smt.readback import read_plan
 from catc.smt.script import SmtSort, Symbol, and_text, int_literal
 from catc.smt.terms import Term, and_, eq, ge, gt, ite, le, lt, minus, not_, plus, times, to_real, to_text
 from catgrammar import limits
+from catgrammar.record import replace
 
 
-@dataclass
-class Requirement:
+class Requirement(NamedTuple):  # (not a dataclass: `catc relax` does not import dataclasses)
     label: str
     kind: str  # "initial value" | "precondition" | "goal"
     resources: frozenset[str]
@@ -59,8 +58,7 @@ class Requirement:
     integral: bool
 
 
-@dataclass
-class Relaxation:
+class Relaxation(NamedTuple):
     label: str
     kind: str
     delta: Fraction  # signed for initial values; ≥ 0 (the weakening) for comparisons
@@ -74,25 +72,65 @@ class RelaxStatus(Status):
     UNKNOWN = "unknown", ExitCode.UNKNOWN
 
 
-@dataclass
 class RelaxResult(Result):
+    """The answer of :func:`relax`; filled in as the search goes."""
+
     query = "relax"
+    __slots__ = (
+        "status",
+        "proven",
+        "relaxations",
+        "dropped",
+        "cost",
+        "infimum",
+        "attained",
+        "plan",
+        "states",
+        "relaxed_instance",
+        "eligible",
+        "horizon",
+        "timings",
+        "reason",
+    )
     status: RelaxStatus
-    proven: bool = True  # False: the best relaxation found before the time limit
-    relaxations: list[Relaxation] = field(default_factory=list)
-    dropped: list[str] = field(default_factory=list)  # discrete variant
-    cost: Fraction | None = None  # the weighted total of the relaxations shown
-    #: the least weighted total: ``cost`` when ``attained``; otherwise approached by ever
-    #: smaller relaxations but reached by none (e.g. a goal ``(> x 5)`` from ``x = 5``)
-    infimum: Fraction | None = None
-    attained: bool = True
-    plan: Plan | None = None
-    states: tuple = ()
-    relaxed_instance: ir.Instance | None = None
-    eligible: list[Requirement] = field(default_factory=list)
-    horizon: int = 0
-    timings: dict[str, float] = field(default_factory=dict)
-    reason: str | None = None  # why the search stopped early: "timeout" or "interrupted"
+
+    def __init__(
+        self,
+        status: RelaxStatus,
+        proven: bool = True,  # False: the best relaxation found before the time limit
+        relaxations: list[Relaxation] | None = None,
+        dropped: list[str] | None = None,  # discrete variant
+        cost: Fraction | None = None,  # the weighted total of the relaxations shown
+        #: the least weighted total: ``cost`` when ``attained``; otherwise approached by ever
+        #: smaller relaxations but reached by none (e.g. a goal ``(> x 5)`` from ``x = 5``)
+        infimum: Fraction | None = None,
+        attained: bool = True,
+        plan: Plan | None = None,
+        states: tuple = (),
+        relaxed_instance: ir.Instance | None = None,
+        eligible: list[Requirement] | None = None,
+        horizon: int = 0,
+        timings: dict[str, float] | None = None,
+        reason: str | None = None,  # why the search stopped early: "timeout" or "interrupted"
+    ) -> None:
+        self.status = status
+        self.proven = proven
+        self.relaxations: list[Relaxation] = [] if relaxations is None else relaxations
+        self.dropped: list[str] = [] if dropped is None else dropped
+        self.cost = cost
+        self.infimum = infimum
+        self.attained = attained
+        self.plan = plan
+        self.states = states
+        self.relaxed_instance = relaxed_instance
+        self.eligible: list[Requirement] = [] if eligible is None else eligible
+        self.horizon = horizon
+        self.timings: dict[str, float] = {} if timings is None else timings
+        self.reason = reason
+
+    def __repr__(self) -> str:
+        fields = ", ".join(f"{name}={getattr(self, name)!r}" for name in self.__slots__)
+        return f"RelaxResult({fields})"
 
     @property
     def settled(self) -> bool:
@@ -433,22 +471,35 @@ class _SlackSearch:
         # a lower bound from counting activations (catc.smt.counting): a restoration that
         # reaches it is least without refuting every cheaper ordering
         self.lower: Fraction | bool | None = None
+        #: the consumption bound's arguments while it is not computed yet (see :meth:`_stronger`)
+        self._consumption: tuple[ir.Instance, list[Requirement], tuple[str, ...] | None] | None = None
         if counting:
-            # the consumption bound sees budget sums over competing alternatives (issue 24)
-            mine = consumption_bound(inst, reqs, components)
-            self.lower = False
-            if mine is not False:
-                self.lower = slack_lower_bound(
-                    inst,
-                    [(r.label, r.kind, r.weight) for r in reqs],
-                    components,
-                    timeout=_remaining(limits.deadline_at()),
-                    # the search's context: one Z3 context less (~7 ms); the consumption
-                    # bound keeps its own, as sharing that one changes which least
-                    # restoration the search returns on two golden examples
-                    share_with=self.feas.backend,
-                )
-                self.lower = stronger_bound(self.lower, mine)
+            self.lower = slack_lower_bound(
+                inst,
+                [(r.label, r.kind, r.weight) for r in reqs],
+                components,
+                timeout=_remaining(limits.deadline_at()),
+                # the search's context: one Z3 context less (~7 ms); the consumption
+                # bound keeps its own, as sharing that one changes which least
+                # restoration the search returns on two golden examples
+                share_with=self.feas.backend,
+            )
+            if self.lower is not False:
+                self._consumption = (inst, reqs, components)
+
+    def _stronger(self) -> Fraction | bool | None:
+        """The lower bound with the consumption bound (issue 24: it sees budget sums over
+        competing alternatives) taken in, computed on first use: only when the counting bound
+        alone does not prove the restoration found least.  It has a Z3 context of its own
+        (~8 ms to make), which a restoration meeting the counting bound — most of them, as
+        ``catc relax examples/lifelong/budget-cut.cat`` — never needs.  Computing it later
+        changes no answer: its context is not the search's, and where it is False (no
+        restoration) the search's first check is UNSAT as well, the same answer."""
+        if self._consumption is not None:
+            inst, reqs, components = self._consumption
+            self._consumption = None
+            self.lower = stronger_bound(self.lower, consumption_bound(inst, reqs, components))
+        return self.lower
 
     def run(self, deadline: float | None, say: Callable[[str], None]) -> tuple[_Found | None, bool, bool]:
         """The best relaxation found, whether it is proven least, and whether the search space
@@ -475,14 +526,15 @@ class _SlackSearch:
                 best = found
             if best.attained and best.infimum == 0:
                 return best, True, False
-            if best.attained and _is_bound(self.lower) and best.infimum <= self.lower:
+            if best.attained and self._meets(best.infimum):
                 say(
                     f"best restoration so far: weighted total {best.infimum}; least: it meets the lower bound "
                     "from counting activations"
                 )
                 return best, True, False
-            if not jumped and best.attained and _is_bound(self.lower) and self.lower > 0:
-                jumped, at_bound = True, self._at_bound(self.lower, deadline)
+            lower = self._stronger() if not jumped and best.attained else None
+            if _is_bound(lower) and lower > 0:
+                jumped, at_bound = True, self._at_bound(lower, deadline)
                 if at_bound is not None:  # instead of descending one restoration at a time
                     say(f"restoration of weighted total {at_bound.infimum}: least, it meets the lower bound")
                     return at_bound, True, False
@@ -494,6 +546,15 @@ class _SlackSearch:
                 feas.assert_term(le(self.feas_cost, best.infimum))
             if not found.attained:
                 feas.assert_term(not_(and_(*skeleton)) if skeleton else False)
+
+    def _meets(self, total: Fraction) -> bool:
+        """Whether ``total`` is at the lower bound: first against the counting bound alone (a
+        total at or below it is at the stronger bound too, both being sound), then with the
+        consumption bound taken in."""
+        if _is_bound(self.lower) and total <= self.lower:
+            return True
+        lower = self._stronger()
+        return _is_bound(lower) and total <= lower
 
     def _at_bound(self, lower: Fraction, deadline: float | None) -> _Found | None:
         """A restoration of weighted total ``lower`` (the proven lower bound), or None."""
@@ -538,8 +599,7 @@ def _is_bound(lower: Fraction | bool | None) -> TypeGuard[Fraction]:
     return isinstance(lower, Fraction)
 
 
-@dataclass
-class _Found:
+class _Found(NamedTuple):
     """One skeleton's least slack: ``cost`` is the weighted total of the restoration shown
     (``values``, ``plan``); ``infimum`` the least total over the skeleton, ``attained``
     whether some restoration reaches it (then ``cost == infimum``)."""

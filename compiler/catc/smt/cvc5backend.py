@@ -176,3 +176,29 @@ def _numeral(text: str) -> Fraction:
 def _sort_of(t: Any) -> SmtSort:
     sort = t.getSort()
     return SmtSort.BOOL if sort.isBoolean() else SmtSort.INT if sort.isInteger() else SmtSort.REAL
+
+
+def answer_file(path: str, milliseconds: int, manager: Any = None) -> str:
+    """cvc5's own answer on the SMT-LIB2 script ``path`` (its parser, a fresh solver, at most
+    ``milliseconds`` per query): ``sat``, ``unsat`` or ``unknown`` — what ``catc certify``
+    asks of an independent checker (it reads the text, never catc's terms); ``error`` when
+    the script has no answer.  ``manager``: a ``cvc5.TermManager`` to share between calls."""
+    tm = manager if manager is not None else cvc5.TermManager()
+    slv = cvc5.Solver(tm)
+    slv.setOption("tlimit-per", str(max(1, milliseconds)))
+    sm = cvc5.SymbolManager(tm)
+    parser = cvc5.InputParser(slv, sm)
+    parser.setFileInput(cvc5.InputLanguage.SMT_LIB_2_6, path)
+    answer = "error"
+    while True:
+        cmd = parser.nextCommand()
+        if cmd.isNull():
+            return answer
+        said = cmd.invoke(slv, sm).split()  # "unknown (TIMEOUT)": the first word
+        if said and said[0] in ("sat", "unsat", "unknown"):
+            answer = said[0]
+
+
+def term_manager() -> Any:
+    """A ``cvc5.TermManager`` for :func:`answer_file`."""
+    return cvc5.TermManager()

@@ -256,3 +256,15 @@ class Z3Backend(Backend):
         vector = handle.upper_values() if self._max[id(handle)] else handle.lower_values()
         infinite, value, epsilon = (to_fraction(vector[i]) for i in range(3))
         return Bound(int(infinite), value, epsilon)
+
+
+def answer_file(path: str, milliseconds: int) -> str:
+    """Z3's own answer on the SMT-LIB2 script ``path`` (its parser on the text, a fresh
+    context, at most ``milliseconds``): ``sat``, ``unsat`` or ``unknown`` — what ``catc
+    certify`` asks of an independent checker (it reads the text, never catc's terms).  The
+    script's assertions are checked once (its ``(check-sat)``)."""
+    ctx = z3.Context()
+    solver = z3.Solver(ctx=ctx)
+    solver.set("timeout", max(1, milliseconds))
+    solver.from_file(path)
+    return str(solver.check())
