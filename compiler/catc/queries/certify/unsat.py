@@ -327,6 +327,7 @@ def state_bounded_obligations(inst: ir.Instance, horizon: int, sequential: bool)
 def certificate(inst: ir.Instance, result: Any) -> dict:
     """The certificate of ``result``, a final "no" of ``catc solve`` (NotCertifiable
     otherwise)."""
+    from catc.queries.certify.finals import simple_path_certificate, sum_certificate
     from catc.semantics.horizon import use_bound
     from catc.semantics.relaxed import RelaxedAnalysis
 
@@ -343,6 +344,9 @@ def certificate(inst: ir.Instance, result: Any) -> dict:
         found = _state_bounded(inst, doc, result) if found is None else found
         if found is None:
             raise NotCertifiable("only a final UNSAT answer (no composition of any length) carries a certificate")
+        return found
+    found = simple_path_certificate(doc, inst, result)  # no path of t steps visits no state twice
+    if found is not None:
         return found
     analysis = RelaxedAnalysis(inst, _everything())
     if analysis.refutation is not None and len(analysis.state) == len(inst.resources):
@@ -364,6 +368,9 @@ def certificate(inst: ir.Instance, result: Any) -> dict:
         doc["bounds"] = claims
         doc["obligations"] = consumption_obligations(inst)
         return _produced(doc, producer)
+    found = sum_certificate(doc, inst, result)
+    if found is not None:
+        return found
     if result.sequential and (getattr(result, "reason", None) or "").startswith("forward search"):
         found = _reachable(inst, doc, result)
         if found is None:
