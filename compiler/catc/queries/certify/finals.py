@@ -124,7 +124,7 @@ def sums_json(inst: ir.Instance) -> dict | None:
             for members, total, sign in sums
         ],
         "ranges": {n: [text(lo), text(hi)] for n, (lo, hi) in rng.items() if lo is not None or hi is not None},
-        "constants": {n: str(Fraction(v)) for n, v in numbers.items() if n not in written},
+        "constants": {n: str(Fraction(str(v))) for n, v in numbers.items() if n not in written},
     }
 
 
