@@ -124,7 +124,7 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any], given: Sequence[ir.Obje
     elif method == "simple-path":
         built = expected_simple_path(inst, doc, horizon)
     elif method == "conserved-sum":
-        built = sum_obligations(inst, _read_sums(inst, doc.get("invariant")), horizon, bool(doc.get("sequential")))
+        built = sum_obligations(inst, _read_sums(inst, doc.get("conserved")), horizon, bool(doc.get("sequential")))
     elif method == "shortest":
         built = shortest_obligations(inst, horizon, bool(doc.get("sequential")))
         return {o["name"]: o["smtlib"] for o in built} | {"witness": ""}

@@ -213,6 +213,6 @@ def sum_certificate(doc: dict[str, Any], inst: ir.Instance, result: Any) -> dict
         return None
     sequential = bool(result.sequential)
     doc = doc | {"answer": "unsat", "method": "conserved-sum", "producer": "catc.bounds", "horizon": result.horizon}
-    doc |= {"sequential": sequential, "invariant": spec}
+    doc |= {"sequential": sequential, "conserved": spec}
     doc["obligations"] = sum_obligations(inst, spec, result.horizon, sequential)
     return _produced(doc, "catc.bounds")
