@@ -214,3 +214,14 @@ def test_the_new_kinds_follow_the_schema():
     schema = json.loads((ROOT / "docs/schemas/catc.certificate-1.json").read_text())
     for doc in (token_no()[2], certificate(*farms_no())):
         jsonschema.validate(json.loads(json.dumps(doc)), schema)
+
+
+def test_an_exists_step_answer_is_certified_with_sequential_steps():
+    """--exists-step: the same line, ∃-steps of a fixed order; the certificate is written
+    for sequential steps (a sequential path is an ∃-step one of one activation per step, so
+    the ∃-step UNSATs imply the sequential ones) and both solvers prove it."""
+    inst = _token("(and p1 p2)")
+    result = solve(inst, horizon=30, exists_step=True)
+    doc = certificate(inst, result)
+    assert (doc["method"], doc["sequential"], doc["steps"]) == ("simple-path", True, result.simple_path)
+    assert certify(inst, doc).status is CertifyStatus.CERTIFIED
