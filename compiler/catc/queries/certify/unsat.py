@@ -384,7 +384,8 @@ def certificate(inst: ir.Instance, result: Any) -> dict:
         return found
     raise NotCertifiable(
         "this UNSAT was proven neither by relaxed reachability at its fixpoint, nor by the step encoding at a "
-        "complete horizon, nor by the consumption abstraction or the forward search: no certificate yet"
+        "complete horizon, nor by the consumption abstraction, a conserved sum, the absence of a path visiting no "
+        "state twice or the forward search: no certificate yet"
     )
 
 
