@@ -21,7 +21,7 @@ composition is an ∃-step one of one activation per step, so both obligations h
 they hold for ∃-steps.
 
 **conserved-sum**: an inductive invariant over the unrelaxed one-step encoding, written and
-checked as the relaxation's (:func:`catc.queries.certify.unsat._inductive`: initiation,
+checked as the relaxation's (:func:`catc.queries.certify.document._inductive`: initiation,
 consecution, goal exclusion): every conserved sum Σ_S ≤ Σ₀ (or ≥) of
 :func:`catc.semantics.bounds.conserved_sums`, every bound of
 :func:`catc.semantics.bounds.numeric_ranges`, and every numeric resource no morphism writes
@@ -37,7 +37,7 @@ from typing import Any
 from catc import ir
 from catc.ir import SortKind
 from catc.queries.base import InputError
-from catc.queries.certify.document import _header, _number, _obligation, _produced, _script
+from catc.queries.certify.document import _header, _inductive, _number, _obligation, _produced, _script
 from catgrammar import codes
 
 # -- the recurrence diameter
@@ -195,8 +195,6 @@ def _sums_text(enc: Any, spec: Mapping[str, Any], state: Mapping[str, Any]) -> s
 
 def sum_obligations(inst: ir.Instance, spec: Mapping[str, Any], horizon: int, sequential: bool) -> list[dict]:
     """Initiation, consecution and goal exclusion of the conserved-sum invariant ``spec``."""
-    from catc.queries.certify.unsat import _inductive
-
     return _inductive(inst, horizon, sequential, lambda enc, state: _sums_text(enc, spec, state))
 
 
