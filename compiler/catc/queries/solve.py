@@ -82,6 +82,7 @@ class SolveResult(Result):
         "backend",
         "refutation",
         "shortest",
+        "simple_path",
     )
     status: SolveStatus
 
@@ -117,6 +118,9 @@ class SolveResult(Result):
         #: False when the plan is the forward greedy search's, not proven shortest (``greedy``,
         #: or ``search`` when the time ran out before A* settled it)
         self.shortest = True
+        #: t when the UNSAT is final because no path of t steps visits no state twice
+        #: (:meth:`_Search._no_simple_path`; its certificate, catc.queries.certify.finals)
+        self.simple_path: int | None = None
 
     def __repr__(self) -> str:
         return f"SolveResult({self.status.name}, horizon={self.horizon}, plan={self.plan!r})"
@@ -461,6 +465,7 @@ class _Search:
             self._end_check()
             if result is None and loops and _loop_check_at(t) and self._no_simple_path(t):
                 result = SolveResult(SolveStatus.UNSAT, self.k, final=True, length_bound=self.bound)
+                result.simple_path = t
                 result.reason = (
                     f"no path of {counted(t, 'step')} visits no state twice, so some shortest composition, "
                     f"if any, has fewer steps, and none within {counted(t - 1, 'step')} exists"

@@ -13,6 +13,11 @@ SMT-LIB2 front end, each in a process of its own with a time limit, or ``catc.va
   ``Init ∧ ¬Inv``, ``Inv ∧ Step ∧ ¬Inv′`` and ``Inv ∧ Goal``, each unsat;
 * a final UNSAT by **the step encoding at a complete horizon**: the bounded problem (``catc
   compile``'s text) unsat, and the horizon complete (Σ uses, a linear-arithmetic obligation);
+* a final UNSAT by **no path of t steps visiting no state twice** (the recurrence diameter):
+  that path, unsat, and the bounded problem at t − 1, unsat (``simple-path``,
+  :mod:`catc.queries.certify.finals`);
+* a final UNSAT by **a conserved sum**: the sums, the numeric ranges and the unwritten numbers
+  as an inductive invariant of the one-step encoding (``conserved-sum``);
 * a **core** (``catc diagnose``): diagnose's labelled formula with the core enforced, unsat,
   and per member a witness composition of the rest (or a ``sat`` obligation);
 * a **least restoration** (``catc relax``): the witness on the relaxed model with its
@@ -57,6 +62,8 @@ from catc.queries.certify.document import CHECK_TIMEOUT as CHECK_TIMEOUT
 from catc.queries.certify.document import SCHEMA as SCHEMA
 from catc.queries.certify.document import NotCertifiable as NotCertifiable
 from catc.queries.certify.document import read_certificate as read_certificate
+from catc.queries.certify.finals import simple_path_obligations as simple_path_obligations
+from catc.queries.certify.finals import sum_obligations as sum_obligations
 from catc.queries.certify.optimal import least_certificate as least_certificate
 from catc.queries.certify.optimal import least_obligation as least_obligation
 from catc.queries.certify.optimal import objective_texts as objective_texts

@@ -28,6 +28,7 @@ from catc.queries.certify.document import (
     _significant,
     read_certificate,
 )
+from catc.queries.certify.finals import _read_sums, expected_simple_path, sum_obligations
 from catc.queries.certify.optimal import (
     _objectives,
     _pareto_objectives,
@@ -120,6 +121,10 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any], given: Sequence[ir.Obje
         if states is None or doc.get("state_count") != states or horizon < states - 1:
             return {}  # the model does not have that few states: the horizon is not complete
         built = state_bounded_obligations(inst, horizon, bool(doc.get("sequential")))
+    elif method == "simple-path":
+        built = expected_simple_path(inst, doc, horizon)
+    elif method == "conserved-sum":
+        built = sum_obligations(inst, _read_sums(inst, doc.get("conserved")), horizon, bool(doc.get("sequential")))
     elif method == "shortest":
         built = shortest_obligations(inst, horizon, bool(doc.get("sequential")))
         return {o["name"]: o["smtlib"] for o in built} | {"witness": ""}

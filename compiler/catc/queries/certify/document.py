@@ -60,6 +60,46 @@ def _obligation(name: str, proves: str, smtlib: str) -> dict:
     return {"name": name, "proves": proves, "expect": "unsat", "checkers": list(CHECKERS), "smtlib": smtlib}
 
 
+def _inductive(inst: ir.Instance, horizon: int, sequential: bool, inv_of: Any) -> list[dict]:
+    """Initiation, consecution and goal exclusion of the invariant ``inv_of(encoder, state
+    variables)`` over the unrelaxed one-step encoding (parallel, or ``sequential``)."""
+    from catc.smt.encoder import Encoder
+    from catc.smt.script import at_most
+
+    enc = Encoder(inst, max(horizon, 1), sequential=sequential)
+    decls0, asserts0 = enc.script.take()
+    base = [s.declaration() for s in decls0]
+    state = [a for label, a in asserts0 if not (label or "").startswith("init/")]
+    init = [a for label, a in asserts0 if (label or "").startswith("init/")]
+    enc.add_step()
+    decls1, asserts1 = enc.script.take()
+    step = [a for _, a in asserts1]
+    step += [at_most([enc.act[0][m.name]], 0) for m in inst.morphisms.values() if m.uses == 0]
+    inv0, inv1 = inv_of(enc, enc.states[0]), inv_of(enc, enc.states[1])
+    goal = [c for _, c in enc.goal_constraints(0)]
+    return [
+        _obligation(
+            "initiation",
+            "the initial state satisfies the invariant (Init ⇒ Inv)",
+            _script(_header(inst, "initiation: Init ∧ ¬Inv is unsat"), base, [*state, *init, f"(not {inv0})"]),
+        ),
+        _obligation(
+            "consecution",
+            "one step of the unrelaxed encoding keeps the invariant (Inv ∧ Step ⇒ Inv′)",
+            _script(
+                _header(inst, "consecution: Inv ∧ Step ∧ ¬Inv′ is unsat"),
+                base + [s.declaration() for s in decls1],
+                [*state, inv0, *step, f"(not {inv1})"],
+            ),
+        ),
+        _obligation(
+            "goal",
+            "no state satisfying the invariant satisfies the goal (Inv ∧ Goal ⇒ ⊥)",
+            _script(_header(inst, "goal: Inv ∧ Goal is unsat"), base, [*state, inv0, *goal]),
+        ),
+    ]
+
+
 WITNESS = "catc.validator"  # the checker of a witness composition
 
 

@@ -20,6 +20,7 @@ from catc.queries.certify.document import (
     SEARCH,
     NotCertifiable,
     _header,
+    _inductive,
     _number,
     _obligation,
     _pair,
@@ -120,46 +121,6 @@ def invariant_obligations(inst: ir.Instance, inv: Mapping[str, Mapping[str, Any]
     """Initiation, consecution and goal exclusion of ``inv`` over the unrelaxed one-step
     encoding (the symbolic universes of ``horizon``)."""
     return _inductive(inst, horizon, False, lambda enc, state: invariant_text(enc, inv, state))
-
-
-def _inductive(inst: ir.Instance, horizon: int, sequential: bool, inv_of: Any) -> list[dict]:
-    """Initiation, consecution and goal exclusion of the invariant ``inv_of(encoder, state
-    variables)`` over the unrelaxed one-step encoding (parallel, or ``sequential``)."""
-    from catc.smt.encoder import Encoder
-    from catc.smt.script import at_most
-
-    enc = Encoder(inst, max(horizon, 1), sequential=sequential)
-    decls0, asserts0 = enc.script.take()
-    base = [s.declaration() for s in decls0]
-    state = [a for label, a in asserts0 if not (label or "").startswith("init/")]
-    init = [a for label, a in asserts0 if (label or "").startswith("init/")]
-    enc.add_step()
-    decls1, asserts1 = enc.script.take()
-    step = [a for _, a in asserts1]
-    step += [at_most([enc.act[0][m.name]], 0) for m in inst.morphisms.values() if m.uses == 0]
-    inv0, inv1 = inv_of(enc, enc.states[0]), inv_of(enc, enc.states[1])
-    goal = [c for _, c in enc.goal_constraints(0)]
-    return [
-        _obligation(
-            "initiation",
-            "the initial state satisfies the invariant (Init ⇒ Inv)",
-            _script(_header(inst, "initiation: Init ∧ ¬Inv is unsat"), base, [*state, *init, f"(not {inv0})"]),
-        ),
-        _obligation(
-            "consecution",
-            "one step of the unrelaxed encoding keeps the invariant (Inv ∧ Step ⇒ Inv′)",
-            _script(
-                _header(inst, "consecution: Inv ∧ Step ∧ ¬Inv′ is unsat"),
-                base + [s.declaration() for s in decls1],
-                [*state, inv0, *step, f"(not {inv1})"],
-            ),
-        ),
-        _obligation(
-            "goal",
-            "no state satisfying the invariant satisfies the goal (Inv ∧ Goal ⇒ ⊥)",
-            _script(_header(inst, "goal: Inv ∧ Goal is unsat"), base, [*state, inv0, *goal]),
-        ),
-    ]
 
 
 def consumption_obligations(inst: ir.Instance) -> list[dict]:
@@ -327,6 +288,7 @@ def state_bounded_obligations(inst: ir.Instance, horizon: int, sequential: bool)
 def certificate(inst: ir.Instance, result: Any) -> dict:
     """The certificate of ``result``, a final "no" of ``catc solve`` (NotCertifiable
     otherwise)."""
+    from catc.queries.certify.finals import simple_path_certificate, sum_certificate
     from catc.semantics.horizon import use_bound
     from catc.semantics.relaxed import RelaxedAnalysis
 
@@ -343,6 +305,9 @@ def certificate(inst: ir.Instance, result: Any) -> dict:
         found = _state_bounded(inst, doc, result) if found is None else found
         if found is None:
             raise NotCertifiable("only a final UNSAT answer (no composition of any length) carries a certificate")
+        return found
+    found = simple_path_certificate(doc, inst, result)  # no path of t steps visits no state twice
+    if found is not None:
         return found
     analysis = RelaxedAnalysis(inst, _everything())
     if analysis.refutation is not None and len(analysis.state) == len(inst.resources):
@@ -364,6 +329,9 @@ def certificate(inst: ir.Instance, result: Any) -> dict:
         doc["bounds"] = claims
         doc["obligations"] = consumption_obligations(inst)
         return _produced(doc, producer)
+    found = sum_certificate(doc, inst, result)
+    if found is not None:
+        return found
     if result.sequential and (getattr(result, "reason", None) or "").startswith("forward search"):
         found = _reachable(inst, doc, result)
         if found is None:
@@ -377,7 +345,8 @@ def certificate(inst: ir.Instance, result: Any) -> dict:
         return found
     raise NotCertifiable(
         "this UNSAT was proven neither by relaxed reachability at its fixpoint, nor by the step encoding at a "
-        "complete horizon, nor by the consumption abstraction or the forward search: no certificate yet"
+        "complete horizon, nor by the consumption abstraction, a conserved sum, the absence of a path visiting no "
+        "state twice or the forward search: no certificate yet"
     )
 
 
