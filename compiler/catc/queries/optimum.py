@@ -20,7 +20,7 @@ from typing import Any, NamedTuple
 from catc import ir
 from catc.ir.numbers import number_text, ratio_text
 from catc.queries.base import ExitCode, Progress, Result, Status
-from catc.queries.churn_search import tightened
+from catc.queries.churn_search import churn_floor_refutes, tightened
 from catc.queries.solve import SolveStatus, solve
 from catc.semantics.compositions import canonical_fresh, drop_idle_steps, prune_plan
 from catc.semantics.horizon import horizon_of
@@ -463,7 +463,9 @@ def _better_exists(
     the counting relaxation's proof runs on the instance with its invariants made explicit
     (:func:`~catc.queries.churn_search.tightened`: same valid compositions), which proves
     the search-and-rescue mission's event IV in milliseconds where the SMT check takes
-    seconds (docs/benchmarks.md).  ``share_with``: a backend whose Z3 context the counting
+    seconds (docs/benchmarks.md); and before that, where it applies, the solver-free bound of
+    a churn kept at 0 (:func:`~catc.queries.churn_search.churn_floor_refutes`: recompose when
+    nothing changes, as on lifelong/cheaper-camera).  ``share_with``: a backend whose Z3 context the counting
     proof's solver shares (one context fewer to make; an UNSAT answer does not depend on it)."""
     t0 = time.perf_counter()
     if _expired(deadline):  # stopped (Ctrl-C or the time limit): no new proof is started
@@ -471,8 +473,11 @@ def _better_exists(
     if (
         tactics.counting_proofs
         and not softs
-        and better_refuted(
-            tightened(inst), objectives, values, timeout=limits.for_check(deadline), share_with=share_with
+        and (
+            churn_floor_refutes(inst, objectives, values)  # recompose keeping its deployed set: no solver
+            or better_refuted(
+                tightened(inst), objectives, values, timeout=limits.for_check(deadline), share_with=share_with
+            )
         )
     ):
         timings["solve"] += time.perf_counter() - t0  # proved by counting activations (catc.smt.counting)
