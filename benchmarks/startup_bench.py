@@ -1,7 +1,7 @@
 """Every query as a whole process against a hand-written Z3 script, side by side in one run
 (the target: each ≤ 1.2× its yardstick; docs/benchmarks.md, "Start-up of every query").
 
-    python benchmarks/startup_bench.py [--runs N] [--no-compile] [--against OTHER-CHECKOUT]
+    python benchmarks/startup_bench.py [--runs N] [--no-compile] [--against OTHER-CHECKOUT] [--only TEXT]
 
 Each row is one ``catc`` command line, run as ``python -m catc ...`` (which enters
 :func:`catc.interfaces.entry.main` as the installed ``catc`` script does), and its yardstick:
@@ -96,13 +96,22 @@ def main() -> None:
         help="also run each catc command from this other checkout (e.g. the main branch's), interleaved in the "
         "same rounds; it is byte-compiled into a private folder (PYTHONPYCACHEPREFIX), its checkout is not written",
     )
+    ap.add_argument(
+        "--only",
+        metavar="TEXT",
+        help="only the rows whose label contains TEXT (e.g. recompose): fewer processes a round on a busy machine",
+    )
     args = ap.parse_args()
+    rows = [row for row in ROWS if args.only is None or args.only in row[0]]
+    if not rows:
+        raise SystemExit(f"no row's label contains {args.only!r}")
     if not args.no_compile:
         compile_catc()  # this tree; the other one below, into a folder of its own
     print(
         f"command: python benchmarks/startup_bench.py --runs {args.runs}"
         + (" --no-compile" if args.no_compile else "")
         + (f" --against {args.against}" if args.against else "")
+        + (f" --only {args.only}" if args.only else "")
     )
     print(f"machine: {cpu_text()}\n")
 
@@ -145,7 +154,7 @@ def main() -> None:
         plan.write_text(solved.stdout)
 
         commands: dict[str, tuple[list[str], dict[str, str] | None]] = {}
-        for label, words, expected, script in ROWS:
+        for label, words, expected, script in rows:
             catc_cmd = CATC + [str(plan) if w == "PLAN" else w for w in words]
             yard = [PY, f"benchmarks/reference/{script}"] if script else [PY, "-c", FLOOR]
             runs = [(side, catc_cmd, expected, envs[side]) for side in trees] + [("yard", yard, 0, None)]
@@ -191,7 +200,7 @@ def main() -> None:
         )
 
     worst = 0.0
-    for label, _, _, script in ROWS:
+    for label, _, _, script in rows:
         cw, yw = series(f"catc {label}", wall), series(f"yard {label}", wall)
         cc, yc = series(f"catc {label}", cpu), series(f"yard {label}", cpu)
         wr, cr = ratios("catc", label)

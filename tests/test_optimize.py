@@ -173,7 +173,7 @@ def test_deepen_falls_back_to_the_whole_horizon_when_no_refutation_comes(tmp_pat
 
     calls = []
 
-    def no_refutation(inst, objectives, softs, values, k, sequential, deadline, timings, tactics):
+    def no_refutation(inst, objectives, softs, values, k, sequential, deadline, timings, tactics, share_with=None):
         calls.append(values)
         if behaviour == "runs out of its budget" and deadline is not None:
             _time.sleep(max(0.0, deadline - _time.perf_counter()))
@@ -192,7 +192,7 @@ def test_deepen_at_the_deadline_reports_the_short_optimum_as_best_found(tmp_path
 
     import catc.queries.optimum as opt
 
-    def slow(inst, objectives, softs, values, k, sequential, deadline, timings, tactics):
+    def slow(inst, objectives, softs, values, k, sequential, deadline, timings, tactics, share_with=None):
         _time.sleep(max(0.0, deadline - _time.perf_counter()))
         return Check.UNKNOWN
 

@@ -35,9 +35,9 @@ def _run(monkeypatch, inst, order, known):
     """The answer, and the values each refutation was asked to beat."""
     asked = []
 
-    def counted(inst, objectives, softs, values, *rest):
+    def counted(inst, objectives, softs, values, *rest, **options):
         asked.append(list(values))
-        return REFUTE(inst, objectives, softs, values, *rest)
+        return REFUTE(inst, objectives, softs, values, *rest, **options)
 
     monkeypatch.setattr(optimum, "_better_exists", counted)
     return optimize(inst, order, known=known), asked

@@ -46,7 +46,7 @@ from fractions import Fraction
 from catc import ir
 from catc.semantics.bounds import ranges
 from catc.semantics.validate import EvaluationError, evaluate, initial_state
-from catc.smt.consumption import Atom, FixedSet, _givers, _holds, init_value, overdrawing
+from catc.smt.consumption import Atom, FixedSet, _amounts, _givers, _holds, init_value, overdrawing
 from catgrammar.record import replace
 
 #: The most branches :func:`best_set` tries before it gives up (no claim).
@@ -426,6 +426,41 @@ class _Search:
             Fraction(k, self.wscale) if r is None else Fraction(k, self.scale[r]) for r, k in zip(self.slots, key)
         )
         return order, values, proven
+
+
+def churn_floor_refutes(inst: ir.Instance, objectives: Sequence[ir.Objective], values: Sequence[Fraction]) -> bool:
+    """True when no composition is lexicographically better than ``values`` for a churn
+    minimised first at 0 (issue 23: recompose proves its optimum without a solver when
+    nothing changes).  No churn weight is negative, so no composition has a churn below 0;
+    one of churn 0 fires every deployed component of positive weight at least once (one
+    not fired is removed).  Each later objective must maximise a numeric resource with a
+    constant initial value that only ``decrease`` effects change, each by a constant ≥ 0
+    or by a θ of lower bound ≥ 0 (the least a firing takes: :func:`_amounts`); its final
+    value is then at most the initial value less what those deployed components take once
+    each.  When every such bound is at most the given value, nothing of churn 0 is better
+    in any objective, and nothing else is better at all.  False: no claim.  The caller
+    excludes soft constraints (their penalties would join the first objective)."""
+    if not objectives or len(values) != len(objectives):
+        return False
+    first, *rest = objectives
+    if first.sense is not ir.Sense.MINIMIZE or not isinstance(first.term, ir.TotalChurn) or values[0] != 0:
+        return False
+    if any(m.churn < 0 for m in inst.morphisms.values()):
+        return False
+    fired = [m for m in set(inst.problem.deployed) if m in inst.morphisms and inst.morphisms[m].churn > 0]
+    for o, value in zip(rest, values[1:]):
+        term = o.term
+        if o.sense is not ir.Sense.MAXIMIZE or not isinstance(term, ir.ResourceRef):
+            return False
+        res, init = inst.resources.get(term.name), inst.problem.init.get(term.name)
+        if res is None or not res.sort.is_numeric or init is None or not isinstance(init.value, ir.Const):
+            return False
+        amounts = _amounts(inst, term.name)
+        if amounts is None:
+            return False
+        if init_value(inst, term.name) - sum((amounts.get(m, Fraction(0)) for m in fired), Fraction(0)) > value:
+            return False
+    return True
 
 
 def tightened(inst: ir.Instance) -> ir.Instance:

@@ -20,7 +20,7 @@ from typing import Any, NamedTuple
 from catc import ir
 from catc.ir.numbers import number_text, ratio_text
 from catc.queries.base import ExitCode, Progress, Result, Status
-from catc.queries.churn_search import tightened
+from catc.queries.churn_search import churn_floor_refutes, tightened
 from catc.queries.solve import SolveStatus, solve
 from catc.semantics.compositions import canonical_fresh, drop_idle_steps, prune_plan
 from catc.semantics.horizon import horizon_of
@@ -204,6 +204,9 @@ class _Deepening:
         self.timings: dict[str, float] = {}
         self.values0: list[Fraction | None] | None = None  # the first composition's values
         self.short: OptResult | None = None  # the optimum over the first composition's length
+        # the optimiser of that optimum, whose Z3 context the race's proofs share (its answer is
+        # read by then: a proof's terms in its context change no composition; one context less)
+        self.solvers: list[Backend] = []
 
     def run(self) -> OptResult:
         inst, k = self.inst, self.k
@@ -240,7 +243,11 @@ class _Deepening:
             return self._first_plan(OptStatus.OPT)
         self.say(f"optimising over {k0} steps")
         expired = _expired(self.deadline)
-        short = None if expired else _optimize_at(inst, *self._args(k0), self.deadline, self.prune, self.tactics)
+        short = (
+            None
+            if expired
+            else _optimize_at(inst, *self._args(k0), self.deadline, self.prune, self.tactics, self.solvers)
+        )
         if short is None or (short.plan is None and _expired(self.deadline)):
             # out of time: the first composition is the best known
             return self._first_plan(OptStatus.SUBOPT, limits.stop_reason() or "timeout")
@@ -332,7 +339,16 @@ class _Deepening:
                 self.say(f"optimum over {k0} steps: {_values_text(values)}; is there a better one within {k} steps?")
                 limit = _sooner(deadline, budget)
                 r = _better_exists(
-                    inst, self.objectives, self.softs, values, k, self.sequential, limit, self.timings, self.tactics
+                    inst,
+                    self.objectives,
+                    self.softs,
+                    values,
+                    k,
+                    self.sequential,
+                    limit,
+                    self.timings,
+                    self.tactics,
+                    share_with=self.solvers[0] if self.solvers else None,
                 )
                 if r is Check.UNSAT:  # nothing better within the whole horizon: the short optimum is it
                     short.timings = self.timings
@@ -435,6 +451,7 @@ def _better_exists(
     deadline: float | None,
     timings: dict[str, float],
     tactics: Tactics,
+    share_with: Backend | None = None,
 ) -> Check:
     """Is there a composition of at most ``k`` steps lexicographically better than ``values``?
 
@@ -446,14 +463,22 @@ def _better_exists(
     the counting relaxation's proof runs on the instance with its invariants made explicit
     (:func:`~catc.queries.churn_search.tightened`: same valid compositions), which proves
     the search-and-rescue mission's event IV in milliseconds where the SMT check takes
-    seconds (docs/benchmarks.md)."""
+    seconds (docs/benchmarks.md); and before that, where it applies, the solver-free bound of
+    a churn kept at 0 (:func:`~catc.queries.churn_search.churn_floor_refutes`: recompose when
+    nothing changes, as on lifelong/cheaper-camera).  ``share_with``: a backend whose Z3 context the counting
+    proof's solver shares (one context fewer to make; an UNSAT answer does not depend on it)."""
     t0 = time.perf_counter()
     if _expired(deadline):  # stopped (Ctrl-C or the time limit): no new proof is started
         return Check.UNKNOWN
     if (
         tactics.counting_proofs
         and not softs
-        and better_refuted(tightened(inst), objectives, values, timeout=limits.for_check(deadline))
+        and (
+            churn_floor_refutes(inst, objectives, values)  # recompose keeping its deployed set: no solver
+            or better_refuted(
+                tightened(inst), objectives, values, timeout=limits.for_check(deadline), share_with=share_with
+            )
+        )
     ):
         timings["solve"] += time.perf_counter() - t0  # proved by counting activations (catc.smt.counting)
         return Check.UNSAT
@@ -482,11 +507,15 @@ def _optimize_at(
     deadline: float | None,
     prune: bool,
     tactics: Tactics,
+    solvers: list[Backend] | None = None,
 ) -> OptResult:
-    """One optimisation over an encoding of ``k`` steps (idle steps allowed)."""
+    """One optimisation over an encoding of ``k`` steps (idle steps allowed); its optimiser is
+    appended to ``solvers`` when given (for later proofs to share its context)."""
     start = time.perf_counter()
     timings = {"encode": 0.0, "solve": 0.0, "validate": 0.0}
     enc, solver = _encode_whole(inst, k, sequential, optimize=True)
+    if solvers is not None:
+        solvers.append(solver)
     handles = []
     for i, (obj, term) in enumerate(zip(objectives, _objective_terms(enc, solver, objectives, softs, k))):
         literals = []

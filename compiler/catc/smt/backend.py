@@ -164,8 +164,9 @@ def solver_memory() -> int:
 #: The solver contexts kept to the end of the process instead of being freed, in this context
 #: (None: none are): the executable's, which ends with ``os._exit`` (catc.interfaces.entry.leave)
 #: once its answer is printed, so freeing a context it made only costs time — 2–5 ms for Z3's,
-#: a few per cent of a small query.  At most :data:`KEEP_AT_MOST`, so a query that makes many
-#: contexts still frees all but the first few.
+#: a few per cent of a small query (Z3: with the first solver made in it, whose freeing costs
+#: 1–5 ms more; its memory is then held to the end, as the context's is).  At most
+#: :data:`KEEP_AT_MOST`, so a query that makes many contexts still frees all but the first few.
 _KEPT: ContextVar[list[object] | None] = ContextVar("catc_kept_contexts", default=None)
 KEEP_AT_MOST = 4
 

@@ -325,12 +325,17 @@ def _param(m: ir.Morphism, p: ir.Param) -> Value:
 
 
 def better_refuted(
-    inst: ir.Instance, objectives: list[ir.Objective], values: list[Fraction], timeout: float | None = None
+    inst: ir.Instance,
+    objectives: list[ir.Objective],
+    values: list[Fraction],
+    timeout: float | None = None,
+    share_with: Backend | None = None,
 ) -> bool:
     """True when the counting relaxation proves that no composition (of any length) is
     lexicographically better than ``values``; False when it cannot (an objective it does not
     model, or a better count vector exists).  A proof of optimality for ``catc optimize`` and
-    ``catc recompose`` that needs no refutation over every ordering."""
+    ``catc recompose`` that needs no refutation over every ordering.  ``share_with``: a backend
+    whose term store (Z3: context) its solver shares."""
     counting = _Counting(inst, [], None)
     counting.causal_constraints()
     terms = [counting.objective(o.term) for o in objectives]
@@ -343,7 +348,7 @@ def better_refuted(
         better.append(and_(*ties, (lt if obj.sense is ir.Sense.MINIMIZE else gt)(term, v)))
         ties.append(eq(term, v))
     counting.asserts.append(to_text(or_(*better)))
-    solver = open_backend(DEFAULT_BACKEND)
+    solver = open_backend(DEFAULT_BACKEND, share_with=share_with)
     solver.add(counting.decls, [(None, a) for a in counting.asserts])
     solver.set_timeout(timeout)
     return solver.check() is Check.UNSAT
