@@ -11,6 +11,7 @@ from typing import Any, Protocol
 from catc import ir
 from catc.ir import ArithOp
 from catc.ir.fold import arith
+from catc.semantics.bounds import linear
 from catc.semantics.plan import Plan
 
 
@@ -92,42 +93,12 @@ _FAR = 1 << 40  # "not reached" in h_add: larger than any sum of reached costs
 
 
 def _linear(e: ir.Expr, index: dict[str, int]) -> tuple[dict[int, Fraction], Fraction] | None:
-    """``e`` as Σ w·x + k over numeric resources, or None when it is not linear."""
-    if isinstance(e, ir.Const) and isinstance(e.value, Fraction):
-        return {}, e.value
-    if isinstance(e, ir.ResourceRef) and e.name in index:
-        return {index[e.name]: Fraction(1)}, Fraction(0)
-    if isinstance(e, ir.Arith) and e.op in (ArithOp.ADD, ArithOp.SUB, ArithOp.MUL):
-        parts = [_linear(a, index) for a in e.args]
-        if any(x is None for x in parts):
-            return None
-        if e.op is ArithOp.MUL:
-            w: dict[int, Fraction] = {}
-            k = Fraction(1)
-            for x in parts:
-                assert x is not None
-                if x[0] and w:
-                    return None  # a product of two resources
-                if x[0]:
-                    w = {i: c * k for i, c in x[0].items()}
-                    k = k * x[1]
-                else:
-                    w = {i: c * x[1] for i, c in w.items()}
-                    k = k * x[1]
-            return w, k
-        first = parts[0]
-        assert first is not None
-        w, k = dict(first[0]), first[1]
-        if e.op is ArithOp.SUB and len(parts) == 1:
-            return {i: -c for i, c in w.items()}, -k
-        sign = 1 if e.op is ArithOp.ADD else -1
-        for x in parts[1:]:
-            assert x is not None
-            for i, c in x[0].items():
-                w[i] = w.get(i, Fraction(0)) + sign * c
-            k += sign * x[1]
-        return w, k
-    return None
+    """``e`` as Σ w·x + k over the task's numeric resources (by position), or None when it is
+    not linear or reads a resource the task does not have (:func:`catc.semantics.bounds.linear`)."""
+    form = linear(e)
+    if form is None or any(n not in index for n in form[0]):
+        return None
+    return {index[n]: c for n, c in form[0].items()}, form[1]
 
 
 def _minus(
