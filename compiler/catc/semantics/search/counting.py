@@ -16,6 +16,59 @@ if TYPE_CHECKING:
     from catc.semantics.search.task import _Task
 
 
+Row = tuple[list[tuple[int, Fraction]], Callable[[State], Any]]
+
+
+def state_equation(task: _Task, atoms: _Atoms, morphisms: list[ir.Morphism]) -> tuple[list[Row], list[Row]]:
+    """The numeric state equation of operator counting, as rows ``(column, rhs)`` meaning
+    Σ_a c_a·Y_a ≥ rhs(s): one per linear goal condition Σ w·x + k ≥ 0 over numbers changed only
+    by constant increases and decreases (the goal rows), then one per bound lo ≤ x / x ≤ hi of
+    such a number (the bound rows). Any plan from ``s`` fires morphism a Y_a times and ends with
+    x + Σ_a Y_a·Δ_a(x) for each such x, so its counts satisfy every row."""
+    n_act = len(task.actions)
+    deltas: list[dict[int, Fraction]] = [{} for _ in range(n_act)]
+    counted = [k == "number" for k in task.kinds]
+    for a_i, m in enumerate(morphisms):
+        for e in m.effects:
+            i = task.index[e.resource]
+            if task.kinds[i] != "number":
+                continue
+            if e.kind is EffectKind.ASSIGN or not isinstance(e.value, ir.Const):
+                counted[i] = False
+                continue
+            c = Fraction(e.value.value)
+            deltas[a_i][i] = deltas[a_i].get(i, Fraction(0)) + (-c if e.kind is EffectKind.DECREASE else c)
+
+    def column(w: list[tuple[int, Fraction]]) -> list[tuple[int, Fraction]]:
+        out = []
+        for a_i in range(n_act):
+            c = sum((wi * deltas[a_i].get(i, 0) for i, wi in w), Fraction(0))
+            if c:
+                out.append((a_i, c))
+        return out
+
+    def rhs(w: list[tuple[int, Fraction]], k: Any) -> Callable[[State], Any]:
+        return lambda s: -k - sum((wi * s[i] for i, wi in w), 0)  # Σ w·(x + Σ c·Δ) + k ≥ 0
+
+    goal_rows: list[Row] = []
+    for atom in atoms.goal:
+        what, j = atoms.kind[atom]
+        if what != "linear":
+            continue
+        terms, k, _strict = atoms.linear[j]
+        if all(counted[i] for i, _ in terms):
+            goal_rows.append((column(terms), rhs(terms, k)))
+    bound_rows: list[Row] = []
+    for i, (lo, hi) in enumerate(task.bounds):
+        if not counted[i]:
+            continue
+        if lo is not None:
+            bound_rows.append((column([(i, Fraction(1))]), rhs([(i, Fraction(1))], -lo)))  # x ≥ lo
+        if hi is not None:
+            bound_rows.append((column([(i, Fraction(-1))]), rhs([(i, Fraction(-1))], hi)))  # x ≤ hi
+    return goal_rows, bound_rows
+
+
 class _Counting:
     """An operator-counting lower bound (Pommerening et al. 2014, the state equation over
     numbers): the least Σ c_a over real c ≥ 0, c_a standing for how often morphism a fires on
@@ -52,47 +105,10 @@ class _Counting:
     @classmethod
     def build(cls, task: _Task, atoms: _Atoms, inst: ir.Instance) -> _Counting | None:
         n_act = len(task.actions)
-        deltas: list[dict[int, Fraction]] = [{} for _ in range(n_act)]
-        counted = [k == "number" for k in task.kinds]
-        for a_i, m in enumerate(inst.domain.morphisms.values()):
-            for e in m.effects:
-                i = task.index[e.resource]
-                if task.kinds[i] != "number":
-                    continue
-                if e.kind is EffectKind.ASSIGN or not isinstance(e.value, ir.Const):
-                    counted[i] = False
-                    continue
-                c = Fraction(e.value.value)
-                deltas[a_i][i] = deltas[a_i].get(i, Fraction(0)) + (-c if e.kind is EffectKind.DECREASE else c)
-        rows: list[tuple[list[tuple[int, Fraction]], Callable[[State], Any]]] = []
-
-        def column(w: list[tuple[int, Fraction]]) -> list[tuple[int, Fraction]]:
-            out = []
-            for a_i in range(n_act):
-                c = sum((wi * deltas[a_i].get(i, 0) for i, wi in w), Fraction(0))
-                if c:
-                    out.append((a_i, c))
-            return out
-
-        def rhs(w: list[tuple[int, Fraction]], k: Any) -> Callable[[State], Any]:
-            return lambda s: -k - sum((wi * s[i] for i, wi in w), 0)  # Σ w·(x + Σ c·Δ) + k ≥ 0
-
-        for atom in atoms.goal:
-            what, j = atoms.kind[atom]
-            if what != "linear":
-                continue
-            terms, k, _strict = atoms.linear[j]
-            if all(counted[i] for i, _ in terms):
-                rows.append((column(terms), rhs(terms, k)))
-        if not rows:
+        goal_rows, bound_rows = state_equation(task, atoms, list(inst.domain.morphisms.values()))
+        if not goal_rows:
             return None
-        for i, (lo, hi) in enumerate(task.bounds):
-            if not counted[i]:
-                continue
-            if lo is not None:
-                rows.append((column([(i, Fraction(1))]), rhs([(i, Fraction(1))], -lo)))  # x ≥ lo
-            if hi is not None:
-                rows.append((column([(i, Fraction(-1))]), rhs([(i, Fraction(-1))], hi)))  # x ≤ hi
+        rows: list[Row] = goal_rows + bound_rows
         for atom in atoms.goal:
             if atoms.kind[atom][0] != "fact":
                 continue

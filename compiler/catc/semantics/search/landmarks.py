@@ -46,6 +46,7 @@ from typing import Any
 from catc import ir
 from catc.ir import EffectKind
 from catc.semantics.search.common import _constant, _reads
+from catc.semantics.search.counting import state_equation
 from catc.semantics.search.terms import _point
 
 # catc.semantics.search builds this bound, so nothing here imports it (no cycle): the task
@@ -165,48 +166,12 @@ class LandmarkCounting:
         self.pivots = PIVOTS
 
     def _numeric_rows(self, atoms: Any, morphisms: list[ir.Morphism]) -> None:
-        """The numeric state equation (as search._Counting.build)."""
-        task = self.task
-        n = len(task.actions)
-        deltas: list[dict[int, Fraction]] = [{} for _ in range(n)]
-        counted = [k == "number" for k in task.kinds]
-        for a, m in enumerate(morphisms):
-            for e in m.effects:
-                i = task.index[e.resource]
-                if task.kinds[i] != "number":
-                    continue
-                if e.kind is EffectKind.ASSIGN or not isinstance(e.value, ir.Const):
-                    counted[i] = False
-                    continue
-                c = Fraction(e.value.value)
-                deltas[a][i] = deltas[a].get(i, Fraction(0)) + (-c if e.kind is EffectKind.DECREASE else c)
-
-        def column(w: list[tuple[int, Fraction]]) -> Column:
-            out = []
-            for a in range(n):
-                c = sum((wi * deltas[a].get(i, 0) for i, wi in w), Fraction(0))
-                if c:
-                    out.append((a, c))
-            return out
-
-        def rhs(w: list[tuple[int, Fraction]], k: Any) -> Callable[[State], Any]:
-            return lambda s: -k - sum((wi * s[i] for i, wi in w), 0)
-
-        for atom in atoms.goal:
-            what, j = atoms.kind[atom]
-            if what == "linear":
-                terms, k, _strict = atoms.linear[j]
-                if all(counted[i] for i, _ in terms):
-                    self.columns.append(column(terms))
-                    self.numeric.append(rhs(terms, k))
-        self.numeric_goal = bool(self.numeric)
-        for i, (lo, hi) in enumerate(task.bounds):
-            if counted[i] and lo is not None:
-                self.columns.append(column([(i, Fraction(1))]))
-                self.numeric.append(rhs([(i, Fraction(1))], -lo))
-            if counted[i] and hi is not None:
-                self.columns.append(column([(i, Fraction(-1))]))
-                self.numeric.append(rhs([(i, Fraction(-1))], hi))
+        """The numeric state equation (:func:`~catc.semantics.search.counting.state_equation`)."""
+        goal_rows, bound_rows = state_equation(self.task, atoms, morphisms)
+        for col, rhs in goal_rows + bound_rows:
+            self.columns.append(col)
+            self.numeric.append(rhs)
+        self.numeric_goal = bool(goal_rows)
 
     def _facts(self, atoms: Any, morphisms: list[ir.Morphism]) -> None:
         """The facts: achievers, consumers, what each morphism requires, the facts all
