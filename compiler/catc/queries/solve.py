@@ -8,7 +8,11 @@ horizon with idle steps and checks once: any composition, not necessarily a shor
 but one check settles an infeasible problem, which is faster when most answers are UNSAT.
 ``strategy="search"`` (sequential steps, ground morphisms) runs the forward A* search of
 :mod:`catc.semantics.search` instead — a shortest composition, or a proof that none exists —
-and falls back to ``incremental`` where that search does not apply.
+and falls back to ``incremental`` where that search does not apply.  ``strategy="auto"`` (the
+default) chooses before anything runs (:func:`_chosen`): ``search`` where the forward search
+applies (sequential steps, no ∃-steps or warm start, a task it models: morphisms without
+parameters θ or use limits, no holes or set effects), else ``incremental`` exactly as that
+strategy answers; the answer names the strategy used.
 
 Every SAT answer is replayed by the independent validator (:mod:`catc.semantics.validate`) before it
 is returned; a rejected answer is an internal error, never shown as a composition.
@@ -126,7 +130,7 @@ class SolveResult(Result):
         return f"SolveResult({self.status.name}, horizon={self.horizon}, plan={self.plan!r})"
 
 
-STRATEGIES = ("incremental", "single", "search", "greedy")
+STRATEGIES = ("auto", "incremental", "single", "search", "greedy")
 
 
 def solve(
@@ -136,7 +140,7 @@ def solve(
     sequential: bool = False,
     timeout: float | None = None,
     progress: Progress | None = None,
-    strategy: str = "incremental",
+    strategy: str = "auto",
     validate_answer: bool = True,
     prune: bool = True,
     backend: str = DEFAULT_BACKEND,
@@ -145,20 +149,20 @@ def solve(
     warm: WarmStart | None = None,
     exists_step: bool = False,
 ) -> SolveResult:
-    """The shortest composition within the horizon (``strategy="incremental"``), or any
-    composition (``"single"``), on the named backend.  ``progress(message)`` is told each
-    horizon as it is tried (``"{phase}: horizon t of k"``).  With ``presolve`` the relaxed
-    reachability analysis (:mod:`catc.semantics.relaxed`) runs first: when it proves that no
-    composition of any length exists, that is the answer (final UNSAT) and nothing is encoded.
+    """The shortest composition within the horizon (``strategy``: ``"auto"``, :func:`_chosen`;
+    ``"incremental"``; ``"search"``), or any composition (``"single"``, ``"greedy"``), on the
+    named backend.  ``progress(message)`` is told each horizon as it is tried (``"{phase}:
+    horizon t of k"``).  With ``presolve`` the relaxed reachability analysis runs first: when it
+    proves that no composition of any length exists, that is the answer (final UNSAT).
 
     ``warm`` (a :class:`WarmStart`, passed again on every call) keeps the encoding and the
     solver between calls: a problem that differs from the previous one only in its initial
     values and goal is answered on the same solver, whose initial values and goals sit behind
-    assumption literals; any other change (the domain, its objects, the horizon, the
-    semantics, the backend) encodes afresh.  The answers are the same as without it.
-    ``exists_step`` (no ``warm``): ∃-steps in the SMT search (:func:`_deepen`), whose
-    compositions are sequential ones (``sequential`` is implied: ``catc solve --exists-step``)."""
+    assumption literals; any other change (the domain, its objects, the horizon, the semantics,
+    the backend) encodes afresh; the answers are the same as without it.  ``exists_step`` (no
+    ``warm``): ∃-steps in the SMT search (:func:`_deepen`), for sequential compositions."""
     sequential = _sequential(strategy, sequential, exists_step, warm)
+    strategy = _chosen(inst, strategy, sequential, exists_step, warm)
     start = time.perf_counter()
     with limits.deadline(timeout):
         k = horizon_of(inst, horizon)
@@ -219,6 +223,35 @@ def _sequential(strategy: str, sequential: bool, exists_step: bool, warm: WarmSt
     if exists_step and warm is not None:
         raise ValueError("∃-steps (exists_step) keep no warm start")
     return sequential or exists_step
+
+
+def _chosen(inst: ir.Instance, strategy: str, sequential: bool, exists_step: bool, warm: WarmStart | None) -> str:
+    """The strategy ``auto`` stands for (any other: itself): ``search`` where the forward
+    search applies — sequential steps, neither ∃-steps nor a warm start (both belong to the
+    SMT deepening), and a task :mod:`catc.semantics.search` models (:func:`_searchable`) —
+    else ``incremental``.  Decided before anything runs, so that where the search does not
+    apply the answer is the ``incremental`` one, presolve and all (``search`` itself falls back
+    after its own presolve, which skips the consumption abstraction's shortest composition)."""
+    if strategy != "auto":
+        return strategy
+    return "search" if sequential and not exists_step and warm is None and _searchable(inst) else "incremental"
+
+
+def _searchable(inst: ir.Instance) -> bool:
+    """Whether the forward search models the task: the test its :func:`~catc.semantics.search.search`
+    makes first (the bitmask task, else the numeric one after static numbers are folded in)."""
+    from catc.semantics.search import _inline_statics, _Strips, _Task, _Unsupported
+
+    if inst.domain.holes or any(m.params or m.uses is not None for m in inst.morphisms.values()):
+        return False  # what neither task models, without building one
+    try:
+        _Strips(inst)
+    except _Unsupported:
+        try:
+            _Task(_inline_statics(inst))
+        except _Unsupported:
+            return False
+    return True
 
 
 def _deepen(
@@ -811,12 +844,15 @@ QUERY = Query(
             "strategy",
             ("--strategy",),
             Kind.CHOICE,
+            "auto: search where the forward search applies (--sequential, no --exists-step, morphisms "
+            "without parameters θ or use limits, no holes or set effects: ground tasks such as catc import "
+            "pddl writes), else incremental; --json names the strategy used. "
             "incremental: deepen the horizon one step at a time (shortest composition); "
             "single: one check of the whole horizon; search: a forward search (sequential steps, "
             "ground morphisms: greedy on h_add, then A* proves it shortest or finds a shorter one; "
             "or a proof of none), else incremental; greedy: the forward greedy search alone (any "
             "composition, not proven shortest), else incremental.",
-            default="incremental",
+            default="auto",
             choices=STRATEGIES,
             show_default=True,
         ),
