@@ -115,7 +115,28 @@ def test_an_unsolvable_ground_task_is_proven_unsolvable_by_default(tmp_path):
     The default answers UNSAT for every length (final), by the forward search."""
     pc = _corpus()
     domain, problem = _imported(tmp_path, pc.BLOCKS, pc.blocks(3, cycle=True))
-    code, doc = _solve(domain, problem, "--sequential")
+    cert = tmp_path / "proof.json"
+    code, doc = _solve(domain, problem, "--sequential", "--certificate", cert)
     assert code == 1 and doc["status"] == "unsat" and doc["strategy"] == "search"
     assert doc["unsat"]["final"] is True
     assert doc["reason"].startswith("forward search:")
+    # its certificate (the reachable states as an invariant) checks independently
+    res = run_catc("certify", domain, problem, cert, "--json")
+    assert res.exit_code == 0, res.output
+    assert json.loads(res.stdout)["status"] == "certified"
+
+
+def test_the_api_defaults_to_auto_and_solve_itself_to_incremental(tmp_path):
+    """``model.solve()`` runs through the query registry (default ``auto``), as the command
+    does; the Python function ``solve`` keeps ``incremental``, which the queries built on it
+    choose.  gripper with 2 balls: pick, pick, move, drop, drop — 5 steps either way."""
+    from catc.api import load
+
+    pc = _corpus()
+    domain, problem = _imported(tmp_path, pc.GRIPPER, pc.gripper(2))
+    model = load(domain, problem)
+    by_api = model.solve(sequential=True)
+    assert by_api.strategy == "search" and by_api.status is SolveStatus.SAT
+    assert by_api.plan is not None and len(by_api.plan.steps) == 5
+    plain = solve(model.instance, sequential=True)
+    assert plain.strategy == "incremental" and plain.plan is not None and len(plain.plan.steps) == 5

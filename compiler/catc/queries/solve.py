@@ -9,10 +9,11 @@ but one check settles an infeasible problem, which is faster when most answers a
 ``strategy="search"`` (sequential steps, ground morphisms) runs the forward A* search of
 :mod:`catc.semantics.search` instead — a shortest composition, or a proof that none exists —
 and falls back to ``incremental`` where that search does not apply.  ``strategy="auto"`` (the
-default) chooses before anything runs (:func:`_chosen`): ``search`` where the forward search
-applies (sequential steps, no ∃-steps or warm start, a task it models: morphisms without
-parameters θ or use limits, no holes or set effects), else ``incremental`` exactly as that
-strategy answers; the answer names the strategy used.
+default of ``catc solve`` and ``model.solve()``: :func:`solve_query`) chooses before anything
+runs (:func:`_chosen`): ``search`` where the forward search applies (sequential steps, no
+∃-steps or warm start, a task it models: morphisms without parameters θ or use limits, no
+holes or set effects), else ``incremental`` exactly as that strategy answers; the answer
+names the strategy used.
 
 Every SAT answer is replayed by the independent validator (:mod:`catc.semantics.validate`) before it
 is returned; a rejected answer is an internal error, never shown as a composition.
@@ -140,7 +141,7 @@ def solve(
     sequential: bool = False,
     timeout: float | None = None,
     progress: Progress | None = None,
-    strategy: str = "auto",
+    strategy: str = "incremental",
     validate_answer: bool = True,
     prune: bool = True,
     backend: str = DEFAULT_BACKEND,
@@ -149,8 +150,8 @@ def solve(
     warm: WarmStart | None = None,
     exists_step: bool = False,
 ) -> SolveResult:
-    """The shortest composition within the horizon (``strategy``: ``"auto"``, :func:`_chosen`;
-    ``"incremental"``; ``"search"``), or any composition (``"single"``, ``"greedy"``), on the
+    """The shortest composition within the horizon (``strategy``: ``"incremental"``; ``"search"``;
+    ``"auto"``, :func:`_chosen`), or any composition (``"single"``, ``"greedy"``), on the
     named backend.  ``progress(message)`` is told each horizon as it is tried (``"{phase}:
     horizon t of k"``).  With ``presolve`` the relaxed reachability analysis runs first: when it
     proves that no composition of any length exists, that is the answer (final UNSAT).
@@ -213,6 +214,14 @@ def solve(
     timings["total"] = time.perf_counter() - start
     result.timings = timings
     return result
+
+
+def solve_query(inst: ir.Instance, *, strategy: str = "auto", **options: Any) -> SolveResult:
+    """:func:`solve` as the query registry runs it — ``catc solve``, ``model.solve()`` and the
+    language server — whose default strategy is ``"auto"`` (:func:`_chosen`); the options are
+    :func:`solve`'s.  :func:`solve` itself keeps ``"incremental"`` for the queries built on it
+    (optimize's first composition, certify's witnesses), which choose their own route."""
+    return solve(inst, strategy=strategy, **options)
 
 
 def _sequential(strategy: str, sequential: bool, exists_step: bool, warm: WarmStart | None) -> bool:
@@ -877,7 +886,7 @@ QUERY = Query(
         presolve_option(),
         certificate_option(),
     ),
-    run=solve,
+    run=solve_query,
     to_json=solve_json,
     render=render,
     artifacts=diagram_artifact,
