@@ -115,7 +115,8 @@ def test_solve_writes_and_certify_checks_a_simple_path_certificate(tmp_path):
     src = tmp_path / "token.cat"
     src.write_text(TOKEN_TEXT)  # token_no's model, written out for the command line
     cert = tmp_path / "token.json"
-    res = run_catc("solve", src, "--horizon", "30", "--sequential", "--certificate", cert)
+    # the SMT route's certificate (the default, auto, runs the forward search on this ground model)
+    res = run_catc("solve", src, "--horizon", "30", "--sequential", "--strategy", "incremental", "--certificate", cert)
     assert res.exit_code == 1, res.output  # UNSAT
     res = run_catc("certify", src, cert, "--json")
     assert res.exit_code == 0, res.output

@@ -8,7 +8,12 @@ horizon with idle steps and checks once: any composition, not necessarily a shor
 but one check settles an infeasible problem, which is faster when most answers are UNSAT.
 ``strategy="search"`` (sequential steps, ground morphisms) runs the forward A* search of
 :mod:`catc.semantics.search` instead — a shortest composition, or a proof that none exists —
-and falls back to ``incremental`` where that search does not apply.
+and falls back to ``incremental`` where that search does not apply.  ``strategy="auto"`` (the
+default of ``catc solve`` and ``model.solve()``: :func:`solve_query`) chooses before anything
+runs (:func:`_chosen`): ``search`` where the forward search applies (sequential steps, no
+∃-steps or warm start, a task it models: morphisms without parameters θ or use limits, no
+holes or set effects), else ``incremental`` exactly as that strategy answers; the answer
+names the strategy used.
 
 Every SAT answer is replayed by the independent validator (:mod:`catc.semantics.validate`) before it
 is returned; a rejected answer is an internal error, never shown as a composition.
@@ -126,7 +131,7 @@ class SolveResult(Result):
         return f"SolveResult({self.status.name}, horizon={self.horizon}, plan={self.plan!r})"
 
 
-STRATEGIES = ("incremental", "single", "search", "greedy")
+STRATEGIES = ("auto", "incremental", "single", "search", "greedy")
 
 
 def solve(
@@ -145,20 +150,20 @@ def solve(
     warm: WarmStart | None = None,
     exists_step: bool = False,
 ) -> SolveResult:
-    """The shortest composition within the horizon (``strategy="incremental"``), or any
-    composition (``"single"``), on the named backend.  ``progress(message)`` is told each
-    horizon as it is tried (``"{phase}: horizon t of k"``).  With ``presolve`` the relaxed
-    reachability analysis (:mod:`catc.semantics.relaxed`) runs first: when it proves that no
-    composition of any length exists, that is the answer (final UNSAT) and nothing is encoded.
+    """The shortest composition within the horizon (``strategy``: ``"incremental"``; ``"search"``;
+    ``"auto"``, :func:`_chosen`), or any composition (``"single"``, ``"greedy"``), on the
+    named backend.  ``progress(message)`` is told each horizon as it is tried (``"{phase}:
+    horizon t of k"``).  With ``presolve`` the relaxed reachability analysis runs first: when it
+    proves that no composition of any length exists, that is the answer (final UNSAT).
 
     ``warm`` (a :class:`WarmStart`, passed again on every call) keeps the encoding and the
     solver between calls: a problem that differs from the previous one only in its initial
     values and goal is answered on the same solver, whose initial values and goals sit behind
-    assumption literals; any other change (the domain, its objects, the horizon, the
-    semantics, the backend) encodes afresh.  The answers are the same as without it.
-    ``exists_step`` (no ``warm``): ∃-steps in the SMT search (:func:`_deepen`), whose
-    compositions are sequential ones (``sequential`` is implied: ``catc solve --exists-step``)."""
+    assumption literals; any other change (the domain, its objects, the horizon, the semantics,
+    the backend) encodes afresh; the answers are the same as without it.  ``exists_step`` (no
+    ``warm``): ∃-steps in the SMT search (:func:`_deepen`), for sequential compositions."""
     sequential = _sequential(strategy, sequential, exists_step, warm)
+    strategy = _chosen(inst, strategy, sequential, exists_step, warm)
     start = time.perf_counter()
     with limits.deadline(timeout):
         k = horizon_of(inst, horizon)
@@ -211,6 +216,14 @@ def solve(
     return result
 
 
+def solve_query(inst: ir.Instance, *, strategy: str = "auto", **options: Any) -> SolveResult:
+    """:func:`solve` as the query registry runs it — ``catc solve``, ``model.solve()`` and the
+    language server — whose default strategy is ``"auto"`` (:func:`_chosen`); the options are
+    :func:`solve`'s.  :func:`solve` itself keeps ``"incremental"`` for the queries built on it
+    (optimize's first composition, certify's witnesses), which choose their own route."""
+    return solve(inst, strategy=strategy, **options)
+
+
 def _sequential(strategy: str, sequential: bool, exists_step: bool, warm: WarmStart | None) -> bool:
     """Whether the steps are sequential (∃-steps stand for sequential compositions); a
     ValueError for an unknown strategy, or ∃-steps with a warm start."""
@@ -219,6 +232,35 @@ def _sequential(strategy: str, sequential: bool, exists_step: bool, warm: WarmSt
     if exists_step and warm is not None:
         raise ValueError("∃-steps (exists_step) keep no warm start")
     return sequential or exists_step
+
+
+def _chosen(inst: ir.Instance, strategy: str, sequential: bool, exists_step: bool, warm: WarmStart | None) -> str:
+    """The strategy ``auto`` stands for (any other: itself): ``search`` where the forward
+    search applies — sequential steps, neither ∃-steps nor a warm start (both belong to the
+    SMT deepening), and a task :mod:`catc.semantics.search` models (:func:`_searchable`) —
+    else ``incremental``.  Decided before anything runs, so that where the search does not
+    apply the answer is the ``incremental`` one, presolve and all (``search`` itself falls back
+    after its own presolve, which skips the consumption abstraction's shortest composition)."""
+    if strategy != "auto":
+        return strategy
+    return "search" if sequential and not exists_step and warm is None and _searchable(inst) else "incremental"
+
+
+def _searchable(inst: ir.Instance) -> bool:
+    """Whether the forward search models the task: the test its :func:`~catc.semantics.search.search`
+    makes first (the bitmask task, else the numeric one after static numbers are folded in)."""
+    from catc.semantics.search import _inline_statics, _Strips, _Task, _Unsupported
+
+    if inst.domain.holes or any(m.params or m.uses is not None for m in inst.morphisms.values()):
+        return False  # what neither task models, without building one
+    try:
+        _Strips(inst)
+    except _Unsupported:
+        try:
+            _Task(_inline_statics(inst))
+        except _Unsupported:
+            return False
+    return True
 
 
 def _deepen(
@@ -811,12 +853,15 @@ QUERY = Query(
             "strategy",
             ("--strategy",),
             Kind.CHOICE,
+            "auto: search where the forward search applies (--sequential, no --exists-step, morphisms "
+            "without parameters θ or use limits, no holes or set effects: ground tasks such as catc import "
+            "pddl writes), else incremental; --json names the strategy used. "
             "incremental: deepen the horizon one step at a time (shortest composition); "
             "single: one check of the whole horizon; search: a forward search (sequential steps, "
             "ground morphisms: greedy on h_add, then A* proves it shortest or finds a shorter one; "
             "or a proof of none), else incremental; greedy: the forward greedy search alone (any "
             "composition, not proven shortest), else incremental.",
-            default="incremental",
+            default="auto",
             choices=STRATEGIES,
             show_default=True,
         ),
@@ -841,7 +886,7 @@ QUERY = Query(
         presolve_option(),
         certificate_option(),
     ),
-    run=solve,
+    run=solve_query,
     to_json=solve_json,
     render=render,
     artifacts=diagram_artifact,
