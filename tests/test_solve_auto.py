@@ -140,3 +140,21 @@ def test_the_api_defaults_to_auto_and_solve_itself_to_incremental(tmp_path):
     assert by_api.plan is not None and len(by_api.plan.steps) == 5
     plain = solve(model.instance, sequential=True)
     assert plain.strategy == "incremental" and plain.plan is not None and len(plain.plan.steps) == 5
+
+
+def test_the_import_hint_solves_a_task_longer_than_the_default_horizon(tmp_path):
+    """Imported without ``-k``, the problem has no (:horizon ...) and the queries' default is 10
+    steps, so the hint ``catc import pddl`` prints must name a horizon: run as printed, it
+    solves ferry with 4 cars (board, sail, debark, sail back per car, no last sail back:
+    4 · 4 − 1 = 15 actions, more than 10)."""
+    pc = _corpus()
+    (tmp_path / "d.pddl").write_text(pc.FERRY)
+    (tmp_path / "p.pddl").write_text(pc.ferry(4))
+    out = tmp_path / "cat"
+    r = run_catc("import", "pddl", str(tmp_path / "d.pddl"), str(tmp_path / "p.pddl"), "-o", str(out))
+    assert r.exit_code == 0, r.output
+    hint = r.stdout.strip().splitlines()[-1].split("solve with --sequential: ", 1)[1]
+    argv = hint.split()
+    assert argv[:2] == ["catc", "solve"] and "-k" in argv
+    code, doc = _solve(*argv[2:])
+    assert code == 0 and doc["status"] == "sat" and len(doc["steps"]) == 15

@@ -392,6 +392,7 @@ def pddl_command(domain: str, problem: str, out_dir: str, horizon: int | None, t
             f"{res.problem_file}, {res.report_file}, {res.domain_file.parent / 'actions.json'}"
         )
     )
+    k = "" if horizon is not None else "-k 50 "  # no (:horizon ...) written: the queries' default is 10 steps
     click.echo(
-        f"checked: ok ({res.warnings} warnings); solve with --sequential: catc solve --sequential {res.problem_file}"
+        f"checked: ok ({res.warnings} warnings); solve with --sequential: catc solve --sequential {k}{res.problem_file}"
     )
