@@ -16,6 +16,7 @@ from catc.queries.base import (
     Result,
     Status,
 )
+from catc.queries.certify.bdd import bdd_obligations, read_bdd
 from catc.queries.certify.checkers import _run_checkers
 from catc.queries.certify.cores import _replay, _replay_discrete, core_obligations, discrete_obligations
 from catc.queries.certify.document import (
@@ -136,6 +137,10 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any], given: Sequence[ir.Obje
         if doc.get("sequential") is not True:
             raise InputError("a reachable-states certificate is for sequential steps", codes.BAD_CERTIFICATE)
         built = reachable_obligations(inst, _read_states(inst, doc.get("states")), horizon)
+    elif method == "bdd":
+        if doc.get("sequential") is not True:
+            raise InputError("a BDD certificate of the reachable states is for sequential steps", codes.BAD_CERTIFICATE)
+        built = bdd_obligations(inst, read_bdd(inst, doc.get("bdd")), horizon)
     elif method == "optimal":
         model, objectives, softs = _objectives(inst, doc.get("objectives"), given)
         try:
