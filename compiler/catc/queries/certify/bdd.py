@@ -135,6 +135,10 @@ def bdd_json(inst: ir.Instance, names: Sequence[str], states: Sequence[Sequence[
     k ≥ 2 at index k − 2; 0 false, 1 true), ``root`` and ``states`` (the count).  None when
     there are more than :data:`ATOM_LIMIT` atoms."""
     column = {n: i for i, n in enumerate(names)}
+    seen: dict[Any, Any] = {}  # each value's JSON form, converted once
+    rows = [
+        tuple(x if x is True or x is False else seen.get(x) or seen.setdefault(x, _value(x)) for x in s) for s in states
+    ]
     edges = [m.reads | m.writes for m in inst.morphisms.values()]
     best: dict | None = None
     for order in (list(names), force_order(names, edges)):
@@ -144,11 +148,11 @@ def bdd_json(inst: ir.Instance, names: Sequence[str], states: Sequence[Sequence[
                 atoms.append((name, True))
             else:
                 i = column[name]
-                atoms += [(name, v) for v in sorted({_value(s[i]) for s in states}, key=_key)]
+                atoms += [(name, v) for v in sorted({s[i] for s in rows}, key=_key)]
         if len(atoms) > ATOM_LIMIT:
             return None
         tests = [(column[n], v) for n, v in atoms]
-        vectors = [tuple(s[i] is True if v is True else _value(s[i]) == v for i, v in tests) for s in states]
+        vectors = [tuple(s[i] is True if v is True else s[i] == v for i, v in tests) for s in rows]
         bdd, root = build_set(vectors, len(atoms))
         if best is None or len(bdd.nodes) < len(best["nodes"]):
             best = {"atoms": [[n, v] for n, v in atoms], "nodes": [list(x) for x in bdd.nodes], "root": root}
@@ -243,15 +247,14 @@ def bdd_obligations(inst: ir.Instance, spec: Mapping[str, Any], horizon: int) ->
     return _inductive(inst, horizon, True, lambda enc, state: bdd_text(enc, spec, state))
 
 
-def bdd_certificate(inst: ir.Instance, doc: dict[str, Any], result: Any, limit: int = BDD_STATE_LIMIT) -> dict | None:
-    """The BDD certificate (sequential steps): every state compositions of any length reach,
-    at most ``limit`` and none a goal state, as a ROBDD; None otherwise."""
+def bdd_certificate(
+    inst: ir.Instance, doc: dict[str, Any], result: Any, found: tuple[Sequence[str], Sequence[Sequence[Any]]]
+) -> dict | None:
+    """The BDD certificate (sequential steps) of the states ``found`` — every state
+    compositions of any length reach (:func:`catc.semantics.search.reachable_states`), none a
+    goal state; None when their BDD would have more than :data:`ATOM_LIMIT` atoms."""
     from catc.queries.certify.document import SEARCH, _produced
-    from catc.semantics.search import reachable_states
 
-    found = reachable_states(inst, limit)
-    if found is None:
-        return None
     spec = bdd_json(inst, *found)
     if spec is None:
         return None

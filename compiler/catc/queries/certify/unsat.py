@@ -361,9 +361,11 @@ def _reachable(inst: ir.Instance, doc: dict[str, Any], result: Any, limit: int, 
     from catc.queries.certify.bdd import bdd_certificate
     from catc.semantics.search import reachable_states
 
-    found = reachable_states(inst, limit)
+    found = reachable_states(inst, max(limit, bdd_limit))  # once: the list or the BDD takes them
     if found is None:
-        return bdd_certificate(inst, doc, result, bdd_limit) if limit < bdd_limit else None
+        return None
+    if len(found[1]) > limit:
+        return bdd_certificate(inst, doc, result, found)
     spec = states_json(inst, *found)
     doc = doc | {"answer": "unsat", "method": "reachable", "producer": SEARCH, "horizon": result.horizon}
     doc |= {"sequential": True, "states": spec, "obligations": reachable_obligations(inst, spec, result.horizon)}
