@@ -212,7 +212,6 @@ def _exact(text: str) -> bool:
 def bdd_text(enc: Any, spec: Mapping[str, Any], state: Any) -> str:
     """``Inv``: the BDD over ``state``'s variables, one ``let`` per atom level (deepest first)
     binding each node of that level as ``(ite atom high low)``."""
-    from catc.queries.certify.unsat import _index
 
     def name(k: int) -> str:
         return "false" if k == FALSE else "true" if k == TRUE else f"|bdd!{k}|"
@@ -224,8 +223,8 @@ def bdd_text(enc: Any, spec: Mapping[str, Any], state: Any) -> str:
             return str(var)
         if r.sort.is_numeric:
             return f"(= {var} {_number(Fraction(v), r.sort.kind)})"
-        j = _index(enc, r.sort, v)
-        return "false" if j is None else f"(= {var} {j})"
+        universe = enc.finite.universe(r.sort)  # a symbol: its index in the horizon's universe
+        return f"(= {var} {universe.index(v)})" if v in universe.elements else "false"
 
     levels: dict[int, list[int]] = {}
     for k, (a, _, _) in enumerate(spec["nodes"], start=2):
