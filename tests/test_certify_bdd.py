@@ -242,3 +242,31 @@ def test_the_bdd_certificate_follows_the_schema():
 
     schema = json.loads((ROOT / "docs/schemas/catc.certificate-1.json").read_text())
     jsonschema.validate(json.loads(json.dumps(searched(SMALL, state_limit=5)[1])), schema)
+
+
+# A symbol resource: one atom per mode reached (idle, run, stop; never broken).
+MODES = """
+(define (domain modes)
+  (:requirements :symbols)
+  (:sorts mode - (enum idle run stop broken))
+  (:resources (a bool) (b bool) (m mode))
+  (:morphism press-a :effect (and (assign a true) (assign b false)))
+  (:morphism press-b :effect (and (assign b true) (assign a false)))
+  (:morphism go :precondition (= m idle) :effect (assign m run))
+  (:morphism halt :precondition (= m run) :effect (assign m stop)))
+(define (problem both-on)
+  (:domain modes)
+  (:init (= a false) (= b false) (= m idle))
+  (:goal (and a b)))
+"""
+
+
+@needs_checkers
+def test_a_symbols_values_are_atoms_of_the_bdd():
+    inst, doc = searched(MODES, state_limit=3)
+    assert doc["method"] == "bdd" and doc["bdd"]["states"] == 9
+    assert sorted(v for r, v in doc["bdd"]["atoms"] if r == "m") == ["idle", "run", "stop"]
+    both_proved(certify(inst, doc))
+    _, states = reachable_states(inst, 100)
+    result = certify(inst, forged(inst, doc, [s for s in states if "stop" not in s]))  # never stopped
+    assert {r["name"]: r["status"] for r in result.obligations}["consecution"] == "refuted"
