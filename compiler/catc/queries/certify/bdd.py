@@ -59,7 +59,7 @@ class Robdd:
 
 
 #: The most atoms a BDD is built over (its depth: the construction recurses once per atom).
-ATOM_LIMIT = 800
+ATOM_LIMIT = 500  # below the interpreter's recursion limit (1,000) with room for the callers
 
 
 def build_set(vectors: Sequence[Sequence[bool]], width: int) -> tuple[Robdd, int]:
