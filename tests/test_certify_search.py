@@ -174,11 +174,14 @@ def test_a_state_set_edited_after_the_obligations_were_written_does_not_match():
     assert {r["status"] for r in result.obligations} == {"mismatch"}
 
 
-def test_more_reachable_states_than_the_limit_are_not_certified(monkeypatch):
-    monkeypatch.setattr(unsat_module, "STATE_LIMIT", 5)
+def test_more_reachable_states_than_the_limit_go_into_a_bdd():
+    """Above the explicit list's limit the states are a BDD (tests/test_certify_bdd.py); above
+    the BDD's, no certificate."""
     inst = toggle()
-    with pytest.raises(NotCertifiable, match="more than 5"):
-        certificate(inst, solve(inst, strategy="search", sequential=True))
+    result = solve(inst, strategy="search", sequential=True)
+    assert certificate(inst, result, state_limit=5)["method"] == "bdd"
+    with pytest.raises(NotCertifiable, match="more than 10"):
+        certificate(inst, result, state_limit=5, bdd_limit=10)
 
 
 def test_both_new_kinds_follow_the_schema():

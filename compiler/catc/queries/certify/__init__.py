@@ -16,6 +16,9 @@ SMT-LIB2 front end, each in a process of its own with a time limit, or ``catc.va
 * a final UNSAT by **no path of t steps visiting no state twice** (the recurrence diameter):
   that path, unsat, and the bounded problem at t − 1, unsat (``simple-path``,
   :mod:`catc.queries.certify.finals`);
+* a final UNSAT by **the forward search**: its reachable states as an inductive invariant of
+  the sequential one-step encoding — listed (``reachable``, at most 2,000) or as a reduced
+  ordered BDD written as a ``let``/``ite`` DAG (``bdd``, :mod:`catc.queries.certify.bdd`);
 * a final UNSAT by **a conserved sum**: the sums, the numeric ranges and the unwritten numbers
   as an inductive invariant of the one-step encoding (``conserved-sum``);
 * a **core** (``catc diagnose``): diagnose's labelled formula with the core enforced, unsat,

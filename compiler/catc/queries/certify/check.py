@@ -16,6 +16,7 @@ from catc.queries.base import (
     Result,
     Status,
 )
+from catc.queries.certify.bdd import bdd_obligations, read_bdd
 from catc.queries.certify.checkers import _run_checkers
 from catc.queries.certify.cores import _replay, _replay_discrete, core_obligations, discrete_obligations
 from catc.queries.certify.document import (
@@ -99,6 +100,16 @@ def _matches(obligation: dict, expected: str | None) -> bool:
     return expected is not None and _significant(obligation["smtlib"]) == _significant(expected)
 
 
+def _searched(inst: ir.Instance, doc: Mapping[str, Any], method: str, horizon: int) -> list[dict]:
+    """The obligations of the forward search's reachable states: listed (``reachable``) or as
+    a BDD (``bdd``), over the sequential one-step encoding."""
+    if doc.get("sequential") is not True:
+        raise InputError("a reachable-states certificate is for sequential steps", codes.BAD_CERTIFICATE)
+    if method == "bdd":
+        return bdd_obligations(inst, read_bdd(inst, doc.get("bdd")), horizon)
+    return reachable_obligations(inst, _read_states(inst, doc.get("states")), horizon)
+
+
 def _expected(inst: ir.Instance, doc: Mapping[str, Any], given: Sequence[ir.Objective] | None = None) -> dict[str, str]:
     """The obligations' text as the model and the certificate's claims give them (``given``:
     the IR of command-line objectives, parsed by the interface)."""
@@ -132,10 +143,8 @@ def _expected(inst: ir.Instance, doc: Mapping[str, Any], given: Sequence[ir.Obje
         if not _claims_hold(inst, doc.get("bounds", [])):
             return {}  # a claimed bound the model does not give: nothing matches
         built = consumption_obligations(inst)
-    elif method == "reachable":
-        if doc.get("sequential") is not True:
-            raise InputError("a reachable-states certificate is for sequential steps", codes.BAD_CERTIFICATE)
-        built = reachable_obligations(inst, _read_states(inst, doc.get("states")), horizon)
+    elif method in ("reachable", "bdd"):
+        built = _searched(inst, doc, method, horizon)
     elif method == "optimal":
         model, objectives, softs = _objectives(inst, doc.get("objectives"), given)
         try:

@@ -13,6 +13,7 @@ from catc.ir import SortKind
 from catc.queries.base import (
     InputError,
 )
+from catc.queries.certify.bdd import ATOM_LIMIT, BDD_STATE_LIMIT
 from catc.queries.certify.document import (
     CONSUMPTION,
     RELAXED,
@@ -285,9 +286,12 @@ def state_bounded_obligations(inst: ir.Instance, horizon: int, sequential: bool)
     ]
 
 
-def certificate(inst: ir.Instance, result: Any) -> dict:
+def certificate(
+    inst: ir.Instance, result: Any, *, state_limit: int = STATE_LIMIT, bdd_limit: int = BDD_STATE_LIMIT
+) -> dict:
     """The certificate of ``result``, a final "no" of ``catc solve`` (NotCertifiable
-    otherwise)."""
+    otherwise).  ``state_limit``: the most reachable states listed one by one (``reachable``);
+    more, up to ``bdd_limit``, go into a BDD (``bdd``)."""
     from catc.queries.certify.finals import simple_path_certificate, sum_certificate
     from catc.semantics.horizon import use_bound
     from catc.semantics.relaxed import RelaxedAnalysis
@@ -301,7 +305,7 @@ def certificate(inst: ir.Instance, result: Any) -> dict:
         "view": inst.view,
     }
     if not result.final:  # a bounded no: a certificate only when the reachable states are few and goal-free
-        found = _reachable(inst, doc, result) if result.sequential else None
+        found = _reachable(inst, doc, result, state_limit, bdd_limit) if result.sequential else None
         found = _state_bounded(inst, doc, result) if found is None else found
         if found is None:
             raise NotCertifiable("only a final UNSAT answer (no composition of any length) carries a certificate")
@@ -333,11 +337,11 @@ def certificate(inst: ir.Instance, result: Any) -> dict:
     if found is not None:
         return found
     if result.sequential and (getattr(result, "reason", None) or "").startswith("forward search"):
-        found = _reachable(inst, doc, result)
+        found = _reachable(inst, doc, result, state_limit, bdd_limit)
         if found is None:
             raise NotCertifiable(
-                f"the forward search's reachable states are more than {STATE_LIMIT} (or not all of them can be "
-                "written): their invariant is not certified"
+                f"the forward search's reachable states are more than {bdd_limit} (or not all of them can be "
+                f"written, or their BDD has more than {ATOM_LIMIT} atoms): their invariant is not certified"
             )
         return found
     found = _state_bounded(inst, doc, result)
@@ -350,14 +354,18 @@ def certificate(inst: ir.Instance, result: Any) -> dict:
     )
 
 
-def _reachable(inst: ir.Instance, doc: dict[str, Any], result: Any) -> dict | None:
+def _reachable(inst: ir.Instance, doc: dict[str, Any], result: Any, limit: int, bdd_limit: int) -> dict | None:
     """The reachable-states certificate (sequential steps): every state compositions of any
-    length reach, at most :data:`STATE_LIMIT` and none a goal state; None otherwise."""
+    length reach, none a goal state — listed when at most ``limit``, else as a BDD
+    (:func:`~catc.queries.certify.bdd.bdd_certificate`); None otherwise."""
+    from catc.queries.certify.bdd import bdd_certificate
     from catc.semantics.search import reachable_states
 
-    found = reachable_states(inst, STATE_LIMIT)
+    found = reachable_states(inst, max(limit, bdd_limit))  # once: the list or the BDD takes them
     if found is None:
         return None
+    if len(found[1]) > limit:
+        return bdd_certificate(inst, doc, result, found)
     spec = states_json(inst, *found)
     doc = doc | {"answer": "unsat", "method": "reachable", "producer": SEARCH, "horizon": result.horizon}
     doc |= {"sequential": True, "states": spec, "obligations": reachable_obligations(inst, spec, result.horizon)}
