@@ -26,7 +26,7 @@ from catc.semantics.compositions import canonical_fresh, drop_idle_steps, prune_
 from catc.semantics.horizon import horizon_of
 from catc.semantics.plan import Plan
 from catc.semantics.validate import ValidationFailure, evaluate, objective_value, validate
-from catc.smt.backend import DEFAULT_BACKEND, Backend, Bound, Check, open_backend
+from catc.smt.backend import DEFAULT_BACKEND, Backend, Bound, Check, kept_mark, open_backend, release_kept
 from catc.smt.counting import better_refuted
 from catc.smt.encoder import Encoder
 from catc.smt.readback import read_plan
@@ -210,6 +210,7 @@ class _Deepening:
 
     def run(self) -> OptResult:
         inst, k = self.inst, self.k
+        mark = kept_mark()
         first = solve(
             inst,
             horizon=k,
@@ -219,6 +220,7 @@ class _Deepening:
             progress=self.say,
             phase="looking for a first composition",
         )
+        release_kept(mark)  # its solver is done with: the optimiser's context reuses its memory
         self.timings = {"encode": first.timings["encode"], "solve": first.timings["solve"], "validate": 0.0}
         if first.status is SolveStatus.UNSAT:
             return OptResult(OptStatus.UNSAT, k, timings=self.timings)
