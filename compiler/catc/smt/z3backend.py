@@ -198,11 +198,14 @@ class Z3Backend(Backend):
     def _stopped(self, took: float) -> None:
         """After an unknown: tell the command it was interrupted when Z3 caught a Ctrl-C (it
         handles SIGINT itself during a check, as "interrupted from keyboard" or "canceled",
-        the reason it also gives for a timeout — so canceled well before the timer is Ctrl-C),
-        and say so when Z3 ran out of its memory (``max. memory exceeded``)."""
+        the reason it also gives for a timeout — so canceled well before the timer is Ctrl-C,
+        and at the timer a timeout, reported as "timeout"), and say so when Z3 ran out of its
+        memory (``max. memory exceeded``)."""
         reason = self.solver.reason_unknown()
         if reason in _CANCELED and (self._timer is None or took < self._timer - 0.05):
             limits.interrupt()
+        elif reason in _CANCELED:
+            self._failure = "timeout"
         elif "memory" in reason:
             raise MemoryError(f"the solver ran out of memory ({reason})")
 
