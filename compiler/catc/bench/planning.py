@@ -586,9 +586,14 @@ def medians(rows: list[Row], timeout: float | None = None) -> list[str]:
     return out
 
 
-def select(only: Sequence[str] = ()) -> list[Task]:
-    """The tasks named in ``only`` (a task's name or its family), every task when empty."""
-    return [t for t in tasks() if not only or t.name in only or t.family in only]
+def select(only: Sequence[str] = (), *, exact: bool = True) -> list[Task]:
+    """The tasks named in ``only`` (a task's name or its family), every task when empty; with
+    ``exact=False`` (``catc bench``'s ``--only``) a task whose name contains one of them too."""
+    return [
+        t
+        for t in tasks()
+        if not only or t.name in only or t.family in only or (not exact and any(o in t.name for o in only))
+    ]
 
 
 def progress(row: Row, smt: bool = False, second: bool = False) -> str:
