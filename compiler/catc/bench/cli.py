@@ -289,7 +289,7 @@ def _corpus(
         work.mkdir(parents=True, exist_ok=True)
         if which in ("wheel", "all"):
             rows, text = run_corpus(work, 120.0 if timeout is None else timeout, only, log=_log)
-            if rows or which == "wheel":
+            if rows:
                 texts.append(text)
                 doc["wheel"] = [
                     {k: str(v) if v is not None else None for k, v in vars(r).items() if k != "case"}
@@ -298,7 +298,7 @@ def _corpus(
                 ]
         if which in ("planning", "all"):
             chosen = planning.select(only, exact=False)
-            if chosen or which == "planning":
+            if chosen:
                 prows = planning.run_tasks(
                     chosen, 60.0 if timeout is None else timeout, second=second, work=work / "planning", log=_log
                 )
