@@ -208,7 +208,7 @@ def _run(
     help="Instead: a PDDL corpus beside ENHSP, every plan checked by UP's validator (docs/interop.md): "
     "'wheel' (unified-planning's wheel and the counters/sailing families, imported by catc import pddl), "
     "'planning' (the planning corpus: families of growing plan length, each shortest length counted by hand), "
-    "'all' (both; the default of a bare --corpus). --only, --timeout, --keep and --save-json apply.",
+    "'all' (both; the default of a bare --corpus). --only, --timeout, --keep, --json and --save-json apply.",
 )
 @click.option(
     "--second",
@@ -242,7 +242,7 @@ def bench_command(
     except BaselineMissing as exc:
         _input_error(exc)
     if corpus is not None:
-        _corpus(corpus, timeout, only, keep_dir, save_json, second)
+        _corpus(corpus, timeout, only, keep_dir, save_json, second, as_json)
         return
     if second:
         _input_error("--second applies to the planning corpus only (catc bench --corpus planning --second)")
@@ -271,7 +271,13 @@ def _corpus_command(which: str) -> str:
 
 
 def _corpus(
-    which: str, timeout: float | None, only: tuple[str, ...], keep_dir: str | None, save_json: str | None, second: bool
+    which: str,
+    timeout: float | None,
+    only: tuple[str, ...],
+    keep_dir: str | None,
+    save_json: str | None,
+    second: bool,
+    as_json: bool = False,
 ) -> None:
     """``--corpus``: the wheel corpus and its growth table, the planning corpus, or both
     (docs/interop.md), Markdown on stdout; a corpus that ``--only`` leaves empty is left out."""
@@ -310,7 +316,11 @@ def _corpus(
                 doc["planning"] = planning.jsonable(prows)
     if not doc:
         _input_error(f"--only {' --only '.join(only)} matches no problem of the corpus")
+    out: Any = doc["wheel"] if which == "wheel" else doc["planning"] if which == "planning" else doc
+    text = json.dumps(out, indent=1, default=str, ensure_ascii=False)
     if save_json:
-        out: Any = doc["wheel"] if which == "wheel" else doc["planning"] if which == "planning" else doc
-        Path(save_json).write_text(json.dumps(out, indent=1, default=str, ensure_ascii=False) + "\n")
-    click.echo("\n".join(texts), nl=False)
+        Path(save_json).write_text(text + "\n")
+    if as_json:
+        click.echo(text)
+    else:
+        click.echo("\n".join(texts), nl=False)
