@@ -268,6 +268,13 @@ def test_bench_corpus_planning_prints_catc_and_enhsp_on_gripper_2(tmp_path):
 
     (doc,) = json.loads(out.read_text())
     assert doc["task"] == "gripper-2" and doc["hand_count"] == 5 and doc["enhsp_len"] == 5
+    # --json instead of the tables; a bare --corpus is both corpora, and the wheel's is left out
+    # when --only keeps none of it. counters-tight-3: three counters strictly increasing need a
+    # value of 2, max_int is 1 (and the search above exhausts its 8 states): both say unsat
+    r = CliRunner().invoke(main, ["bench", "--corpus", "--only", "counters-tight-3", "--timeout", "20", "--json"])
+    assert r.exit_code == 0, r.output
+    (doc,) = json.loads(r.stdout)["planning"]
+    assert doc["catc"].startswith("unsat") and doc["enhsp"] == "unsat" and doc["catc_len"] is None, doc
 
 
 def test_bench_corpus_refuses_an_unknown_corpus():
