@@ -305,3 +305,29 @@ def test_second_and_an_empty_selection_are_input_errors():
     assert r.exit_code == 2 and "--second applies to the planning corpus only" in r.output, r.output
     r = CliRunner().invoke(main, ["bench", "--corpus", "planning", "--only", "no-such-task"])
     assert r.exit_code == 2 and "matches no problem" in r.output, r.output
+
+
+def _planners_missing() -> str | None:
+    import importlib.util
+
+    missing = [m for m in ("up_pyperplan", "up_tamer") if importlib.util.find_spec(m) is None]
+    return f"no {', '.join(missing)} (the planners extra)" if missing else None
+
+
+@pytest.mark.skipif((_enhsp_missing() or _planners_missing()) is not None, reason="ENHSP or the planners extra")
+def test_second_runs_pyperplan_on_gripper_2_and_names_the_extra_when_missing(monkeypatch):
+    import sys
+
+    from catc.interfaces.cli import main
+
+    args = ["bench", "--corpus", "planning", "--only", "gripper-2", "--timeout", "30", "--second"]
+    r = CliRunner().invoke(main, args)
+    assert r.exit_code == 0, r.output
+    row = next(line for line in r.stdout.splitlines() if line.startswith("| gripper-2 |"))
+    cells = [c.strip() for c in row.strip("|").split("|")]
+    # the second planner's four columns: pyperplan's A*/LM-cut is optimal, so the hand count, 5,
+    # and UP's validator accepts its plan
+    assert cells[-4].startswith("pyperplan sat") and cells[-3] == "5" and cells[-1] == "yes", row
+    monkeypatch.setitem(sys.modules, "up_tamer", None)
+    r = CliRunner().invoke(main, args)
+    assert r.exit_code == 2 and "catc-lang[planners]" in r.output, r.output

@@ -213,7 +213,8 @@ def _run(
 @click.option(
     "--second",
     is_flag=True,
-    help="With --corpus planning: also a second planner, pyperplan A*/LM-cut (classical) or TAMER (numeric).",
+    help="With --corpus planning: also a second planner, pyperplan A*/LM-cut (classical) or TAMER (numeric) "
+    "(the planners extra).",
 )
 def bench_command(
     runs: int,
@@ -288,6 +289,12 @@ def _corpus(
         _input_error("the corpora read unified-planning's test PDDL: pip install 'catc-lang[up]'")
     if second and which == "wheel":
         _input_error("--second applies to the planning corpus only (catc bench --corpus planning --second)")
+    if second:
+        try:
+            import up_pyperplan  # noqa: F401
+            import up_tamer  # noqa: F401
+        except ImportError:
+            _input_error("--second runs pyperplan and TAMER: pip install 'catc-lang[planners]'")
     texts: list[str] = []
     doc: dict[str, Any] = {}
     with tempfile.TemporaryDirectory(prefix="catc-corpus-") as tmp:
