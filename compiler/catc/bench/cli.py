@@ -290,9 +290,11 @@ def _corpus(
     if second and which == "wheel":
         _input_error("--second applies to the planning corpus only (catc bench --corpus planning --second)")
     if second:
+        import importlib
+
         try:
-            import up_pyperplan  # noqa: F401
-            import up_tamer  # noqa: F401
+            for engine in ("up_pyperplan", "up_tamer"):
+                importlib.import_module(engine)
         except ImportError:
             _input_error("--second runs pyperplan and TAMER: pip install 'catc-lang[planners]'")
     texts: list[str] = []
