@@ -314,6 +314,7 @@ def _planners_missing() -> str | None:
     return f"no {', '.join(missing)} (the planners extra)" if missing else None
 
 
+@pytest.mark.slow
 @pytest.mark.skipif((_enhsp_missing() or _planners_missing()) is not None, reason="ENHSP or the planners extra")
 def test_second_runs_pyperplan_on_gripper_2_and_names_the_extra_when_missing(monkeypatch):
     import sys
