@@ -35,5 +35,7 @@ The modules, one job each (nothing outside this package imports it):
 * :mod:`~catc.bench.session` — the runtime and perturbation trials, interleaved, and their rows;
 * :mod:`~catc.bench.lifelong` — the lifelong-queries rows (diagnose, relax, recompose);
 * :mod:`~catc.bench.tables` — the Markdown tables and the JSON document;
+* :mod:`~catc.bench.corpus` — ``--corpus wheel``: unified-planning's wheel and the counters/sailing families;
+* :mod:`~catc.bench.planning` — ``--corpus planning``: the planning corpus, its hand counts, its table;
 * :mod:`~catc.bench.cli` — the ``catc bench`` command.
 """

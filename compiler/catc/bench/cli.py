@@ -49,6 +49,9 @@ def byte_compile() -> None:
         subprocess.run([sys.executable, "-m", "compileall", "-q", *dirs], capture_output=True, check=False)
 
 
+CORPORA = ("all", "wheel", "planning")
+
+
 def default_examples() -> Path:
     return Path(__file__).resolve().parents[3] / "examples"
 
@@ -177,9 +180,8 @@ def _run(
 @click.option(
     "--timeout",
     type=click.FloatRange(min=0, min_open=True),
-    default=120.0,
-    show_default=True,
-    help="Seconds per tool run.",
+    default=None,
+    help="Seconds per tool run [default: 120; 60 for the planning corpus, the limit of its table].",
 )
 @click.option(
     "--examples",
@@ -199,9 +201,20 @@ def _run(
 )
 @click.option(
     "--corpus",
+    type=click.Choice(CORPORA),
+    is_flag=False,
+    flag_value="all",
+    default=None,
+    help="Instead: a PDDL corpus beside ENHSP, every plan checked by UP's validator (docs/interop.md): "
+    "'wheel' (unified-planning's wheel and the counters/sailing families, imported by catc import pddl), "
+    "'planning' (the planning corpus: families of growing plan length, each shortest length counted by hand), "
+    "'all' (both; the default of a bare --corpus). --only, --timeout, --keep, --json and --save-json apply.",
+)
+@click.option(
+    "--second",
     is_flag=True,
-    help="Instead: the PDDL corpus (unified-planning's wheel and the counters/sailing families) imported by "
-    "catc import pddl and solved beside ENHSP (docs/interop.md); --only and --timeout apply.",
+    help="With --corpus planning: also a second planner, pyperplan A*/LM-cut (classical) or TAMER (numeric) "
+    "(the planners extra).",
 )
 def bench_command(
     runs: int,
@@ -214,7 +227,8 @@ def bench_command(
     no_compile: bool,
     save_json: str | None,
     keep_dir: str | None,
-    corpus: bool = False,
+    corpus: str | None = None,
+    second: bool = False,
 ) -> None:
     """Run catc and ENHSP on the same example problems and print the comparison tables.
 
@@ -228,9 +242,12 @@ def bench_command(
         enhsp_jar()
     except BaselineMissing as exc:
         _input_error(exc)
-    if corpus:
-        _corpus(timeout, only, keep_dir, save_json)
+    if corpus is not None:
+        _corpus(corpus, timeout, only, keep_dir, save_json, second, as_json)
         return
+    if second:
+        _input_error("--second applies to the planning corpus only (catc bench --corpus planning --second)")
+    timeout = 120.0 if timeout is None else timeout
     examples = Path(examples_dir) if examples_dir else default_examples()
     if not examples.is_dir():
         _input_error(f"examples folder not found: {examples} (pass --examples DIR)")
@@ -247,20 +264,72 @@ def bench_command(
         click.echo(markdown(doc))
 
 
-def _corpus(timeout: float, only: tuple[str, ...], keep_dir: str | None, save_json: str | None) -> None:
-    """``--corpus``: the corpus and growth tables (docs/interop.md), Markdown on stdout."""
+def _corpus_command(which: str) -> str:
+    """The command line as typed, or (called from Python) ``catc bench --corpus WHICH``."""
+    if len(sys.argv) > 1 and sys.argv[1] == "bench":
+        return " ".join(shlex.quote(a) for a in ["catc", "bench", *sys.argv[2:]])
+    return f"catc bench --corpus {which}"
+
+
+def _corpus(
+    which: str,
+    timeout: float | None,
+    only: tuple[str, ...],
+    keep_dir: str | None,
+    save_json: str | None,
+    second: bool,
+    as_json: bool = False,
+) -> None:
+    """``--corpus``: the wheel corpus and its growth table, the planning corpus, or both
+    (docs/interop.md), Markdown on stdout; a corpus that ``--only`` leaves empty is left out."""
+    from catc.bench import planning
     from catc.bench.corpus import run_corpus, wheel_dir
 
     if wheel_dir() is None:
-        _input_error("the corpus is unified-planning's test PDDL: pip install 'catc-lang[up]'")
+        _input_error("the corpora read unified-planning's test PDDL: pip install 'catc-lang[up]'")
+    if second and which == "wheel":
+        _input_error("--second applies to the planning corpus only (catc bench --corpus planning --second)")
+    if second:
+        import importlib
+
+        try:
+            for engine in ("up_pyperplan", "up_tamer"):
+                importlib.import_module(engine)
+        except ImportError:
+            _input_error("--second runs pyperplan and TAMER: pip install 'catc-lang[planners]'")
+    texts: list[str] = []
+    doc: dict[str, Any] = {}
     with tempfile.TemporaryDirectory(prefix="catc-corpus-") as tmp:
         work = Path(keep_dir) if keep_dir else Path(tmp)
         work.mkdir(parents=True, exist_ok=True)
-        rows, text = run_corpus(work, timeout, only, log=_log)
+        if which in ("wheel", "all"):
+            rows, text = run_corpus(work, 120.0 if timeout is None else timeout, only, log=_log)
+            if rows:
+                texts.append(text)
+                doc["wheel"] = [
+                    {k: str(v) if v is not None else None for k, v in vars(r).items() if k != "case"}
+                    | {"problem": r.case.name}
+                    for r in rows
+                ]
+        if which in ("planning", "all"):
+            chosen = planning.select(only, exact=False)
+            if chosen:
+                prows = planning.run_tasks(
+                    chosen, 60.0 if timeout is None else timeout, second=second, work=work / "planning", log=_log
+                )
+                texts.append(
+                    "## The planning corpus\n\n"
+                    + planning.markdown(prows, _corpus_command(which), smt=False, second=second)
+                    + "\n"
+                )
+                doc["planning"] = planning.jsonable(prows)
+    if not doc:
+        _input_error(f"--only {' --only '.join(only)} matches no problem of the corpus")
+    out: Any = doc["wheel"] if which == "wheel" else doc["planning"] if which == "planning" else doc
+    text = json.dumps(out, indent=1, default=str, ensure_ascii=False)
     if save_json:
-        doc = [
-            {k: str(v) if v is not None else None for k, v in vars(r).items() if k != "case"} | {"problem": r.case.name}
-            for r in rows
-        ]
-        Path(save_json).write_text(json.dumps(doc, indent=1) + "\n")
-    click.echo(text)
+        Path(save_json).write_text(text + "\n")
+    if as_json:
+        click.echo(text)
+    else:
+        click.echo("\n".join(texts), nl=False)

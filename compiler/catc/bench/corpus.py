@@ -1,4 +1,4 @@
-"""``catc bench --corpus``: PDDL problems nobody here wrote, imported and solved by catc beside ENHSP.
+"""``catc bench --corpus wheel``: PDDL problems nobody here wrote, imported and solved by catc beside ENHSP.
 
 The corpus is the PDDL shipped inside unified-planning's wheel (``unified_planning/test/pddl``)
 plus two generated families for growth with instance size: *counters* (n counters that must end
